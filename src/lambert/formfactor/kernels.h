@@ -1,0 +1,31 @@
+#pragma once
+// Closed-form pieces of the form factor
+//   F_ij = 1/A_i ∫_Ai ∫_Aj cosθ_i cosθ_j / (π r²) V(x, y) dA_j dA_i.
+#include <array>
+#include <span>
+
+#include "lambert/core/vec3.h"
+
+namespace lambert {
+
+// Differential-to-differential kernel cosθ_x cosθ_y / (π r²), per unit area of y; zero when the
+// two points do not face each other. Unbounded as r → 0: the seed-000 estimator's weakness.
+double pointToPointKernel(const Vec3& x, const Vec3& xNormal, const Vec3& y, const Vec3& yNormal);
+
+// Unoccluded form factor from a differential area at x (unit normal xNormal) to a planar polygon,
+// by Lambert's contour integral (Lambert 1760; Baum, Rushmeier & Winget 1989):
+//   F = 1/(2π) Σ_k θ_k (a_k × a_{k+1})/|a_k × a_{k+1}| · n_x,  a_k = unit(v_k − x).
+// The polygon is first clipped to the hemisphere above x, and only its front side (counter-
+// clockwise winding, polygonNormal) emits toward x. Finite for x arbitrarily close to the polygon,
+// so it is exact for adjacent patches where the point kernel blows up.
+double pointToPolygonFormFactor(const Vec3& x, const Vec3& xNormal, std::span<const Vec3> polygon,
+                                const Vec3& polygonNormal);
+
+// Maps (u, v) ∈ [0,1)² onto the triangle with equal area (Shirley & Chiu warp, which keeps
+// stratification of the square).
+Vec3 sampleTriangle(const std::array<Vec3, 3>& triangle, double u, double v);
+
+// Centre of the triangle's inscribed circle (where seed 000 samples its patches).
+Vec3 incenter(const std::array<Vec3, 3>& triangle);
+
+}  // namespace lambert

@@ -1,0 +1,62 @@
+#include <vector>
+
+#include "lambert/geometry/ray_caster.h"
+
+namespace lambert {
+namespace {
+
+class BruteForceRayCaster final : public RayCaster {
+ public:
+  explicit BruteForceRayCaster(const Mesh& mesh) : mesh_(mesh) {}
+
+  bool occluded(const Ray& ray) const override {
+    countRays(1);
+    for (std::size_t i = 0; i < mesh_.numPatches(); ++i)
+      if (hitTriangle(ray, i)) return true;
+    return false;
+  }
+
+  std::optional<RayHit> intersect(const Ray& ray) const override {
+    countRays(1);
+    std::optional<RayHit> nearest;
+    Ray shrinking = ray;
+    for (std::size_t i = 0; i < mesh_.numPatches(); ++i) {
+      if (auto t = hitTriangle(shrinking, i)) {
+        bool front = dot(ray.direction, mesh_.patches[i].normal) < 0;
+        nearest = RayHit{*t, static_cast<std::uint32_t>(i), front};
+        shrinking.tMax = *t;
+      }
+    }
+    return nearest;
+  }
+
+ private:
+  // Möller–Trumbore, double precision, both sides.
+  std::optional<double> hitTriangle(const Ray& ray, std::size_t patch) const {
+    auto [a, b, c] = mesh_.corners(patch);
+    Vec3 e1 = b - a, e2 = c - a;
+    Vec3 p = cross(ray.direction, e2);
+    double det = dot(e1, p);
+    if (std::abs(det) < 1e-300) return std::nullopt;
+    double inv = 1 / det;
+    Vec3 s = ray.origin - a;
+    double u = dot(s, p) * inv;
+    if (u < 0 || u > 1) return std::nullopt;
+    Vec3 q = cross(s, e1);
+    double v = dot(ray.direction, q) * inv;
+    if (v < 0 || u + v > 1) return std::nullopt;
+    double t = dot(e2, q) * inv;
+    if (t < ray.tMin || t > ray.tMax) return std::nullopt;
+    return t;
+  }
+
+  const Mesh& mesh_;
+};
+
+}  // namespace
+
+std::unique_ptr<RayCaster> makeBruteForceRayCaster(const Mesh& mesh) {
+  return std::make_unique<BruteForceRayCaster>(mesh);
+}
+
+}  // namespace lambert

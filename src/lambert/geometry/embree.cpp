@@ -1,0 +1,119 @@
+// The only file in lambert that includes Embree.
+#include <embree3/rtcore.h>
+
+#include <cstdio>
+#include <cstdlib>
+
+#include "lambert/geometry/ray_caster.h"
+
+namespace lambert {
+namespace {
+
+void reportEmbreeError(void*, RTCError code, const char* message) {
+  std::fprintf(stderr, "embree error %d: %s\n", static_cast<int>(code), message ? message : "");
+}
+
+RTCRay toRtcRay(const Ray& ray) {
+  RTCRay r;
+  r.org_x = static_cast<float>(ray.origin.x);
+  r.org_y = static_cast<float>(ray.origin.y);
+  r.org_z = static_cast<float>(ray.origin.z);
+  r.dir_x = static_cast<float>(ray.direction.x);
+  r.dir_y = static_cast<float>(ray.direction.y);
+  r.dir_z = static_cast<float>(ray.direction.z);
+  r.tnear = static_cast<float>(ray.tMin);
+  r.tfar = static_cast<float>(ray.tMax);
+  r.time = 0;
+  r.mask = 0xFFFFFFFFu;
+  r.id = 0;
+  r.flags = 0;
+  return r;
+}
+
+class EmbreeRayCaster final : public RayCaster {
+ public:
+  explicit EmbreeRayCaster(const Mesh& mesh) : mesh_(mesh) {
+    device_ = rtcNewDevice(nullptr);
+    if (!device_) {
+      std::fprintf(stderr, "embree: cannot create a device (error %d)\n", static_cast<int>(rtcGetDeviceError(nullptr)));
+      std::abort();
+    }
+    rtcSetDeviceErrorFunction(device_, reportEmbreeError, nullptr);
+    scene_ = rtcNewScene(device_);
+    rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+    // Rays from one patch to another graze shared edges; robust mode keeps those watertight.
+    rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
+
+    RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.numVertices()));
+    for (std::size_t i = 0; i < mesh.numVertices(); ++i) {
+      vertices[3 * i + 0] = static_cast<float>(mesh.positions[i].x);
+      vertices[3 * i + 1] = static_cast<float>(mesh.positions[i].y);
+      vertices[3 * i + 2] = static_cast<float>(mesh.positions[i].z);
+    }
+    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), mesh.numPatches()));
+    for (std::size_t i = 0; i < mesh.numPatches(); ++i)
+      for (int k = 0; k < 3; ++k) indices[3 * i + k] = mesh.patches[i].vertices[k];
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometry(scene_, geometry);
+    rtcReleaseGeometry(geometry);
+    rtcCommitScene(scene_);
+  }
+
+  ~EmbreeRayCaster() override {
+    rtcReleaseScene(scene_);
+    rtcReleaseDevice(device_);
+  }
+
+  bool occluded(const Ray& ray) const override {
+    countRays(1);
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRay r = toRtcRay(ray);
+    rtcOccluded1(scene_, &context, &r);
+    return r.tfar < 0;  // Embree marks an occluded ray by setting tfar to -inf
+  }
+
+  void occluded(std::span<const Ray> rays, std::span<bool> out) const override {
+    countRays(rays.size());
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+    constexpr std::size_t kChunk = 64;
+    RTCRay chunk[kChunk];
+    for (std::size_t begin = 0; begin < rays.size(); begin += kChunk) {
+      std::size_t n = std::min(kChunk, rays.size() - begin);
+      for (std::size_t i = 0; i < n; ++i) chunk[i] = toRtcRay(rays[begin + i]);
+      rtcOccluded1M(scene_, &context, chunk, static_cast<unsigned>(n), sizeof(RTCRay));
+      for (std::size_t i = 0; i < n; ++i) out[begin + i] = chunk[i].tfar < 0;
+    }
+  }
+
+  std::optional<RayHit> intersect(const Ray& ray) const override {
+    countRays(1);
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRayHit rayHit;
+    rayHit.ray = toRtcRay(ray);
+    rayHit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rayHit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene_, &context, &rayHit);
+    if (rayHit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
+    std::uint32_t patch = rayHit.hit.primID;
+    bool front = dot(ray.direction, mesh_.patches[patch].normal) < 0;
+    return RayHit{rayHit.ray.tfar, patch, front};
+  }
+
+ private:
+  const Mesh& mesh_;
+  RTCDevice device_ = nullptr;
+  RTCScene scene_ = nullptr;
+};
+
+}  // namespace
+
+std::unique_ptr<RayCaster> makeEmbreeRayCaster(const Mesh& mesh) { return std::make_unique<EmbreeRayCaster>(mesh); }
+
+}  // namespace lambert

@@ -1,0 +1,58 @@
+#pragma once
+// Every ray query in lambert goes through RayCaster. The Embree backend is the one used for real
+// work; the brute-force backend is a plain loop over triangles that tests compare against.
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+
+#include "lambert/core/vec3.h"
+#include "lambert/mesh/mesh.h"
+
+namespace lambert {
+
+struct Ray {
+  Vec3 origin;
+  Vec3 direction;  // need not be unit length; t is measured in multiples of it
+  double tMin = 0;
+  double tMax = INFINITY;
+};
+
+struct RayHit {
+  double t = 0;
+  std::uint32_t patch = 0;  // index into the Mesh the caster was built from
+  bool frontFace = false;   // the ray hit the patch's front (its normal faces the ray origin)
+};
+
+class RayCaster {
+ public:
+  virtual ~RayCaster() = default;
+
+  // Whether anything lies on the ray between tMin and tMax.
+  virtual bool occluded(const Ray& ray) const = 0;
+  // occluded() for many rays at once; out[i] is set for rays[i].
+  virtual void occluded(std::span<const Ray> rays, std::span<bool> out) const;
+  // The nearest hit between tMin and tMax, if any.
+  virtual std::optional<RayHit> intersect(const Ray& ray) const = 0;
+
+  // Rays traced since construction (occlusion and intersection together).
+  std::uint64_t raysCast() const { return raysCast_.load(std::memory_order_relaxed); }
+
+ protected:
+  void countRays(std::uint64_t n) const { raysCast_.fetch_add(n, std::memory_order_relaxed); }
+
+ private:
+  mutable std::atomic<std::uint64_t> raysCast_{0};
+};
+
+// Embree 3 BVH over the mesh's patches.
+std::unique_ptr<RayCaster> makeEmbreeRayCaster(const Mesh& mesh);
+// Tests every triangle for every ray; only for checking the fast backend.
+std::unique_ptr<RayCaster> makeBruteForceRayCaster(const Mesh& mesh);
+
+// Scene-scale offset for ray endpoints on surfaces, so a ray neither hits the surface it starts
+// on nor the one it ends on: a small fraction of the scene's size, well above float precision.
+double rayEpsilon(const Mesh& mesh);
+
+}  // namespace lambert

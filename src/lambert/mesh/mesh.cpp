@@ -1,0 +1,115 @@
+#include "lambert/mesh/mesh.h"
+
+#include <cmath>
+#include <unordered_map>
+
+#include "lambert/core/error.h"
+
+namespace lambert {
+namespace {
+
+// Splits the triangles of one surface, sharing each edge midpoint between the two triangles on
+// either side of the edge, so the result has no T-junctions.
+class SurfaceSubdivider {
+ public:
+  SurfaceSubdivider(Mesh& mesh, std::uint32_t surface, double maxEdgeLength)
+      : mesh_(mesh), surface_(surface), maxEdgeSquared_(maxEdgeLength * maxEdgeLength) {}
+
+  std::uint32_t addVertex(const Vec3& p) {
+    mesh_.positions.push_back(p);
+    mesh_.vertexSurface.push_back(surface_);
+    return static_cast<std::uint32_t>(mesh_.positions.size() - 1);
+  }
+
+  void split(std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    const Vec3 pa = mesh_.positions[a], pb = mesh_.positions[b], pc = mesh_.positions[c];
+    double ab = lengthSquared(pb - pa), bc = lengthSquared(pc - pb), ca = lengthSquared(pa - pc);
+    double longest = std::fmax(ab, std::fmax(bc, ca));
+    if (longest <= maxEdgeSquared_) {
+      emit(a, b, c);
+      return;
+    }
+    // Rotate so the longest edge is (a, b), then bisect it; winding is kept.
+    if (bc == longest) return splitLongest(b, c, a);
+    if (ca == longest) return splitLongest(c, a, b);
+    splitLongest(a, b, c);
+  }
+
+ private:
+  void splitLongest(std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    std::uint32_t m = midpoint(a, b);
+    split(a, m, c);
+    split(m, b, c);
+  }
+
+  std::uint32_t midpoint(std::uint32_t a, std::uint32_t b) {
+    std::uint64_t key = (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
+    auto [it, inserted] = midpoints_.try_emplace(key, 0);
+    if (inserted) it->second = addVertex((mesh_.positions[a] + mesh_.positions[b]) * 0.5);
+    return it->second;
+  }
+
+  void emit(std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    Patch patch;
+    patch.vertices = {a, b, c};
+    patch.surface = surface_;
+    const Vec3 pa = mesh_.positions[a], pb = mesh_.positions[b], pc = mesh_.positions[c];
+    Vec3 n = cross(pb - pa, pc - pa);
+    patch.area = 0.5 * length(n);
+    patch.normal = n / (2 * patch.area);
+    patch.centroid = (pa + pb + pc) / 3.0;
+    mesh_.patches.push_back(patch);
+  }
+
+  Mesh& mesh_;
+  std::uint32_t surface_;
+  double maxEdgeSquared_;
+  std::unordered_map<std::uint64_t, std::uint32_t> midpoints_;
+};
+
+}  // namespace
+
+Mesh subdivideScene(const Scene& scene, double maxEdgeLength) {
+  LAMBERT_CHECK(maxEdgeLength > 0);
+  Mesh mesh;
+  for (std::uint32_t s = 0; s < scene.surfaces.size(); ++s) {
+    const Surface& surface = scene.surfaces[s];
+    LAMBERT_CHECK(surface.vertices.size() >= 3);
+    SurfaceSubdivider subdivider(mesh, s, maxEdgeLength);
+    std::vector<std::uint32_t> corners;
+    for (const Vec3& v : surface.vertices) corners.push_back(subdivider.addVertex(v));
+    for (std::size_t i = 1; i + 1 < corners.size(); ++i) subdivider.split(corners[0], corners[i], corners[i + 1]);
+  }
+  return mesh;
+}
+
+double sceneDiagonal(const Scene& scene) {
+  Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+  for (const Surface& s : scene.surfaces)
+    for (const Vec3& v : s.vertices) {
+      lo = componentMin(lo, v);
+      hi = componentMax(hi, v);
+    }
+  return length(hi - lo);
+}
+
+double edgeLengthForPatchCount(const Scene& scene, std::size_t targetPatches) {
+  // Patch count falls as the limit grows (in steps). Halve until the target is reached, then
+  // bisect between the last two limits.
+  double hi = sceneDiagonal(scene);
+  double lo = hi;
+  while (subdivideScene(scene, lo).numPatches() < targetPatches) {
+    hi = lo;
+    lo *= 0.5;
+  }
+  for (int iteration = 0; iteration < 40 && lo < hi; ++iteration) {
+    double mid = 0.5 * (lo + hi);
+    if (subdivideScene(scene, mid).numPatches() >= targetPatches)
+      lo = mid;
+    else
+      hi = mid;
+  }
+  return lo;
+}
+
+}  // namespace lambert

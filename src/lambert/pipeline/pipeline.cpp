@@ -1,0 +1,56 @@
+#include "lambert/pipeline/pipeline.h"
+
+#include "lambert/core/timer.h"
+#include "lambert/geometry/ray_caster.h"
+#include "lambert/solve/energy.h"
+#include "lambert/solve/problem.h"
+
+namespace lambert {
+
+RadiositySolution solveScene(const Scene& scene, const PipelineOptions& options) {
+  RadiositySolution solution;
+  Stats& stats = solution.stats;
+  stats.add("scene", "scene", scene.name);
+
+  Timer meshTimer;
+  double maxEdge = options.maxEdgeLength > 0 ? options.maxEdgeLength : edgeLengthForPatchCount(scene, options.targetPatches);
+  solution.mesh = subdivideScene(scene, maxEdge);
+  const Mesh& mesh = solution.mesh;
+  stats.add("patches", "patches", static_cast<std::int64_t>(mesh.numPatches()));
+  stats.add("vertices", "vertices", static_cast<std::int64_t>(mesh.numVertices()));
+  stats.add("max_edge_length", "max edge length", maxEdge, "scene units");
+  stats.add("mesh_seconds", "mesh time", meshTimer.seconds(), "s");
+
+  Timer bvhTimer;
+  auto caster = makeEmbreeRayCaster(mesh);
+  stats.add("bvh_seconds", "BVH build time", bvhTimer.seconds(), "s");
+
+  FormFactorStats ffStats;
+  auto F = std::make_shared<FormFactorMatrix>(computeFormFactors(mesh, *caster, options.formFactors, &ffStats));
+  stats.add("formfactor_method", "form-factor method", formFactorMethodName(options.formFactors.method));
+  if (options.formFactors.method == FormFactorMethod::AreaMonteCarlo)
+    stats.add("sample_pairs", "sample pairs per patch pair", static_cast<std::int64_t>(options.formFactors.samplePairs));
+  stats.add("pairs_evaluated", "patch pairs evaluated", static_cast<std::int64_t>(ffStats.pairsEvaluated));
+  stats.add("pairs_culled", "patch pairs culled", static_cast<std::int64_t>(ffStats.pairsCulled));
+  stats.add("visibility_rays", "visibility rays", static_cast<std::int64_t>(ffStats.visibilityRays));
+  stats.add("formfactor_seconds", "form-factor time", ffStats.seconds, "s");
+  stats.add("rays_per_second", "visibility rays per second",
+            ffStats.seconds > 0 ? static_cast<double>(ffStats.visibilityRays) / ffStats.seconds : 0.0, "rays/s");
+
+  solution.problem = makeRadiosityProblem(scene, mesh, F);
+  auto solver = makeSolver(options.solver, options.solve);
+  solution.report = solver->solve(solution.problem, solution.radiosity);
+  stats.add("solver", "solver", solution.report.solver);
+  stats.add("iterations", "iterations", static_cast<std::int64_t>(solution.report.iterations));
+  stats.add("residual", "relative residual", solution.report.residual);
+  stats.add("converged", "converged", std::string(solution.report.converged ? "yes" : "no"));
+  stats.add("solve_seconds", "solve time", solution.report.seconds, "s");
+
+  EnergyBalance balance = energyBalance(solution.problem, solution.radiosity, scene.metresPerUnit);
+  stats.add("emitted_watts", "emitted power", balance.emittedWatts, "W");
+  stats.add("absorbed_watts", "absorbed power", balance.absorbedWatts, "W");
+  stats.add("escaped_watts", "escaped power (openings)", balance.escapedWatts, "W");
+  return solution;
+}
+
+}  // namespace lambert

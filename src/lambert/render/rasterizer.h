@@ -1,0 +1,43 @@
+#pragma once
+// A software z-buffer rasterizer that turns a solved mesh into an image of radiance.
+#include <vector>
+
+#include "lambert/core/rgb.h"
+#include "lambert/mesh/mesh.h"
+#include "lambert/scene/scene.h"
+
+namespace lambert {
+
+struct Image {
+  int width = 0, height = 0;
+  std::vector<Rgb> pixels;  // linear radiance L in W/(m²·sr), row-major, top row first
+
+  Image() = default;
+  Image(int width_, int height_)
+      : width(width_), height(height_), pixels(static_cast<std::size_t>(width_) * height_) {}
+  Rgb& at(int x, int y) { return pixels[static_cast<std::size_t>(y) * width + x]; }
+  const Rgb& at(int x, int y) const { return pixels[static_cast<std::size_t>(y) * width + x]; }
+};
+
+enum class Shading {
+  Gouraud,  // radiosity interpolated from the vertices (area-weighted averages of their patches)
+  Flat,     // each patch in its own radiosity: shows the mesh the solution lives on
+};
+
+struct RenderOptions {
+  int width = 512, height = 512;
+  Shading shading = Shading::Gouraud;
+  int supersample = 2;  // samples per pixel per axis, box-filtered down
+};
+
+// Radiosity B (W/m²) at every mesh vertex: the area-weighted average over the patches that use
+// it. Vertices belong to one surface, so creases stay sharp. Unused vertices get zero.
+std::vector<Rgb> vertexRadiosity(const Mesh& mesh, const std::vector<Rgb>& patchRadiosity);
+
+// Renders every patch of the mesh as seen by the camera, in radiance L = B/π. Back faces are
+// drawn black (they occlude, as the back of a surface is opaque); the background is black.
+// patchRadiosity holds B in W/m², one per patch.
+Image renderRadiance(const Camera& camera, const Mesh& mesh, const std::vector<Rgb>& patchRadiosity,
+                     const RenderOptions& options);
+
+}  // namespace lambert

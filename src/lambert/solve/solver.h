@@ -1,0 +1,68 @@
+#pragma once
+// Solvers for the radiosity system B = E + ρ F B, each RGB channel on its own, behind one
+// interface. All start from (and so can warm-start with) the radiosity they are handed.
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "lambert/core/rgb.h"
+#include "lambert/formfactor/form_factors.h"
+
+namespace lambert {
+
+struct RadiosityProblem {
+  std::shared_ptr<const FormFactorMatrix> formFactors;  // F_ij
+  std::vector<Rgb> emitted;                       // E_i, W/m²
+  std::vector<Rgb> albedo;                        // ρ_i
+  std::vector<double> area;                       // A_i, scene units²
+
+  std::size_t size() const { return emitted.size(); }
+};
+
+enum class SolverKind {
+  Direct,       // Eigen LU of (I − ρF): seed 001's "Gaussian elimination"
+  GaussSeidel,  // in-place gathering sweeps (seed 000)
+  Jacobi,       // gathering sweeps from the previous iterate, rows in parallel
+  Shooting,     // progressive refinement (Cohen, Chen, Wallace & Greenberg 1988; seed 001)
+};
+
+std::string solverName(SolverKind kind);
+
+struct SolveOptions {
+  // Stop when the relative change (sweeps) or the unshot power fraction (shooting) falls below.
+  double tolerance = 1e-7;
+  // Sweeps for Gauss–Seidel and Jacobi; shots for shooting are limited to this many per patch.
+  int maxIterations = 1000;
+  // Called every progressEvery iterations with the displayable estimate (for shooting, radiosity
+  // plus the ambient term); 0 turns it off.
+  int progressEvery = 0;
+  std::function<void(int iteration, const std::vector<Rgb>& estimate)> onProgress;
+};
+
+struct SolveReport {
+  std::string solver;
+  int iterations = 0;     // sweeps, shots for shooting, 1 for direct
+  double residual = 0;    // max |E + ρFB − B| / max |B|, over patches and channels
+  double seconds = 0;
+  bool converged = false;
+};
+
+class Solver {
+ public:
+  virtual ~Solver() = default;
+  // Solves in place: radiosity holds the starting guess (any size other than the problem's
+  // means "start from E") and receives B_i in W/m².
+  virtual SolveReport solve(const RadiosityProblem& problem, std::vector<Rgb>& radiosity) const = 0;
+};
+
+std::unique_ptr<Solver> makeSolver(SolverKind kind, SolveOptions options = {});
+
+// max_i,c |E + ρFB − B| / max_i,c |B|.
+double relativeResidual(const RadiosityProblem& problem, const std::vector<Rgb>& radiosity);
+
+// Cohen et al. 1988's ambient radiosity for display during shooting: the unshot power spread
+// uniformly and reflected to convergence, R·Σ ΔB_j A_j / Σ A_j with R = 1 / (1 − ρ_avg).
+Rgb ambientRadiosity(const RadiosityProblem& problem, const std::vector<Rgb>& unshot);
+
+}  // namespace lambert
