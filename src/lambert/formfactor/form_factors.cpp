@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <atomic>
 #include <memory>
-#include <numeric>
 #include <vector>
 
 #include <tbb/enumerable_thread_specific.h>
@@ -12,6 +11,7 @@
 #include "lambert/core/parallel.h"
 #include "lambert/core/progress.h"
 #include "lambert/core/rng.h"
+#include "lambert/core/sampling.h"
 #include "lambert/core/timer.h"
 #include "lambert/formfactor/kernels.h"
 
@@ -40,23 +40,15 @@ bool facesAway(const Mesh& mesh, std::size_t i, std::size_t j, double epsilon) {
   return !anyCornerInFront(mesh, i, j, epsilon) || !anyCornerInFront(mesh, j, i, epsilon);
 }
 
-// N-rooks (Latin hypercube) points in the unit square: one per row and column stratum.
-void nRooks(Pcg32& rng, int n, std::vector<double>& u, std::vector<double>& v, std::vector<int>& permutation) {
-  u.resize(n);
-  v.resize(n);
-  permutation.resize(n);
-  std::iota(permutation.begin(), permutation.end(), 0);
-  for (int k = n - 1; k > 0; --k) std::swap(permutation[k], permutation[rng.nextBelow(static_cast<std::uint32_t>(k + 1))]);
-  for (int k = 0; k < n; ++k) {
-    u[k] = (k + rng.nextDouble()) / n;
-    v[k] = (permutation[k] + rng.nextDouble()) / n;
-  }
-}
-
 class PairEstimator {
  public:
   PairEstimator(const Mesh& mesh, const RayCaster& caster, const FormFactorOptions& options)
-      : mesh_(mesh), caster_(caster), options_(options), epsilon_(rayEpsilon(mesh)) {}
+      : mesh_(mesh), caster_(caster), options_(options), epsilon_(rayEpsilon(mesh)), longestEdge_(mesh.numPatches()) {
+    for (std::size_t i = 0; i < mesh.numPatches(); ++i) {
+      auto c = mesh.corners(i);
+      longestEdge_[i] = std::sqrt(std::fmax(lengthSquared(c[1] - c[0]), std::fmax(lengthSquared(c[2] - c[1]), lengthSquared(c[0] - c[2]))));
+    }
+  }
 
   // F_ij, the fraction of power leaving i that reaches j.
   double estimate(std::size_t i, std::size_t j) {
@@ -69,6 +61,13 @@ class PairEstimator {
     return Ray{from, to - from, 0, 1};
   }
 
+  // Patches closer than twice their size: the kernel varies fastest across them, so their
+  // estimates carry most of the error (and the rows of F their sums' error).
+  bool nearField(std::size_t i, std::size_t j) const {
+    double size = std::fmax(longestEdge_[i], longestEdge_[j]);
+    return lengthSquared(mesh_.patches[i].centroid - mesh_.patches[j].centroid) < 4 * size * size;
+  }
+
   double pointToPoint(std::size_t i, std::size_t j) {
     const Patch& pi = mesh_.patches[i];
     const Patch& pj = mesh_.patches[j];
@@ -78,45 +77,62 @@ class PairEstimator {
     return kernel * pj.area;
   }
 
+  // F_ij ≈ F̄ · V̄: F̄ averages the analytic factor F(x_k → P_j) over K points x_k on i, and V̄ is
+  // the kernel-weighted visible fraction over the first M of them, each paired with a point y_k on
+  // j. Far pairs use K = M, where this is exactly 1/M Σ F(x_k → P_j) V(x_k, y_k); near pairs
+  // integrate the fast-varying kernel with nearFieldBoost × more points but trace no more rays.
   double areaMonteCarlo(std::size_t i, std::size_t j) {
     const Patch& pi = mesh_.patches[i];
     const Patch& pj = mesh_.patches[j];
-    const int n = options_.samplePairs;
+    const int rayCount = options_.samplePairs;
+    const int kernelCount = rayCount * (nearField(i, j) ? options_.nearFieldBoost : 1);
+    // Independent scrambles for the points on i and on j pair them at random.
     Pcg32 rng(options_.seed, static_cast<std::uint64_t>(i) * mesh_.numPatches() + j);
-    nRooks(rng, n, u_, v_, permutation_);
-    xs_.resize(n);
-    for (int k = 0; k < n; ++k) xs_[k] = sampleTriangle(mesh_.corners(i), u_[k], v_[k]);
-    nRooks(rng, n, u_, v_, permutation_);
-    auto targetCorners = mesh_.corners(j);
+    const std::uint32_t su = rng.nextUint(), sv = rng.nextUint(), tu = rng.nextUint(), tv = rng.nextUint();
+    const auto sourceCorners = mesh_.corners(i), targetCorners = mesh_.corners(j);
 
     rays_.clear();
     kernels_.clear();
-    for (int k = 0; k < n; ++k) {
-      double f = pointToPolygonFormFactor(xs_[k], pi.normal, targetCorners, pj.normal);
-      if (f <= 0) continue;
-      Vec3 y = sampleTriangle(targetCorners, u_[k], v_[k]);
+    double kernelSum = 0;
+    const Vec3 targetPoint = targetCorners[0];
+    for (int k = 0; k < kernelCount; ++k) {
+      auto [u, v] = scrambledZeroTwo(static_cast<std::uint32_t>(k), su, sv);
+      Vec3 x = sampleTriangle(sourceCorners, u, v);
+      if (dot(x - targetPoint, pj.normal) <= 0) continue;  // behind j: j's front cannot reach x
+      // The part of j above x's horizon: both the kernel and the visibility points live there, so
+      // what the horizon hides is not counted again as occluded.
+      Vec3 visible[4];
+      std::size_t count = clipAbovePlane(targetCorners, x, pi.normal, visible);
+      if (count < 3) continue;
+      std::span<const Vec3> visiblePart(visible, count);
+      double f = contourFormFactor(x, pi.normal, visiblePart);
+      kernelSum += f;
+      if (k >= rayCount || f <= 0) continue;
+      auto [s, t] = scrambledZeroTwo(static_cast<std::uint32_t>(k), tu, tv);
       kernels_.push_back(f);
-      rays_.push_back(segment(xs_[k], pi.normal, y, pj.normal));
+      rays_.push_back(segment(x, pi.normal, sampleConvexPolygon(visiblePart, s, t), pj.normal));
     }
+    if (rays_.empty()) return 0;
     if (occludedCapacity_ < rays_.size()) {
       occludedCapacity_ = rays_.size();
       occluded_ = std::make_unique<bool[]>(occludedCapacity_);
     }
     caster_.occluded(rays_, std::span<bool>(occluded_.get(), rays_.size()));
-    double sum = 0;
-    for (std::size_t k = 0; k < rays_.size(); ++k)
-      if (!occluded_[k]) sum += kernels_[k];
-    return sum / n;
+    double tracedSum = 0, visibleSum = 0;
+    for (std::size_t k = 0; k < rays_.size(); ++k) {
+      tracedSum += kernels_[k];
+      if (!occluded_[k]) visibleSum += kernels_[k];
+    }
+    return kernelSum / kernelCount * (visibleSum / tracedSum);
   }
 
   const Mesh& mesh_;
   const RayCaster& caster_;
   const FormFactorOptions& options_;
   double epsilon_;
+  std::vector<double> longestEdge_;
   // Scratch, reused across pairs by one thread.
-  std::vector<double> u_, v_, kernels_;
-  std::vector<int> permutation_;
-  std::vector<Vec3> xs_;
+  std::vector<double> kernels_;
   std::vector<Ray> rays_;
   std::unique_ptr<bool[]> occluded_;  // not vector<bool>: the caster writes plain bools
   std::size_t occludedCapacity_ = 0;

@@ -19,7 +19,7 @@ using FormFactorMatrix = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Ei
 enum class FormFactorMethod {
   // Seed 000: one kernel evaluation and one visibility ray between the patches' incircle centres.
   PointToPoint,
-  // Area-to-area Monte Carlo: stratified sample points x_k on patch i, each paired with a point
+  // Area-to-area Monte Carlo: low-discrepancy sample points x_k on patch i, each paired with a point
   // y_k on patch j; F_ij ≈ 1/N Σ_k F(x_k → P_j) V(x_k, y_k) with the analytic point-to-polygon
   // factor, so adjacent patches stay finite and exact when unoccluded (Wallace, Elmquist & Haines
   // 1989 use the same split of kernel and visibility).
@@ -30,7 +30,8 @@ std::string formFactorMethodName(FormFactorMethod method);
 
 struct FormFactorOptions {
   FormFactorMethod method = FormFactorMethod::AreaMonteCarlo;
-  int samplePairs = 16;        // per patch pair, AreaMonteCarlo only
+  int samplePairs = 16;        // per patch pair, AreaMonteCarlo only; powers of two stratify best
+  int nearFieldBoost = 16;     // sample multiplier for pairs closer than twice their size
   std::uint64_t seed = 1;      // results depend on (seed, pair), never on thread count
   bool showProgress = true;    // a progress line when stderr is a terminal
 };

@@ -1,6 +1,7 @@
 #include "lambert/formfactor/kernels.h"
 
 #include <cmath>
+#include <vector>
 
 #include "lambert/core/rgb.h"
 
@@ -15,41 +16,62 @@ double pointToPointKernel(const Vec3& x, const Vec3& xNormal, const Vec3& y, con
   return cosX * cosY / (kPi * r2 * r2);  // both cosines carry a factor r
 }
 
+std::size_t clipAbovePlane(std::span<const Vec3> polygon, const Vec3& point, const Vec3& normal, Vec3* out) {
+  std::size_t count = 0;
+  const std::size_t n = polygon.size();
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec3& a = polygon[k];
+    const Vec3& b = polygon[(k + 1) % n];
+    double ha = dot(a - point, normal), hb = dot(b - point, normal);
+    if (ha > 0) out[count++] = a;
+    if ((ha > 0) != (hb > 0)) out[count++] = a + (b - a) * (ha / (ha - hb));
+  }
+  return count;
+}
+
+double contourFormFactor(const Vec3& x, const Vec3& xNormal, std::span<const Vec3> clippedPolygon) {
+  const std::size_t count = clippedPolygon.size();
+  if (count < 3) return 0;
+  double sum = 0;
+  Vec3 first = normalize(clippedPolygon[0] - x);
+  Vec3 a = first;
+  for (std::size_t k = 0; k < count; ++k) {
+    Vec3 b = k + 1 < count ? normalize(clippedPolygon[k + 1] - x) : first;
+    Vec3 c = cross(a, b);
+    double sinTheta = length(c);
+    if (sinTheta > 1e-15) sum += std::atan2(sinTheta, dot(a, b)) * dot(c, xNormal) / sinTheta;  // else seen end-on
+    a = b;
+  }
+  // The winding seen from x fixes the sign; the clipped polygon lies wholly above the tangent
+  // plane and is seen from its front, so the magnitude is the form factor.
+  return std::fabs(sum) / (2 * kPi);
+}
+
 double pointToPolygonFormFactor(const Vec3& x, const Vec3& xNormal, std::span<const Vec3> polygon,
                                 const Vec3& polygonNormal) {
   if (polygon.size() < 3) return 0;
   // Only the polygon's front side emits: x must lie in front of its plane.
   if (dot(x - polygon[0], polygonNormal) <= 0) return 0;
-
-  // Clip to the half-space above x's tangent plane (Sutherland–Hodgman against one plane).
-  constexpr std::size_t kMaxVertices = 16;
-  Vec3 clipped[kMaxVertices];
-  std::size_t count = 0;
-  const std::size_t n = polygon.size();
-  for (std::size_t k = 0; k < n && count + 2 <= kMaxVertices; ++k) {
-    const Vec3& a = polygon[k];
-    const Vec3& b = polygon[(k + 1) % n];
-    double ha = dot(a - x, xNormal), hb = dot(b - x, xNormal);
-    if (ha > 0) clipped[count++] = a;
-    if ((ha > 0) != (hb > 0)) clipped[count++] = a + (b - a) * (ha / (ha - hb));
+  // Patches are triangles, so the common case stays on the stack.
+  constexpr std::size_t kStackVertices = 8;
+  Vec3 stackBuffer[kStackVertices];
+  std::vector<Vec3> heapBuffer;
+  Vec3* clipped = stackBuffer;
+  if (polygon.size() + 1 > kStackVertices) {
+    heapBuffer.resize(polygon.size() + 1);
+    clipped = heapBuffer.data();
   }
-  if (count < 3) return 0;
+  std::size_t count = clipAbovePlane(polygon, x, xNormal, clipped);
+  return contourFormFactor(x, xNormal, std::span<const Vec3>(clipped, count));
+}
 
-  Vec3 directions[kMaxVertices];
-  for (std::size_t k = 0; k < count; ++k) directions[k] = normalize(clipped[k] - x);
-  double sum = 0;
-  for (std::size_t k = 0; k < count; ++k) {
-    const Vec3& a = directions[k];
-    const Vec3& b = directions[(k + 1) % count];
-    Vec3 c = cross(a, b);
-    double sinTheta = length(c);
-    if (sinTheta < 1e-15) continue;  // an edge seen end-on subtends no angle
-    double theta = std::atan2(sinTheta, dot(a, b));
-    sum += theta * dot(c, xNormal) / sinTheta;
-  }
-  // The winding seen from x fixes the sign; the clipped polygon lies wholly above the tangent
-  // plane and is seen from its front, so the magnitude is the form factor.
-  return std::fabs(sum) / (2 * kPi);
+Vec3 sampleConvexPolygon(std::span<const Vec3> polygon, double u, double v) {
+  if (polygon.size() == 3) return sampleTriangle({polygon[0], polygon[1], polygon[2]}, u, v);
+  double first = length(cross(polygon[1] - polygon[0], polygon[2] - polygon[0]));
+  double second = length(cross(polygon[2] - polygon[0], polygon[3] - polygon[0]));
+  double split = first / (first + second);
+  if (u < split) return sampleTriangle({polygon[0], polygon[1], polygon[2]}, u / split, v);
+  return sampleTriangle({polygon[0], polygon[2], polygon[3]}, std::fmin((u - split) / (1 - split), 1.0), v);
 }
 
 Vec3 sampleTriangle(const std::array<Vec3, 3>& triangle, double u, double v) {

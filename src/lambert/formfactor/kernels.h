@@ -21,6 +21,18 @@ double pointToPointKernel(const Vec3& x, const Vec3& xNormal, const Vec3& y, con
 double pointToPolygonFormFactor(const Vec3& x, const Vec3& xNormal, std::span<const Vec3> polygon,
                                 const Vec3& polygonNormal);
 
+// The part of a convex polygon strictly above the plane through `point` with normal `normal`
+// (Sutherland–Hodgman against one plane). Writes at most polygon.size() + 1 vertices to `out`
+// and returns how many; fewer than 3 means nothing is above.
+std::size_t clipAbovePlane(std::span<const Vec3> polygon, const Vec3& point, const Vec3& normal, Vec3* out);
+
+// Lambert's contour sum for a polygon already clipped to the hemisphere above x.
+double contourFormFactor(const Vec3& x, const Vec3& xNormal, std::span<const Vec3> clippedPolygon);
+
+// Maps (u, v) ∈ [0,1)² onto a convex polygon of 3 or 4 vertices with equal area: the first
+// coordinate picks a fan triangle in proportion to its area and is reused within it.
+Vec3 sampleConvexPolygon(std::span<const Vec3> polygon, double u, double v);
+
 // Maps (u, v) ∈ [0,1)² onto the triangle with equal area (Shirley & Chiu warp, which keeps
 // stratification of the square).
 Vec3 sampleTriangle(const std::array<Vec3, 3>& triangle, double u, double v);

@@ -21,8 +21,8 @@ constexpr std::int64_t kSubpixel = std::int64_t{1} << kSubpixelBits;
 // there off screen, so those cuts never show, and snapped coordinates stay small enough that
 // edge-function products cannot overflow 64 bits.
 constexpr double kGuardBand = 2.0;
-// High-resolution rows stay within this many output rows per band, so each band owns whole
-// output rows and can box-filter them itself.
+// Bands of this many output rows (times the supersampling, in sample rows) are the unit of
+// parallel work: each owns whole output rows, so it box-filters them itself with no sharing.
 constexpr int kBandRows = 8;
 // With the guard band this keeps snapped coordinates within 2^25 and edge functions within
 // 2^52, exact in int64 (and in the doubles the barycentrics are taken from).
@@ -83,7 +83,7 @@ int clipPolygon(const ClipVertex* in, int count, const ClipPlane& plane, ClipVer
 
 class TriangleSetup {
  public:
-  TriangleSetup(const PinholeCamera& camera) : camera_(camera) {
+  explicit TriangleSetup(const PinholeCamera& camera) : camera_(camera) {
     double gx = kGuardBand * camera.tanHalfFovX, gy = kGuardBand * camera.tanHalfFovY;
     planes_ = {ClipPlane{{0, 0, 1}, -camera.nearDistance}, ClipPlane{{-1, 0, gx}, 0},
                ClipPlane{{1, 0, gx}, 0}, ClipPlane{{0, -1, gy}, 0}, ClipPlane{{0, 1, gy}, 0}};
@@ -283,7 +283,8 @@ Image renderRadiance(const Camera& camera, const Mesh& mesh, const std::vector<R
       bins[b].push_back(i);
   }
 
-  Image image(options.width, options.height);
+  Image image{options.width, options.height,
+              std::vector<Rgb>(static_cast<std::size_t>(options.width) * options.height)};
   const double sampleWeight = 1.0 / (ss * ss);
   parallelFor(0, static_cast<std::size_t>(numBands), [&](std::size_t b) {
     Band band;

@@ -12,9 +12,6 @@ struct Image {
   int width = 0, height = 0;
   std::vector<Rgb> pixels;  // linear radiance L in W/(m²·sr), row-major, top row first
 
-  Image() = default;
-  Image(int width_, int height_)
-      : width(width_), height(height_), pixels(static_cast<std::size_t>(width_) * height_) {}
   Rgb& at(int x, int y) { return pixels[static_cast<std::size_t>(y) * width + x]; }
   const Rgb& at(int x, int y) const { return pixels[static_cast<std::size_t>(y) * width + x]; }
 };

@@ -1,0 +1,112 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "lambert/core/rgb.h"
+#include "lambert/core/rng.h"
+#include "lambert/formfactor/kernels.h"
+
+namespace lambert {
+namespace {
+
+// Differential element at the origin (normal +z) to a parallel a×b rectangle at height c with a
+// corner above it (Howell's catalogue, B-3).
+double cornerRectangle(double a, double b, double c) {
+  double A = a / c, B = b / c;
+  double sa = std::sqrt(1 + A * A), sb = std::sqrt(1 + B * B);
+  return (A / sa * std::atan(B / sa) + B / sb * std::atan(A / sb)) / (2 * kPi);
+}
+
+std::vector<Vec3> regularPolygonFacingDown(double equalAreaRadius, double height, int sides) {
+  // Circumradius giving the polygon the disk's area.
+  double r = equalAreaRadius * std::sqrt(2 * kPi / (sides * std::sin(2 * kPi / sides)));
+  std::vector<Vec3> polygon;
+  for (int k = 0; k < sides; ++k) {
+    double phi = -2 * kPi * k / sides;  // clockwise seen from above: counter-clockwise from below
+    polygon.push_back({r * std::cos(phi), r * std::sin(phi), height});
+  }
+  return polygon;
+}
+
+TEST(KernelTest, PointToRectangleMatchesHowell) {
+  for (auto [a, b, c] : {std::array<double, 3>{1, 1, 1}, {2, 0.5, 1}, {0.1, 3, 0.7}, {5, 5, 0.01}}) {
+    std::vector<Vec3> rect{{0, 0, c}, {0, b, c}, {a, b, c}, {a, 0, c}};
+    double f = pointToPolygonFormFactor({0, 0, 0}, {0, 0, 1}, rect, {0, 0, -1});
+    EXPECT_NEAR(f, cornerRectangle(a, b, c), 1e-12) << a << " " << b << " " << c;
+  }
+}
+
+TEST(KernelTest, PointToCoaxialDisk) {
+  for (auto [radius, height] : {std::pair{1.0, 1.0}, {1.0, 2.0}, {3.0, 0.5}}) {
+    auto disk = regularPolygonFacingDown(radius, height, 512);
+    double f = pointToPolygonFormFactor({0, 0, 0}, {0, 0, 1}, disk, {0, 0, -1});
+    EXPECT_NEAR(f, radius * radius / (height * height + radius * radius), 2e-5);
+  }
+}
+
+TEST(KernelTest, BackFacingAndBelowHorizonGiveZero) {
+  std::vector<Vec3> up{{0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};  // normal +z: faces away
+  EXPECT_EQ(pointToPolygonFormFactor({0.5, 0.5, 0}, {0, 0, 1}, up, {0, 0, 1}), 0);
+  std::vector<Vec3> down{{0, 0, -1}, {0, 1, -1}, {1, 1, -1}, {1, 0, -1}};  // below x's horizon
+  EXPECT_EQ(pointToPolygonFormFactor({0.5, 0.5, 0}, {0, 0, 1}, down, {0, 0, 1}), 0);
+}
+
+// A polygon cut by the tangent plane contributes only its upper part: a unit wall standing on the
+// receiver's plane equals the perpendicular-rectangle formula whether or not it extends below.
+TEST(KernelTest, HorizonClippingKeepsTheUpperPart) {
+  std::vector<Vec3> wall{{1, 0, 0}, {1, 1, 0}, {1, 1, 1}, {1, 0, 1}};         // x = 1, facing −x
+  std::vector<Vec3> tallWall{{1, 0, -1}, {1, 1, -1}, {1, 1, 1}, {1, 0, 1}};  // the same, reaching below
+  Vec3 x{0, 0, 0}, n{0, 0, 1}, wallNormal{-1, 0, 0};
+  double f = pointToPolygonFormFactor(x, n, wall, wallNormal);
+  EXPECT_GT(f, 0);
+  EXPECT_NEAR(pointToPolygonFormFactor(x, n, tallWall, wallNormal), f, 1e-12);
+  // Howell B-4 (element to a perpendicular rectangle, corner on the common line): a=1 (height), b=1, c=1.
+  double X = 1, Y = 1;  // X = a/b (height/width), Y = c/b (distance/width)
+  double expected = (std::atan(1 / Y) - Y / std::sqrt(X * X + Y * Y) * std::atan(1 / std::sqrt(X * X + Y * Y))) / (2 * kPi);
+  EXPECT_NEAR(f, expected, 1e-12);
+}
+
+// Approaching a patch's edge the analytic factor stays finite and tends to the half-space value;
+// the point-to-point kernel grows without bound.
+TEST(KernelTest, AdjacentPatchesStayFinite) {
+  std::vector<Vec3> wall{{0, 0, 0}, {0, 1, 0}, {0, 1, 1}, {0, 0, 1}};  // x = 0, facing +x
+  Vec3 n{0, 0, 1}, wallNormal{1, 0, 0};
+  double previous = 0;
+  for (double d : {1e-1, 1e-3, 1e-6, 1e-9}) {
+    double f = pointToPolygonFormFactor({d, 0.5, 0}, n, wall, wallNormal);
+    EXPECT_TRUE(std::isfinite(f));
+    EXPECT_GE(f, previous);
+    EXPECT_LE(f, 0.5 + 1e-12);
+    previous = f;
+  }
+  // At the foot of a wall, the wall fills the half of the hemisphere on its side: F → 1/2.
+  EXPECT_NEAR(previous, 0.5, 1e-6);
+  EXPECT_GT(pointToPointKernel({1e-6, 0.5, 1e-6}, n, {0, 0.5, 2e-6}, wallNormal), 1e10);
+}
+
+TEST(KernelTest, TriangleSamplingIsUniformAndInside) {
+  std::array<Vec3, 3> tri{Vec3{0, 0, 0}, Vec3{2, 0, 0}, Vec3{0, 1, 0}};
+  Pcg32 rng(3, 4);
+  Vec3 mean;
+  const int n = 200000;
+  for (int k = 0; k < n; ++k) {
+    Vec3 p = sampleTriangle(tri, rng.nextDouble(), rng.nextDouble());
+    ASSERT_GE(p.x, -1e-12);
+    ASSERT_GE(p.y, -1e-12);
+    ASSERT_LE(p.x / 2 + p.y, 1 + 1e-12);
+    mean += p / n;
+  }
+  EXPECT_NEAR(mean.x, 2.0 / 3, 3e-3);  // the centroid
+  EXPECT_NEAR(mean.y, 1.0 / 3, 3e-3);
+}
+
+TEST(KernelTest, IncenterIsEquidistantFromTheEdges) {
+  std::array<Vec3, 3> tri{Vec3{0, 0, 0}, Vec3{4, 0, 0}, Vec3{0, 3, 0}};
+  Vec3 c = incenter(tri);
+  EXPECT_NEAR(c.x, 1, 1e-12);  // r = (a + b − c)/2 = 1 for the 3-4-5 triangle
+  EXPECT_NEAR(c.y, 1, 1e-12);
+}
+
+}  // namespace
+}  // namespace lambert
