@@ -2,8 +2,8 @@
 // Approach to Fast Radiosity Image Generation", SIGGRAPH 1988), as in seed 001: repeatedly pick
 // the patch with the most unshot power ΔB_i A_i and shoot it to every patch j,
 //   ΔB_j += ρ_j ΔB_i F_ji,  F_ji = F_ij A_i / A_j (reciprocity, so row i is all we read),
-// until the unshot power is a small fraction of the total. Starting from a guess B, the unshot
-// radiosity is the residual E + ρFB − B, which may be negative; shooting it works the same.
+// until the unshot power is a small fraction of the total. Starting from a guess B₀, the residual
+// r₀ = E + ρFB₀ − B₀ (which may be negative) is added to B₀ and becomes the unshot radiosity.
 #include <cmath>
 
 #include "lambert/core/parallel.h"
@@ -22,9 +22,11 @@ SolveReport ShootingSolver::solve(const RadiosityProblem& problem, std::vector<R
     radiosity = problem.emitted;
     unshot = problem.emitted;
   } else {
+    // B = B₀ + X with X = r₀ + ρFX: the residual r₀ is both added and left to shoot.
     parallelFor(0, n, [&](std::size_t i) {
       unshot[i] = problem.emitted[i] + problem.albedo[i] * gatherRow(F, i, radiosity) - radiosity[i];
     }, 16);
+    for (std::size_t i = 0; i < n; ++i) radiosity[i] += unshot[i];
   }
 
   auto power = [&](std::size_t i) {
@@ -65,7 +67,7 @@ SolveReport ShootingSolver::solve(const RadiosityProblem& problem, std::vector<R
     }
     report.iterations = static_cast<int>(shot);
     if (options_.onProgress && options_.progressEvery > 0 && shot % options_.progressEvery == 0) {
-      Rgb ambient = ambientRadiosity(problem, unshot);
+      Rgb ambient = options_.displayAmbient ? ambientRadiosity(problem, unshot) : Rgb{};
       display.resize(n);
       for (std::size_t i = 0; i < n; ++i) display[i] = radiosity[i] + problem.albedo[i] * ambient;
       options_.onProgress(static_cast<int>(shot), display);

@@ -37,6 +37,7 @@ struct SolveOptions {
   // Called every progressEvery iterations with the displayable estimate (for shooting, radiosity
   // plus the ambient term); 0 turns it off.
   int progressEvery = 0;
+  bool displayAmbient = true;  // shooting: add the ambient term to what onProgress sees
   std::function<void(int iteration, const std::vector<Rgb>& estimate)> onProgress;
 };
 

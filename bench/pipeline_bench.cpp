@@ -1,0 +1,253 @@
+// End-to-end timings of the radiosity pipeline on the Cornell box, one row per patch count:
+// mesh → Embree BVH → area Monte Carlo form factors → Gauss–Seidel → 512×512 render, plus (up to
+// 3000 patches) the direct LU solve and the seed-000 point-to-point form factors for comparison.
+// Prints one JSON document on stdout; progress goes to stderr.
+//
+//   pipeline_bench [--quick] [--patches 192,784] [--samples 16]
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <fstream>
+#include <iostream>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "lambert/core/stats.h"
+#include "lambert/core/timer.h"
+#include "lambert/formfactor/form_factors.h"
+#include "lambert/geometry/ray_caster.h"
+#include "lambert/pipeline/pipeline.h"
+#include "lambert/render/rasterizer.h"
+#include "lambert/scene/builtin.h"
+#include "lambert/solve/solver.h"
+
+using namespace lambert;
+using Json = nlohmann::ordered_json;
+
+namespace {
+
+constexpr std::size_t kComparisonMaxPatches = 3000;  // direct LU and point-to-point only up to here
+constexpr double kTarget784Seconds = 1.0;
+
+struct Options {
+  std::vector<std::size_t> patches{192, 304, 464, 784, 3000, 10000};
+  int samples = 16;
+};
+
+[[noreturn]] void usage(const char* message) {
+  std::fprintf(stderr,
+               "pipeline_bench: %s\n"
+               "usage: pipeline_bench [--quick] [--patches N[,N...]] [--samples N]\n"
+               "  --quick        only 192,304,464,784 patches\n"
+               "  --patches      target patch counts (default 192,304,464,784,3000,10000)\n"
+               "  --samples      area Monte Carlo sample pairs per patch pair (default 16)\n",
+               message);
+  std::exit(2);
+}
+
+std::size_t parseCount(const std::string& text) {
+  char* end = nullptr;
+  unsigned long long value = std::strtoull(text.c_str(), &end, 10);
+  if (text.empty() || *end != '\0' || value == 0) usage(("not a positive integer: '" + text + "'").c_str());
+  return static_cast<std::size_t>(value);
+}
+
+Options parseOptions(int argc, char** argv) {
+  Options options;
+  bool patchesGiven = false, quick = false;
+  for (int a = 1; a < argc; ++a) {
+    std::string arg = argv[a];
+    auto value = [&]() -> std::string {
+      if (auto eq = arg.find('='); eq != std::string::npos) return arg.substr(eq + 1);
+      if (a + 1 >= argc) usage((arg + " needs a value").c_str());
+      return argv[++a];
+    };
+    std::string name = arg.substr(0, arg.find('='));
+    if (name == "--quick") {
+      quick = true;
+    } else if (name == "--patches") {
+      options.patches.clear();
+      std::string list = value();
+      for (std::size_t begin = 0; begin <= list.size();) {
+        std::size_t comma = list.find(',', begin);
+        if (comma == std::string::npos) comma = list.size();
+        options.patches.push_back(parseCount(list.substr(begin, comma - begin)));
+        begin = comma + 1;
+      }
+      patchesGiven = true;
+    } else if (name == "--samples") {
+      options.samples = static_cast<int>(parseCount(value()));
+    } else if (name == "-h" || name == "--help") {
+      usage("help");
+    } else {
+      usage(("unknown argument '" + arg + "'").c_str());
+    }
+  }
+  if (quick && !patchesGiven) options.patches = {192, 304, 464, 784};
+  return options;
+}
+
+std::string cpuModel() {
+  std::ifstream cpuinfo("/proc/cpuinfo");
+  std::string line;
+  while (std::getline(cpuinfo, line)) {
+    if (line.rfind("model name", 0) == 0) {
+      auto colon = line.find(':');
+      if (colon == std::string::npos) break;
+      std::string model = line.substr(colon + 1);
+      model.erase(0, model.find_first_not_of(" \t"));
+      return model;
+    }
+  }
+  return "unknown CPU";
+}
+
+std::string utcNow() {
+  std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char buffer[32];
+  std::strftime(buffer, sizeof buffer, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buffer;
+}
+
+std::string buildDescription() {
+#ifdef NDEBUG
+  std::string type = "Release";
+#else
+  std::string type = "Debug";
+#endif
+#if defined(__clang__)
+  return type + ", " + __VERSION__;
+#elif defined(__GNUC__)
+  return type + ", GCC " + __VERSION__;
+#else
+  return type + ", " + __VERSION__;
+#endif
+}
+
+// Seconds to the microsecond and rates to the unit, so the JSON stays readable.
+double roundTo(double value, double step) { return std::round(value / step) * step; }
+double seconds(double s) { return roundTo(s, 1e-6); }
+
+double statNumber(const Stats& stats, const std::string& key) {
+  const Stats::Entry* entry = stats.find(key);
+  if (!entry) return NAN;
+  if (const auto* i = std::get_if<std::int64_t>(&entry->value)) return static_cast<double>(*i);
+  if (const auto* d = std::get_if<double>(&entry->value)) return *d;
+  return NAN;
+}
+
+std::int64_t statInt(const Stats& stats, const std::string& key) {
+  const Stats::Entry* entry = stats.find(key);
+  if (entry)
+    if (const auto* i = std::get_if<std::int64_t>(&entry->value)) return *i;
+  return -1;
+}
+
+std::string statString(const Stats& stats, const std::string& key) {
+  const Stats::Entry* entry = stats.find(key);
+  if (entry)
+    if (const auto* s = std::get_if<std::string>(&entry->value)) return *s;
+  return "";
+}
+
+Json benchSize(const Scene& scene, std::size_t target, int samples) {
+  PipelineOptions options;
+  options.targetPatches = target;
+  options.formFactors.method = FormFactorMethod::AreaMonteCarlo;
+  options.formFactors.samplePairs = samples;
+  options.formFactors.showProgress = true;
+  options.solver = SolverKind::GaussSeidel;
+  options.solve.tolerance = 1e-7;
+
+  Timer total;
+  RadiositySolution solution = solveScene(scene, options);
+  Timer renderTimer;
+  Image image = renderRadiance(scene.camera, solution.mesh, solution.radiosity, RenderOptions{});
+  double renderSeconds = renderTimer.seconds();
+  double totalSeconds = total.seconds();
+  if (image.pixels.empty()) std::fprintf(stderr, "pipeline_bench: empty image\n");
+
+  const Stats& stats = solution.stats;
+  const std::size_t n = solution.mesh.numPatches();
+  Json row;
+  row["target_patches"] = target;
+  row["patches"] = n;
+  row["mesh_seconds"] = seconds(statNumber(stats, "mesh_seconds"));
+  row["bvh_seconds"] = seconds(statNumber(stats, "bvh_seconds"));
+  row["formfactor_seconds"] = seconds(statNumber(stats, "formfactor_seconds"));
+  row["sample_pairs"] = samples;
+  row["visibility_rays"] = statInt(stats, "visibility_rays");
+  row["rays_per_second"] = roundTo(statNumber(stats, "rays_per_second"), 1);
+  row["solver"] = statString(stats, "solver");
+  row["iterations"] = statInt(stats, "iterations");
+  row["residual"] = statNumber(stats, "residual");
+  row["solve_seconds"] = seconds(statNumber(stats, "solve_seconds"));
+  row["render_seconds"] = seconds(renderSeconds);
+  row["total_seconds"] = seconds(totalSeconds);
+  row["matrix_mib"] = roundTo(static_cast<double>(n) * n * sizeof(float) / (1024.0 * 1024.0), 0.1);
+
+  if (n <= kComparisonMaxPatches) {
+    std::fprintf(stderr, "  direct LU solve (%zu patches)\n", n);
+    std::vector<Rgb> direct;
+    SolveReport report = makeSolver(SolverKind::Direct)->solve(solution.problem, direct);
+    row["direct_solve_seconds"] = seconds(report.seconds);
+    row["direct_residual"] = report.residual;
+
+    std::fprintf(stderr, "  point-to-point form factors (%zu patches)\n", n);
+    auto caster = makeEmbreeRayCaster(solution.mesh);
+    FormFactorOptions pointOptions;
+    pointOptions.method = FormFactorMethod::PointToPoint;
+    pointOptions.showProgress = true;
+    FormFactorStats pointStats;
+    {
+      FormFactorMatrix F = computeFormFactors(solution.mesh, *caster, pointOptions, &pointStats);
+      (void)F;  // freed here, before anything else is allocated
+    }
+    row["point_formfactor_seconds"] = seconds(pointStats.seconds);
+    row["point_visibility_rays"] = pointStats.visibilityRays;
+  }
+  return row;  // `solution`, and with it the form-factor matrix, is freed here
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options options = parseOptions(argc, argv);
+  Scene scene = cornellBox();
+
+  Json doc;
+  doc["machine"] = cpuModel() + " (" + std::to_string(std::thread::hardware_concurrency()) + " hardware threads)";
+  doc["date"] = utcNow();
+  doc["build"] = buildDescription();
+  doc["scene"] = scene.name;
+  doc["formfactor_method"] = formFactorMethodName(FormFactorMethod::AreaMonteCarlo);
+  doc["solver"] = solverName(SolverKind::GaussSeidel);
+  doc["tolerance"] = 1e-7;
+  doc["render"] = Json{{"width", RenderOptions{}.width}, {"height", RenderOptions{}.height},
+                       {"supersample", RenderOptions{}.supersample}};
+  doc["target"] = Json{{"pipeline_784_seconds_max", kTarget784Seconds}, {"met", nullptr}};
+
+  Json sizes = Json::array();
+  for (std::size_t target : options.patches) {
+    std::fprintf(stderr, "cornell box, %zu target patches\n", target);
+    Json row = benchSize(scene, target, options.samples);
+    std::fprintf(stderr, "  %lld patches: total %.3f s (form factors %.3f s, solve %.3f s, render %.3f s)\n",
+                 static_cast<long long>(row["patches"].get<std::int64_t>()), row["total_seconds"].get<double>(),
+                 row["formfactor_seconds"].get<double>(), row["solve_seconds"].get<double>(),
+                 row["render_seconds"].get<double>());
+    if (target == 784) doc["target"]["met"] = row["total_seconds"].get<double>() <= kTarget784Seconds;
+    sizes.push_back(std::move(row));
+  }
+  doc["sizes"] = std::move(sizes);
+
+  std::cout << doc.dump(2) << std::endl;
+  return 0;
+}

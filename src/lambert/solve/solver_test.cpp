@@ -1,0 +1,190 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "lambert/formfactor/form_factors.h"
+#include "lambert/geometry/ray_caster.h"
+#include "lambert/solve/energy.h"
+#include "lambert/solve/problem.h"
+#include "lambert/solve/solver.h"
+#include "tests/support/scenes.h"
+
+namespace lambert {
+namespace {
+
+constexpr SolverKind kAllSolvers[] = {SolverKind::Direct, SolverKind::GaussSeidel, SolverKind::Jacobi, SolverKind::Shooting};
+
+struct Solved {
+  Mesh mesh;
+  RadiosityProblem problem;
+};
+
+Solved setUp(const Scene& scene, double maxEdge) {
+  Solved s;
+  s.mesh = subdivideScene(scene, maxEdge);
+  auto caster = makeEmbreeRayCaster(s.mesh);
+  FormFactorOptions options;
+  options.showProgress = false;
+  auto F = std::make_shared<FormFactorMatrix>(computeFormFactors(s.mesh, *caster, options));
+  s.problem = makeRadiosityProblem(scene, s.mesh, F);
+  return s;
+}
+
+std::vector<Rgb> solveWith(SolverKind kind, const RadiosityProblem& problem, SolveOptions options = {}) {
+  std::vector<Rgb> radiosity;
+  SolveReport report = makeSolver(kind, options)->solve(problem, radiosity);
+  EXPECT_TRUE(report.converged) << solverName(kind);
+  EXPECT_EQ(report.solver, solverName(kind));
+  EXPECT_LT(report.residual, 1e-5) << solverName(kind);
+  return radiosity;
+}
+
+double maxRelativeDifference(const std::vector<Rgb>& a, const std::vector<Rgb>& b) {
+  double scale = 0, worst = 0;
+  for (const Rgb& v : b) scale = std::fmax(scale, v.maxComponent());
+  for (std::size_t i = 0; i < a.size(); ++i)
+    for (int c = 0; c < 3; ++c) worst = std::fmax(worst, std::fabs(a[i][c] - b[i][c]));
+  return worst / scale;
+}
+
+// Furnace: a closed box whose every patch emits E with albedo ρ has B = E / (1 − ρ) everywhere.
+TEST(SolverTest, FurnaceGivesEOverOneMinusRho) {
+  const Rgb radiance{1, 2, 3};
+  Solved s = setUp(testing::closedCube(1, radiance, Rgb::gray(0.5)), 0.3);
+  const Rgb expected = radiance * kPi / (1 - 0.5);
+  for (SolverKind kind : kAllSolvers) {
+    std::vector<Rgb> radiosity = solveWith(kind, s.problem);
+    for (std::size_t i = 0; i < radiosity.size(); ++i)
+      for (int c = 0; c < 3; ++c)
+        ASSERT_LT(testing::relativeError(radiosity[i][c], expected[c]), 0.005)
+            << solverName(kind) << " patch " << i << " channel " << c << ": " << radiosity[i][c];
+  }
+}
+
+// The Cornell box at the seed's largest mesh: all four solvers reach the same B.
+TEST(SolverTest, SolversAgreeOnTheCornellBox) {
+  Scene scene = cornellBox();
+  Solved s = setUp(scene, edgeLengthForPatchCount(scene, 784));
+  SolveOptions tight;
+  tight.tolerance = 1e-10;
+  std::vector<Rgb> direct = solveWith(SolverKind::Direct, s.problem, tight);
+  for (SolverKind kind : {SolverKind::GaussSeidel, SolverKind::Jacobi, SolverKind::Shooting})
+    EXPECT_LT(maxRelativeDifference(solveWith(kind, s.problem, tight), direct), 1e-4) << solverName(kind);
+}
+
+// Closed by a black portal, the box loses nothing through openings: what the light emits is
+// absorbed by the surfaces (and the portal). A test of F's row sums in an occluded scene too.
+TEST(SolverTest, EnergyBalanceOnTheClosedCornellBox) {
+  Scene scene = testing::closedCornellBox();
+  Solved s = setUp(scene, edgeLengthForPatchCount(scene, 784));
+  std::vector<Rgb> radiosity = solveWith(SolverKind::Direct, s.problem);
+  EnergyBalance balance = energyBalance(s.problem, radiosity, scene.metresPerUnit);
+  // 130 mm × 105 mm emitting π·(17+12+4) W/m².
+  EXPECT_NEAR(balance.emittedWatts, 0.130 * 0.105 * kPi * 33, 1e-9);
+  EXPECT_LT(testing::relativeError(balance.absorbedWatts, balance.emittedWatts), 0.01)
+      << "absorbed " << balance.absorbedWatts << " W of " << balance.emittedWatts << " W";
+}
+
+// On the open box the books close exactly: emitted = absorbed + escaped through the front.
+TEST(SolverTest, EnergyIsConservedOnTheOpenCornellBox) {
+  Scene scene = cornellBox();
+  Solved s = setUp(scene, edgeLengthForPatchCount(scene, 304));
+  std::vector<Rgb> radiosity = solveWith(SolverKind::Direct, s.problem);
+  EnergyBalance balance = energyBalance(s.problem, radiosity, scene.metresPerUnit);
+  EXPECT_GT(balance.escapedWatts, 0.1 * balance.emittedWatts);  // the front is open
+  EXPECT_LT(testing::relativeError(balance.absorbedWatts + balance.escapedWatts, balance.emittedWatts), 1e-6);
+}
+
+TEST(SolverTest, WarmStartFromTheSolutionConvergesAtOnce) {
+  Scene scene = cornellBox();
+  Solved s = setUp(scene, edgeLengthForPatchCount(scene, 192));
+  std::vector<Rgb> solution = solveWith(SolverKind::Direct, s.problem);
+  for (SolverKind kind : {SolverKind::GaussSeidel, SolverKind::Jacobi, SolverKind::Shooting}) {
+    std::vector<Rgb> radiosity = solution;
+    SolveReport report = makeSolver(kind)->solve(s.problem, radiosity);
+    EXPECT_TRUE(report.converged);
+    EXPECT_LE(report.iterations, 1) << solverName(kind);
+    EXPECT_LT(maxRelativeDifference(radiosity, solution), 1e-6);
+  }
+}
+
+// A warm start from a stale solution (the light was dimmed) converges to the cold solve.
+TEST(SolverTest, WarmStartFromAStaleSolutionConverges) {
+  Scene scene = cornellBox();
+  Solved s = setUp(scene, edgeLengthForPatchCount(scene, 192));
+  std::vector<Rgb> stale = solveWith(SolverKind::Direct, s.problem);
+  for (Rgb& e : s.problem.emitted) e *= 0.25;
+  std::vector<Rgb> cold = solveWith(SolverKind::Direct, s.problem);
+  for (SolverKind kind : {SolverKind::GaussSeidel, SolverKind::Jacobi, SolverKind::Shooting}) {
+    std::vector<Rgb> radiosity = stale;
+    SolveOptions tight;
+    tight.tolerance = 1e-10;
+    SolveReport report = makeSolver(kind, tight)->solve(s.problem, radiosity);
+    EXPECT_TRUE(report.converged) << solverName(kind);
+    EXPECT_LT(maxRelativeDifference(radiosity, cold), 1e-5) << solverName(kind);
+  }
+}
+
+// Each Gauss–Seidel or Jacobi sweep adds a bounce; stopped early it is darker than converged.
+TEST(SolverTest, IterationsApproachTheSolutionFromBelow) {
+  Scene scene = cornellBox();
+  Solved s = setUp(scene, edgeLengthForPatchCount(scene, 192));
+  std::vector<Rgb> converged = solveWith(SolverKind::Direct, s.problem);
+  SolveOptions two;
+  two.maxIterations = 2;
+  std::vector<Rgb> early;
+  SolveReport report = makeSolver(SolverKind::Jacobi, two)->solve(s.problem, early);
+  EXPECT_FALSE(report.converged);
+  EXPECT_EQ(report.iterations, 2);
+  double meanDeficit = 0;
+  int reflectors = 0;
+  for (std::size_t i = 0; i < early.size(); ++i) {
+    for (int c = 0; c < 3; ++c) EXPECT_LE(early[i][c], converged[i][c] + 1e-9);
+    if (s.problem.emitted[i].sum() > 0) continue;
+    meanDeficit += 1 - early[i].sum() / converged[i].sum();
+    ++reflectors;
+  }
+  // Two sweeps from E hold E + ρFE + (ρF)²E: the third and later bounces are missing.
+  EXPECT_GT(meanDeficit / reflectors, 0.05);
+}
+
+// Progressive refinement's ambient term (Cohen et al. 1988): early in shooting, radiosity plus
+// ambient is closer to the converged answer than radiosity alone.
+TEST(SolverTest, ShootingAmbientTermImprovesEarlyEstimates) {
+  Scene scene = cornellBox();
+  Solved s = setUp(scene, edgeLengthForPatchCount(scene, 304));
+  std::vector<Rgb> converged = solveWith(SolverKind::Direct, s.problem);
+  auto errorAfter50Shots = [&](bool ambient) {
+    SolveOptions options;
+    options.displayAmbient = ambient;
+    options.progressEvery = 50;
+    double error = -1;
+    options.onProgress = [&](int shot, const std::vector<Rgb>& display) {
+      if (shot != 50) return;
+      error = 0;
+      for (std::size_t i = 0; i < display.size(); ++i)
+        error += std::fabs(display[i].sum() - converged[i].sum()) * s.problem.area[i];
+    };
+    std::vector<Rgb> radiosity;
+    makeSolver(SolverKind::Shooting, options)->solve(s.problem, radiosity);
+    return error;
+  };
+  double withAmbient = errorAfter50Shots(true), without = errorAfter50Shots(false);
+  ASSERT_GT(without, 0) << "progress callback never ran";
+  EXPECT_LT(withAmbient, 0.5 * without);
+}
+
+TEST(SolverTest, AmbientOfUniformUnshotIsItsInfiniteReflection) {
+  RadiosityProblem problem;
+  problem.emitted.assign(4, Rgb{});
+  problem.albedo.assign(4, Rgb::gray(0.5));
+  problem.area = {1, 1, 1, 1};
+  std::vector<Rgb> unshot(4, Rgb{1, 2, 4});
+  Rgb ambient = ambientRadiosity(problem, unshot);
+  EXPECT_NEAR(ambient.r, 2, 1e-12);  // 1 / (1 − 0.5)
+  EXPECT_NEAR(ambient.g, 4, 1e-12);
+  EXPECT_NEAR(ambient.b, 8, 1e-12);
+}
+
+}  // namespace
+}  // namespace lambert
