@@ -1,0 +1,44 @@
+# lambert — the two commands a new user needs are `make run` and `make test`.
+# Both install missing Debian packages first (scripts/install-deps.sh), then build in Release.
+
+BUILD_DIR ?= build
+JOBS ?= $(shell nproc 2>/dev/null || echo 2)
+CMAKE_FLAGS ?=
+LAMBERT = $(BUILD_DIR)/bin/lambert
+
+.PHONY: all deps configure build run test bench sanitize clean
+
+all: build
+
+deps:
+	@scripts/install-deps.sh
+
+configure: deps
+	@cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS) > /dev/null
+
+build: configure
+	@cmake --build $(BUILD_DIR) -j$(JOBS)
+
+# Render the built-in Cornell box to out/cornell.png and print the stats table.
+run: build
+	@$(LAMBERT) render --scene cornell -o out/cornell.png
+
+# Build everything and run the whole suite through CTest.
+test: build
+	@cd $(BUILD_DIR) && ctest --output-on-failure -j$(JOBS)
+
+# Benchmarks: the pipeline table as JSON on stdout; micro-benchmarks as JSON in out/bench/.
+bench: build
+	@mkdir -p out/bench
+	@$(BUILD_DIR)/bin/micro_bench --benchmark_format=console --benchmark_out_format=json \
+	  --benchmark_out=out/bench/micro.json >&2
+	@$(BUILD_DIR)/bin/pipeline_bench | tee out/bench/pipeline.json
+
+# The test suite under AddressSanitizer and UndefinedBehaviorSanitizer.
+sanitize: deps
+	@cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLAMBERT_SANITIZE=ON -DLAMBERT_BUILD_BENCH=OFF > /dev/null
+	@cmake --build build-sanitize -j$(JOBS)
+	@cd build-sanitize && ctest --output-on-failure -j$(JOBS)
+
+clean:
+	rm -rf $(BUILD_DIR) build-sanitize out
