@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
+#include <time.h>
 #include <fstream>
 #include <iostream>
 #include <optional>
@@ -132,9 +133,28 @@ std::string buildDescription() {
 #endif
 }
 
-// Seconds to the microsecond and rates to the unit, so the JSON stays readable.
-double roundTo(double value, double step) { return std::round(value / step) * step; }
-double seconds(double s) { return roundTo(s, 1e-6); }
+// Seconds to the microsecond, so the JSON stays readable (x·10^k rounded, then divided, is the
+// double nearest the decimal, which prints short).
+double roundDigits(double value, int decimals) {
+  double scale = std::pow(10.0, decimals);
+  return std::round(value * scale) / scale;
+}
+double seconds(double s) { return roundDigits(s, 6); }
+
+// CPU time of the whole process, all threads: against wall time it shows how many cores the
+// run actually got (others' compiles share this machine).
+double processCpuSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+std::string loadAverage() {
+  std::ifstream in("/proc/loadavg");
+  std::string one, five, fifteen;
+  in >> one >> five >> fifteen;
+  return one.empty() ? "unknown" : one + " " + five + " " + fifteen;
+}
 
 double statNumber(const Stats& stats, const std::string& key) {
   const Stats::Entry* entry = stats.find(key);
@@ -168,11 +188,13 @@ Json benchSize(const Scene& scene, std::size_t target, int samples) {
   options.solve.tolerance = 1e-7;
 
   Timer total;
+  const double cpuBefore = processCpuSeconds();
   RadiositySolution solution = solveScene(scene, options);
   Timer renderTimer;
   Image image = renderRadiance(scene.camera, solution.mesh, solution.radiosity, RenderOptions{});
   double renderSeconds = renderTimer.seconds();
   double totalSeconds = total.seconds();
+  double cpuSeconds = processCpuSeconds() - cpuBefore;
   if (image.pixels.empty()) std::fprintf(stderr, "pipeline_bench: empty image\n");
 
   const Stats& stats = solution.stats;
@@ -185,14 +207,15 @@ Json benchSize(const Scene& scene, std::size_t target, int samples) {
   row["formfactor_seconds"] = seconds(statNumber(stats, "formfactor_seconds"));
   row["sample_pairs"] = samples;
   row["visibility_rays"] = statInt(stats, "visibility_rays");
-  row["rays_per_second"] = roundTo(statNumber(stats, "rays_per_second"), 1);
+  row["rays_per_second"] = static_cast<std::int64_t>(std::llround(statNumber(stats, "rays_per_second")));
   row["solver"] = statString(stats, "solver");
   row["iterations"] = statInt(stats, "iterations");
   row["residual"] = statNumber(stats, "residual");
   row["solve_seconds"] = seconds(statNumber(stats, "solve_seconds"));
   row["render_seconds"] = seconds(renderSeconds);
   row["total_seconds"] = seconds(totalSeconds);
-  row["matrix_mib"] = roundTo(static_cast<double>(n) * n * sizeof(float) / (1024.0 * 1024.0), 0.1);
+  row["cpu_seconds"] = seconds(cpuSeconds);  // process CPU time over the same span as total_seconds
+  row["matrix_mib"] = roundDigits(static_cast<double>(n) * n * sizeof(float) / (1024.0 * 1024.0), 1);
 
   if (n <= kComparisonMaxPatches) {
     std::fprintf(stderr, "  direct LU solve (%zu patches)\n", n);
@@ -227,6 +250,7 @@ int main(int argc, char** argv) {
   doc["machine"] = cpuModel() + " (" + std::to_string(std::thread::hardware_concurrency()) + " hardware threads)";
   doc["date"] = utcNow();
   doc["build"] = buildDescription();
+  doc["load_average_at_start"] = loadAverage();
   doc["scene"] = scene.name;
   doc["formfactor_method"] = formFactorMethodName(FormFactorMethod::AreaMonteCarlo);
   doc["solver"] = solverName(SolverKind::GaussSeidel);
