@@ -181,16 +181,21 @@ TEST(RenderTest, UniformQuadFillingTheViewIsBOverPiEverywhere) {
   }
 }
 
+// Maps pixel coordinates of a size×size image to the z = 0 plane seen by a lookingDownZ(10, …)
+// camera, so tests can put vertices exactly on sample centres.
+auto pixelToPlane(const Camera& camera, int size) {
+  const double unitsPerPixel = 10 / PinholeCamera(camera, size, size).focalPixels;
+  return [=](double px, double py) {
+    return Vec3{(px - size / 2.0) * unitsPerPixel, (size / 2.0 - py) * unitsPerPixel, 0};
+  };
+}
+
 TEST(RenderTest, EverySampleIsCoveredByExactlyOneTriangleOfAMesh) {
   // A grid whose vertices project exactly onto sample centres, so cell edges and diagonals run
   // through samples: the top-left rule must give each such sample to exactly one triangle.
   const int size = 16;
   const Camera camera = lookingDownZ(10, 30);
-  PinholeCamera pinhole(camera, size, size);
-  const double unitsPerPixel = 10 / pinhole.focalPixels;
-  auto world = [&](double px, double py) {
-    return Vec3{(px - size / 2.0) * unitsPerPixel, (size / 2.0 - py) * unitsPerPixel, 0};
-  };
+  auto world = pixelToPlane(camera, size);
   MeshBuilder grid;
   const int cells = 10;  // 2-pixel cells from -1.5 to 18.5 cover every sample
   for (int j = 0; j < cells; ++j) {
@@ -230,11 +235,7 @@ TEST(RenderTest, SamplesOnTopAndLeftEdgesAreInsideBottomAndRightOutside) {
   // the first row and column of samples on its edges and leaves the last ones to a neighbour.
   const int size = 8;
   const Camera camera = lookingDownZ(10, 30);
-  PinholeCamera pinhole(camera, size, size);
-  const double unitsPerPixel = 10 / pinhole.focalPixels;
-  auto world = [&](double px, double py) {
-    return Vec3{(px - size / 2.0) * unitsPerPixel, (size / 2.0 - py) * unitsPerPixel, 0};
-  };
+  auto world = pixelToPlane(camera, size);
   MeshBuilder b;
   b.quad(world(0.5, 4.5), world(4.5, 4.5), world(4.5, 0.5), world(0.5, 0.5));
   Image image = renderRadiance(camera, b.mesh, {Rgb::gray(kPi), Rgb::gray(kPi)}, {size, size, Shading::Flat, 1});
