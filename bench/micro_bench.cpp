@@ -70,8 +70,8 @@ struct CornellFixture {
       const Patch& pj = mesh.patches[j];
       if (pi.surface == pj.surface) continue;
       if (dot(pj.centroid - pi.centroid, pi.normal) <= 0 || dot(pi.centroid - pj.centroid, pj.normal) <= 0) continue;
-      Vec3 x = sampleTriangle(mesh.corners(i), rng.nextDouble(), rng.nextDouble()) + pi.normal * epsilon;
-      Vec3 y = sampleTriangle(mesh.corners(j), rng.nextDouble(), rng.nextDouble()) + pj.normal * epsilon;
+      Vec3 x = sampleConvexPolygon(mesh.corners(i), rng.nextDouble(), rng.nextDouble()) + pi.normal * epsilon;
+      Vec3 y = sampleConvexPolygon(mesh.corners(j), rng.nextDouble(), rng.nextDouble()) + pj.normal * epsilon;
       rays.push_back(Ray{x, y - x, 0, 1});
     }
   }

@@ -30,7 +30,7 @@ namespace {
 // Whether any part of patch b lies strictly in front of patch a's plane.
 bool anyCornerInFront(const Mesh& mesh, std::size_t a, std::size_t b, double epsilon) {
   const Patch& pa = mesh.patches[a];
-  for (std::uint32_t v : mesh.patches[b].vertices)
+  for (std::uint32_t v : mesh.cornerIndices(b))
     if (dot(mesh.positions[v] - pa.centroid, pa.normal) > epsilon) return true;
   return false;
 }
@@ -45,8 +45,10 @@ class PairEstimator {
   PairEstimator(const Mesh& mesh, const RayCaster& caster, const FormFactorOptions& options)
       : mesh_(mesh), caster_(caster), options_(options), epsilon_(rayEpsilon(mesh)), longestEdge_(mesh.numPatches()) {
     for (std::size_t i = 0; i < mesh.numPatches(); ++i) {
-      auto c = mesh.corners(i);
-      longestEdge_[i] = std::sqrt(std::fmax(lengthSquared(c[1] - c[0]), std::fmax(lengthSquared(c[2] - c[1]), lengthSquared(c[0] - c[2]))));
+      PatchCorners c = mesh.corners(i);
+      double longest = 0;
+      for (std::size_t k = 0; k < c.size(); ++k) longest = std::fmax(longest, lengthSquared(c[(k + 1) % c.size()] - c[k]));
+      longestEdge_[i] = std::sqrt(longest);
     }
   }
 
@@ -68,10 +70,16 @@ class PairEstimator {
     return lengthSquared(mesh_.patches[i].centroid - mesh_.patches[j].centroid) < 4 * size * size;
   }
 
+  // Seed 000 samples a triangle at its incircle centre; a quad has no incircle, so its centroid.
+  Vec3 seedSamplePoint(std::size_t patch) const {
+    PatchCorners c = mesh_.corners(patch);
+    return c.size() == 3 ? incenter({c[0], c[1], c[2]}) : mesh_.patches[patch].centroid;
+  }
+
   double pointToPoint(std::size_t i, std::size_t j) {
     const Patch& pi = mesh_.patches[i];
     const Patch& pj = mesh_.patches[j];
-    Vec3 x = incenter(mesh_.corners(i)), y = incenter(mesh_.corners(j));
+    Vec3 x = seedSamplePoint(i), y = seedSamplePoint(j);
     double kernel = pointToPointKernel(x, pi.normal, y, pj.normal);
     if (kernel == 0 || caster_.occluded(segment(x, pi.normal, y, pj.normal))) return 0;
     return kernel * pj.area;
@@ -95,14 +103,15 @@ class PairEstimator {
     kernels_.clear();
     double kernelSum = 0;
     const Vec3 targetPoint = targetCorners[0];
+    const std::span<const Vec3> target = targetCorners;
     for (int k = 0; k < kernelCount; ++k) {
       auto [u, v] = scrambledZeroTwo(static_cast<std::uint32_t>(k), su, sv);
-      Vec3 x = sampleTriangle(sourceCorners, u, v);
+      Vec3 x = sampleConvexPolygon(sourceCorners, u, v);
       if (dot(x - targetPoint, pj.normal) <= 0) continue;  // behind j: j's front cannot reach x
       // The part of j above x's horizon: both the kernel and the visibility points live there, so
       // what the horizon hides is not counted again as occluded.
-      Vec3 visible[4];
-      std::size_t count = clipAbovePlane(targetCorners, x, pi.normal, visible);
+      Vec3 visible[5];
+      std::size_t count = clipAbovePlane(target, x, pi.normal, visible);
       if (count < 3) continue;
       std::span<const Vec3> visiblePart(visible, count);
       double f = contourFormFactor(x, pi.normal, visiblePart);

@@ -67,11 +67,18 @@ double pointToPolygonFormFactor(const Vec3& x, const Vec3& xNormal, std::span<co
 
 Vec3 sampleConvexPolygon(std::span<const Vec3> polygon, double u, double v) {
   if (polygon.size() == 3) return sampleTriangle({polygon[0], polygon[1], polygon[2]}, u, v);
-  double first = length(cross(polygon[1] - polygon[0], polygon[2] - polygon[0]));
-  double second = length(cross(polygon[2] - polygon[0], polygon[3] - polygon[0]));
-  double split = first / (first + second);
-  if (u < split) return sampleTriangle({polygon[0], polygon[1], polygon[2]}, u / split, v);
-  return sampleTriangle({polygon[0], polygon[2], polygon[3]}, std::fmin((u - split) / (1 - split), 1.0), v);
+  // Pick a fan triangle by area with u, then reuse u's position within that triangle's share.
+  double areas[4], total = 0;
+  const std::size_t fans = std::min<std::size_t>(polygon.size() - 2, 4);
+  for (std::size_t k = 0; k < fans; ++k) total += areas[k] = length(cross(polygon[k + 1] - polygon[0], polygon[k + 2] - polygon[0]));
+  double start = 0;
+  for (std::size_t k = 0; k < fans; ++k) {
+    double share = areas[k] / total;
+    if (u < start + share || k + 1 == fans)
+      return sampleTriangle({polygon[0], polygon[k + 1], polygon[k + 2]}, std::fmin((u - start) / share, 1.0), v);
+    start += share;
+  }
+  return polygon[0];
 }
 
 Vec3 sampleTriangle(const std::array<Vec3, 3>& triangle, double u, double v) {

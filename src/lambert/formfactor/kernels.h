@@ -29,7 +29,7 @@ std::size_t clipAbovePlane(std::span<const Vec3> polygon, const Vec3& point, con
 // Lambert's contour sum for a polygon already clipped to the hemisphere above x.
 double contourFormFactor(const Vec3& x, const Vec3& xNormal, std::span<const Vec3> clippedPolygon);
 
-// Maps (u, v) ∈ [0,1)² onto a convex polygon of 3 or 4 vertices with equal area: the first
+// Maps (u, v) ∈ [0,1)² onto a convex polygon of 3 to 5 vertices with equal area: the first
 // coordinate picks a fan triangle in proportion to its area and is reused within it.
 Vec3 sampleConvexPolygon(std::span<const Vec3> polygon, double u, double v);
 

@@ -12,7 +12,7 @@ class BruteForceRayCaster final : public RayCaster {
   bool occluded(const Ray& ray) const override {
     countRays(1);
     for (std::size_t i = 0; i < mesh_.numPatches(); ++i)
-      if (hitTriangle(ray, i)) return true;
+      if (hitPatch(ray, i)) return true;
     return false;
   }
 
@@ -21,7 +21,7 @@ class BruteForceRayCaster final : public RayCaster {
     std::optional<RayHit> nearest;
     Ray shrinking = ray;
     for (std::size_t i = 0; i < mesh_.numPatches(); ++i) {
-      if (auto t = hitTriangle(shrinking, i)) {
+      if (auto t = hitPatch(shrinking, i)) {
         bool front = dot(ray.direction, mesh_.patches[i].normal) < 0;
         nearest = RayHit{*t, static_cast<std::uint32_t>(i), front};
         shrinking.tMax = *t;
@@ -31,9 +31,17 @@ class BruteForceRayCaster final : public RayCaster {
   }
 
  private:
+  // The nearest hit on the patch's fan triangles.
+  std::optional<double> hitPatch(const Ray& ray, std::size_t patch) const {
+    PatchCorners c = mesh_.corners(patch);
+    std::optional<double> nearest;
+    for (std::size_t k = 1; k + 1 < c.size(); ++k)
+      if (auto t = hitTriangle(ray, c[0], c[k], c[k + 1]); t && (!nearest || *t < *nearest)) nearest = t;
+    return nearest;
+  }
+
   // Möller–Trumbore, double precision, both sides.
-  std::optional<double> hitTriangle(const Ray& ray, std::size_t patch) const {
-    auto [a, b, c] = mesh_.corners(patch);
+  static std::optional<double> hitTriangle(const Ray& ray, const Vec3& a, const Vec3& b, const Vec3& c) {
     Vec3 e1 = b - a, e2 = c - a;
     Vec3 p = cross(ray.direction, e2);
     double det = dot(e1, p);

@@ -44,7 +44,8 @@ class EmbreeRayCaster final : public RayCaster {
     // Rays from one patch to another graze shared edges; robust mode keeps those watertight.
     rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
 
-    RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+    // Quads, with triangles encoded as (v0, v1, v2, v2) as Embree allows, so primID is the patch.
+    RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_QUAD);
     auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
         geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.numVertices()));
     for (std::size_t i = 0; i < mesh.numVertices(); ++i) {
@@ -53,9 +54,11 @@ class EmbreeRayCaster final : public RayCaster {
       vertices[3 * i + 2] = static_cast<float>(mesh.positions[i].z);
     }
     auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-        geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), mesh.numPatches()));
-    for (std::size_t i = 0; i < mesh.numPatches(); ++i)
-      for (int k = 0; k < 3; ++k) indices[3 * i + k] = mesh.patches[i].vertices[k];
+        geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4, 4 * sizeof(unsigned), mesh.numPatches()));
+    for (std::size_t i = 0; i < mesh.numPatches(); ++i) {
+      const Patch& patch = mesh.patches[i];
+      for (std::uint32_t k = 0; k < 4; ++k) indices[4 * i + k] = patch.vertices[std::min(k, patch.numCorners - 1)];
+    }
     rtcCommitGeometry(geometry);
     rtcAttachGeometry(scene_, geometry);
     rtcReleaseGeometry(geometry);

@@ -50,15 +50,8 @@ class SurfaceSubdivider {
   }
 
   void emit(std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-    Patch patch;
-    patch.vertices = {a, b, c};
-    patch.surface = surface_;
-    const Vec3 pa = mesh_.positions[a], pb = mesh_.positions[b], pc = mesh_.positions[c];
-    Vec3 n = cross(pb - pa, pc - pa);
-    patch.area = 0.5 * length(n);
-    patch.normal = n / (2 * patch.area);
-    patch.centroid = (pa + pb + pc) / 3.0;
-    mesh_.patches.push_back(patch);
+    const std::uint32_t corners[3] = {a, b, c};
+    mesh_.patches.push_back(makePatch(mesh_.positions, corners, surface_));
   }
 
   Mesh& mesh_;
@@ -68,6 +61,28 @@ class SurfaceSubdivider {
 };
 
 }  // namespace
+
+Patch makePatch(const std::vector<Vec3>& positions, std::span<const std::uint32_t> vertices, std::uint32_t surface) {
+  LAMBERT_CHECK(vertices.size() == 3 || vertices.size() == 4);
+  Patch patch;
+  patch.numCorners = static_cast<std::uint32_t>(vertices.size());
+  for (std::size_t k = 0; k < 4; ++k) patch.vertices[k] = vertices[std::min(k, vertices.size() - 1)];
+  patch.surface = surface;
+  const Vec3& origin = positions[vertices[0]];
+  Vec3 normalSum, weightedCentroid;
+  for (std::size_t k = 1; k + 1 < vertices.size(); ++k) {
+    const Vec3& b = positions[vertices[k]];
+    const Vec3& c = positions[vertices[k + 1]];
+    Vec3 n = cross(b - origin, c - origin);
+    double area = 0.5 * length(n);
+    normalSum += n;
+    patch.area += area;
+    weightedCentroid += (origin + b + c) * (area / 3.0);
+  }
+  patch.normal = normalize(normalSum);
+  patch.centroid = weightedCentroid / patch.area;
+  return patch;
+}
 
 Mesh subdivideScene(const Scene& scene, double maxEdgeLength) {
   LAMBERT_CHECK(maxEdgeLength > 0);

@@ -1,10 +1,12 @@
 #pragma once
-// Patches: the finite elements radiosity is solved on. Each scene surface is split into a
-// triangle fan and every triangle is bisected across its longest edge (seed 000) until no edge is
-// longer than a limit. Vertices are shared between the patches of one surface, never across
-// surfaces, so per-vertex averaging never blurs across a crease.
+// Patches: the finite elements radiosity is solved on, each a planar convex polygon of three or
+// four corners. subdivideScene splits every surface into a triangle fan and bisects each triangle
+// across its longest edge (seed 000) until no edge is longer than a limit; the adaptive quad-tree
+// (mesh/quadtree.h) makes quads. Vertices are shared between the patches of one surface, never
+// across surfaces, so per-vertex averaging never blurs across a crease.
 #include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "lambert/core/vec3.h"
@@ -12,9 +14,22 @@
 
 namespace lambert {
 
+// A patch's corner positions, in order.
+struct PatchCorners {
+  std::array<Vec3, 4> points;
+  std::size_t count = 3;
+
+  const Vec3& operator[](std::size_t k) const { return points[k]; }
+  std::size_t size() const { return count; }
+  const Vec3* begin() const { return points.data(); }
+  const Vec3* end() const { return points.data() + count; }
+  operator std::span<const Vec3>() const { return {points.data(), count}; }
+};
+
 struct Patch {
-  std::array<std::uint32_t, 3> vertices;  // indices into Mesh::positions, counter-clockwise
-  std::uint32_t surface = 0;              // index into Scene::surfaces
+  std::array<std::uint32_t, 4> vertices{};  // indices into Mesh::positions, counter-clockwise
+  std::uint32_t numCorners = 3;             // 3 (triangle) or 4 (quad)
+  std::uint32_t surface = 0;                // index into Scene::surfaces
   Vec3 normal;                            // unit, front side
   Vec3 centroid;
   double area = 0;                        // scene units²
@@ -27,11 +42,20 @@ struct Mesh {
 
   std::size_t numPatches() const { return patches.size(); }
   std::size_t numVertices() const { return positions.size(); }
-  std::array<Vec3, 3> corners(std::size_t patch) const {
-    const auto& v = patches[patch].vertices;
-    return {positions[v[0]], positions[v[1]], positions[v[2]]};
+  std::span<const std::uint32_t> cornerIndices(std::size_t patch) const {
+    return {patches[patch].vertices.data(), patches[patch].numCorners};
+  }
+  PatchCorners corners(std::size_t patch) const {
+    PatchCorners c;
+    c.count = patches[patch].numCorners;
+    for (std::size_t k = 0; k < c.count; ++k) c.points[k] = positions[patches[patch].vertices[k]];
+    return c;
   }
 };
+
+// A patch over the given vertices (3 or 4, counter-clockwise), with its area, unit normal and
+// area centroid computed from their positions.
+Patch makePatch(const std::vector<Vec3>& positions, std::span<const std::uint32_t> vertices, std::uint32_t surface);
 
 // Subdivides every surface until no patch edge is longer than maxEdgeLength (scene units).
 Mesh subdivideScene(const Scene& scene, double maxEdgeLength);

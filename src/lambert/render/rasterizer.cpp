@@ -223,7 +223,7 @@ std::vector<Rgb> vertexRadiosity(const Mesh& mesh, const std::vector<Rgb>& patch
   std::vector<double> area(mesh.numVertices(), 0.0);
   for (std::size_t i = 0; i < mesh.numPatches(); ++i) {
     const Patch& patch = mesh.patches[i];
-    for (std::uint32_t v : patch.vertices) {
+    for (std::uint32_t v : mesh.cornerIndices(i)) {
       weighted[v] += patchRadiosity[i] * patch.area;
       area[v] += patch.area;
     }
@@ -257,19 +257,23 @@ Image renderRadiance(const Camera& camera, const Mesh& mesh, const std::vector<R
   parallelFor(0, numChunks, [&](std::size_t c) {
     std::size_t end = std::min(mesh.numPatches(), (c + 1) * kChunk);
     for (std::size_t i = c * kChunk; i < end; ++i) {
-      std::array<Vec3, 3> world = mesh.corners(i);
+      PatchCorners corners = mesh.corners(i);
+      std::span<const std::uint32_t> indices = mesh.cornerIndices(i);
       // The back of a surface is opaque and black, so it hides what is behind it.
-      bool front = dot(cross(world[1] - world[0], world[2] - world[0]), pinhole.eye - world[0]) > 0;
-      std::array<Rgb, 3> radiance;
+      bool front = dot(cross(corners[1] - corners[0], corners[2] - corners[0]), pinhole.eye - corners[0]) > 0;
       bool constant = !front || !gouraud;
-      if (!front) {
-        radiance.fill(Rgb{});
-      } else if (!gouraud) {
-        radiance.fill(patchRadiosity[i] / kPi);
-      } else {
-        for (int k = 0; k < 3; ++k) radiance[k] = vertexRadiance[mesh.patches[i].vertices[k]];
+      for (std::size_t k = 1; k + 1 < corners.size(); ++k) {
+        std::array<Vec3, 3> world{corners[0], corners[k], corners[k + 1]};
+        std::array<Rgb, 3> radiance;
+        if (!front) {
+          radiance.fill(Rgb{});
+        } else if (!gouraud) {
+          radiance.fill(patchRadiosity[i] / kPi);
+        } else {
+          radiance = {vertexRadiance[indices[0]], vertexRadiance[indices[k]], vertexRadiance[indices[k + 1]]};
+        }
+        setup.add(world, radiance, constant, chunks[c]);
       }
-      setup.add(world, radiance, constant, chunks[c]);
     }
   });
   std::vector<ScreenTriangle> triangles;

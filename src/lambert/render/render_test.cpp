@@ -25,15 +25,8 @@ struct MeshBuilder {
     return static_cast<std::uint32_t>(mesh.positions.size() - 1);
   }
   void triangle(std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t surface = 0) {
-    Patch patch;
-    patch.vertices = {a, b, c};
-    patch.surface = surface;
-    Vec3 pa = mesh.positions[a], pb = mesh.positions[b], pc = mesh.positions[c];
-    Vec3 n = cross(pb - pa, pc - pa);
-    patch.area = 0.5 * length(n);
-    patch.normal = n / (2 * patch.area);
-    patch.centroid = (pa + pb + pc) / 3.0;
-    mesh.patches.push_back(patch);
+    const std::uint32_t corners[3] = {a, b, c};
+    mesh.patches.push_back(makePatch(mesh.positions, corners, surface));
   }
   // A quad a, b, c, d (counter-clockwise from the front) as triangles (a, b, c) and (a, c, d).
   void quad(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, std::uint32_t surface = 0) {
@@ -217,6 +210,7 @@ TEST(RenderTest, EverySampleIsCoveredByExactlyOneTriangleOfAMesh) {
   for (std::size_t t = 0; t < grid.mesh.numPatches(); ++t) {
     MeshBuilder single;
     auto corners = grid.mesh.corners(t);
+    ASSERT_EQ(corners.size(), 3u);
     single.triangle(single.vertex(corners[0]), single.vertex(corners[1]), single.vertex(corners[2]));
     RenderOptions options{size, size, Shading::Flat, 1};
     Image image = renderRadiance(camera, single.mesh, {Rgb::gray(kPi)}, options);
