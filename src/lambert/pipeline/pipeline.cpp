@@ -22,11 +22,12 @@ RadiositySolution solveScene(const Scene& scene, const PipelineOptions& options)
   stats.add("mesh_seconds", "mesh time", meshTimer.seconds(), "s");
 
   Timer bvhTimer;
-  auto caster = makeEmbreeRayCaster(mesh);
+  solution.caster = makeEmbreeRayCaster(mesh);
+  const RayCaster& caster = *solution.caster;
   stats.add("bvh_seconds", "BVH build time", bvhTimer.seconds(), "s");
 
   FormFactorStats ffStats;
-  auto F = std::make_shared<FormFactorMatrix>(computeFormFactors(mesh, *caster, options.formFactors, &ffStats));
+  auto F = std::make_shared<FormFactorMatrix>(computeFormFactors(mesh, caster, options.formFactors, &ffStats));
   stats.add("formfactor_method", "form-factor method", formFactorMethodName(options.formFactors.method));
   if (options.formFactors.method == FormFactorMethod::AreaMonteCarlo)
     stats.add("sample_pairs", "sample pairs per patch pair", static_cast<std::int64_t>(options.formFactors.samplePairs));
@@ -38,6 +39,20 @@ RadiositySolution solveScene(const Scene& scene, const PipelineOptions& options)
             ffStats.seconds > 0 ? static_cast<double>(ffStats.visibilityRays) / ffStats.seconds : 0.0, "rays/s");
 
   solution.problem = makeRadiosityProblem(scene, mesh, F);
+  solution.injected.assign(mesh.numPatches(), Rgb{});
+  if (!scene.lights.empty()) {
+    Timer lightTimer;
+    const std::uint64_t raysBefore = caster.raysCast();
+    for (const Light& light : scene.lights) {
+      std::vector<Rgb> e = patchIrradiance(mesh, caster, light, scene.metresPerUnit, options.directLight);
+      std::vector<Rgb> injected = injectedRadiosity(mesh, solution.problem.albedo, e);
+      for (std::size_t i = 0; i < mesh.numPatches(); ++i) solution.injected[i] += injected[i];
+    }
+    for (std::size_t i = 0; i < mesh.numPatches(); ++i) solution.problem.emitted[i] += solution.injected[i];
+    stats.add("lights", "lights", static_cast<std::int64_t>(scene.lights.size()));
+    stats.add("shadow_rays", "direct-light shadow rays", static_cast<std::int64_t>(caster.raysCast() - raysBefore));
+    stats.add("inject_seconds", "direct-light injection time", lightTimer.seconds(), "s");
+  }
   auto solver = makeSolver(options.solver, options.solve);
   solution.report = solver->solve(solution.problem, solution.radiosity);
   stats.add("solver", "solver", solution.report.solver);
@@ -47,10 +62,17 @@ RadiositySolution solveScene(const Scene& scene, const PipelineOptions& options)
   stats.add("solve_seconds", "solve time", solution.report.seconds, "s");
 
   EnergyBalance balance = energyBalance(solution.problem, solution.radiosity, scene.metresPerUnit);
-  stats.add("emitted_watts", "emitted power", balance.emittedWatts, "W");
+  // With lights, E includes their injected first reflection ρ·E_direct, so "emitted" counts it.
+  stats.add("emitted_watts", scene.lights.empty() ? "emitted power" : "emitted + injected power", balance.emittedWatts, "W");
   stats.add("absorbed_watts", "absorbed power", balance.absorbedWatts, "W");
   stats.add("escaped_watts", "escaped power (openings)", balance.escapedWatts, "W");
   return solution;
+}
+
+std::vector<Rgb> RadiositySolution::indirectRadiosity() const {
+  std::vector<Rgb> indirect = radiosity;
+  for (std::size_t i = 0; i < indirect.size(); ++i) indirect[i] -= injected[i];
+  return indirect;
 }
 
 }  // namespace lambert

@@ -5,6 +5,8 @@
 
 #include "lambert/core/stats.h"
 #include "lambert/formfactor/form_factors.h"
+#include "lambert/geometry/ray_caster.h"
+#include "lambert/light/lights.h"
 #include "lambert/mesh/mesh.h"
 #include "lambert/scene/scene.h"
 #include "lambert/solve/solver.h"
@@ -17,14 +19,21 @@ struct PipelineOptions {
   FormFactorOptions formFactors;
   SolverKind solver = SolverKind::GaussSeidel;
   SolveOptions solve;
+  DirectLightOptions directLight;  // how the scene's point, spot and directional lights are injected
 };
 
 struct RadiositySolution {
   Mesh mesh;
-  RadiosityProblem problem;    // holds the form-factor matrix
-  std::vector<Rgb> radiosity;  // B_i, W/m²
+  std::unique_ptr<RayCaster> caster;  // over `mesh`, for shadow rays when drawing direct light
+  RadiosityProblem problem;           // holds the form-factor matrix; emitted includes `injected`
+  std::vector<Rgb> injected;          // ρ·E_direct of the scene's lights, per patch, W/m²
+  std::vector<Rgb> radiosity;         // B_i, W/m²
   SolveReport report;
   Stats stats;
+
+  // B less the lights' directly injected part: the indirect light to interpolate when the
+  // lights' direct light is drawn per pixel.
+  std::vector<Rgb> indirectRadiosity() const;
 };
 
 RadiositySolution solveScene(const Scene& scene, const PipelineOptions& options);

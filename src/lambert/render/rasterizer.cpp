@@ -4,6 +4,8 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <span>
+#include <vector>
 
 #include "lambert/core/error.h"
 #include "lambert/core/parallel.h"
@@ -27,6 +29,8 @@ constexpr int kBandRows = 8;
 // With the guard band this keeps snapped coordinates within 2^25 and edge functions within
 // 2^52, exact in int64 (and in the doubles the barycentrics are taken from).
 constexpr int kMaxSamplesPerAxis = 1 << 16;
+// The patch of samples that see no front face: the background, or the back of a surface.
+constexpr std::uint32_t kNoPatch = UINT32_MAX;
 
 struct ClipVertex {
   Vec3 view;
@@ -46,6 +50,7 @@ struct ScreenTriangle {
   std::array<Rgb, 3> radianceOverZ;  // L/depth, linear in screen space
   Rgb radiance;                      // the whole triangle's radiance, when constant
   bool constant = false;
+  std::uint32_t patch = kNoPatch;    // the mesh patch it is part of, when front-facing
   int minRow = 0, maxRow = 0, minCol = 0, maxCol = 0;  // sample rows/columns it may cover
 };
 
@@ -91,7 +96,7 @@ class TriangleSetup {
 
   // Clips one world-space triangle and appends what is left of it as screen triangles.
   void add(const std::array<Vec3, 3>& world, const std::array<Rgb, 3>& radiance, bool constant,
-           std::vector<ScreenTriangle>& out) const {
+           std::uint32_t patch, std::vector<ScreenTriangle>& out) const {
     static constexpr int kMaxVertices = 3 + 5;
     std::array<ClipVertex, kMaxVertices> a, b;
     int count = 3;
@@ -111,7 +116,7 @@ class TriangleSetup {
     }
     std::array<Projected, kMaxVertices> p;
     for (int i = 0; i < count; ++i) p[i] = project(polygon[i]);
-    for (int i = 1; i + 1 < count; ++i) emit(p[0], p[i], p[i + 1], radiance[0], constant, out);
+    for (int i = 1; i + 1 < count; ++i) emit(p[0], p[i], p[i + 1], radiance[0], constant, patch, out);
   }
 
  private:
@@ -128,7 +133,7 @@ class TriangleSetup {
   }
 
   void emit(Projected v0, Projected v1, Projected v2, const Rgb& radiance, bool constant,
-            std::vector<ScreenTriangle>& out) const {
+            std::uint32_t patch, std::vector<ScreenTriangle>& out) const {
     std::int64_t area = (v2.x - v0.x) * (v1.y - v0.y) - (v2.y - v0.y) * (v1.x - v0.x);
     if (area == 0) return;
     if (area < 0) std::swap(v1, v2);
@@ -142,6 +147,7 @@ class TriangleSetup {
     }
     t.radiance = radiance;
     t.constant = constant;
+    t.patch = patch;
     // Sample (i, j) sits at ((i + ½)·kSubpixel, (j + ½)·kSubpixel).
     constexpr std::int64_t half = kSubpixel / 2;
     auto [xMin, xMax] = std::minmax({t.x[0], t.x[1], t.x[2]});
@@ -162,13 +168,16 @@ class TriangleSetup {
   std::array<ClipPlane, 5> planes_;
 };
 
-// Samples of one band of rows: radiance and 1/depth (0 = nothing drawn yet).
+// Samples of one band of rows: radiance, 1/depth (0 = nothing drawn yet) and, when direct light
+// is to be added, the front-facing patch seen (kNoPatch for none).
 struct Band {
   int rowBegin = 0, rowEnd = 0, width = 0;
   std::vector<Rgb> radiance;
   std::vector<double> invZ;
+  std::vector<std::uint32_t> patch;
 };
 
+template <bool kRecordPatch>
 void rasterize(const ScreenTriangle& t, Band& band) {
   constexpr std::int64_t half = kSubpixel / 2;
   std::array<std::int64_t, 3> stepX, stepY, bias, originX, originY;
@@ -208,9 +217,31 @@ void rasterize(const ScreenTriangle& t, Band& band) {
           band.radiance[i] = t.constant ? t.radiance
                                         : (t.radianceOverZ[0] * w0 + t.radianceOverZ[1] * w1 +
                                            t.radianceOverZ[2] * w2) / invZ;
+          if constexpr (kRecordPatch) band.patch[i] = t.patch;
         }
       }
       for (int k = 0; k < 3; ++k) e[k] += stepX[k] * kSubpixel;
+    }
+  }
+}
+
+// Adds the direct light at every sample of a rasterized band that sees the front of a patch, at
+// the point the sample sees: on the ray through the sample centre, at the depth the z-buffer holds.
+void addDirect(const PinholeCamera& camera, const DirectRadianceFn& direct, Band& band) {
+  const double invFocal = 1.0 / camera.focalPixels;
+  const double halfWidth = 0.5 * camera.width, halfHeight = 0.5 * camera.height;
+  for (int row = band.rowBegin; row < band.rowEnd; ++row) {
+    // The ray direction through the sample centre, scaled so its component along forward is 1:
+    // the inverse of PinholeCamera::projectView.
+    const Vec3 rowDirection = camera.forward - camera.up * ((row + 0.5 - halfHeight) * invFocal);
+    const std::size_t rowOffset = static_cast<std::size_t>(row - band.rowBegin) * band.width;
+    for (int col = 0; col < band.width; ++col) {
+      const std::size_t i = rowOffset + col;
+      const std::uint32_t patch = band.patch[i];
+      if (patch == kNoPatch) continue;
+      const Vec3 direction = rowDirection + camera.right * ((col + 0.5 - halfWidth) * invFocal);
+      const Vec3 position = camera.eye + direction * (1.0 / band.invZ[i]);
+      band.radiance[i] += direct(position, patch);
     }
   }
 }
@@ -232,21 +263,18 @@ std::vector<Rgb> vertexRadiosity(const Mesh& mesh, const std::vector<Rgb>& patch
   return weighted;
 }
 
-Image renderRadiance(const Camera& camera, const Mesh& mesh, const std::vector<Rgb>& patchRadiosity,
-                     const RenderOptions& options) {
-  LAMBERT_CHECK(patchRadiosity.size() == mesh.numPatches());
+namespace {
+
+// The one pipeline behind both entry points. radiance holds L = B/π per vertex when perVertex
+// (Gouraud), else per patch (flat).
+Image render(const Camera& camera, const Mesh& mesh, const std::vector<Rgb>& radiance, bool perVertex,
+             const RenderOptions& options) {
   LAMBERT_CHECK(options.width > 0 && options.height > 0 && options.supersample >= 1);
+  LAMBERT_CHECK(mesh.numPatches() < kNoPatch);
   const int ss = options.supersample;
   LAMBERT_CHECK(options.width <= kMaxSamplesPerAxis / ss && options.height <= kMaxSamplesPerAxis / ss);
   const int sampleWidth = options.width * ss, sampleHeight = options.height * ss;
   const PinholeCamera pinhole(camera, sampleWidth, sampleHeight);
-
-  const bool gouraud = options.shading == Shading::Gouraud;
-  std::vector<Rgb> vertexRadiance;
-  if (gouraud) {
-    vertexRadiance = vertexRadiosity(mesh, patchRadiosity);
-    for (Rgb& l : vertexRadiance) l = l / kPi;
-  }
 
   // Set up triangles in chunks, in parallel; concatenating in chunk order keeps the draw order
   // (and so which of two equally near samples wins) independent of the thread count.
@@ -261,18 +289,20 @@ Image renderRadiance(const Camera& camera, const Mesh& mesh, const std::vector<R
       std::span<const std::uint32_t> indices = mesh.cornerIndices(i);
       // The back of a surface is opaque and black, so it hides what is behind it.
       bool front = dot(cross(corners[1] - corners[0], corners[2] - corners[0]), pinhole.eye - corners[0]) > 0;
-      bool constant = !front || !gouraud;
+      bool constant = !front || !perVertex;
+      std::uint32_t patch = front ? static_cast<std::uint32_t>(i) : kNoPatch;
+      // A convex patch is a fan of triangles around its first corner.
       for (std::size_t k = 1; k + 1 < corners.size(); ++k) {
         std::array<Vec3, 3> world{corners[0], corners[k], corners[k + 1]};
-        std::array<Rgb, 3> radiance;
+        std::array<Rgb, 3> vertexRadiance;
         if (!front) {
-          radiance.fill(Rgb{});
-        } else if (!gouraud) {
-          radiance.fill(patchRadiosity[i] / kPi);
+          vertexRadiance.fill(Rgb{});
+        } else if (!perVertex) {
+          vertexRadiance.fill(radiance[i]);
         } else {
-          radiance = {vertexRadiance[indices[0]], vertexRadiance[indices[k]], vertexRadiance[indices[k + 1]]};
+          vertexRadiance = {radiance[indices[0]], radiance[indices[k]], radiance[indices[k + 1]]};
         }
-        setup.add(world, radiance, constant, chunks[c]);
+        setup.add(world, vertexRadiance, constant, patch, chunks[c]);
       }
     }
   });
@@ -290,6 +320,7 @@ Image renderRadiance(const Camera& camera, const Mesh& mesh, const std::vector<R
   Image image{options.width, options.height,
               std::vector<Rgb>(static_cast<std::size_t>(options.width) * options.height)};
   const double sampleWeight = 1.0 / (ss * ss);
+  const DirectRadianceFn& direct = options.directRadiance;
   parallelFor(0, static_cast<std::size_t>(numBands), [&](std::size_t b) {
     Band band;
     band.rowBegin = static_cast<int>(b) * bandSampleRows;
@@ -298,7 +329,13 @@ Image renderRadiance(const Camera& camera, const Mesh& mesh, const std::vector<R
     std::size_t samples = static_cast<std::size_t>(band.rowEnd - band.rowBegin) * sampleWidth;
     band.radiance.assign(samples, Rgb{});
     band.invZ.assign(samples, 0.0);
-    for (std::uint32_t i : bins[b]) rasterize(triangles[i], band);
+    if (direct) {
+      band.patch.assign(samples, kNoPatch);
+      for (std::uint32_t i : bins[b]) rasterize<true>(triangles[i], band);
+      addDirect(pinhole, direct, band);
+    } else {
+      for (std::uint32_t i : bins[b]) rasterize<false>(triangles[i], band);
+    }
 
     for (int y = band.rowBegin / ss; y < band.rowEnd / ss; ++y) {
       for (int x = 0; x < options.width; ++x) {
@@ -312,6 +349,36 @@ Image renderRadiance(const Camera& camera, const Mesh& mesh, const std::vector<R
     }
   });
   return image;
+}
+
+}  // namespace
+
+Image renderRadiance(const Camera& camera, const Mesh& mesh, const std::vector<Rgb>& patchRadiosity,
+                     const RenderOptions& options) {
+  LAMBERT_CHECK(patchRadiosity.size() == mesh.numPatches());
+  const bool gouraud = options.shading == Shading::Gouraud;
+  std::vector<Rgb> radiance = gouraud ? vertexRadiosity(mesh, patchRadiosity) : patchRadiosity;
+  for (Rgb& l : radiance) l = l / kPi;
+  return render(camera, mesh, radiance, gouraud, options);
+}
+
+Image renderVertexRadiosity(const Camera& camera, const Mesh& mesh, const std::vector<Rgb>& vertexB,
+                            const RenderOptions& options) {
+  LAMBERT_CHECK(vertexB.size() == mesh.numVertices());
+  const bool gouraud = options.shading == Shading::Gouraud;
+  std::vector<Rgb> radiance;
+  if (gouraud) {
+    radiance = vertexB;
+  } else {
+    radiance.resize(mesh.numPatches());
+    for (std::size_t i = 0; i < mesh.numPatches(); ++i) {
+      std::span<const std::uint32_t> indices = mesh.cornerIndices(i);
+      for (std::uint32_t v : indices) radiance[i] += vertexB[v];
+      radiance[i] = radiance[i] / static_cast<double>(indices.size());
+    }
+  }
+  for (Rgb& l : radiance) l = l / kPi;
+  return render(camera, mesh, radiance, gouraud, options);
 }
 
 }  // namespace lambert

@@ -1,10 +1,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <mutex>
 #include <utility>
+#include <vector>
 
 #include "lambert/mesh/mesh.h"
 #include "lambert/render/camera.h"
@@ -34,6 +37,12 @@ struct MeshBuilder {
                   id = vertex(d, surface);
     triangle(ia, ib, ic, surface);
     triangle(ia, ic, id, surface);
+  }
+  // The same quad as one four-cornered patch.
+  void quadPatch(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, std::uint32_t surface = 0) {
+    const std::uint32_t corners[4] = {vertex(a, surface), vertex(b, surface), vertex(c, surface),
+                                      vertex(d, surface)};
+    mesh.patches.push_back(makePatch(mesh.positions, corners, surface));
   }
 };
 
@@ -402,6 +411,270 @@ TEST(RenderTest, CornellBoxRedWallLeftGreenWallRight) {
   EXPECT_TRUE(isBlack(image.at(0, 0)));
   // Everything is lit somewhere in the middle (the back wall behind the blocks).
   EXPECT_FALSE(isBlack(image.at(64, 40)));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Direct light hook and per-vertex rendering
+
+RenderOptions withDirect(RenderOptions options, DirectRadianceFn direct) {
+  options.directRadiance = std::move(direct);
+  return options;
+}
+
+// A hit the hook saw: where, and on which patch.
+struct Hit {
+  Vec3 position;
+  std::uint32_t patch;
+};
+
+// Renders with a hook that records every call and adds nothing.
+std::vector<Hit> recordHits(const Camera& camera, const Mesh& mesh, const std::vector<Rgb>& radiosity,
+                            RenderOptions options, Image* image = nullptr) {
+  std::mutex mutex;
+  std::vector<Hit> hits;
+  options.directRadiance = [&](const Vec3& position, std::uint32_t patch) {
+    std::lock_guard lock(mutex);
+    hits.push_back({position, patch});
+    return Rgb{};
+  };
+  Image rendered = renderRadiance(camera, mesh, radiosity, options);
+  if (image) *image = std::move(rendered);
+  return hits;
+}
+
+// How far p lies off the patch's plane, and how far outside its footprint (0 inside).
+std::pair<double, double> planeAndFootprintError(const Mesh& mesh, const Hit& hit) {
+  const Patch& patch = mesh.patches[hit.patch];
+  PatchCorners corners = mesh.corners(hit.patch);
+  double offPlane = std::fabs(dot(hit.position - corners[0], patch.normal));
+  double outside = 0;
+  for (std::size_t k = 0; k < corners.size(); ++k) {
+    Vec3 edge = corners[(k + 1) % corners.size()] - corners[k];
+    // Positive inside a counter-clockwise patch.
+    double inside = dot(cross(edge, hit.position - corners[k]), patch.normal) / length(edge);
+    outside = std::max(outside, -inside);
+  }
+  return {offPlane, outside};
+}
+
+TEST(RenderDirectTest, HookIsCalledOnceForEachCoveredFrontFacingSample) {
+  // A front-facing floor partly hidden by a back face in front of it, with background around
+  // both: with B = π on the front patches each covered front sample adds 1/ss² to its pixel.
+  MeshBuilder b;
+  b.quad({-1.3, -0.7, 2}, {-1.3, 1.1, 2}, {0.9, 1.1, 2}, {0.9, -0.7, 2});  // clockwise: back face
+  b.quad({-2.2, -1.9, 0}, {2.7, -1.6, 0}, {2.1, 2.3, 0}, {-2.5, 2.0, 0});
+  const Rgb white = Rgb::gray(kPi);
+  const std::vector<Rgb> radiosity{white, white, white, white};
+  for (int ss : {1, 2}) {
+    for (Shading shading : {Shading::Flat, Shading::Gouraud}) {
+      const RenderOptions options{48, 40, shading, ss};
+      Image plain = renderRadiance(lookingDownZ(6), b.mesh, radiosity, options);
+      double covered = 0;
+      int background = 0, partial = 0;
+      for (const Rgb& c : plain.pixels) {
+        covered += c.r * ss * ss;
+        background += isBlack(c);
+        partial += c.r > 1e-9 && c.r < 1 - 1e-9;
+      }
+      ASSERT_GT(background, 100);  // the back face and the background both leave black pixels
+      if (ss > 1) EXPECT_GT(partial, 20);
+
+      std::atomic<long> calls{0};
+      Image lit = renderRadiance(lookingDownZ(6), b.mesh, radiosity, withDirect(options, [&](const Vec3& p, std::uint32_t patch) {
+                                   ++calls;
+                                   EXPECT_NEAR(p.z, 0, 1e-9);  // never on the back face at z = 2
+                                   EXPECT_TRUE(patch == 2 || patch == 3) << patch;
+                                   return Rgb{};
+                                 }));
+      EXPECT_EQ(calls.load(), std::lround(covered)) << "ss " << ss;
+      EXPECT_GT(calls.load(), 200);
+      EXPECT_EQ(lit.pixels, plain.pixels);  // adding nothing changes nothing
+    }
+  }
+}
+
+TEST(RenderDirectTest, PositionsLieOnThePatchPlaneInsideItsFootprint) {
+  Scene scene = cornellBox();
+  Mesh mesh = subdivideScene(scene, 40.0);
+  const double diagonal = sceneDiagonal(scene);
+  std::vector<Rgb> radiosity(mesh.numPatches(), Rgb::gray(1));
+  Image image;
+  std::vector<Hit> hits = recordHits(scene.camera, mesh, radiosity, {256, 256, Shading::Gouraud, 2}, &image);
+  ASSERT_GT(hits.size(), 200000u);  // most of the 512² samples see the inside of the box
+  double maxOffPlane = 0, maxOutside = 0;
+  for (const Hit& hit : hits) {
+    ASSERT_LT(hit.patch, mesh.numPatches());
+    auto [offPlane, outside] = planeAndFootprintError(mesh, hit);
+    maxOffPlane = std::max(maxOffPlane, offPlane);
+    maxOutside = std::max(maxOutside, outside);
+  }
+  EXPECT_LT(maxOffPlane, 1e-6 * diagonal);
+  // A covered sample is within the 1/512-sample vertex snapping of the patch.
+  EXPECT_LT(maxOutside, 1e-4 * diagonal);
+  RecordProperty("max_off_plane_relative", std::to_string(maxOffPlane / diagonal));
+  RecordProperty("max_outside_relative", std::to_string(maxOutside / diagonal));
+}
+
+TEST(RenderDirectTest, PositionsOnAGrazingQuadPatchLieOnItsPlane) {
+  // The tilted quad seen at a steep angle, as one four-cornered patch, and a floor running from
+  // behind the eye to the far distance (clipped at the near plane): depth varies fast across
+  // samples, the hardest case for reconstructing the position from the depth.
+  TiltedQuad quad;
+  MeshBuilder tilted, floor;
+  tilted.quadPatch(quad.at(-1, -1), quad.at(1, -1), quad.at(1, 1), quad.at(-1, 1));
+  floor.quadPatch({-10, 0, 10}, {10, 0, 10}, {10, 0, -100}, {-10, 0, -100});
+  struct Case {
+    const Mesh* mesh;
+    Camera camera;
+    double size;
+  };
+  for (const Case& c : {Case{&tilted.mesh, Camera{{0, 0, 1.5}, {0, 0, -1}, {0, 1, 0}, 60}, 2.0},
+                        Case{&floor.mesh, Camera{{0, 1, 0}, {0, 1, -1}, {0, 1, 0}, 40}, 100.0}}) {
+    for (int ss : {1, 3}) {
+      std::vector<Hit> hits = recordHits(c.camera, *c.mesh, {Rgb::gray(1)}, {96, 64, Shading::Gouraud, ss});
+      ASSERT_GT(hits.size(), 1000u);
+      for (const Hit& hit : hits) {
+        ASSERT_EQ(hit.patch, 0u);
+        auto [offPlane, outside] = planeAndFootprintError(*c.mesh, hit);
+        ASSERT_LT(offPlane, 1e-6 * c.size);
+        ASSERT_LT(outside, 1e-4 * c.size);
+      }
+    }
+  }
+}
+
+TEST(RenderDirectTest, ConstantHookAddsExactlyThatConstant) {
+  const Rgb direct{0.25, 0.5, 4};
+  // Every sample covered: each pixel gains exactly the constant.
+  MeshBuilder full;
+  full.quad({-100, -100, 0}, {100, -100, 0}, {100, 100, 0}, {-100, 100, 0});
+  const Rgb radiosity{1, 2, 3};
+  auto constant = [&](const Vec3&, std::uint32_t) { return direct; };
+  for (Shading shading : {Shading::Gouraud, Shading::Flat}) {
+    for (int ss : {1, 2, 3}) {
+      Image image = renderRadiance(lookingDownZ(5), full.mesh, {radiosity, radiosity},
+                                   withDirect({37, 23, shading, ss}, constant));
+      for (const Rgb& c : image.pixels)
+        for (int k = 0; k < 3; ++k) ASSERT_NEAR(c[k], radiosity[k] / kPi + direct[k], 1e-12);
+    }
+  }
+  // Partly covered pixels gain it in proportion to their covered samples.
+  TiltedQuad quad;
+  MeshBuilder tilted;
+  tilted.quadPatch(quad.at(-1, -1), quad.at(1, -1), quad.at(1, 1), quad.at(-1, 1));
+  const Camera camera{{0, 0, 1.5}, {0, 0, -1}, {0, 1, 0}, 60};
+  for (int ss : {1, 2, 3}) {
+    const RenderOptions options{64, 64, Shading::Flat, ss};
+    Image coverage = renderRadiance(camera, tilted.mesh, {Rgb::gray(kPi)}, options);
+    Image lit = renderRadiance(camera, tilted.mesh, {Rgb::gray(kPi)}, withDirect(options, constant));
+    int partial = 0;
+    for (std::size_t i = 0; i < lit.pixels.size(); ++i) {
+      double fraction = coverage.pixels[i].r;
+      partial += fraction > 0 && fraction < 1;
+      for (int k = 0; k < 3; ++k) ASSERT_NEAR(lit.pixels[i][k], fraction * (1 + direct[k]), 1e-12);
+    }
+    if (ss > 1) EXPECT_GT(partial, 20);
+  }
+}
+
+TEST(RenderDirectTest, HookOfThePositionGivesItsGradient) {
+  // A fronto-parallel plane lit by a hook that returns the point's x and y: the samples of a pixel
+  // sit symmetrically about its centre, so each pixel gets the x and y there.
+  const int size = 32;
+  const Camera camera = lookingDownZ(10, 30);
+  auto world = pixelToPlane(camera, size);
+  MeshBuilder b;
+  b.quad({-100, -100, 0}, {100, -100, 0}, {100, 100, 0}, {-100, 100, 0});
+  for (int ss : {1, 2, 3}) {
+    Image image = renderRadiance(camera, b.mesh, {Rgb{}, Rgb{}},
+                                 withDirect({size, size, Shading::Gouraud, ss},
+                                            [](const Vec3& p, std::uint32_t) { return Rgb{p.x, p.y, p.z}; }));
+    for (int y = 0; y < size; ++y) {
+      for (int x = 0; x < size; ++x) {
+        Vec3 expected = world(x + 0.5, y + 0.5);
+        ASSERT_NEAR(image.at(x, y).r, expected.x, 1e-12) << x << "," << y << " ss " << ss;
+        ASSERT_NEAR(image.at(x, y).g, expected.y, 1e-12) << x << "," << y << " ss " << ss;
+        ASSERT_NEAR(image.at(x, y).b, 0, 1e-12);
+      }
+    }
+  }
+}
+
+TEST(RenderVertexRadiosityTest, GivesRenderRadianceGouraudImageExactly) {
+  Scene scene = cornellBox();
+  Mesh mesh = subdivideScene(scene, 60.0);
+  std::vector<Rgb> radiosity;
+  for (std::size_t i = 0; i < mesh.numPatches(); ++i) {
+    const Patch& patch = mesh.patches[i];
+    // Varies from patch to patch so the vertex averages are all different.
+    radiosity.push_back(scene.materials[scene.surfaces[patch.surface].material].albedo * (1 + (i % 7) * 0.3) +
+                        Rgb::gray(patch.centroid.y * 1e-3));
+  }
+  auto direct = [](const Vec3& p, std::uint32_t patch) { return Rgb{p.x * 1e-3, patch * 1e-4, 0.5}; };
+  for (int ss : {1, 2}) {
+    RenderOptions options{96, 80, Shading::Gouraud, ss};
+    EXPECT_EQ(renderVertexRadiosity(scene.camera, mesh, vertexRadiosity(mesh, radiosity), options).pixels,
+              renderRadiance(scene.camera, mesh, radiosity, options).pixels);
+    options.directRadiance = direct;
+    EXPECT_EQ(renderVertexRadiosity(scene.camera, mesh, vertexRadiosity(mesh, radiosity), options).pixels,
+              renderRadiance(scene.camera, mesh, radiosity, options).pixels);
+  }
+}
+
+TEST(RenderVertexRadiosityTest, FlatShowsEachPatchInTheMeanOfItsCorners) {
+  MeshBuilder b;
+  b.quad({-3, -3, 0}, {3, -3, 0}, {3, 3, 0}, {-3, 3, 0});
+  const std::vector<Rgb> vertex{Rgb{1, 0, 0}, Rgb{0, 2, 0}, Rgb{0, 0, 3}, Rgb{4, 4, 4}};
+  const RenderOptions options{32, 32, Shading::Flat, 2};
+  Image image = renderVertexRadiosity(lookingDownZ(6), b.mesh, vertex, options);
+  // Triangles (0, 1, 2) and (0, 2, 3): their mean radiosities as patch values.
+  Image expected = renderRadiance(lookingDownZ(6), b.mesh,
+                                  {(vertex[0] + vertex[1] + vertex[2]) / 3, (vertex[0] + vertex[2] + vertex[3]) / 3}, options);
+  ASSERT_EQ(image.pixels.size(), expected.pixels.size());
+  for (std::size_t i = 0; i < image.pixels.size(); ++i)
+    for (int k = 0; k < 3; ++k) ASSERT_NEAR(image.pixels[i][k], expected.pixels[i][k], 1e-14);
+}
+
+TEST(RenderTest, QuadPatchCoversTheSamePixelsAsItsTwoTriangles) {
+  // A four-cornered patch is drawn as the fan (a, b, c), (a, c, d): exactly what the same quad
+  // as two triangle patches gives, also where it is clipped at the near plane and the sides.
+  TiltedQuad tilted;
+  struct Case {
+    std::array<Vec3, 4> corners;
+    Camera camera;
+  };
+  const Case cases[] = {
+      {{tilted.at(-1, -1), tilted.at(1, -1), tilted.at(1, 1), tilted.at(-1, 1)}, Camera{{0, 0, 1.5}, {0, 0, -1}, {0, 1, 0}, 60}},
+      {{Vec3{-10, 0, 10}, {10, 0, 10}, {10, 0, -100}, {-10, 0, -100}}, Camera{{0, 1, 0}, {0, 1, -1}, {0, 1, 0}, 40}},
+      {{Vec3{-100, -100, 0}, {100, -100, 0}, {100, 100, 0}, {-100, 100, 0}}, lookingDownZ(5)},
+  };
+  for (const Case& c : cases) {
+    MeshBuilder quad, split;
+    quad.quadPatch(c.corners[0], c.corners[1], c.corners[2], c.corners[3]);
+    split.quad(c.corners[0], c.corners[1], c.corners[2], c.corners[3]);
+    ASSERT_EQ(quad.mesh.patches[0].numCorners, 4u);
+    ASSERT_NEAR(quad.mesh.patches[0].area, split.mesh.patches[0].area + split.mesh.patches[1].area,
+                1e-9 * quad.mesh.patches[0].area);
+    for (int ss : {1, 2}) {
+      RenderOptions options{64, 48, Shading::Flat, ss};
+      Image one = renderRadiance(c.camera, quad.mesh, {Rgb::gray(kPi)}, options);
+      Image two = renderRadiance(c.camera, split.mesh, {Rgb::gray(kPi), Rgb::gray(kPi)}, options);
+      EXPECT_EQ(one.pixels, two.pixels);
+      int covered = 0;
+      for (const Rgb& p : one.pixels) covered += !isBlack(p);
+      EXPECT_GT(covered, 300);
+      // Gouraud from distinct corner values interpolates the same over both.
+      options.shading = Shading::Gouraud;
+      const std::vector<Rgb> vertex{Rgb{1, 0, 0}, Rgb{0, 2, 0}, Rgb{0, 0, 3}, Rgb{4, 4, 4}};
+      EXPECT_EQ(renderVertexRadiosity(c.camera, quad.mesh, vertex, options).pixels,
+                renderVertexRadiosity(c.camera, split.mesh, vertex, options).pixels);
+      // The hook sees the quad's own patch index at the same points the split mesh gives.
+      std::vector<Hit> quadHits = recordHits(c.camera, quad.mesh, {Rgb{}}, options);
+      std::vector<Hit> splitHits = recordHits(c.camera, split.mesh, {Rgb{}, Rgb{}}, options);
+      ASSERT_EQ(quadHits.size(), splitHits.size());
+      for (const Hit& hit : quadHits) ASSERT_EQ(hit.patch, 0u);
+    }
+  }
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -12,6 +12,10 @@ namespace lambert {
 // millimetres, linear-RGB albedos, an area light of radiance (17, 12, 4) W/(m²·sr)).
 Scene cornellBox();
 
+// The Cornell box lit only by two coloured spotlights (the ceiling light is dark), each turning
+// with its own angular velocity: the dynamic-light scene of seed 003.
+Scene cornellBoxWithSpots();
+
 std::optional<Scene> builtinScene(const std::string& name);
 std::vector<std::string> builtinSceneNames();
 

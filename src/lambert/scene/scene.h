@@ -24,6 +24,28 @@ struct Surface {
   Rgb emittedRadiance;  // L_e in W/(m²·sr); emitted radiosity E = π·L_e in W/m²
 };
 
+// A light without area (seed 003): its light enters the radiosity solution as the direct
+// irradiance it gives each patch (Keller's instant radiosity injection), and is drawn per pixel.
+enum class LightKind {
+  Point,        // radiant intensity I in every direction
+  Spot,         // I along its axis, fading to zero at the cone's edge
+  Directional,  // parallel light (a sun): irradiance E⊥ on a surface facing it, from infinitely far
+};
+
+struct Light {
+  std::string name;
+  LightKind kind = LightKind::Point;
+  Vec3 position;                // point, spot: scene units
+  Vec3 direction{0, -1, 0};     // spot: cone axis; directional: the way the light travels
+  Rgb intensity;                // point, spot: radiant intensity I in W/sr (spot: on its axis)
+  Rgb irradiance;               // directional: E⊥ in W/m² on a surface facing the light
+  double coneAngleDegrees = 30; // spot: half-angle of the cone, where the light reaches zero
+  double falloffDegrees = 5;    // spot: width of the smooth edge inside the cone (the seed's "focus")
+  Vec3 angularVelocity;         // rad/s about the world x, y, z axes: turns `direction` over time
+
+  bool operator==(const Light&) const = default;
+};
+
 struct Camera {
   Vec3 eye;
   Vec3 target;           // a point the camera looks at
@@ -35,6 +57,7 @@ struct Scene {
   std::string name;
   std::vector<Material> materials;
   std::vector<Surface> surfaces;
+  std::vector<Light> lights;
   Camera camera;
   double metresPerUnit = 1;  // 0.001 for a scene in millimetres
 };

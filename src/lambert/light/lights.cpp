@@ -1,0 +1,101 @@
+#include "lambert/light/lights.h"
+
+#include <cmath>
+
+#include "lambert/core/parallel.h"
+#include "lambert/core/rng.h"
+#include "lambert/core/sampling.h"
+#include "lambert/formfactor/kernels.h"
+
+namespace lambert {
+namespace {
+
+constexpr double kDegrees = kPi / 180;
+
+double smoothstep(double edge0, double edge1, double x) {
+  if (edge0 == edge1) return x < edge0 ? 0 : 1;
+  double t = std::fmin(std::fmax((x - edge0) / (edge1 - edge0), 0.0), 1.0);
+  return t * t * (3 - 2 * t);
+}
+
+// Rodrigues' rotation of v by `angle` about the unit axis k.
+Vec3 rotate(const Vec3& v, const Vec3& k, double angle) {
+  double c = std::cos(angle), s = std::sin(angle);
+  return v * c + cross(k, v) * s + k * (dot(k, v) * (1 - c));
+}
+
+}  // namespace
+
+double spotFalloff(const Light& spot, const Vec3& towardPoint) {
+  double cosAngle = dot(normalize(spot.direction), normalize(towardPoint));
+  double outer = spot.coneAngleDegrees * kDegrees;
+  double inner = std::fmax(outer - spot.falloffDegrees * kDegrees, 0.0);
+  return smoothstep(std::cos(outer), std::cos(inner), cosAngle);
+}
+
+Rgb unshadowedIrradiance(const Light& light, const Vec3& x, const Vec3& n, double metresPerUnit) {
+  if (light.kind == LightKind::Directional) {
+    double cosine = -dot(n, normalize(light.direction));
+    return cosine > 0 ? light.irradiance * cosine : Rgb{};
+  }
+  Vec3 toLight = light.position - x;
+  double distanceSquared = lengthSquared(toLight);
+  double cosine = dot(n, toLight) / std::sqrt(distanceSquared);
+  if (cosine <= 0 || distanceSquared <= 0) return {};
+  double falloff = light.kind == LightKind::Spot ? spotFalloff(light, -toLight) : 1.0;
+  if (falloff <= 0) return {};
+  // E = I cosθ / r², with r in metres.
+  return light.intensity * (falloff * cosine / (distanceSquared * metresPerUnit * metresPerUnit));
+}
+
+Rgb irradiance(const Light& light, const Vec3& x, const Vec3& n, const RayCaster& caster, double epsilon,
+               double metresPerUnit) {
+  Rgb e = unshadowedIrradiance(light, x, n, metresPerUnit);
+  if (e.maxComponent() <= 0) return e;
+  Vec3 origin = x + n * epsilon;
+  Ray shadow = light.kind == LightKind::Directional
+                   ? Ray{origin, -normalize(light.direction), 0, INFINITY}
+                   : Ray{origin, light.position - origin, 0, 1 - 1e-7};
+  return caster.occluded(shadow) ? Rgb{} : e;
+}
+
+std::vector<Rgb> patchIrradiance(const Mesh& mesh, const RayCaster& caster, const Light& light, double metresPerUnit,
+                                 const DirectLightOptions& options) {
+  std::vector<Rgb> result(mesh.numPatches());
+  const double epsilon = rayEpsilon(mesh);
+  const int samples = std::max(options.samplesPerPatch, 1);
+  parallelFor(0, mesh.numPatches(), [&](std::size_t i) {
+    const Patch& patch = mesh.patches[i];
+    // A patch wholly behind a point or spot light, or turned from a directional one, gets nothing.
+    PatchCorners corners = mesh.corners(i);
+    bool anyCornerLit = false;
+    for (const Vec3& c : corners)
+      anyCornerLit |= light.kind == LightKind::Directional ? dot(patch.normal, light.direction) < 0
+                                                          : dot(light.position - c, patch.normal) > 0;
+    if (!anyCornerLit) return;
+    Pcg32 rng(options.seed, i);
+    const std::uint32_t su = rng.nextUint(), sv = rng.nextUint();
+    Rgb sum;
+    for (int k = 0; k < samples; ++k) {
+      auto [u, v] = scrambledZeroTwo(static_cast<std::uint32_t>(k), su, sv);
+      sum += irradiance(light, sampleConvexPolygon(corners, u, v), patch.normal, caster, epsilon, metresPerUnit);
+    }
+    result[i] = sum / samples;
+  }, 16);
+  return result;
+}
+
+std::vector<Rgb> injectedRadiosity(const Mesh& mesh, const std::vector<Rgb>& albedo, const std::vector<Rgb>& irradiance) {
+  std::vector<Rgb> injected(mesh.numPatches());
+  for (std::size_t i = 0; i < mesh.numPatches(); ++i) injected[i] = albedo[i] * irradiance[i];
+  return injected;
+}
+
+Light lightAtTime(const Light& light, double seconds) {
+  Light moved = light;
+  double speed = length(light.angularVelocity);
+  if (speed > 0) moved.direction = normalize(rotate(light.direction, light.angularVelocity / speed, speed * seconds));
+  return moved;
+}
+
+}  // namespace lambert

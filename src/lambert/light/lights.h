@@ -1,0 +1,44 @@
+#pragma once
+// Direct light from point, spot and directional lights (seed 003, after Keller's "Instant
+// Radiosity", 1997): the irradiance a light gives a surface point, with a shadow ray through the
+// RayCaster, and its average over each patch. A patch's share, ρ·E_direct, is injected into the
+// radiosity system as if the patch emitted it; the solver then adds every bounce after the first.
+#include <cstdint>
+#include <vector>
+
+#include "lambert/core/rgb.h"
+#include "lambert/core/vec3.h"
+#include "lambert/geometry/ray_caster.h"
+#include "lambert/mesh/mesh.h"
+#include "lambert/scene/scene.h"
+
+namespace lambert {
+
+// The spot's smooth edge: 1 inside the inner cone, 0 outside coneAngle, smoothstep between.
+double spotFalloff(const Light& spot, const Vec3& towardPoint);
+
+// Irradiance E in W/m² that `light` gives a point x with unit normal n, ignoring occluders.
+// metresPerUnit converts scene distances so that the inverse-square law is in metres.
+Rgb unshadowedIrradiance(const Light& light, const Vec3& x, const Vec3& n, double metresPerUnit);
+
+// The same, with a shadow ray from x (lifted by epsilon along n) toward the light.
+Rgb irradiance(const Light& light, const Vec3& x, const Vec3& n, const RayCaster& caster, double epsilon,
+               double metresPerUnit);
+
+struct DirectLightOptions {
+  int samplesPerPatch = 16;  // points per patch the irradiance is averaged over (seeds 000, 003)
+  std::uint64_t seed = 1;
+};
+
+// Each patch's mean direct irradiance from one light, in W/m², over low-discrepancy points.
+std::vector<Rgb> patchIrradiance(const Mesh& mesh, const RayCaster& caster, const Light& light, double metresPerUnit,
+                                 const DirectLightOptions& options = {});
+
+// What a light injects into the radiosity system: ρ_i times its patch irradiance, in W/m².
+std::vector<Rgb> injectedRadiosity(const Mesh& mesh, const std::vector<Rgb>& albedo, const std::vector<Rgb>& irradiance);
+
+// The light as it is `seconds` after the scene's start: its direction turned by its angular
+// velocity (a rotation by |ω|·t about ω).
+Light lightAtTime(const Light& light, double seconds);
+
+}  // namespace lambert

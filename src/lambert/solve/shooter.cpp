@@ -1,0 +1,88 @@
+#include "lambert/solve/shooter.h"
+
+#include <cmath>
+
+#include "lambert/core/error.h"
+#include "lambert/core/parallel.h"
+#include "lambert/solve/gather.h"
+
+namespace lambert {
+namespace {
+
+double absoluteSum(const Rgb& c) { return std::fabs(c.r) + std::fabs(c.g) + std::fabs(c.b); }
+
+}  // namespace
+
+ProgressiveShooter::ProgressiveShooter(const RadiosityProblem& problem)
+    : problem_(problem), radiosity_(problem.emitted), unshot_(problem.emitted) {}
+
+void ProgressiveShooter::warmStart(const std::vector<Rgb>& radiosity) {
+  LAMBERT_CHECK(radiosity.size() == problem_.size());
+  const FormFactorMatrix& F = *problem_.formFactors;
+  radiosity_ = radiosity;
+  parallelFor(0, problem_.size(), [&](std::size_t i) {
+    unshot_[i] = problem_.emitted[i] + problem_.albedo[i] * gatherRow(F, i, radiosity_) - radiosity_[i];
+  }, 16);
+  for (std::size_t i = 0; i < problem_.size(); ++i) radiosity_[i] += unshot_[i];
+}
+
+void ProgressiveShooter::setEmitted(const std::vector<Rgb>& emitted) {
+  LAMBERT_CHECK(emitted.size() == problem_.size());
+  for (std::size_t i = 0; i < emitted.size(); ++i) {
+    Rgb change = emitted[i] - problem_.emitted[i];
+    radiosity_[i] += change;
+    unshot_[i] += change;
+  }
+  problem_.emitted = emitted;
+}
+
+long long ProgressiveShooter::shoot(long long maxShots, double tolerance) {
+  const std::size_t n = problem_.size();
+  const FormFactorMatrix& F = *problem_.formFactors;
+  long long shots = 0;
+  while (shots < maxShots) {
+    // The brightest shooter, and the totals the stopping test compares.
+    std::size_t shooter = 0;
+    double best = -1, unshotPower = 0, totalPower = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      double p = absoluteSum(unshot_[i]) * problem_.area[i];
+      unshotPower += p;
+      totalPower += absoluteSum(radiosity_[i]) * problem_.area[i];
+      if (p > best) {
+        best = p;
+        shooter = i;
+      }
+    }
+    if (unshotPower <= tolerance * totalPower) break;
+    const Rgb shooting = unshot_[shooter];
+    unshot_[shooter] = Rgb{};
+    const float* row = F.data() + shooter * static_cast<std::size_t>(F.cols());
+    const double shooterArea = problem_.area[shooter];
+    for (std::size_t j = 0; j < n; ++j) {
+      if (row[j] == 0) continue;
+      Rgb received = problem_.albedo[j] * shooting * (row[j] * shooterArea / problem_.area[j]);
+      unshot_[j] += received;
+      radiosity_[j] += received;
+    }
+    ++shots;
+  }
+  return shots;
+}
+
+double ProgressiveShooter::unshotFraction() const {
+  double unshotPower = 0, totalPower = 0;
+  for (std::size_t i = 0; i < problem_.size(); ++i) {
+    unshotPower += absoluteSum(unshot_[i]) * problem_.area[i];
+    totalPower += absoluteSum(radiosity_[i]) * problem_.area[i];
+  }
+  return totalPower > 0 ? unshotPower / totalPower : 0;
+}
+
+std::vector<Rgb> ProgressiveShooter::displayRadiosity() const {
+  Rgb ambient = ambientRadiosity(problem_, unshot_);
+  std::vector<Rgb> display(radiosity_);
+  for (std::size_t i = 0; i < display.size(); ++i) display[i] += problem_.albedo[i] * ambient;
+  return display;
+}
+
+}  // namespace lambert
