@@ -1,11 +1,14 @@
 #pragma once
 // One function per subcommand; each registers its options on the CLI11 app and runs when chosen.
+#include <functional>
+
 #include <CLI/CLI.hpp>
 
 namespace lambert::cli {
 
 // Registers `lambert render`; the returned callback runs it and gives the exit code.
 std::function<int()> addRenderCommand(CLI::App& app);
+std::function<int()> addAnimateCommand(CLI::App& app);
 std::function<int()> addScenesCommand(CLI::App& app);
 
 }  // namespace lambert::cli

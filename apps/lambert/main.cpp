@@ -11,6 +11,8 @@ int main(int argc, char** argv) {
   std::vector<std::pair<CLI::App*, std::function<int()>>> commands;
   auto render = lambert::cli::addRenderCommand(app);
   commands.emplace_back(app.get_subcommand("render"), render);
+  auto animate = lambert::cli::addAnimateCommand(app);
+  commands.emplace_back(app.get_subcommand("animate"), animate);
   auto scenes = lambert::cli::addScenesCommand(app);
   commands.emplace_back(app.get_subcommand("scenes"), scenes);
   CLI11_PARSE(app, argc, argv);

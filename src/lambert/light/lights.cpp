@@ -91,6 +91,13 @@ std::vector<Rgb> injectedRadiosity(const Mesh& mesh, const std::vector<Rgb>& alb
   return injected;
 }
 
+Rgb reflectedDirectRadiance(std::span<const Light> lights, const Vec3& x, const Vec3& n, const Rgb& albedo,
+                            const RayCaster& caster, double epsilon, double metresPerUnit) {
+  Rgb e;
+  for (const Light& light : lights) e += irradiance(light, x, n, caster, epsilon, metresPerUnit);
+  return albedo * e / kPi;
+}
+
 Light lightAtTime(const Light& light, double seconds) {
   Light moved = light;
   double speed = length(light.angularVelocity);

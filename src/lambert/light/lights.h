@@ -4,6 +4,7 @@
 // RayCaster, and its average over each patch. A patch's share, ρ·E_direct, is injected into the
 // radiosity system as if the patch emitted it; the solver then adds every bounce after the first.
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "lambert/core/rgb.h"
@@ -36,6 +37,11 @@ std::vector<Rgb> patchIrradiance(const Mesh& mesh, const RayCaster& caster, cons
 
 // What a light injects into the radiosity system: ρ_i times its patch irradiance, in W/m².
 std::vector<Rgb> injectedRadiosity(const Mesh& mesh, const std::vector<Rgb>& albedo, const std::vector<Rgb>& irradiance);
+
+// Radiance in W/(m²·sr) that a Lambertian point of albedo ρ reflects of the lights' direct light,
+// ρ/π Σ_l E_l(x), with a shadow ray per light: what the hybrid renderer adds per pixel.
+Rgb reflectedDirectRadiance(std::span<const Light> lights, const Vec3& x, const Vec3& n, const Rgb& albedo,
+                            const RayCaster& caster, double epsilon, double metresPerUnit);
 
 // The light as it is `seconds` after the scene's start: its direction turned by its angular
 // velocity (a rotation by |ω|·t about ω).

@@ -1,6 +1,7 @@
 #include "lambert/pipeline/pipeline.h"
 
 #include "lambert/core/timer.h"
+#include "lambert/formfactor/cache.h"
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/solve/energy.h"
 #include "lambert/solve/problem.h"
@@ -27,8 +28,11 @@ RadiositySolution solveScene(const Scene& scene, const PipelineOptions& options)
   stats.add("bvh_seconds", "BVH build time", bvhTimer.seconds(), "s");
 
   FormFactorStats ffStats;
-  auto F = std::make_shared<FormFactorMatrix>(computeFormFactors(mesh, caster, options.formFactors, &ffStats));
+  CachedFormFactors cached = cachedFormFactors(mesh, caster, options.formFactors, options.cacheDirectory, &ffStats);
+  auto F = std::make_shared<FormFactorMatrix>(std::move(cached.matrix));
   stats.add("formfactor_method", "form-factor method", formFactorMethodName(options.formFactors.method));
+  stats.add("formfactor_cache", "form-factor cache",
+            options.cacheDirectory.empty() ? std::string("off") : (cached.fromCache ? "loaded " : "saved ") + cached.path);
   if (options.formFactors.method == FormFactorMethod::AreaMonteCarlo)
     stats.add("sample_pairs", "sample pairs per patch pair", static_cast<std::int64_t>(options.formFactors.samplePairs));
   stats.add("pairs_evaluated", "patch pairs evaluated", static_cast<std::int64_t>(ffStats.pairsEvaluated));

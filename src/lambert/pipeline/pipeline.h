@@ -20,6 +20,7 @@ struct PipelineOptions {
   SolverKind solver = SolverKind::GaussSeidel;
   SolveOptions solve;
   DirectLightOptions directLight;  // how the scene's point, spot and directional lights are injected
+  std::string cacheDirectory;      // form-factor cache (seed 003); empty: always compute, never save
 };
 
 struct RadiositySolution {

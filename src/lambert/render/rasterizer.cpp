@@ -226,10 +226,16 @@ void rasterize(const ScreenTriangle& t, Band& band) {
 }
 
 // Adds the direct light at every sample of a rasterized band that sees the front of a patch, at
-// the point the sample sees: on the ray through the sample centre, at the depth the z-buffer holds.
-void addDirect(const PinholeCamera& camera, const DirectRadianceFn& direct, Band& band) {
+// the point the sample sees: on the ray through the sample centre, at the depth the z-buffer
+// holds. That depth belongs to the triangle as snapped to the subpixel grid, whose plane is off
+// the patch's by up to a few 1e-6 of the depth where the view grazes it, so the point is then
+// moved onto the patch's plane (along its normal, which is stable at any angle): lights see
+// their shadow rays leave from the surface itself.
+void addDirect(const PinholeCamera& camera, const Mesh& mesh, const DirectRadianceFn& direct, Band& band) {
   const double invFocal = 1.0 / camera.focalPixels;
   const double halfWidth = 0.5 * camera.width, halfHeight = 0.5 * camera.height;
+  std::uint32_t planePatch = kNoPatch;
+  Vec3 normal, origin;
   for (int row = band.rowBegin; row < band.rowEnd; ++row) {
     // The ray direction through the sample centre, scaled so its component along forward is 1:
     // the inverse of PinholeCamera::projectView.
@@ -239,8 +245,14 @@ void addDirect(const PinholeCamera& camera, const DirectRadianceFn& direct, Band
       const std::size_t i = rowOffset + col;
       const std::uint32_t patch = band.patch[i];
       if (patch == kNoPatch) continue;
+      if (patch != planePatch) {
+        planePatch = patch;
+        normal = mesh.patches[patch].normal;
+        origin = mesh.positions[mesh.patches[patch].vertices[0]];
+      }
       const Vec3 direction = rowDirection + camera.right * ((col + 0.5 - halfWidth) * invFocal);
-      const Vec3 position = camera.eye + direction * (1.0 / band.invZ[i]);
+      Vec3 position = camera.eye + direction * (1.0 / band.invZ[i]);
+      position -= normal * dot(position - origin, normal);
       band.radiance[i] += direct(position, patch);
     }
   }
@@ -332,7 +344,7 @@ Image render(const Camera& camera, const Mesh& mesh, const std::vector<Rgb>& rad
     if (direct) {
       band.patch.assign(samples, kNoPatch);
       for (std::uint32_t i : bins[b]) rasterize<true>(triangles[i], band);
-      addDirect(pinhole, direct, band);
+      addDirect(pinhole, mesh, direct, band);
     } else {
       for (std::uint32_t i : bins[b]) rasterize<false>(triangles[i], band);
     }

@@ -34,7 +34,7 @@ struct RenderOptions {
   int width = 512, height = 512;
   Shading shading = Shading::Gouraud;
   int supersample = 2;              // samples per pixel per axis, box-filtered down
-  DirectRadianceFn directRadiance;  // empty: radiosity only
+  DirectRadianceFn directRadiance = {};  // empty: radiosity only
 };
 
 // Radiosity B (W/m²) at every mesh vertex: the area-weighted average over the patches that use

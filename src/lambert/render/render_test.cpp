@@ -4,8 +4,10 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <iomanip>
 #include <limits>
 #include <mutex>
+#include <sstream>
 #include <utility>
 #include <vector>
 
@@ -477,7 +479,9 @@ TEST(RenderDirectTest, HookIsCalledOnceForEachCoveredFrontFacingSample) {
         partial += c.r > 1e-9 && c.r < 1 - 1e-9;
       }
       ASSERT_GT(background, 100);  // the back face and the background both leave black pixels
-      if (ss > 1) EXPECT_GT(partial, 20);
+      if (ss > 1) {
+        EXPECT_GT(partial, 20);
+      }
 
       std::atomic<long> calls{0};
       Image lit = renderRadiance(lookingDownZ(6), b.mesh, radiosity, withDirect(options, [&](const Vec3& p, std::uint32_t patch) {
@@ -511,8 +515,10 @@ TEST(RenderDirectTest, PositionsLieOnThePatchPlaneInsideItsFootprint) {
   EXPECT_LT(maxOffPlane, 1e-6 * diagonal);
   // A covered sample is within the 1/512-sample vertex snapping of the patch.
   EXPECT_LT(maxOutside, 1e-4 * diagonal);
-  RecordProperty("max_off_plane_relative", std::to_string(maxOffPlane / diagonal));
-  RecordProperty("max_outside_relative", std::to_string(maxOutside / diagonal));
+  std::ostringstream report;
+  report << std::scientific << std::setprecision(2) << "off plane " << maxOffPlane / diagonal
+         << ", outside " << maxOutside / diagonal << " of the scene diagonal";
+  RecordProperty("max_position_error", report.str());
 }
 
 TEST(RenderDirectTest, PositionsOnAGrazingQuadPatchLieOnItsPlane) {
@@ -532,7 +538,7 @@ TEST(RenderDirectTest, PositionsOnAGrazingQuadPatchLieOnItsPlane) {
                         Case{&floor.mesh, Camera{{0, 1, 0}, {0, 1, -1}, {0, 1, 0}, 40}, 100.0}}) {
     for (int ss : {1, 3}) {
       std::vector<Hit> hits = recordHits(c.camera, *c.mesh, {Rgb::gray(1)}, {96, 64, Shading::Gouraud, ss});
-      ASSERT_GT(hits.size(), 1000u);
+      ASSERT_GT(hits.size(), 500u);
       for (const Hit& hit : hits) {
         ASSERT_EQ(hit.patch, 0u);
         auto [offPlane, outside] = planeAndFootprintError(*c.mesh, hit);
@@ -573,7 +579,9 @@ TEST(RenderDirectTest, ConstantHookAddsExactlyThatConstant) {
       partial += fraction > 0 && fraction < 1;
       for (int k = 0; k < 3; ++k) ASSERT_NEAR(lit.pixels[i][k], fraction * (1 + direct[k]), 1e-12);
     }
-    if (ss > 1) EXPECT_GT(partial, 20);
+    if (ss > 1) {
+      EXPECT_GT(partial, 20);
+    }
   }
 }
 

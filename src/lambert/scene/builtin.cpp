@@ -52,22 +52,23 @@ Scene cornellBoxWithSpots() {
   Scene scene = cornellBox();
   scene.name = "cornell-spots";
   for (Surface& s : scene.surfaces) s.emittedRadiance = {};
-  // Two spots just under the ceiling at the front corners, tilted toward the room; each sweeps
-  // its footprint around a vertical axis (and the second also nods about x).
+  // Two spots just under the ceiling at the front corners: a warm one on the floor between the
+  // blocks, a cool one on the back wall. Each sweeps its footprint around a vertical axis (the
+  // cool one also nods about x).
   Light warm;
   warm.name = "warm spot";
   warm.kind = LightKind::Spot;
   warm.position = {450, 530, 120};
-  warm.direction = normalize(Vec3{-0.35, -1, 0.55});
-  warm.intensity = Rgb{1.0, 0.62, 0.3} * 0.9;
-  warm.coneAngleDegrees = 28;
-  warm.falloffDegrees = 6;
+  warm.direction = normalize(Vec3{-150, -530, 260});
+  warm.intensity = Rgb{1.0, 0.62, 0.3} * 0.5;
+  warm.coneAngleDegrees = 20;
+  warm.falloffDegrees = 4;
   warm.angularVelocity = {0, 0.6, 0};
   Light cool = warm;
   cool.name = "cool spot";
   cool.position = {110, 530, 120};
-  cool.direction = normalize(Vec3{0.35, -1, 0.55});
-  cool.intensity = Rgb{0.3, 0.55, 1.0} * 0.9;
+  cool.direction = normalize(Vec3{90, -280, 439});
+  cool.intensity = Rgb{0.3, 0.55, 1.0} * 0.5;
   cool.angularVelocity = {0.25, -0.8, 0};
   scene.lights = {warm, cool};
   return scene;

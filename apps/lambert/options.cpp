@@ -1,0 +1,115 @@
+#include "options.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+
+#include "lambert/render/hybrid.h"
+#include "lambert/scene/builtin.h"
+
+namespace lambert::cli {
+
+void addSolveOptions(CLI::App& cmd, SolveCommandOptions& o) {
+  cmd.add_option("--scene", o.scene, "Built-in scene name (see `lambert scenes`)")->capture_default_str();
+  auto* patches = cmd.add_option("--patches", o.patches, "Target patch count; the mesh edge length is chosen to reach it")
+                      ->check(CLI::Range(std::size_t{1}, std::size_t{200000}))
+                      ->capture_default_str();
+  cmd.add_option("--max-edge", o.maxEdge, "Longest patch edge in scene units (instead of --patches)")
+      ->check(CLI::PositiveNumber)
+      ->excludes(patches);
+  cmd.add_option("--formfactor", o.formFactor, "Form-factor estimator: mc (area Monte Carlo) or point (seed 000)")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, FormFactorMethod>{
+          {"mc", FormFactorMethod::AreaMonteCarlo}, {"point", FormFactorMethod::PointToPoint}}))
+      ->default_str("mc");
+  cmd.add_option("--samples", o.samples, "Sample pairs per patch pair (mc)")->check(CLI::Range(1, 4096))->capture_default_str();
+  cmd.add_option("--seed", o.seed, "Random seed")->capture_default_str();
+  cmd.add_option("--light-samples", o.lightSamples, "Points per patch the lights' direct light is averaged over")
+      ->check(CLI::Range(1, 4096))
+      ->capture_default_str();
+  cmd.add_option("--solver", o.solver, "Solver: direct, gs (Gauss-Seidel), jacobi or shoot (progressive)")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, SolverKind>{{"direct", SolverKind::Direct},
+                                                                            {"gs", SolverKind::GaussSeidel},
+                                                                            {"jacobi", SolverKind::Jacobi},
+                                                                            {"shoot", SolverKind::Shooting}}))
+      ->default_str("gs");
+  cmd.add_option("--tolerance", o.tolerance, "Relative stopping tolerance of iterative solvers")
+      ->check(CLI::Range(1e-15, 1.0))
+      ->capture_default_str();
+  cmd.add_option("--max-iterations", o.maxIterations, "Sweep limit (shots per patch for shoot)")
+      ->check(CLI::Range(1, 1000000))
+      ->capture_default_str();
+  cmd.add_option("--cache-dir", o.cacheDir, "Form-factor cache directory (default $XDG_CACHE_HOME/lambert or ~/.cache/lambert)");
+  cmd.add_flag("--no-cache", o.noCache, "Neither read nor write the form-factor cache");
+  cmd.add_flag("--json", o.json, "Print the stats as JSON instead of a table");
+  cmd.add_flag("-q,--quiet", o.quiet, "Print nothing on success");
+}
+
+void addImageOptions(CLI::App& cmd, ImageCommandOptions& o) {
+  cmd.add_option("--width", o.width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
+  cmd.add_option("--height", o.height, "Image height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
+  cmd.add_option("--shading", o.shading, "gouraud (interpolated) or flat (one value per patch)")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, Shading>{{"gouraud", Shading::Gouraud}, {"flat", Shading::Flat}}))
+      ->default_str("gouraud");
+  cmd.add_option("--lighting", o.lighting,
+                 "hybrid (lights' direct light per pixel, with shadow rays) or radiosity (all from the solution)")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, Lighting>{{"hybrid", Lighting::Hybrid}, {"radiosity", Lighting::Radiosity}}))
+      ->default_str("hybrid");
+  cmd.add_option("--supersample", o.supersample, "Samples per pixel along each axis")->check(CLI::Range(1, 8))->capture_default_str();
+  cmd.add_option("--exposure", o.exposure, "Exposure in stops (radiance × 2^stops before sRGB)")->capture_default_str();
+}
+
+std::optional<Scene> findScene(const std::string& command, const std::string& name) {
+  std::optional<Scene> scene = builtinScene(name);
+  if (!scene) {
+    std::string names;
+    for (const auto& n : builtinSceneNames()) names += (names.empty() ? "" : ", ") + n;
+    std::fprintf(stderr, "lambert %s: unknown scene '%s' (built-in scenes: %s)\n", command.c_str(), name.c_str(), names.c_str());
+  }
+  return scene;
+}
+
+namespace {
+
+std::string defaultCacheDirectory() {
+  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return std::string(xdg) + "/lambert";
+  if (const char* home = std::getenv("HOME"); home && *home) return std::string(home) + "/.cache/lambert";
+  return ".lambert-cache";
+}
+
+}  // namespace
+
+PipelineOptions pipelineOptions(const SolveCommandOptions& o) {
+  PipelineOptions p;
+  p.targetPatches = o.patches;
+  p.maxEdgeLength = o.maxEdge;
+  p.formFactors.method = o.formFactor;
+  p.formFactors.samplePairs = o.samples;
+  p.formFactors.seed = o.seed;
+  p.formFactors.showProgress = !o.quiet && !o.json;
+  p.directLight.samplesPerPatch = o.lightSamples;
+  p.directLight.seed = o.seed;
+  p.solver = o.solver;
+  p.solve.tolerance = o.tolerance;
+  p.solve.maxIterations = o.maxIterations;
+  p.cacheDirectory = o.noCache ? "" : (o.cacheDir.empty() ? defaultCacheDirectory() : o.cacheDir);
+  return p;
+}
+
+RenderOptions renderOptions(const ImageCommandOptions& o) {
+  RenderOptions r;
+  r.width = o.width;
+  r.height = o.height;
+  r.shading = o.shading;
+  r.supersample = o.supersample;
+  return r;
+}
+
+Image renderImage(const Scene& scene, const std::vector<Light>& lights, const Mesh& mesh, const RayCaster& caster,
+                  const std::vector<Rgb>& radiosity, const std::vector<Rgb>& indirect, const std::vector<Rgb>& albedo,
+                  const ImageCommandOptions& options) {
+  if (options.lighting == Lighting::Hybrid && !lights.empty())
+    return renderHybrid(scene, mesh, caster, indirect, albedo, lights, renderOptions(options));
+  return renderRadiance(scene.camera, mesh, radiosity, renderOptions(options));
+}
+
+}  // namespace lambert::cli

@@ -1,0 +1,58 @@
+#pragma once
+// Options shared by the subcommands that solve and draw a scene, registered on each of them from
+// one place, so `render` and `animate` spell and default every option the same way.
+#include <optional>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "lambert/pipeline/pipeline.h"
+#include "lambert/render/rasterizer.h"
+#include "lambert/scene/scene.h"
+
+namespace lambert::cli {
+
+enum class Lighting {
+  Hybrid,     // lights' direct light per pixel over interpolated indirect radiosity (seed 000)
+  Radiosity,  // everything from the interpolated radiosity solution
+};
+
+struct SolveCommandOptions {
+  std::string scene = "cornell";
+  std::size_t patches = 784;
+  double maxEdge = 0;
+  FormFactorMethod formFactor = FormFactorMethod::AreaMonteCarlo;
+  int samples = 16;
+  std::uint64_t seed = 1;
+  int lightSamples = 16;
+  SolverKind solver = SolverKind::GaussSeidel;
+  double tolerance = 1e-7;
+  int maxIterations = 1000;
+  std::string cacheDir;  // empty: the default, $XDG_CACHE_HOME/lambert or ~/.cache/lambert
+  bool noCache = false;
+  bool json = false;
+  bool quiet = false;
+};
+
+struct ImageCommandOptions {
+  int width = 512, height = 512;
+  Shading shading = Shading::Gouraud;
+  int supersample = 2;
+  double exposure = 0;
+  Lighting lighting = Lighting::Hybrid;
+};
+
+void addSolveOptions(CLI::App& command, SolveCommandOptions& options);
+void addImageOptions(CLI::App& command, ImageCommandOptions& options);
+
+// The named built-in scene, or a message on stderr naming the choices.
+std::optional<Scene> findScene(const std::string& command, const std::string& name);
+PipelineOptions pipelineOptions(const SolveCommandOptions& options);
+RenderOptions renderOptions(const ImageCommandOptions& options);
+
+// Draws a solved scene as the image options ask: hybrid (lights per pixel) or radiosity only.
+Image renderImage(const Scene& scene, const std::vector<Light>& lights, const Mesh& mesh, const RayCaster& caster,
+                  const std::vector<Rgb>& radiosity, const std::vector<Rgb>& indirect, const std::vector<Rgb>& albedo,
+                  const ImageCommandOptions& options);
+
+}  // namespace lambert::cli
