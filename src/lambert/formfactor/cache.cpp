@@ -47,7 +47,7 @@ constexpr std::array<char, 8> kMagic = {'L', 'M', 'B', 'R', 'T', 'F', 'F', '\0'}
 constexpr std::uint32_t kFormatVersion = 1;
 // Part of the key, not the file: bump whenever computeFormFactors gives different results for
 // the same mesh and options, so that files written by the old estimator stop matching.
-constexpr std::uint32_t kEstimatorVersion = 1;
+constexpr std::uint32_t kEstimatorVersion = 2;
 constexpr std::size_t kHeaderBytes = 32;
 constexpr std::size_t kChecksumBytes = 8;
 

@@ -35,137 +35,122 @@ bool anyCornerInFront(const Mesh& mesh, std::size_t a, std::size_t b, double eps
   return false;
 }
 
-// Pairs that cannot exchange light: on one plane, or either one wholly behind the other.
-bool facesAway(const Mesh& mesh, std::size_t i, std::size_t j, double epsilon) {
-  return !anyCornerInFront(mesh, i, j, epsilon) || !anyCornerInFront(mesh, j, i, epsilon);
+double longestEdge(const Mesh& mesh, std::size_t patch) {
+  PatchCorners c = mesh.corners(patch);
+  double longest = 0;
+  for (std::size_t k = 0; k < c.size(); ++k) longest = std::fmax(longest, lengthSquared(c[(k + 1) % c.size()] - c[k]));
+  return std::sqrt(longest);
 }
-
-class PairEstimator {
- public:
-  PairEstimator(const Mesh& mesh, const RayCaster& caster, const FormFactorOptions& options)
-      : mesh_(mesh), caster_(caster), options_(options), epsilon_(rayEpsilon(mesh)), longestEdge_(mesh.numPatches()) {
-    for (std::size_t i = 0; i < mesh.numPatches(); ++i) {
-      PatchCorners c = mesh.corners(i);
-      double longest = 0;
-      for (std::size_t k = 0; k < c.size(); ++k) longest = std::fmax(longest, lengthSquared(c[(k + 1) % c.size()] - c[k]));
-      longestEdge_[i] = std::sqrt(longest);
-    }
-  }
-
-  // F_ij, the fraction of power leaving i that reaches j.
-  double estimate(std::size_t i, std::size_t j) {
-    return options_.method == FormFactorMethod::PointToPoint ? pointToPoint(i, j) : areaMonteCarlo(i, j);
-  }
-
- private:
-  Ray segment(const Vec3& x, const Vec3& xNormal, const Vec3& y, const Vec3& yNormal) const {
-    Vec3 from = x + xNormal * epsilon_, to = y + yNormal * epsilon_;
-    return Ray{from, to - from, 0, 1};
-  }
-
-  // Patches closer than twice their size: the kernel varies fastest across them, so their
-  // estimates carry most of the error (and the rows of F their sums' error).
-  bool nearField(std::size_t i, std::size_t j) const {
-    double size = std::fmax(longestEdge_[i], longestEdge_[j]);
-    return lengthSquared(mesh_.patches[i].centroid - mesh_.patches[j].centroid) < 4 * size * size;
-  }
-
-  // Seed 000 samples a triangle at its incircle centre; a quad has no incircle, so its centroid.
-  Vec3 seedSamplePoint(std::size_t patch) const {
-    PatchCorners c = mesh_.corners(patch);
-    return c.size() == 3 ? incenter({c[0], c[1], c[2]}) : mesh_.patches[patch].centroid;
-  }
-
-  double pointToPoint(std::size_t i, std::size_t j) {
-    const Patch& pi = mesh_.patches[i];
-    const Patch& pj = mesh_.patches[j];
-    Vec3 x = seedSamplePoint(i), y = seedSamplePoint(j);
-    double kernel = pointToPointKernel(x, pi.normal, y, pj.normal);
-    if (kernel == 0 || caster_.occluded(segment(x, pi.normal, y, pj.normal))) return 0;
-    return kernel * pj.area;
-  }
-
-  // F_ij ≈ F̄ · V̄: F̄ averages the analytic factor F(x_k → P_j) over K points x_k on i, and V̄ is
-  // the kernel-weighted visible fraction over the first M of them, each paired with a point y_k on
-  // j. Far pairs use K = M, where this is exactly 1/M Σ F(x_k → P_j) V(x_k, y_k); near pairs
-  // integrate the fast-varying kernel with nearFieldBoost × more points but trace no more rays.
-  double areaMonteCarlo(std::size_t i, std::size_t j) {
-    const Patch& pi = mesh_.patches[i];
-    const Patch& pj = mesh_.patches[j];
-    const int rayCount = options_.samplePairs;
-    const int kernelCount = rayCount * (nearField(i, j) ? options_.nearFieldBoost : 1);
-    // Independent scrambles for the points on i and on j pair them at random.
-    Pcg32 rng(options_.seed, static_cast<std::uint64_t>(i) * mesh_.numPatches() + j);
-    const std::uint32_t su = rng.nextUint(), sv = rng.nextUint(), tu = rng.nextUint(), tv = rng.nextUint();
-    const auto sourceCorners = mesh_.corners(i), targetCorners = mesh_.corners(j);
-
-    rays_.clear();
-    kernels_.clear();
-    double kernelSum = 0;
-    const Vec3 targetPoint = targetCorners[0];
-    const std::span<const Vec3> target = targetCorners;
-    for (int k = 0; k < kernelCount; ++k) {
-      auto [u, v] = scrambledZeroTwo(static_cast<std::uint32_t>(k), su, sv);
-      Vec3 x = sampleConvexPolygon(sourceCorners, u, v);
-      if (dot(x - targetPoint, pj.normal) <= 0) continue;  // behind j: j's front cannot reach x
-      // The part of j above x's horizon: both the kernel and the visibility points live there, so
-      // what the horizon hides is not counted again as occluded.
-      Vec3 visible[5];
-      std::size_t count = clipAbovePlane(target, x, pi.normal, visible);
-      if (count < 3) continue;
-      std::span<const Vec3> visiblePart(visible, count);
-      double f = contourFormFactor(x, pi.normal, visiblePart);
-      kernelSum += f;
-      if (k >= rayCount || f <= 0) continue;
-      auto [s, t] = scrambledZeroTwo(static_cast<std::uint32_t>(k), tu, tv);
-      kernels_.push_back(f);
-      rays_.push_back(segment(x, pi.normal, sampleConvexPolygon(visiblePart, s, t), pj.normal));
-    }
-    if (rays_.empty()) return 0;
-    if (occludedCapacity_ < rays_.size()) {
-      occludedCapacity_ = rays_.size();
-      occluded_ = std::make_unique<bool[]>(occludedCapacity_);
-    }
-    caster_.occluded(rays_, std::span<bool>(occluded_.get(), rays_.size()));
-    double tracedSum = 0, visibleSum = 0;
-    for (std::size_t k = 0; k < rays_.size(); ++k) {
-      tracedSum += kernels_[k];
-      if (!occluded_[k]) visibleSum += kernels_[k];
-    }
-    return kernelSum / kernelCount * (visibleSum / tracedSum);
-  }
-
-  const Mesh& mesh_;
-  const RayCaster& caster_;
-  const FormFactorOptions& options_;
-  double epsilon_;
-  std::vector<double> longestEdge_;
-  // Scratch, reused across pairs by one thread.
-  std::vector<double> kernels_;
-  std::vector<Ray> rays_;
-  std::unique_ptr<bool[]> occluded_;  // not vector<bool>: the caster writes plain bools
-  std::size_t occludedCapacity_ = 0;
-};
 
 }  // namespace
 
+PairFormFactors::PairFormFactors(const Mesh& mesh, const RayCaster& caster, const FormFactorOptions& options)
+    : mesh_(mesh), caster_(caster), options_(options), epsilon_(rayEpsilon(mesh)) {
+  LAMBERT_CHECK(options.samplePairs >= 1);
+}
+
+bool PairFormFactors::culled(std::size_t i, std::size_t j) const {
+  return mesh_.patches[i].surface == mesh_.patches[j].surface || !anyCornerInFront(mesh_, i, j, epsilon_) ||
+         !anyCornerInFront(mesh_, j, i, epsilon_);
+}
+
+double PairFormFactors::estimate(std::size_t i, std::size_t j) {
+  return options_.method == FormFactorMethod::PointToPoint ? pointToPoint(i, j) : areaMonteCarlo(i, j);
+}
+
+Ray PairFormFactors::segment(const Vec3& x, const Vec3& xNormal, const Vec3& y, const Vec3& yNormal) const {
+  Vec3 from = x + xNormal * epsilon_, to = y + yNormal * epsilon_;
+  return Ray{from, to - from, 0, 1};
+}
+
+// Patches closer than twice their size: the kernel varies fastest across them, so their
+// estimates carry most of the error (and the rows of F their sums' error).
+bool PairFormFactors::nearField(std::size_t i, std::size_t j) const {
+  double size = std::fmax(longestEdge(mesh_, i), longestEdge(mesh_, j));
+  return lengthSquared(mesh_.patches[i].centroid - mesh_.patches[j].centroid) < 4 * size * size;
+}
+
+// Seed 000 samples a triangle at its incircle centre; a quad has no incircle, so its centroid.
+Vec3 PairFormFactors::seedSamplePoint(std::size_t patch) const {
+  PatchCorners c = mesh_.corners(patch);
+  return c.size() == 3 ? incenter({c[0], c[1], c[2]}) : mesh_.patches[patch].centroid;
+}
+
+double PairFormFactors::pointToPoint(std::size_t i, std::size_t j) {
+  const Patch& pi = mesh_.patches[i];
+  const Patch& pj = mesh_.patches[j];
+  Vec3 x = seedSamplePoint(i), y = seedSamplePoint(j);
+  double kernel = pointToPointKernel(x, pi.normal, y, pj.normal);
+  if (kernel == 0 || caster_.occluded(segment(x, pi.normal, y, pj.normal))) return 0;
+  return kernel * pj.area;
+}
+
+// F_ij ≈ F̄ · V̄: F̄ averages the analytic factor F(x_k → P_j) over K points x_k on i, and V̄ is
+// the kernel-weighted visible fraction over the first M of them, each paired with a point y_k on
+// j. Far pairs use K = M, where this is exactly 1/M Σ F(x_k → P_j) V(x_k, y_k); near pairs
+// integrate the fast-varying kernel with nearFieldBoost × more points but trace no more rays.
+double PairFormFactors::areaMonteCarlo(std::size_t i, std::size_t j) {
+  const Patch& pi = mesh_.patches[i];
+  const Patch& pj = mesh_.patches[j];
+  const int rayCount = options_.samplePairs;
+  const int kernelCount = rayCount * (nearField(i, j) ? options_.nearFieldBoost : 1);
+  // Independent scrambles for the points on i and on j pair them at random.
+  Pcg32 rng(options_.seed, (static_cast<std::uint64_t>(i) << 32) | j);
+  const std::uint32_t su = rng.nextUint(), sv = rng.nextUint(), tu = rng.nextUint(), tv = rng.nextUint();
+  const auto sourceCorners = mesh_.corners(i), targetCorners = mesh_.corners(j);
+
+  rays_.clear();
+  kernels_.clear();
+  double kernelSum = 0;
+  const Vec3 targetPoint = targetCorners[0];
+  const std::span<const Vec3> target = targetCorners;
+  for (int k = 0; k < kernelCount; ++k) {
+    auto [u, v] = scrambledZeroTwo(static_cast<std::uint32_t>(k), su, sv);
+    Vec3 x = sampleConvexPolygon(sourceCorners, u, v);
+    if (dot(x - targetPoint, pj.normal) <= 0) continue;  // behind j: j's front cannot reach x
+    // The part of j above x's horizon: both the kernel and the visibility points live there, so
+    // what the horizon hides is not counted again as occluded.
+    Vec3 visible[5];
+    std::size_t count = clipAbovePlane(target, x, pi.normal, visible);
+    if (count < 3) continue;
+    std::span<const Vec3> visiblePart(visible, count);
+    double f = contourFormFactor(x, pi.normal, visiblePart);
+    kernelSum += f;
+    if (k >= rayCount || f <= 0) continue;
+    auto [s, t] = scrambledZeroTwo(static_cast<std::uint32_t>(k), tu, tv);
+    kernels_.push_back(f);
+    rays_.push_back(segment(x, pi.normal, sampleConvexPolygon(visiblePart, s, t), pj.normal));
+  }
+  if (rays_.empty()) return 0;
+  if (occludedCapacity_ < rays_.size()) {
+    occludedCapacity_ = rays_.size();
+    occluded_ = std::make_unique<bool[]>(occludedCapacity_);
+  }
+  caster_.occluded(rays_, std::span<bool>(occluded_.get(), rays_.size()));
+  double tracedSum = 0, visibleSum = 0;
+  for (std::size_t k = 0; k < rays_.size(); ++k) {
+    tracedSum += kernels_[k];
+    if (!occluded_[k]) visibleSum += kernels_[k];
+  }
+  return kernelSum / kernelCount * (visibleSum / tracedSum);
+}
+
+
 FormFactorMatrix computeFormFactors(const Mesh& mesh, const RayCaster& caster, const FormFactorOptions& options,
                                     FormFactorStats* stats) {
-  LAMBERT_CHECK(options.samplePairs >= 1);
   Timer timer;
   const std::size_t n = mesh.numPatches();
   FormFactorMatrix F = FormFactorMatrix::Zero(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
-  const double epsilon = rayEpsilon(mesh);
   const std::uint64_t raysBefore = caster.raysCast();
   std::atomic<std::uint64_t> evaluated{0}, culled{0};
   Progress progress("form factors", n * (n - 1) / 2, options.showProgress);
 
-  tbb::enumerable_thread_specific<PairEstimator> estimators([&] { return PairEstimator(mesh, caster, options); });
+  tbb::enumerable_thread_specific<PairFormFactors> estimators([&] { return PairFormFactors(mesh, caster, options); });
   parallelFor(0, n, [&](std::size_t i) {
-    PairEstimator& estimator = estimators.local();
+    PairFormFactors& estimator = estimators.local();
     std::uint64_t rowEvaluated = 0, rowCulled = 0;
     for (std::size_t j = i + 1; j < n; ++j) {
-      if (mesh.patches[i].surface == mesh.patches[j].surface || facesAway(mesh, i, j, epsilon)) {
+      if (estimator.culled(i, j)) {
         ++rowCulled;
         continue;
       }

@@ -82,21 +82,29 @@ TEST(FormFactorTest, ClosedBoxRowsSumToOne) {
 TEST(FormFactorTest, ClosedCornellBoxRowsSumToOne) {
   Scene scene = testing::closedCornellBox();
   Mesh mesh = subdivideScene(scene, edgeLengthForPatchCount(scene, 800));
-  FormFactorMatrix F = formFactorsOf(mesh);
-  double worst = 0, meanError = 0;
-  int rows = 0;
-  for (std::size_t i = 0; i < mesh.numPatches(); ++i) {
-    const std::string& surface = scene.surfaces[mesh.patches[i].surface].name;
-    if (surface == "floor" || surface == "ceiling") continue;
-    double error = std::fabs(F.row(static_cast<Eigen::Index>(i)).cast<double>().sum() - 1);
-    worst = std::fmax(worst, error);
-    meanError += error;
-    ++rows;
+  // The mean over rows at the default sample count; the worst row at 64 pairs, where the noise
+  // that dominates single rows at 16 has fallen well below the bias.
+  for (int samples : {16, 64}) {
+    FormFactorOptions options;
+    options.samplePairs = samples;
+    FormFactorMatrix F = formFactorsOf(mesh, options);
+    double worst = 0, meanError = 0;
+    int rows = 0;
+    for (std::size_t i = 0; i < mesh.numPatches(); ++i) {
+      const std::string& surface = scene.surfaces[mesh.patches[i].surface].name;
+      if (surface == "floor" || surface == "ceiling") continue;
+      double error = std::fabs(F.row(static_cast<Eigen::Index>(i)).cast<double>().sum() - 1);
+      worst = std::fmax(worst, error);
+      meanError += error;
+      ++rows;
+    }
+    meanError /= rows;
+    EXPECT_GT(rows, 400);
+    EXPECT_LT(meanError, 0.005) << samples << " samples";
+    if (samples == 64) {
+      EXPECT_LT(worst, 0.015);
+    }
   }
-  meanError /= rows;
-  EXPECT_GT(rows, 400);
-  EXPECT_LT(meanError, 0.005);
-  EXPECT_LT(worst, 0.02);
 }
 
 TEST(FormFactorTest, ResultsDoNotDependOnThreadsAndFollowTheSeed) {

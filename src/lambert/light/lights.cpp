@@ -24,6 +24,23 @@ Vec3 rotate(const Vec3& v, const Vec3& k, double angle) {
   return v * c + cross(k, v) * s + k * (dot(k, v) * (1 - c));
 }
 
+// Whether any point of the patch can receive the light: it must face the light, and for a spot its
+// bounding sphere must reach into the cone. Most patches lie outside a spot's cone; this spares
+// them their shadow rays.
+bool mayReceive(const Light& light, const Patch& patch, const PatchCorners& corners) {
+  if (light.kind == LightKind::Directional) return dot(patch.normal, light.direction) < 0;
+  bool faces = false;
+  for (const Vec3& c : corners) faces |= dot(light.position - c, patch.normal) > 0;
+  if (!faces || light.kind != LightKind::Spot) return faces;
+  double radius = 0;
+  for (const Vec3& c : corners) radius = std::fmax(radius, length(c - patch.centroid));
+  Vec3 toCentre = patch.centroid - light.position;
+  double distance = length(toCentre);
+  if (distance <= radius) return true;
+  double axisAngle = std::acos(std::fmin(std::fmax(dot(normalize(light.direction), toCentre / distance), -1.0), 1.0));
+  return axisAngle - std::asin(radius / distance) < light.coneAngleDegrees * kDegrees;
+}
+
 }  // namespace
 
 double spotFalloff(const Light& spot, const Vec3& towardPoint) {
@@ -66,13 +83,8 @@ std::vector<Rgb> patchIrradiance(const Mesh& mesh, const RayCaster& caster, cons
   const int samples = std::max(options.samplesPerPatch, 1);
   parallelFor(0, mesh.numPatches(), [&](std::size_t i) {
     const Patch& patch = mesh.patches[i];
-    // A patch wholly behind a point or spot light, or turned from a directional one, gets nothing.
     PatchCorners corners = mesh.corners(i);
-    bool anyCornerLit = false;
-    for (const Vec3& c : corners)
-      anyCornerLit |= light.kind == LightKind::Directional ? dot(patch.normal, light.direction) < 0
-                                                          : dot(light.position - c, patch.normal) > 0;
-    if (!anyCornerLit) return;
+    if (!mayReceive(light, patch, corners)) return;
     Pcg32 rng(options.seed, i);
     const std::uint32_t su = rng.nextUint(), sv = rng.nextUint();
     Rgb sum;

@@ -106,26 +106,35 @@ TEST(LightTest, DirectionalLightGivesCosineWeightedIrradianceAndShadows) {
   EXPECT_EQ(unshadowedIrradiance(sun, {0, 0, 0}, {0, -1, 0}, 1).g, 0);      // facing away
 }
 
-// Averaging over a patch: for a directional light on a plane every point gets the same E.
-TEST(LightTest, PatchIrradianceAveragesOverThePatch) {
+// Σ E_i A_i over a floor is the power reaching it: compare with a fine numeric integral of the
+// closed form, for a point light and for a tilted spot (whose cone culling must not drop patches
+// that its beam reaches).
+TEST(LightTest, PatchIrradianceIntegratesToThePowerReceived) {
   Scene scene = floorScene();
-  Mesh mesh = subdivideScene(scene, 0.6);
+  Mesh mesh = subdivideScene(scene, 0.3);
   auto caster = makeEmbreeRayCaster(mesh);
-  Light light = pointLight({0, 0.3, 0}, {1, 1, 1});
-  std::vector<Rgb> e = patchIrradiance(mesh, *caster, light, 1, {64, 1});
-  // Σ E_i A_i approximates the power reaching the floor: I · 2π(1 − cos) over the 2 m square,
-  // computed here by fine numeric integration of the closed form.
-  double power = 0;
-  for (std::size_t i = 0; i < mesh.numPatches(); ++i) power += e[i].r * mesh.patches[i].area;
-  double exact = 0;
-  const int n = 2000;
-  for (int a = 0; a < n; ++a)
-    for (int b = 0; b < n; ++b) {
-      double x = -1 + (a + 0.5) * 2.0 / n, z = -1 + (b + 0.5) * 2.0 / n;
-      double r2 = x * x + z * z + 0.09;
-      exact += 0.3 / (r2 * std::sqrt(r2)) * (2.0 / n) * (2.0 / n);
-    }
-  EXPECT_NEAR(power, exact, 0.01 * exact);
+  Light point = pointLight({0, 0.3, 0}, {1, 1, 1});
+  Light spot = point;
+  spot.kind = LightKind::Spot;
+  spot.position = {0.2, 0.5, -0.1};
+  spot.direction = normalize(Vec3{-0.4, -1, 0.3});
+  spot.coneAngleDegrees = 20;
+  spot.falloffDegrees = 5;
+  for (const Light& light : {point, spot}) {
+    std::vector<Rgb> e = patchIrradiance(mesh, *caster, light, 1, {64, 1});
+    double power = 0;
+    for (std::size_t i = 0; i < mesh.numPatches(); ++i) power += e[i].r * mesh.patches[i].area;
+    double exact = 0;
+    const int n = 1500;
+    const double cell = 2.0 / n;
+    for (int a = 0; a < n; ++a)
+      for (int b = 0; b < n; ++b) {
+        Vec3 x{-1 + (a + 0.5) * cell, 0, -1 + (b + 0.5) * cell};
+        exact += unshadowedIrradiance(light, x, {0, 1, 0}, 1).r * cell * cell;
+      }
+    EXPECT_GT(exact, 0.1);
+    EXPECT_NEAR(power, exact, 0.01 * exact) << (light.kind == LightKind::Spot ? "spot" : "point");
+  }
 }
 
 TEST(LightTest, AnimationTurnsTheDirection) {

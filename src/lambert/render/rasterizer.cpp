@@ -226,21 +226,27 @@ void rasterize(const ScreenTriangle& t, Band& band) {
 }
 
 // Adds the direct light at every sample of a rasterized band that sees the front of a patch, at
-// the point the sample sees: on the ray through the sample centre, at the depth the z-buffer
-// holds. That depth belongs to the triangle as snapped to the subpixel grid, whose plane is off
-// the patch's by up to a few 1e-6 of the depth where the view grazes it, so the point is then
-// moved onto the patch's plane (along its normal, which is stable at any angle): lights see
-// their shadow rays leave from the surface itself.
+// the point the sample sees: where the ray through the sample centre meets the patch's plane.
+// That is the sample's depth in the z-buffer, except that the depth belongs to the triangle as
+// snapped to the subpixel grid, whose plane is off the patch's by up to a few 1e-6 of the depth
+// where the view grazes it; lights want their shadow rays to leave from the surface itself.
 void addDirect(const PinholeCamera& camera, const Mesh& mesh, const DirectRadianceFn& direct, Band& band) {
+  // Where the ray meets the plane and the depth disagree by more than this, the sample is
+  // covered only through snapping, its ray (nearly) parallel to the patch: it gets the point at
+  // its depth, moved onto the plane along the normal, which stays within the snapped triangle.
+  constexpr double kDepthTolerance = 1e-3;
   const double invFocal = 1.0 / camera.focalPixels;
   const double halfWidth = 0.5 * camera.width, halfHeight = 0.5 * camera.height;
-  std::uint32_t planePatch = kNoPatch;
-  Vec3 normal, origin;
   for (int row = band.rowBegin; row < band.rowEnd; ++row) {
-    // The ray direction through the sample centre, scaled so its component along forward is 1:
-    // the inverse of PinholeCamera::projectView.
+    // The ray direction through a sample centre, scaled so its component along forward is 1
+    // (the inverse of PinholeCamera::projectView), is rowDirection + right·x.
     const Vec3 rowDirection = camera.forward - camera.up * ((row + 0.5 - halfHeight) * invFocal);
     const std::size_t rowOffset = static_cast<std::size_t>(row - band.rowBegin) * band.width;
+    // The plane of the patch last seen: normal·(p - origin) = 0, and along the ray
+    // normal·(eye + direction·t - origin) = offset + t·(normalDotRow + x·normalDotRight).
+    std::uint32_t planePatch = kNoPatch;
+    Vec3 normal, origin;
+    double offset = 0, normalDotRow = 0, normalDotRight = 0;
     for (int col = 0; col < band.width; ++col) {
       const std::size_t i = rowOffset + col;
       const std::uint32_t patch = band.patch[i];
@@ -249,10 +255,20 @@ void addDirect(const PinholeCamera& camera, const Mesh& mesh, const DirectRadian
         planePatch = patch;
         normal = mesh.patches[patch].normal;
         origin = mesh.positions[mesh.patches[patch].vertices[0]];
+        offset = dot(normal, camera.eye - origin);
+        normalDotRow = dot(normal, rowDirection);
+        normalDotRight = dot(normal, camera.right);
       }
-      const Vec3 direction = rowDirection + camera.right * ((col + 0.5 - halfWidth) * invFocal);
-      Vec3 position = camera.eye + direction * (1.0 / band.invZ[i]);
-      position -= normal * dot(position - origin, normal);
+      const double x = (col + 0.5 - halfWidth) * invFocal;
+      const Vec3 direction = rowDirection + camera.right * x;
+      const double depth = -offset / (normalDotRow + x * normalDotRight);
+      Vec3 position;
+      if (std::fabs(depth * band.invZ[i] - 1) <= kDepthTolerance) {
+        position = camera.eye + direction * depth;
+      } else {
+        position = camera.eye + direction * (1.0 / band.invZ[i]);
+        position -= normal * dot(position - origin, normal);
+      }
       band.radiance[i] += direct(position, patch);
     }
   }

@@ -1,0 +1,548 @@
+// Moving lights on a fixed scene (DynamicRadiosity, seed 003): how many light updates per second a
+// per-frame shot budget allows, how far the radiosity lags the moving lights, and how many frames it
+// takes to get within 1% of the converged solution once the lights stop. The target: ≥ 60
+// light updates per second at 5000 patches on a 2-core machine, with the light within 1% of a fully
+// converged solve after the lights stop.
+//
+// cornell-spots at about --patches patches; form factors computed once (or loaded from
+// --cache-dir). For each budget in --shots: a fresh DynamicRadiosity, --frames frames with the
+// lights at t = frame / fps (both spots turn every frame, so both are re-injected every frame),
+// then the lights stop (held at the last frame's) and update() is called until the radiosity is
+// within 1% of a cold converged solve for those lights. Prints one JSON document on stdout;
+// progress goes to stderr.
+//
+//   dynamic_bench [--patches 5000] [--frames 240] [--fps 60] [--shots 100,300,1000]
+//                 [--light-samples 8] [--tolerance 1e-4] [--max-settle-frames 600]
+//                 [--cache-dir /tmp/lambert-bench-cache]
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <fstream>
+#include <iostream>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <string>
+#include <thread>
+#include <time.h>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "lambert/core/timer.h"
+#include "lambert/formfactor/cache.h"
+#include "lambert/formfactor/form_factors.h"
+#include "lambert/geometry/ray_caster.h"
+#include "lambert/light/lights.h"
+#include "lambert/mesh/mesh.h"
+#include "lambert/pipeline/dynamic.h"
+#include "lambert/scene/builtin.h"
+#include "lambert/solve/problem.h"
+#include "lambert/solve/solver.h"
+
+using namespace lambert;
+using Json = nlohmann::ordered_json;
+
+namespace {
+
+constexpr double kTargetUpdatesPerSecond = 60;
+constexpr double kTargetRelativeError = 0.01;
+// The reference is Eigen LU up to this many patches, Gauss–Seidel to 1e-9 above.
+constexpr std::size_t kDirectMaxPatches = 3000;
+constexpr double kReferenceTolerance = 1e-9;
+
+struct Options {
+  std::size_t patches = 5000;
+  int frames = 240;
+  double fps = 60;
+  std::vector<long long> shots{100, 300, 1000};
+  int lightSamples = 8;
+  double tolerance = DynamicOptions{}.tolerance;
+  int maxSettleFrames = 600;
+  std::string cacheDirectory = "/tmp/lambert-bench-cache";
+};
+
+[[noreturn]] void usage(const char* message) {
+  std::fprintf(stderr,
+               "dynamic_bench: %s\n"
+               "usage: dynamic_bench [--patches N] [--frames N] [--fps F] [--shots N[,N...]]\n"
+               "                     [--light-samples N] [--tolerance T] [--max-settle-frames N]\n"
+               "                     [--cache-dir DIR]\n"
+               "  --patches            target patch count for cornell-spots (default 5000)\n"
+               "  --frames             frames with the lights moving (default 240)\n"
+               "  --fps                frames per scene second: the lights move 1/F s a frame (default 60)\n"
+               "  --shots              per-frame shot budgets to compare; 0 = until converged\n"
+               "                       (default 100,300,1000)\n"
+               "  --light-samples      direct-light points per patch (default 8)\n"
+               "  --tolerance          unshot power fraction the shooter stops at (default 1e-4)\n"
+               "  --max-settle-frames  frames to wait for 1%% after the lights stop (default 600)\n"
+               "  --cache-dir          form-factor cache; '' disables it (default /tmp/lambert-bench-cache)\n",
+               message);
+  std::exit(2);
+}
+
+long long parseInteger(const std::string& text, long long min) {
+  char* end = nullptr;
+  long long value = std::strtoll(text.c_str(), &end, 10);
+  if (text.empty() || *end != '\0' || value < min)
+    usage(("not an integer ≥ " + std::to_string(min) + ": '" + text + "'").c_str());
+  return value;
+}
+
+double parsePositive(const std::string& text) {
+  char* end = nullptr;
+  double value = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !(value > 0) || !std::isfinite(value))
+    usage(("not a positive number: '" + text + "'").c_str());
+  return value;
+}
+
+Options parseOptions(int argc, char** argv) {
+  Options options;
+  for (int a = 1; a < argc; ++a) {
+    std::string arg = argv[a];
+    auto value = [&]() -> std::string {
+      if (auto eq = arg.find('='); eq != std::string::npos) return arg.substr(eq + 1);
+      if (a + 1 >= argc) usage((arg + " needs a value").c_str());
+      return argv[++a];
+    };
+    std::string name = arg.substr(0, arg.find('='));
+    if (name == "--patches") {
+      options.patches = static_cast<std::size_t>(parseInteger(value(), 1));
+    } else if (name == "--frames") {
+      options.frames = static_cast<int>(parseInteger(value(), 1));
+    } else if (name == "--fps") {
+      options.fps = parsePositive(value());
+    } else if (name == "--shots") {
+      options.shots.clear();
+      std::string list = value();
+      for (std::size_t begin = 0; begin <= list.size();) {
+        std::size_t comma = list.find(',', begin);
+        if (comma == std::string::npos) comma = list.size();
+        options.shots.push_back(parseInteger(list.substr(begin, comma - begin), 0));
+        begin = comma + 1;
+      }
+    } else if (name == "--light-samples") {
+      options.lightSamples = static_cast<int>(parseInteger(value(), 1));
+    } else if (name == "--tolerance") {
+      options.tolerance = parsePositive(value());
+    } else if (name == "--max-settle-frames") {
+      options.maxSettleFrames = static_cast<int>(parseInteger(value(), 0));
+    } else if (name == "--cache-dir") {
+      options.cacheDirectory = value();
+    } else if (name == "-h" || name == "--help") {
+      usage("help");
+    } else {
+      usage(("unknown argument '" + arg + "'").c_str());
+    }
+  }
+  return options;
+}
+
+std::string cpuModel() {
+  std::ifstream cpuinfo("/proc/cpuinfo");
+  std::string line;
+  while (std::getline(cpuinfo, line)) {
+    if (line.rfind("model name", 0) == 0) {
+      auto colon = line.find(':');
+      if (colon == std::string::npos) break;
+      std::string model = line.substr(colon + 1);
+      model.erase(0, model.find_first_not_of(" \t"));
+      return model;
+    }
+  }
+  return "unknown CPU";
+}
+
+std::string utcNow() {
+  std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char buffer[32];
+  std::strftime(buffer, sizeof buffer, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buffer;
+}
+
+std::string buildDescription() {
+#ifdef NDEBUG
+  std::string type = "Release";
+#else
+  std::string type = "Debug";
+#endif
+#if defined(__clang__)
+  return type + ", " + __VERSION__;
+#elif defined(__GNUC__)
+  return type + ", GCC " + __VERSION__;
+#else
+  return type + ", " + __VERSION__;
+#endif
+}
+
+std::string loadAverage() {
+  std::ifstream in("/proc/loadavg");
+  std::string one, five, fifteen;
+  in >> one >> five >> fifteen;
+  return one.empty() ? "unknown" : one + " " + five + " " + fifteen;
+}
+
+double processCpuSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+double roundDigits(double value, int decimals) {
+  double scale = std::pow(10.0, decimals);
+  return std::round(value * scale) / scale;
+}
+double seconds(double s) { return roundDigits(s, 6); }
+// Relative errors to three significant digits.
+double significant(double value) {
+  if (value == 0 || !std::isfinite(value)) return value;
+  int decimals = 2 - static_cast<int>(std::floor(std::log10(std::fabs(value))));
+  return roundDigits(value, decimals);
+}
+
+// mean, p50, p95 and max of a sample of seconds (nearest-rank percentiles).
+Json distribution(std::vector<double> values) {
+  if (values.empty()) return nullptr;
+  std::sort(values.begin(), values.end());
+  auto rank = [&](double p) {
+    std::size_t k = static_cast<std::size_t>(std::ceil(p * static_cast<double>(values.size())));
+    return values[std::min(values.size() - 1, k == 0 ? 0 : k - 1)];
+  };
+  double mean = std::accumulate(values.begin(), values.end(), 0.0) / static_cast<double>(values.size());
+  return Json{{"mean", seconds(mean)}, {"p50", seconds(rank(0.5))}, {"p95", seconds(rank(0.95))},
+              {"max", seconds(values.back())}};
+}
+
+struct Deviation {
+  double maxRelative = 0;   // max over patches and channels of |B − B_ref|, over max B_ref
+  double meanRelative = 0;  // mean over patches with max_c B_ref > 1% of the max of max_c|ΔB| / max_c B_ref
+  double maxRelativeIndirect = 0;  // the same max |ΔB| over the max of the reference's indirect light
+
+  Json json() const {
+    return Json{{"max_rel", significant(maxRelative)}, {"mean_rel", significant(meanRelative)},
+                {"max_rel_indirect", significant(maxRelativeIndirect)}};
+  }
+};
+
+struct Reference {
+  std::vector<Rgb> radiosity;  // B_ref
+  double maxRadiosity = 0;
+  double maxIndirect = 0;      // max over patches and channels of B_ref − injected
+};
+
+Deviation compare(const std::vector<Rgb>& radiosity, const Reference& reference) {
+  Deviation error;
+  double worst = 0, sum = 0;
+  std::size_t counted = 0;
+  for (std::size_t i = 0; i < radiosity.size(); ++i) {
+    const Rgb& ref = reference.radiosity[i];
+    double patchWorst = 0;
+    for (int c = 0; c < 3; ++c) patchWorst = std::fmax(patchWorst, std::fabs(radiosity[i][c] - ref[c]));
+    worst = std::fmax(worst, patchWorst);
+    if (ref.maxComponent() > 0.01 * reference.maxRadiosity) {
+      sum += patchWorst / ref.maxComponent();
+      ++counted;
+    }
+  }
+  error.maxRelative = worst / reference.maxRadiosity;
+  error.meanRelative = counted > 0 ? sum / static_cast<double>(counted) : 0;
+  error.maxRelativeIndirect = reference.maxIndirect > 0 ? worst / reference.maxIndirect : INFINITY;
+  return error;
+}
+
+// When an error measure first fell to 1% after the lights stopped, and what it took.
+struct Settle {
+  bool reached = false;
+  int frames = 0;
+  double seconds = 0;  // inject + solve seconds of those frames
+  long long shots = 0;
+
+  void note(double error, int frame, double s, long long n) {
+    if (reached || error > kTargetRelativeError) return;
+    reached = true;
+    frames = frame;
+    seconds = s;
+    shots = n;
+  }
+  Json json(double fps) const {
+    if (!reached)
+      return Json{{"frames_to_1_percent", nullptr}, {"seconds_to_1_percent", nullptr},
+                  {"scene_seconds_to_1_percent", nullptr}, {"shots_to_1_percent", nullptr}};
+    return Json{{"frames_to_1_percent", frames}, {"seconds_to_1_percent", ::seconds(seconds)},
+                {"scene_seconds_to_1_percent", roundDigits(frames / fps, 4)}, {"shots_to_1_percent", shots}};
+  }
+};
+
+struct Setup {
+  Scene scene = cornellBoxWithSpots();
+  Mesh mesh;
+  std::unique_ptr<RayCaster> caster;
+  RadiosityProblem problem;  // surfaces only: the spots are injected per frame
+  DirectLightOptions direct;
+
+  std::vector<Light> lightsAt(double t) const {
+    std::vector<Light> lights;
+    for (const Light& light : scene.lights) lights.push_back(lightAtTime(light, t));
+    return lights;
+  }
+
+  // Inject the lights into a copy of the problem and solve it cold, to convergence.
+  Reference solve(const std::vector<Light>& lights, Json* report) const {
+    RadiosityProblem p = problem;
+    std::vector<Rgb> injected(mesh.numPatches());
+    for (const Light& light : lights) {
+      std::vector<Rgb> e = injectedRadiosity(mesh, p.albedo, patchIrradiance(mesh, *caster, light, scene.metresPerUnit, direct));
+      for (std::size_t i = 0; i < e.size(); ++i) injected[i] += e[i];
+    }
+    for (std::size_t i = 0; i < injected.size(); ++i) p.emitted[i] += injected[i];
+    SolveOptions solveOptions;
+    solveOptions.tolerance = kReferenceTolerance;
+    solveOptions.maxIterations = 10000;
+    SolverKind kind = mesh.numPatches() <= kDirectMaxPatches ? SolverKind::Direct : SolverKind::GaussSeidel;
+    Reference reference;
+    SolveReport solved = makeSolver(kind, solveOptions)->solve(p, reference.radiosity);
+    for (std::size_t i = 0; i < injected.size(); ++i) {
+      reference.maxRadiosity = std::fmax(reference.maxRadiosity, reference.radiosity[i].maxComponent());
+      reference.maxIndirect = std::fmax(reference.maxIndirect, (reference.radiosity[i] - injected[i]).maxComponent());
+    }
+    if (report)
+      *report = Json{{"solver", solved.solver}, {"iterations", solved.iterations}, {"residual", solved.residual},
+                     {"converged", solved.converged}, {"seconds", seconds(solved.seconds)}};
+    return reference;
+  }
+};
+
+// The frames at which the moving solution is compared with a cold solve: the end of every scene
+// second and the last moving frame.
+std::vector<int> checkpoints(const Options& options) {
+  std::vector<int> frames;
+  int perSecond = std::max(1, static_cast<int>(std::lround(options.fps)));
+  for (int f = perSecond - 1; f < options.frames - 1; f += perSecond) frames.push_back(f);
+  frames.push_back(options.frames - 1);
+  return frames;
+}
+
+Json runBudget(const Setup& setup, const Options& options, long long budget,
+               const std::map<int, Reference>& references, const Reference& stopped) {
+  DynamicOptions dynamicOptions;
+  dynamicOptions.direct = setup.direct;
+  dynamicOptions.shotsPerFrame = budget;
+  dynamicOptions.tolerance = options.tolerance;
+  DynamicRadiosity dynamic(setup.mesh, *setup.caster, setup.problem, setup.scene.metresPerUnit, dynamicOptions);
+
+  // Moving: every frame both spots have turned, so both are re-injected.
+  std::vector<double> inject, solve, frame, wall;
+  std::vector<double> shots;
+  Json tracking = Json::array();
+  double unshotLast = 0;
+  int lightsUpdatedMin = std::numeric_limits<int>::max();
+  const std::string loadBefore = loadAverage();
+  const double cpuBefore = processCpuSeconds();
+  double movingWall = 0;
+  for (int f = 0; f < options.frames; ++f) {
+    std::vector<Light> lights = setup.lightsAt(f / options.fps);
+    Timer timer;
+    FrameReport report = dynamic.update(lights);
+    double w = timer.seconds();
+    movingWall += w;
+    wall.push_back(w);
+    inject.push_back(report.injectSeconds);
+    solve.push_back(report.solveSeconds);
+    frame.push_back(report.injectSeconds + report.solveSeconds);
+    shots.push_back(static_cast<double>(report.shots));
+    unshotLast = report.unshotFraction;
+    lightsUpdatedMin = std::min(lightsUpdatedMin, report.lightsUpdated);
+    if (auto it = references.find(f); it != references.end()) {
+      Json point = compare(dynamic.radiosity(), it->second).json();
+      point["frame"] = f;
+      point["t"] = roundDigits(f / options.fps, 4);
+      point["unshot_fraction"] = significant(report.unshotFraction);
+      tracking.push_back(std::move(point));
+    }
+  }
+  const double movingCpu = processCpuSeconds() - cpuBefore;
+  const double meanFrame = std::accumulate(frame.begin(), frame.end(), 0.0) / static_cast<double>(frame.size());
+  const double updatesPerSecond = 1.0 / meanFrame;
+
+  // Stopped: the last frame's lights, again and again; nothing is re-injected, only shot. Counted
+  // twice: until B is within 1% of the brightest reference patch (max_rel), and until the indirect
+  // light is, |ΔB| ≤ 1% of the brightest reference indirect patch (max_rel_indirect; a stricter
+  // bar, as the injected direct light is exact from the frame it is injected).
+  const std::vector<Light> held = setup.lightsAt((options.frames - 1) / options.fps);
+  const Deviation atStop = compare(dynamic.radiosity(), stopped);
+  Settle total, indirect;
+  total.note(atStop.maxRelative, 0, 0, 0);
+  indirect.note(atStop.maxRelativeIndirect, 0, 0, 0);
+  int settleFrames = 0;
+  double settleSeconds = 0;
+  long long settleShots = 0;
+  bool stalled = false;
+  while (!(total.reached && indirect.reached) && settleFrames < options.maxSettleFrames) {
+    FrameReport report = dynamic.update(held);
+    ++settleFrames;
+    settleSeconds += report.injectSeconds + report.solveSeconds;
+    settleShots += report.shots;
+    Deviation now = compare(dynamic.radiosity(), stopped);
+    total.note(now.maxRelative, settleFrames, settleSeconds, settleShots);
+    indirect.note(now.maxRelativeIndirect, settleFrames, settleSeconds, settleShots);
+    if (report.shots == 0 && !(total.reached && indirect.reached)) {
+      stalled = true;  // the shooter is at its tolerance and will not move again
+      break;
+    }
+  }
+  const bool reached = total.reached;
+  const Deviation last = compare(dynamic.radiosity(), stopped);
+
+  Json row;
+  row["shots_per_frame"] = budget == 0 ? Json("until converged") : Json(budget);
+  row["moving"] = Json{
+      {"frames", options.frames},
+      {"lights_updated_per_frame_min", lightsUpdatedMin},
+      {"inject_seconds", distribution(inject)},
+      {"solve_seconds", distribution(solve)},
+      {"frame_seconds", distribution(frame)},
+      {"update_call_wall_seconds", distribution(wall)},
+      {"updates_per_second", roundDigits(updatesPerSecond, 1)},
+      {"inject_share", roundDigits(std::accumulate(inject.begin(), inject.end(), 0.0) /
+                                       std::accumulate(frame.begin(), frame.end(), 0.0), 3)},
+      {"shots_mean", roundDigits(std::accumulate(shots.begin(), shots.end(), 0.0) / static_cast<double>(shots.size()), 1)},
+      {"unshot_fraction_last", significant(unshotLast)},
+      {"wall_seconds", seconds(movingWall)},
+      {"cpu_seconds", seconds(movingCpu)},
+      {"load_average_before", loadBefore},
+      {"tracking_error", std::move(tracking)}};
+  Json stop;
+  stop["error_at_stop"] = atStop.json();
+  for (auto& [key, value] : total.json(options.fps).items()) stop[key] = value;
+  stop["indirect"] = indirect.json(options.fps);
+  stop["stalled_at_tolerance"] = stalled;
+  stop["frames_run"] = settleFrames;
+  stop["error_final"] = last.json();
+  row["stopped"] = std::move(stop);
+  row["meets_updates_per_second"] = updatesPerSecond >= kTargetUpdatesPerSecond;
+  row["converged_within_1_percent"] = reached;
+  row["meets_target"] = updatesPerSecond >= kTargetUpdatesPerSecond && reached;
+  row["converged_within_1_percent_indirect"] = indirect.reached;
+  row["meets_target_indirect"] = updatesPerSecond >= kTargetUpdatesPerSecond && indirect.reached;
+
+  std::fprintf(stderr,
+               "  %lld shots/frame: %.1f updates/s (inject %.2f ms, solve %.2f ms mean); error at stop %.3g "
+               "(indirect %.3g); frames to 1%%: %d (indirect %d; -1: not reached)\n",
+               budget, updatesPerSecond, 1e3 * row["moving"]["inject_seconds"]["mean"].get<double>(),
+               1e3 * row["moving"]["solve_seconds"]["mean"].get<double>(), atStop.maxRelative,
+               atStop.maxRelativeIndirect, total.reached ? total.frames : -1, indirect.reached ? indirect.frames : -1);
+  return row;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options options = parseOptions(argc, argv);
+  Setup setup;
+  setup.direct.samplesPerPatch = options.lightSamples;
+
+  Json doc;
+  doc["machine"] = cpuModel() + " (" + std::to_string(std::thread::hardware_concurrency()) + " hardware threads)";
+  doc["date"] = utcNow();
+  doc["build"] = buildDescription();
+  doc["load_average_at_start"] = loadAverage();
+  doc["scene"] = setup.scene.name;
+  doc["target_patches"] = options.patches;
+
+  std::fprintf(stderr, "dynamic_bench: meshing %s for %zu patches\n", setup.scene.name.c_str(), options.patches);
+  double maxEdge = edgeLengthForPatchCount(setup.scene, options.patches);
+  setup.mesh = subdivideScene(setup.scene, maxEdge);
+  setup.caster = makeEmbreeRayCaster(setup.mesh);
+  const std::size_t n = setup.mesh.numPatches();
+  doc["patches"] = n;
+
+  FormFactorOptions ffOptions;  // the pipeline's defaults: area Monte Carlo, 16 sample pairs
+  std::fprintf(stderr, "dynamic_bench: form factors for %zu patches (cache: %s)\n", n,
+               options.cacheDirectory.empty() ? "off" : options.cacheDirectory.c_str());
+  FormFactorStats ffStats;
+  Timer ffTimer;
+  CachedFormFactors cached = cachedFormFactors(setup.mesh, *setup.caster, ffOptions, options.cacheDirectory, &ffStats);
+  const double ffSeconds = ffTimer.seconds();
+  setup.problem = makeRadiosityProblem(setup.scene, setup.mesh, std::make_shared<FormFactorMatrix>(std::move(cached.matrix)));
+  Json ff;
+  ff["method"] = formFactorMethodName(ffOptions.method);
+  ff["sample_pairs"] = ffOptions.samplePairs;
+  ff["cache"] = options.cacheDirectory.empty() ? "off" : (cached.fromCache ? "loaded" : "computed and saved");
+  ff["from_cache"] = cached.fromCache;
+  ff["cache_file"] = cached.path;
+  if (!cached.warning.empty()) ff["cache_warning"] = cached.warning;
+  ff["seconds"] = seconds(ffSeconds);  // compute time, or load time when from_cache
+  if (!cached.fromCache) ff["visibility_rays"] = ffStats.visibilityRays;
+  ff["matrix_mib"] = roundDigits(static_cast<double>(n) * static_cast<double>(n) * sizeof(float) / (1024.0 * 1024.0), 1);
+  doc["formfactor_seconds"] = cached.fromCache ? Json(nullptr) : Json(seconds(ffSeconds));
+  doc["formfactors"] = std::move(ff);
+  std::fprintf(stderr, "dynamic_bench: %zu patches, form factors %s in %.2f s\n", n,
+               cached.fromCache ? "loaded" : "computed", ffSeconds);
+
+  doc["lights"] = Json::array();
+  for (const Light& light : setup.scene.lights) {
+    double speed = length(light.angularVelocity);
+    doc["lights"].push_back(Json{{"name", light.name}, {"cone_degrees", light.coneAngleDegrees},
+                                 {"angular_speed_rad_per_s", roundDigits(speed, 4)}});
+  }
+  doc["light_samples_per_patch"] = options.lightSamples;
+  doc["frames"] = options.frames;
+  doc["fps"] = options.fps;
+  doc["scene_seconds_moving"] = roundDigits(options.frames / options.fps, 4);
+  doc["shooter_tolerance"] = options.tolerance;
+  doc["max_settle_frames"] = options.maxSettleFrames;
+  doc["error_measure"] =
+      "max_rel: max over patches and channels of |B - B_ref| / max B_ref; mean_rel: mean over patches with "
+      "max_c B_ref > 1% of that max of max_c |B - B_ref| / max_c B_ref; max_rel_indirect: the same max |B - B_ref| "
+      "over the max of B_ref less the injected direct light";
+
+  // References: a cold converged solve at each tracking checkpoint; the last is the stopped lights'.
+  std::map<int, Reference> references;
+  Json referenceJson = Json::array();
+  for (int f : checkpoints(options)) {
+    std::fprintf(stderr, "dynamic_bench: reference solve for frame %d\n", f);
+    Json report;
+    references.emplace(f, setup.solve(setup.lightsAt(f / options.fps), &report));
+    report["frame"] = f;
+    referenceJson.push_back(std::move(report));
+  }
+  doc["reference"] = Json{{"solver", n <= kDirectMaxPatches ? solverName(SolverKind::Direct) : solverName(SolverKind::GaussSeidel)},
+                          {"tolerance", kReferenceTolerance},
+                          {"solves", std::move(referenceJson)}};
+  const Reference& stopped = references.at(options.frames - 1);
+
+  Json budgets = Json::array();
+  Json metBy = Json::array();
+  Json metByIndirect = Json::array();
+  bool anyFast = false, anyConverged = false, anyConvergedIndirect = false;
+  for (long long budget : options.shots) {
+    std::fprintf(stderr, "dynamic_bench: %lld shots per frame, %d frames\n", budget, options.frames);
+    Json row = runBudget(setup, options, budget, references, stopped);
+    anyFast |= row["meets_updates_per_second"].get<bool>();
+    anyConverged |= row["converged_within_1_percent"].get<bool>();
+    anyConvergedIndirect |= row["converged_within_1_percent_indirect"].get<bool>();
+    if (row["meets_target"].get<bool>()) metBy.push_back(row["shots_per_frame"]);
+    if (row["meets_target_indirect"].get<bool>()) metByIndirect.push_back(row["shots_per_frame"]);
+    budgets.push_back(std::move(row));
+  }
+  doc["load_average_at_end"] = loadAverage();
+  doc["load_average"] = doc["load_average_at_end"];
+  doc["target"] = Json{{"updates_per_second_min", kTargetUpdatesPerSecond},
+                       {"within", kTargetRelativeError},
+                       {"updates_per_second_met", anyFast},
+                       {"converged_within_1_percent", anyConverged},
+                       {"met_by", metBy},
+                       {"met", !metBy.empty()},
+                       {"converged_within_1_percent_indirect", anyConvergedIndirect},
+                       {"met_by_indirect", metByIndirect},
+                       {"met_indirect", !metByIndirect.empty()}};
+  doc["budgets"] = std::move(budgets);
+
+  std::cout << doc.dump(2) << std::endl;
+  return 0;
+}
