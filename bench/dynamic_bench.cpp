@@ -418,7 +418,8 @@ Json runBudget(const Setup& setup, const Options& options, long long budget,
       {"tracking_error", std::move(tracking)}};
   Json stop;
   stop["error_at_stop"] = atStop.json();
-  for (auto& [key, value] : total.json(options.fps).items()) stop[key] = value;
+  const Json totalJson = total.json(options.fps);
+  for (const auto& [key, value] : totalJson.items()) stop[key] = value;
   stop["indirect"] = indirect.json(options.fps);
   stop["stalled_at_tolerance"] = stalled;
   stop["frames_run"] = settleFrames;

@@ -23,7 +23,10 @@ struct CommandResult {
 };
 
 CommandResult run(const std::string& arguments) {
-  std::string command = std::string(LAMBERT_CLI_PATH) + " " + arguments + " 2>&1";
+  // Tests never touch the user's cache: every run that does not choose one gets no cache.
+  const bool choosesCache = arguments.find("--cache-dir") != std::string::npos || arguments.find("--no-cache") != std::string::npos;
+  const bool solves = arguments.rfind("render", 0) == 0 || arguments.rfind("animate", 0) == 0;
+  std::string command = std::string(LAMBERT_CLI_PATH) + " " + arguments + (solves && !choosesCache ? " --no-cache" : "") + " 2>&1";
   CommandResult result;
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) return result;
@@ -125,14 +128,85 @@ TEST(CliTest, BadInputFailsClearlyAndWritesNothing) {
   EXPECT_NE(blocked.output.find((dir / "taken.png").string()), std::string::npos) << blocked.output;
 }
 
+TEST(CliTest, FormFactorsAreCachedAndReused) {
+  fs::path dir = outputDir("cache");
+  const std::string common = "render --patches 192 --width 32 --height 32 --json --cache-dir " + (dir / "cache").string() +
+                             " -o " + (dir / "image.png").string();
+  CommandResult first = run(common);
+  ASSERT_EQ(first.exitCode, 0) << first.output;
+  nlohmann::json computed = nlohmann::json::parse(first.output);
+  EXPECT_EQ(computed["formfactor_cache"].get<std::string>().rfind("saved ", 0), 0u) << computed["formfactor_cache"];
+  EXPECT_GT(computed["visibility_rays"].get<long>(), 0);
+
+  CommandResult second = run(common);
+  ASSERT_EQ(second.exitCode, 0) << second.output;
+  nlohmann::json loaded = nlohmann::json::parse(second.output);
+  EXPECT_EQ(loaded["formfactor_cache"].get<std::string>().rfind("loaded ", 0), 0u) << loaded["formfactor_cache"];
+  EXPECT_EQ(loaded["visibility_rays"].get<long>(), 0);
+  EXPECT_EQ(loaded["absorbed_watts"].get<double>(), computed["absorbed_watts"].get<double>());
+
+  // A damaged cache file is reported, recomputed and replaced; the answer does not change.
+  fs::path file;
+  for (const auto& entry : fs::directory_iterator(dir / "cache")) file = entry.path();
+  fs::resize_file(file, fs::file_size(file) / 2);
+  CommandResult repaired = run(common);
+  ASSERT_EQ(repaired.exitCode, 0) << repaired.output;
+  EXPECT_NE(repaired.output.find("warning: " + file.string()), std::string::npos) << repaired.output;
+  nlohmann::json again = nlohmann::json::parse(repaired.output.substr(repaired.output.find('{')));
+  EXPECT_EQ(again["absorbed_watts"].get<double>(), computed["absorbed_watts"].get<double>());
+
+  CommandResult off = run("render --patches 192 --width 32 --height 32 --json --no-cache -o " + (dir / "off.png").string());
+  ASSERT_EQ(off.exitCode, 0) << off.output;
+  EXPECT_EQ(nlohmann::json::parse(off.output)["formfactor_cache"], "off");
+}
+
+TEST(CliTest, AnimateWritesAFrameSequence) {
+  fs::path dir = outputDir("animate");
+  CommandResult result = run("animate --scene cornell-spots --frames 4 --patches 192 --width 48 --height 36 --json -o " +
+                             (dir / "frames").string());
+  ASSERT_EQ(result.exitCode, 0) << result.output;
+  nlohmann::json stats = nlohmann::json::parse(result.output);
+  EXPECT_EQ(stats["frames"], 4);
+  EXPECT_GT(stats["light_updates_per_second"].get<double>(), 0);
+  std::vector<std::uint8_t> first, last;
+  for (int frame = 1; frame <= 4; ++frame) {
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%04d.png", frame);
+    Result<PngImage> image = readPng((dir / "frames" / name).string());
+    ASSERT_TRUE(image.ok()) << name;
+    EXPECT_EQ(image->width, 48);
+    EXPECT_EQ(image->height, 36);
+    (frame == 1 ? first : last) = image->rgb8;
+  }
+  EXPECT_NE(first, last);  // the spots moved
+}
+
+TEST(CliTest, SpotsRenderHybridAndRadiosityOnly) {
+  fs::path dir = outputDir("spots");
+  for (const char* lighting : {"hybrid", "radiosity"}) {
+    CommandResult result = run(std::string("render --scene cornell-spots --patches 192 --width 64 --height 64 --json --lighting ") +
+                               lighting + " -o " + (dir / (std::string(lighting) + ".png")).string());
+    ASSERT_EQ(result.exitCode, 0) << result.output;
+    nlohmann::json stats = nlohmann::json::parse(result.output);
+    EXPECT_EQ(stats["lighting"], lighting);
+    EXPECT_EQ(stats["lights"], 2);
+  }
+  EXPECT_NE(readPng((dir / "hybrid.png").string())->rgb8, readPng((dir / "radiosity.png").string())->rgb8);
+}
+
 TEST(CliTest, HelpListsTheOptions) {
   CommandResult help = run("render --help");
   EXPECT_EQ(help.exitCode, 0);
-  for (const char* option : {"--patches", "--formfactor", "--solver", "--width", "--json", "--shading"})
+  for (const char* option : {"--patches", "--formfactor", "--solver", "--width", "--json", "--shading", "--lighting",
+                             "--cache-dir", "--no-cache", "--light-samples"})
     EXPECT_NE(help.output.find(option), std::string::npos) << option;
+  CommandResult animate = run("animate --help");
+  EXPECT_EQ(animate.exitCode, 0);
+  for (const char* option : {"--frames", "--fps", "--shots-per-frame"})
+    EXPECT_NE(animate.output.find(option), std::string::npos) << option;
   CommandResult scenes = run("scenes");
   EXPECT_EQ(scenes.exitCode, 0);
-  EXPECT_NE(scenes.output.find("cornell"), std::string::npos);
+  EXPECT_NE(scenes.output.find("cornell-spots"), std::string::npos);
 }
 
 }  // namespace

@@ -536,14 +536,16 @@ TEST(RenderDirectTest, PositionsOnAGrazingQuadPatchLieOnItsPlane) {
   };
   for (const Case& c : {Case{&tilted.mesh, Camera{{0, 0, 1.5}, {0, 0, -1}, {0, 1, 0}, 60}, 2.0},
                         Case{&floor.mesh, Camera{{0, 1, 0}, {0, 1, -1}, {0, 1, 0}, 40}, 100.0}}) {
-    for (int ss : {1, 3}) {
-      std::vector<Hit> hits = recordHits(c.camera, *c.mesh, {Rgb::gray(1)}, {96, 64, Shading::Gouraud, ss});
-      ASSERT_GT(hits.size(), 500u);
-      for (const Hit& hit : hits) {
-        ASSERT_EQ(hit.patch, 0u);
-        auto [offPlane, outside] = planeAndFootprintError(*c.mesh, hit);
-        ASSERT_LT(offPlane, 1e-6 * c.size);
-        ASSERT_LT(outside, 1e-4 * c.size);
+    for (auto [w, h] : {std::pair{96, 64}, std::pair{64, 48}}) {
+      for (int ss : {1, 2, 3}) {
+        std::vector<Hit> hits = recordHits(c.camera, *c.mesh, {Rgb::gray(1)}, {w, h, Shading::Gouraud, ss});
+        ASSERT_GT(hits.size(), 500u);
+        for (const Hit& hit : hits) {
+          ASSERT_EQ(hit.patch, 0u);
+          auto [offPlane, outside] = planeAndFootprintError(*c.mesh, hit);
+          ASSERT_LT(offPlane, 1e-6 * c.size);
+          ASSERT_LT(outside, 1e-4 * c.size);
+        }
       }
     }
   }
