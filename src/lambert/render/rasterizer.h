@@ -26,14 +26,15 @@ enum class Shading {
 // Radiance (W/(m²·sr)) a light-shading callback adds at a visible, front-facing surface point:
 // the direct light of point, spot and directional lights, shaded per sample with shadow rays,
 // on top of the interpolated radiosity (which then carries the indirect light only).
-// position: the world point on the patch seen through the sample centre; patch: index into the
-// mesh rendered. Called concurrently from several threads, once per covered front-facing sample.
+// position: the world point seen through the sample centre, on the patch's plane (to rounding);
+// patch: index into the mesh rendered (a quad's two fan triangles both give the quad's index).
+// Called concurrently from several threads, once per covered front-facing sample.
 using DirectRadianceFn = std::function<Rgb(const Vec3& position, std::uint32_t patch)>;
 
 struct RenderOptions {
   int width = 512, height = 512;
   Shading shading = Shading::Gouraud;
-  int supersample = 2;              // samples per pixel per axis, box-filtered down
+  int supersample = 2;                   // samples per pixel per axis, box-filtered down
   DirectRadianceFn directRadiance = {};  // empty: radiosity only
 };
 
