@@ -194,11 +194,39 @@ TEST(CliTest, SpotsRenderHybridAndRadiosityOnly) {
   EXPECT_NE(readPng((dir / "hybrid.png").string())->rgb8, readPng((dir / "radiosity.png").string())->rgb8);
 }
 
+TEST(CliTest, AdaptiveMeshRendersAndAnimates) {
+  fs::path dir = outputDir("adaptive");
+  CommandResult result = run("render --scene cornell-spots --adaptive --base-edge 180 --max-level 2 --width 64 --height 64 --json -o " +
+                             (dir / "adaptive.png").string());
+  ASSERT_EQ(result.exitCode, 0) << result.output;
+  nlohmann::json stats = nlohmann::json::parse(result.output);
+  EXPECT_EQ(stats["mesh"], "adaptive quad-tree");
+  EXPECT_GT(stats["refined"].get<int>(), 0);
+  EXPECT_GT(stats["patches"].get<int>(), 0);
+  EXPECT_TRUE(readPng((dir / "adaptive.png").string()).ok());
+
+  CommandResult animate = run("animate --adaptive --base-edge 180 --max-level 2 --frames 2 --width 32 --height 32 --json -o " +
+                              (dir / "frames").string());
+  ASSERT_EQ(animate.exitCode, 0) << animate.output;
+  EXPECT_GT(nlohmann::json::parse(animate.output)["cells_created"].get<int>(), 0);
+  EXPECT_TRUE(fs::exists(dir / "frames" / "frame_0002.png"));
+}
+
+TEST(CliTest, NormalisedRowsLetNothingEscape) {
+  fs::path dir = outputDir("normalize");
+  CommandResult result = run("render --patches 192 --normalize-rows --width 32 --height 32 --json -o " + (dir / "n.png").string());
+  ASSERT_EQ(result.exitCode, 0) << result.output;
+  nlohmann::json stats = nlohmann::json::parse(result.output);
+  EXPECT_NEAR(stats["escaped_watts"].get<double>(), 0, 1e-6);
+  EXPECT_NEAR(stats["absorbed_watts"].get<double>(), stats["emitted_watts"].get<double>(), 1e-3);
+}
+
 TEST(CliTest, HelpListsTheOptions) {
   CommandResult help = run("render --help");
   EXPECT_EQ(help.exitCode, 0);
   for (const char* option : {"--patches", "--formfactor", "--solver", "--width", "--json", "--shading", "--lighting",
-                             "--cache-dir", "--no-cache", "--light-samples"})
+                             "--cache-dir", "--no-cache", "--light-samples", "--adaptive", "--max-level",
+                             "--normalize-rows"})
     EXPECT_NE(help.output.find(option), std::string::npos) << option;
   CommandResult animate = run("animate --help");
   EXPECT_EQ(animate.exitCode, 0);

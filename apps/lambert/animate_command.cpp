@@ -59,31 +59,63 @@ int runAnimate(const AnimateCommandOptions& o) {
     std::fprintf(stderr, "lambert animate: note: scene '%s' has no point, spot or directional lights; every frame is the same\n",
                  scene->name.c_str());
 
-  // The static part: mesh, form factors, surface emission. Its lights are handled per frame.
-  Scene surfacesOnly = *scene;
-  surfacesOnly.lights.clear();
-  RadiositySolution base = solveScene(surfacesOnly, pipelineOptions(o.solve));
-
-  DynamicOptions dynamicOptions;
-  dynamicOptions.direct.samplesPerPatch = o.solve.lightSamples;
-  dynamicOptions.direct.seed = o.solve.seed;
-  dynamicOptions.shotsPerFrame = o.shotsPerFrame;
-  dynamicOptions.tolerance = o.frameTolerance;
-  RadiosityProblem problem = base.problem;
-  DynamicRadiosity dynamic(base.mesh, *base.caster, problem, scene->metresPerUnit, dynamicOptions);
+  // Uniform mesh: the static part (mesh, form factors, surface emission) once, lights per frame
+  // through DynamicRadiosity. Adaptive mesh: the quad-tree follows the lights every frame.
+  Stats stats;
+  std::optional<RadiositySolution> base;
+  std::unique_ptr<DynamicRadiosity> dynamic;
+  std::unique_ptr<AdaptiveRadiosity> adaptive;
+  if (o.solve.adaptive) {
+    auto created = AdaptiveRadiosity::create(*scene, adaptiveOptions(*scene, o.solve));
+    if (!created) {
+      std::fprintf(stderr, "lambert animate: %s\n", created.error().message.c_str());
+      return 2;
+    }
+    adaptive = std::move(*created);
+    stats.add("scene", "scene", scene->name);
+    stats.add("mesh", "mesh", std::string("adaptive quad-tree"));
+  } else {
+    Scene surfacesOnly = *scene;
+    surfacesOnly.lights.clear();
+    base = solveScene(surfacesOnly, pipelineOptions(o.solve));
+    stats = base->stats;
+    DynamicOptions dynamicOptions;
+    dynamicOptions.direct.samplesPerPatch = o.solve.lightSamples;
+    dynamicOptions.direct.seed = o.solve.seed;
+    dynamicOptions.shotsPerFrame = o.shotsPerFrame;
+    dynamicOptions.tolerance = o.frameTolerance;
+    dynamic = std::make_unique<DynamicRadiosity>(base->mesh, *base->caster, base->problem, scene->metresPerUnit, dynamicOptions);
+  }
 
   std::filesystem::path directory(o.output);
-  Summary inject, solve, render, frameTime, unshot;
+  Summary inject, solve, render, frameTime, unshot, cells;
   long long totalShots = 0;
+  std::uint64_t pairsEstimated = 0;
   Progress progress("frames", static_cast<std::uint64_t>(o.frames), !o.solve.quiet && !o.solve.json);
   for (int frame = 0; frame < o.frames; ++frame) {
     Timer frameTimer;
     std::vector<Light> lights;
     for (const Light& light : scene->lights) lights.push_back(lightAtTime(light, frame / o.fps));
-    FrameReport report = dynamic.update(lights);
     Timer renderTimer;
-    Image image = renderImage(*scene, lights, base.mesh, *base.caster, dynamic.radiosity(), dynamic.indirectRadiosity(),
-                              dynamic.albedo(), o.image);
+    Image image;
+    if (adaptive) {
+      AdaptiveUpdate report = adaptive->update(lights);
+      inject.add(report.injectSeconds, o.frames);
+      solve.add(report.adaptSeconds + report.formFactorSeconds + report.solveSeconds, o.frames);
+      cells.add(static_cast<double>(report.activeNodes), o.frames);
+      pairsEstimated += report.pairsEstimated;
+      renderTimer = Timer();
+      image = renderAdaptiveImage(*scene, lights, *adaptive, o.image);
+    } else {
+      FrameReport report = dynamic->update(lights);
+      inject.add(report.injectSeconds, o.frames);
+      solve.add(report.solveSeconds, o.frames);
+      unshot.add(report.unshotFraction, o.frames);
+      totalShots += report.shots;
+      renderTimer = Timer();
+      image = renderImage(*scene, lights, base->mesh, *base->caster, dynamic->radiosity(), dynamic->indirectRadiosity(),
+                          dynamic->albedo(), o.image);
+    }
     char name[32];
     std::snprintf(name, sizeof name, "frame_%04d.png", frame + 1);
     Status written = writePng((directory / name).string(), image.width, image.height, toSrgb8(image, o.image.exposure));
@@ -91,26 +123,29 @@ int runAnimate(const AnimateCommandOptions& o) {
       std::fprintf(stderr, "lambert animate: %s\n", written.error().message.c_str());
       return 1;
     }
-    inject.add(report.injectSeconds, o.frames);
-    solve.add(report.solveSeconds, o.frames);
     render.add(renderTimer.seconds(), o.frames);
     frameTime.add(frameTimer.seconds(), o.frames);
-    unshot.add(report.unshotFraction, o.frames);
-    totalShots += report.shots;
     progress.advance();
   }
   progress.finish();
   std::string video = encodeVideo(directory, o.fps, o.solve.quiet);
 
-  Stats& stats = base.stats;
   stats.add("frames", "frames", static_cast<std::int64_t>(o.frames));
-  stats.add("shots", "shots (all frames)", static_cast<std::int64_t>(totalShots));
+  if (adaptive) {
+    stats.add("active_cells_mean", "active cells per frame (mean)", cells.mean);
+    stats.add("active_cells_max", "active cells per frame (max)", cells.max);
+    stats.add("cells_created", "cells ever created", static_cast<std::int64_t>(adaptive->mesh().numNodes()));
+    stats.add("pairs_estimated", "cell pairs estimated (master table)", static_cast<std::int64_t>(pairsEstimated));
+    stats.add("pairs_reused", "cell pairs reused from the table", static_cast<std::int64_t>(adaptive->table().pairsReused()));
+  } else {
+    stats.add("shots", "shots (all frames)", static_cast<std::int64_t>(totalShots));
+  }
   stats.add("inject_ms_mean", "light injection per frame (mean)", 1e3 * inject.mean, "ms");
   stats.add("solve_ms_mean", "radiosity update per frame (mean)", 1e3 * solve.mean, "ms");
   stats.add("solve_ms_max", "radiosity update per frame (max)", 1e3 * solve.max, "ms");
   stats.add("light_updates_per_second", "light updates per second (inject + update)",
             inject.mean + solve.mean > 0 ? 1 / (inject.mean + solve.mean) : 0.0, "/s");
-  stats.add("unshot_fraction_max", "unshot power left in a frame (max)", unshot.max);
+  if (!adaptive) stats.add("unshot_fraction_max", "unshot power left in a frame (max)", unshot.max);
   stats.add("render_ms_mean", "render + PNG per frame (mean)", 1e3 * render.mean, "ms");
   stats.add("frame_ms_mean", "whole frame (mean)", 1e3 * frameTime.mean, "ms");
   stats.add("total_seconds", "total time", total.seconds(), "s");

@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <map>
 
+#include "lambert/mesh/mesh.h"
 #include "lambert/render/hybrid.h"
 #include "lambert/scene/builtin.h"
 
@@ -40,6 +41,21 @@ void addSolveOptions(CLI::App& cmd, SolveCommandOptions& o) {
       ->capture_default_str();
   cmd.add_option("--cache-dir", o.cacheDir, "Form-factor cache directory (default $XDG_CACHE_HOME/lambert or ~/.cache/lambert)");
   cmd.add_flag("--no-cache", o.noCache, "Neither read nor write the form-factor cache");
+  cmd.add_flag("--normalize-rows", o.normalizeRows,
+               "Divide each row of F by its sum (seed 003): hides estimation error, adds energy where light should escape");
+  cmd.add_flag("--adaptive", o.adaptive, "Adaptive quad-tree mesh refined at spot and shadow edges (seed 003)");
+  cmd.add_option("--base-edge", o.baseEdge, "Adaptive: longest edge of the coarsest cells, scene units (default: diagonal / 6)")
+      ->check(CLI::PositiveNumber);
+  cmd.add_option("--max-level", o.maxLevel, "Adaptive: deepest refinement level (each halves a cell)")
+      ->check(CLI::Range(0, 8))
+      ->capture_default_str();
+  cmd.add_option("--gradient-threshold", o.gradientThreshold,
+                 "Adaptive: split cells whose corners' radiosity spans more than this × the mean (0: off)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd.add_option("--adapt-passes", o.adaptPasses, "Adaptive (render): refine-and-solve passes")
+      ->check(CLI::Range(1, 20))
+      ->capture_default_str();
   cmd.add_flag("--json", o.json, "Print the stats as JSON instead of a table");
   cmd.add_flag("-q,--quiet", o.quiet, "Print nothing on success");
 }
@@ -92,7 +108,37 @@ PipelineOptions pipelineOptions(const SolveCommandOptions& o) {
   p.solve.tolerance = o.tolerance;
   p.solve.maxIterations = o.maxIterations;
   p.cacheDirectory = o.noCache ? "" : (o.cacheDir.empty() ? defaultCacheDirectory() : o.cacheDir);
+  p.normalizeRows = o.normalizeRows;
   return p;
+}
+
+AdaptiveOptions adaptiveOptions(const Scene& scene, const SolveCommandOptions& o) {
+  AdaptiveOptions a;
+  a.quadtree.baseEdgeLength = o.baseEdge > 0 ? o.baseEdge : sceneDiagonal(scene) / 6;
+  a.quadtree.maxLevel = o.maxLevel;
+  a.formFactors = pipelineOptions(o).formFactors;
+  a.formFactors.showProgress = false;
+  a.direct.samplesPerPatch = o.lightSamples;
+  a.direct.seed = o.seed;
+  a.gradientThreshold = o.gradientThreshold;
+  a.normalizeRows = o.normalizeRows;
+  return a;
+}
+
+Image renderAdaptiveImage(const Scene& scene, const std::vector<Light>& lights, const AdaptiveRadiosity& adaptive,
+                          const ImageCommandOptions& options) {
+  const AdaptiveMesh& mesh = adaptive.mesh();
+  if (options.shading == Shading::Flat) {
+    Mesh active = mesh.activeMesh();
+    return renderImage(scene, lights, active, adaptive.caster(), adaptive.radiosity(), adaptive.indirectRadiosity(),
+                       adaptive.problem().albedo, options);
+  }
+  const bool hybrid = options.lighting == Lighting::Hybrid && !lights.empty();
+  std::vector<Rgb> vertices = mesh.fineVertexRadiosity(hybrid ? adaptive.indirectRadiosity() : adaptive.radiosity());
+  std::vector<Rgb> albedo = adaptive.fineAlbedo();
+  RenderOptions render = renderOptions(options);
+  if (hybrid) render = withDirectLight(render, scene, mesh.fineMesh(), adaptive.caster(), albedo, lights);
+  return renderVertexRadiosity(scene.camera, mesh.fineMesh(), vertices, render);
 }
 
 RenderOptions renderOptions(const ImageCommandOptions& o) {

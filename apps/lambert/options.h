@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "lambert/pipeline/adaptive.h"
 #include "lambert/pipeline/pipeline.h"
 #include "lambert/render/rasterizer.h"
 #include "lambert/scene/scene.h"
@@ -30,6 +31,13 @@ struct SolveCommandOptions {
   int maxIterations = 1000;
   std::string cacheDir;  // empty: the default, $XDG_CACHE_HOME/lambert or ~/.cache/lambert
   bool noCache = false;
+  bool normalizeRows = false;
+  // Adaptive quad-tree meshing (seed 003) instead of uniform bisection.
+  bool adaptive = false;
+  double baseEdge = 0;  // scene units; 0: a sixth of the scene's diagonal
+  int maxLevel = 3;
+  double gradientThreshold = 0.5;
+  int adaptPasses = 3;
   bool json = false;
   bool quiet = false;
 };
@@ -43,12 +51,18 @@ struct ImageCommandOptions {
 };
 
 void addSolveOptions(CLI::App& command, SolveCommandOptions& options);
+AdaptiveOptions adaptiveOptions(const Scene& scene, const SolveCommandOptions& options);
 void addImageOptions(CLI::App& command, ImageCommandOptions& options);
 
 // The named built-in scene, or a message on stderr naming the choices.
 std::optional<Scene> findScene(const std::string& command, const std::string& name);
 PipelineOptions pipelineOptions(const SolveCommandOptions& options);
 RenderOptions renderOptions(const ImageCommandOptions& options);
+
+// Draws an adaptive solution: its finest level with radiosity interpolated from the active level
+// (flat shading shows the active cells themselves).
+Image renderAdaptiveImage(const Scene& scene, const std::vector<Light>& lights, const AdaptiveRadiosity& adaptive,
+                          const ImageCommandOptions& options);
 
 // Draws a solved scene as the image options ask: hybrid (lights per pixel) or radiosity only.
 Image renderImage(const Scene& scene, const std::vector<Light>& lights, const Mesh& mesh, const RayCaster& caster,

@@ -101,6 +101,8 @@ void AdaptiveRadiosity::refineNode(std::uint32_t node, AdaptiveUpdate& update) {
 
 void AdaptiveRadiosity::adapt(std::uint32_t node, const std::vector<Light>& lights, const std::vector<char>& steep,
                               AdaptiveUpdate& update) {
+  // Nodes created during this update have no solution yet, so they are never steep.
+  auto isSteep = [&](std::uint32_t id) { return id < steep.size() && steep[id]; };
   const QuadNode n = mesh_.node(node);
   if (mustSplit(node, lights)) {
     if (n.active) refineNode(node, update);
@@ -117,7 +119,7 @@ void AdaptiveRadiosity::adapt(std::uint32_t node, const std::vector<Light>& ligh
     double area = 0;
     Rgb weighted;
     for (std::uint32_t k = 0; k < 4; ++k) {
-      leaves &= mesh_.node(first + k).active && !steep[first + k];
+      leaves &= mesh_.node(first + k).active && !isSteep(first + k);
       children[k] = nodeRadiosity_[first + k];
       double a = mesh_.nodeMesh().patches[first + k].area;
       weighted += children[k] * a;
@@ -133,7 +135,7 @@ void AdaptiveRadiosity::adapt(std::uint32_t node, const std::vector<Light>& ligh
     }
     return;
   }
-  if (steep[node]) refineNode(node, update);
+  if (isSteep(node)) refineNode(node, update);
 }
 
 AdaptiveUpdate AdaptiveRadiosity::update(const std::vector<Light>& lights) {

@@ -2,6 +2,7 @@
 
 #include "lambert/core/timer.h"
 #include "lambert/formfactor/cache.h"
+#include "lambert/formfactor/table.h"
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/solve/energy.h"
 #include "lambert/solve/problem.h"
@@ -30,6 +31,7 @@ RadiositySolution solveScene(const Scene& scene, const PipelineOptions& options)
   FormFactorStats ffStats;
   CachedFormFactors cached = cachedFormFactors(mesh, caster, options.formFactors, options.cacheDirectory, &ffStats);
   auto F = std::make_shared<FormFactorMatrix>(std::move(cached.matrix));
+  if (options.normalizeRows) normalizeRows(*F);
   stats.add("formfactor_method", "form-factor method", formFactorMethodName(options.formFactors.method));
   stats.add("formfactor_cache", "form-factor cache",
             options.cacheDirectory.empty() ? std::string("off") : (cached.fromCache ? "loaded " : "saved ") + cached.path);

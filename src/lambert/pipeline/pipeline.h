@@ -21,6 +21,7 @@ struct PipelineOptions {
   SolveOptions solve;
   DirectLightOptions directLight;  // how the scene's point, spot and directional lights are injected
   std::string cacheDirectory;      // form-factor cache (seed 003); empty: always compute, never save
+  bool normalizeRows = false;      // seed 003's row normalisation (see formfactor/table.h)
 };
 
 struct RadiositySolution {

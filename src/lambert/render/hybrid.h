@@ -11,9 +11,13 @@
 
 namespace lambert {
 
+// Render options that add the lights' direct light, reflected by each patch of `mesh` (albedo ρ
+// per patch), at every visible sample. The references must outlive the render.
+RenderOptions withDirectLight(RenderOptions options, const Scene& scene, const Mesh& mesh, const RayCaster& caster,
+                              const std::vector<Rgb>& albedo, const std::vector<Light>& lights);
+
 // indirectRadiosity: per patch, B less the lights' injected ρ·E_direct (W/m²).
-// albedo: ρ per patch. lights: as they are in this frame.
 Image renderHybrid(const Scene& scene, const Mesh& mesh, const RayCaster& caster, const std::vector<Rgb>& indirectRadiosity,
-                   const std::vector<Rgb>& albedo, const std::vector<Light>& lights, RenderOptions options);
+                   const std::vector<Rgb>& albedo, const std::vector<Light>& lights, const RenderOptions& options);
 
 }  // namespace lambert

@@ -1,0 +1,206 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "lambert/pipeline/adaptive.h"
+#include "lambert/solve/energy.h"
+#include "lambert/solve/problem.h"
+#include "tests/support/scenes.h"
+
+namespace lambert {
+namespace {
+
+Scene floorMetre() {
+  return testing::sceneOf({{"floor", {{0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0, 0}}, 0, {}}});
+}
+
+Light downwardSpot(Vec3 position, Vec3 direction) {
+  Light spot;
+  spot.kind = LightKind::Spot;
+  spot.position = position;
+  spot.direction = normalize(direction);
+  spot.intensity = {1, 1, 1};
+  spot.coneAngleDegrees = 25;
+  spot.falloffDegrees = 5;
+  return spot;
+}
+
+AdaptiveOptions geometricOnly() {
+  AdaptiveOptions options;
+  options.quadtree = {0.25, 3};
+  options.gradientThreshold = 0;
+  return options;
+}
+
+// Whether a node has been split, at any depth below it.
+bool isRefined(const AdaptiveMesh& mesh, std::uint32_t id) { return !mesh.node(id).active && mesh.node(id).firstChild >= 0; }
+
+// Cells are split exactly where the cone's edge crosses them: every split cell straddles it, and
+// no active cell above the deepest level does.
+TEST(AdaptiveTest, RefinesExactlyAlongTheSpotsEdge) {
+  Scene scene = floorMetre();
+  auto adaptive = AdaptiveRadiosity::create(scene, geometricOnly());
+  ASSERT_TRUE(adaptive.ok()) << adaptive.error().message;
+  AdaptiveRadiosity& a = **adaptive;
+  Light spot = downwardSpot({0.45, 0.6, 0.55}, {0.1, -1, 0});
+  AdaptiveUpdate update = a.update({spot});
+  EXPECT_GT(update.refined, 0);
+
+  const AdaptiveMesh& mesh = a.mesh();
+  int split = 0, coarseUntouched = 0, deepest = 0;
+  for (std::uint32_t id = 0; id < mesh.numNodes(); ++id) {
+    const QuadNode& n = mesh.node(id);
+    bool crosses = AdaptiveRadiosity::crossesSpotEdge(spot, mesh.nodeMesh().corners(id), mesh.nodeMesh().patches[id].normal);
+    if (isRefined(mesh, id)) {
+      ++split;
+      EXPECT_TRUE(crosses) << "node " << id << " split without the edge crossing it";
+    } else if (n.active && n.level < 3) {
+      EXPECT_FALSE(crosses) << "node " << id << " crossed by the edge but left coarse";
+      coarseUntouched += n.level == 0;
+    } else if (n.active) {
+      ++deepest;
+    }
+  }
+  EXPECT_GT(split, 4);
+  EXPECT_GT(deepest, 16);
+  EXPECT_GT(coarseUntouched, 0);  // the middle of the beam and the dark corners stay coarse
+
+  // A cell wholly inside the beam and one wholly outside do not cross; one on the edge does.
+  auto quad = [](double x0, double z0, double size) {
+    PatchCorners c;
+    c.count = 4;
+    c.points = {Vec3{x0, 0, z0}, Vec3{x0, 0, z0 + size}, Vec3{x0 + size, 0, z0 + size}, Vec3{x0 + size, 0, z0}};
+    return c;
+  };
+  const Vec3 up{0, 1, 0};
+  EXPECT_FALSE(AdaptiveRadiosity::crossesSpotEdge(spot, quad(0.5, 0.5, 0.05), up));
+  EXPECT_FALSE(AdaptiveRadiosity::crossesSpotEdge(spot, quad(0.9, 0.9, 0.05), up));
+  double edgeRadius = 0.6 * std::tan(25 * kPi / 180);
+  EXPECT_TRUE(AdaptiveRadiosity::crossesSpotEdge(spot, quad(0.45 + 0.06 + edgeRadius - 0.02, 0.53, 0.04), up));
+  // A beam narrower than a cell that lands inside it, all corners dark: still an edge.
+  Light narrow = downwardSpot({0.5, 0.3, 0.5}, {0, -1, 0});
+  narrow.coneAngleDegrees = 2;
+  narrow.falloffDegrees = 1;
+  EXPECT_TRUE(AdaptiveRadiosity::crossesSpotEdge(narrow, quad(0.25, 0.25, 0.5), up));
+}
+
+// Seed 003's master table: a spot moves away and back; the cells it re-activates find their form
+// factors in the table, and nothing is computed twice.
+TEST(AdaptiveTest, ReactivatedCellsReuseTheirFormFactors) {
+  Scene scene = testing::closedCube(1, {}, Rgb::gray(0.5));
+  AdaptiveOptions options = geometricOnly();
+  options.quadtree = {0.34, 2};
+  auto adaptive = AdaptiveRadiosity::create(scene, options);
+  ASSERT_TRUE(adaptive.ok());
+  AdaptiveRadiosity& a = **adaptive;
+  Light here = downwardSpot({0.5, 0.95, 0.5}, {0.3, -1, 0.2});
+  Light there = downwardSpot({0.5, 0.95, 0.5}, {-0.4, -1, -0.3});
+
+  AdaptiveUpdate first = a.update({here});
+  EXPECT_GT(first.pairsEstimated, 0u);
+  const std::uint64_t afterFirst = a.table().pairsEstimated();
+  const std::size_t activeHere = first.activeNodes;
+
+  AdaptiveUpdate moved = a.update({there});
+  EXPECT_GT(moved.pairsEstimated, 0u);   // new cells: new pairs
+  EXPECT_GT(moved.pairsReused, 0u);      // the rest were known
+  EXPECT_GT(moved.coarsened, 0);         // the old footprint merged back
+  const std::uint64_t afterMove = a.table().pairsEstimated();
+  EXPECT_GT(afterMove, afterFirst);
+
+  AdaptiveUpdate back = a.update({here});
+  EXPECT_EQ(back.activeNodes, activeHere);
+  EXPECT_EQ(back.pairsEstimated, 0u);    // everything found in the table
+  EXPECT_EQ(a.table().pairsEstimated(), afterMove);
+  EXPECT_EQ(back.pairsReused, activeHere * (activeHere - 1) / 2);
+  AdaptiveUpdate still = a.update({here});
+  EXPECT_EQ(still.refined + still.coarsened, 0);
+}
+
+TEST(AdaptiveTest, RefinesAlongShadowEdges) {
+  Scene scene = floorMetre();
+  scene.surfaces.push_back({"blocker", {{0.4, 0.5, 0.4}, {0.6, 0.5, 0.4}, {0.6, 0.5, 0.6}, {0.4, 0.5, 0.6}}, 0, {}});
+  AdaptiveOptions options = geometricOnly();
+  auto adaptive = AdaptiveRadiosity::create(scene, options);
+  ASSERT_TRUE(adaptive.ok());
+  AdaptiveRadiosity& a = **adaptive;
+  Light point;
+  point.kind = LightKind::Point;
+  point.position = {0.5, 1.0, 0.5};
+  point.intensity = {1, 1, 1};
+  a.update({point});
+  // The blocker's shadow on the floor spans 0.3 … 0.7: cells across its edge are split.
+  auto cell = [](double x0, double z0, double size) {
+    PatchCorners c;
+    c.count = 4;
+    c.points = {Vec3{x0, 0, z0}, Vec3{x0, 0, z0 + size}, Vec3{x0 + size, 0, z0 + size}, Vec3{x0 + size, 0, z0}};
+    return c;
+  };
+  const Vec3 up{0, 1, 0};
+  EXPECT_TRUE(a.crossesShadowEdge(point, cell(0.25, 0.45, 0.1), up));
+  EXPECT_FALSE(a.crossesShadowEdge(point, cell(0.45, 0.45, 0.1), up));  // wholly in shadow
+  EXPECT_FALSE(a.crossesShadowEdge(point, cell(0.05, 0.05, 0.1), up));  // wholly lit
+  int deepestOnFloor = 0;
+  for (std::uint32_t id : a.mesh().activeNodes())
+    deepestOnFloor += a.mesh().node(id).surface == 0 && a.mesh().node(id).level == 3;
+  EXPECT_GT(deepestOnFloor, 8);
+}
+
+// The radiosity-gradient criterion refines where light changes fast, even without lights.
+TEST(AdaptiveTest, GradientCriterionRefinesWhereRadiosityChanges) {
+  AdaptiveOptions options;
+  options.quadtree = {120, 2};
+  options.gradientThreshold = 0.5;
+  auto adaptive = AdaptiveRadiosity::create(cornellBox(), options);
+  ASSERT_TRUE(adaptive.ok());
+  AdaptiveRadiosity& a = **adaptive;
+  AdaptiveUpdate first = a.update({});
+  EXPECT_EQ(first.refined, 0);  // no solution yet to judge by
+  AdaptiveUpdate second = a.update({});
+  EXPECT_GT(second.refined, 0);
+  EXPECT_GT(second.activeNodes, first.activeNodes);
+}
+
+// Seed 003 divides each row of F by its sum. In a closed room, where rows already sum to one,
+// that changes little; through the Cornell box's open front it stops light escaping, so the
+// room gets brighter than energy conservation allows.
+TEST(AdaptiveTest, RowNormalisationAndItsEffectOnEnergy) {
+  for (bool closed : {true, false}) {
+    Scene scene = closed ? testing::closedCube(1, {}, Rgb::gray(0.5)) : cornellBox();
+    if (closed) scene.surfaces[0].emittedRadiance = {1, 1, 1};
+    AdaptiveOptions options;
+    options.quadtree = {closed ? 0.25 : 110.0, 0};
+    options.gradientThreshold = 0;
+    auto plain = AdaptiveRadiosity::create(scene, options);
+    options.normalizeRows = true;
+    auto normalised = AdaptiveRadiosity::create(scene, options);
+    ASSERT_TRUE(plain.ok() && normalised.ok());
+    (*plain)->update({});
+    (*normalised)->update({});
+    const FormFactorMatrix& F = *(*normalised)->problem().formFactors;
+    for (Eigen::Index i = 0; i < F.rows(); ++i) EXPECT_NEAR(F.row(i).cast<double>().sum(), 1, 1e-5);
+
+    double plainPower = 0, normalisedPower = 0;
+    for (std::size_t k = 0; k < (*plain)->radiosity().size(); ++k) {
+      plainPower += (*plain)->radiosity()[k].sum() * (*plain)->problem().area[k];
+      normalisedPower += (*normalised)->radiosity()[k].sum() * (*normalised)->problem().area[k];
+    }
+    EnergyBalance balance = energyBalance((*normalised)->problem(), (*normalised)->radiosity(), scene.metresPerUnit);
+    EXPECT_NEAR(balance.escapedWatts, 0, 1e-6 * balance.emittedWatts);  // nothing leaves any more
+    if (closed) {
+      EXPECT_LT(testing::relativeError(normalisedPower, plainPower), 0.01);
+    } else {
+      EXPECT_GT(normalisedPower, 1.2 * plainPower) << "normalising the open box's rows adds the escaping light back";
+    }
+  }
+}
+
+TEST(AdaptiveTest, NonQuadScenesAreRejected) {
+  Scene scene = testing::sceneOf({{"triangle", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, 0, {}}});
+  auto adaptive = AdaptiveRadiosity::create(scene, {});
+  ASSERT_FALSE(adaptive.ok());
+  EXPECT_NE(adaptive.error().message.find("triangle"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace lambert
