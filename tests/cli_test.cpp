@@ -212,13 +212,15 @@ TEST(CliTest, AdaptiveMeshRendersAndAnimates) {
   EXPECT_TRUE(fs::exists(dir / "frames" / "frame_0002.png"));
 }
 
-TEST(CliTest, NormalisedRowsLetNothingEscape) {
+TEST(CliTest, NormalisedRowsKeepLightInAndAddEnergy) {
   fs::path dir = outputDir("normalize");
   CommandResult result = run("render --patches 192 --normalize-rows --width 32 --height 32 --json -o " + (dir / "n.png").string());
   ASSERT_EQ(result.exitCode, 0) << result.output;
   nlohmann::json stats = nlohmann::json::parse(result.output);
   EXPECT_NEAR(stats["escaped_watts"].get<double>(), 0, 1e-6);
-  EXPECT_NEAR(stats["absorbed_watts"].get<double>(), stats["emitted_watts"].get<double>(), 1e-3);
+  // Normalised rows break reciprocity: the light that should leave the open front is kept in the
+  // room, and the surfaces absorb more than was emitted.
+  EXPECT_GT(stats["absorbed_watts"].get<double>(), 1.01 * stats["emitted_watts"].get<double>());
 }
 
 TEST(CliTest, HelpListsTheOptions) {
