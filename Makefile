@@ -27,12 +27,15 @@ run: build
 test: build
 	@cd $(BUILD_DIR) && ctest --output-on-failure -j$(JOBS)
 
-# Benchmarks: the pipeline table as JSON on stdout; micro-benchmarks as JSON in out/bench/.
+# Benchmarks: one JSON document on stdout, {"pipeline": …, "dynamic": …}, each part also in
+# out/bench/; the micro-benchmarks' table goes to stderr and their JSON to out/bench/micro.json.
 bench: build
 	@mkdir -p out/bench
 	@$(BUILD_DIR)/bin/micro_bench --benchmark_format=console --benchmark_out_format=json \
 	  --benchmark_out=out/bench/micro.json >&2
-	@$(BUILD_DIR)/bin/pipeline_bench | tee out/bench/pipeline.json
+	@$(BUILD_DIR)/bin/pipeline_bench > out/bench/pipeline.json
+	@$(BUILD_DIR)/bin/dynamic_bench > out/bench/dynamic.json
+	@printf '{"pipeline": ' && cat out/bench/pipeline.json && printf ', "dynamic": ' && cat out/bench/dynamic.json && printf '}\n'
 
 # The test suite under AddressSanitizer and UndefinedBehaviorSanitizer.
 sanitize: deps
