@@ -1,0 +1,62 @@
+#include "lambert/core/atomic_file.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <system_error>
+
+namespace lambert {
+namespace {
+
+// Writes all of bytes to a new file; an empty string on success, else what failed.
+std::string writeNewFile(const std::string& path, std::span<const std::uint8_t> bytes) {
+  int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+  if (fd < 0) return "cannot create " + path + ": " + std::strerror(errno);
+  std::size_t written = 0;
+  while (written < bytes.size()) {
+    ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      std::string why = n < 0 ? std::strerror(errno) : "nothing written";
+      ::close(fd);
+      return "cannot write " + path + ": " + why;
+    }
+    written += static_cast<std::size_t>(n);
+  }
+  // close is where some file systems (NFS) report a failed write.
+  if (::close(fd) != 0) return "cannot write " + path + ": " + std::strerror(errno);
+  return {};
+}
+
+}  // namespace
+
+Status writeFileAtomically(const std::string& path, std::span<const std::uint8_t> bytes) {
+  namespace fs = std::filesystem;
+  if (path.empty()) return Error{"cannot write a file with an empty path"};
+  std::error_code ec;
+  fs::path parent = fs::path(path).parent_path();
+  if (!parent.empty()) {
+    fs::create_directories(parent, ec);
+    if (ec) return Error{path + ": cannot create directory " + parent.string() + ": " + ec.message()};
+  }
+  // Unique per process and call, so concurrent writers of one path never share a temporary.
+  static std::atomic<std::uint64_t> counter{0};
+  const std::string temp = path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
+  if (std::string why = writeNewFile(temp, bytes); !why.empty()) {
+    fs::remove(temp, ec);
+    return Error{path + ": " + why};
+  }
+  fs::rename(temp, path, ec);
+  if (ec) {
+    std::error_code ignored;
+    fs::remove(temp, ignored);
+    return Error{path + ": cannot rename " + temp + " over it: " + ec.message()};
+  }
+  return Ok{};
+}
+
+}  // namespace lambert

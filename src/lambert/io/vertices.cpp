@@ -1,0 +1,129 @@
+#include "lambert/io/vertices.h"
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "lambert/core/atomic_file.h"
+#include "lambert/render/tonemap.h"
+
+namespace lambert {
+namespace {
+
+bool endsWith(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+std::uint8_t toSrgbByte(double linear) {
+  return static_cast<std::uint8_t>(std::lround(255 * srgbEncode(std::fmin(std::fmax(linear, 0.0), 1.0))));
+}
+
+// Nine significant digits round-trip a float and are plenty for radiance.
+std::string formatRow(const VertexSample& v, char separator) {
+  char line[320];
+  std::snprintf(line, sizeof line, "%.9g%c%.9g%c%.9g%c%.9g%c%.9g%c%.9g%c%.9g%c%.9g%c%.9g", v.position.x, separator,
+                v.position.y, separator, v.position.z, separator, v.normal.x, separator, v.normal.y, separator,
+                v.normal.z, separator, v.radiance.r, separator, v.radiance.g, separator, v.radiance.b);
+  return line;
+}
+
+bool parseRow(const std::string& line, char separator, double (&values)[9]) {
+  const char* p = line.data();
+  const char* end = line.data() + line.size();
+  for (int k = 0; k < 9; ++k) {
+    while (p < end && *p == ' ') ++p;
+    auto [next, ec] = std::from_chars(p, end, values[k]);
+    if (ec != std::errc() || !std::isfinite(values[k])) return false;
+    p = next;
+    while (p < end && *p == ' ' && separator != ' ') ++p;
+    if (k < 8) {
+      if (p >= end || *p != separator) return false;
+      ++p;
+    }
+  }
+  while (p < end && (*p == ' ' || *p == '\r')) ++p;
+  return p == end || separator == ' ';  // PLY rows carry colour bytes after the nine values
+}
+
+constexpr const char* kCsvHeader = "x,y,z,nx,ny,nz,r,g,b";
+
+}  // namespace
+
+std::vector<VertexSample> vertexSamples(const Mesh& mesh, const std::vector<Rgb>& vertexRadiance) {
+  LAMBERT_CHECK(vertexRadiance.size() == mesh.numVertices());
+  std::vector<VertexSample> samples(mesh.numVertices());
+  std::vector<Vec3> normal(mesh.numVertices());
+  for (const Patch& patch : mesh.patches)
+    for (std::uint32_t k = 0; k < patch.numCorners; ++k) normal[patch.vertices[k]] += patch.normal * patch.area;
+  for (std::size_t v = 0; v < samples.size(); ++v) {
+    samples[v].position = mesh.positions[v];
+    samples[v].normal = lengthSquared(normal[v]) > 0 ? normalize(normal[v]) : Vec3{};
+    samples[v].radiance = vertexRadiance[v];
+  }
+  return samples;
+}
+
+Status writeVertices(const std::string& path, const std::vector<VertexSample>& vertices) {
+  std::string text;
+  if (endsWith(path, ".csv")) {
+    text = std::string(kCsvHeader) + "\n";
+    for (const VertexSample& v : vertices) text += formatRow(v, ',') + "\n";
+  } else if (endsWith(path, ".ply")) {
+    text = "ply\nformat ascii 1.0\ncomment lambert vertices: radiance_* is outgoing radiance L in W/(m^2 sr)\n";
+    text += "element vertex " + std::to_string(vertices.size()) + "\n";
+    for (const char* name : {"x", "y", "z", "nx", "ny", "nz", "radiance_r", "radiance_g", "radiance_b"})
+      text += std::string("property float ") + name + "\n";
+    text += "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n";
+    for (const VertexSample& v : vertices) {
+      text += formatRow(v, ' ');
+      text += " " + std::to_string(toSrgbByte(v.radiance.r)) + " " + std::to_string(toSrgbByte(v.radiance.g)) + " " +
+              std::to_string(toSrgbByte(v.radiance.b)) + "\n";
+    }
+  } else {
+    return Error{path + ": unknown vertex file type (use .csv or .ply)"};
+  }
+  return writeFileAtomically(path, std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
+}
+
+Result<std::vector<VertexSample>> readVertices(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return Error{path + ": cannot open"};
+  const bool ply = endsWith(path, ".ply");
+  if (!ply && !endsWith(path, ".csv")) return Error{path + ": unknown vertex file type (use .csv or .ply)"};
+  std::string line;
+  int lineNumber = 0;
+  std::size_t expected = 0;
+  bool counted = false;
+  if (ply) {
+    while (std::getline(in, line)) {
+      ++lineNumber;
+      if (lineNumber == 1 && line != "ply") return Error{path + ":1: not a PLY file"};
+      if (line.rfind("element vertex ", 0) == 0) {
+        expected = std::stoull(line.substr(15));
+        counted = true;
+      }
+      if (line == "end_header") break;
+    }
+    if (!counted) return Error{path + ": PLY header has no vertex count"};
+  } else {
+    ++lineNumber;
+    if (!std::getline(in, line) || line.rfind(kCsvHeader, 0) != 0)
+      return Error{path + ":1: expected the header '" + std::string(kCsvHeader) + "'"};
+  }
+  std::vector<VertexSample> vertices;
+  while (std::getline(in, line)) {
+    ++lineNumber;
+    if (line.empty() || line == "\r") continue;
+    double v[9];
+    if (!parseRow(line, ply ? ' ' : ',', v))
+      return Error{path + ":" + std::to_string(lineNumber) + ": expected nine numbers (position, normal, radiance)"};
+    vertices.push_back({{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}});
+  }
+  if (ply && vertices.size() != expected)
+    return Error{path + ": header promises " + std::to_string(expected) + " vertices, file has " + std::to_string(vertices.size())};
+  return vertices;
+}
+
+}  // namespace lambert

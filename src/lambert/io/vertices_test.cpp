@@ -1,0 +1,78 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "lambert/io/vertices.h"
+#include "tests/support/scenes.h"
+
+namespace lambert {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path scratch(const std::string& name) {
+  fs::path dir = fs::path(LAMBERT_TEST_OUTPUT_DIR) / "vertices" / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::vector<VertexSample> someVertices() {
+  Mesh mesh = subdivideScene(testing::perpendicularSquares(), 0.5);
+  std::vector<Rgb> radiance;
+  for (std::size_t v = 0; v < mesh.numVertices(); ++v) radiance.push_back({0.1 * v, 1.0 / (v + 1), 3.25e-7});
+  return vertexSamples(mesh, radiance);
+}
+
+TEST(VerticesTest, NormalsComeFromTheirSurface) {
+  Mesh mesh = subdivideScene(testing::perpendicularSquares(), 0.5);
+  auto samples = vertexSamples(mesh, std::vector<Rgb>(mesh.numVertices()));
+  for (std::size_t v = 0; v < samples.size(); ++v) {
+    Vec3 expected = mesh.vertexSurface[v] == 0 ? Vec3{0, 0, 1} : Vec3{1, 0, 0};
+    EXPECT_NEAR(dot(samples[v].normal, expected), 1, 1e-12);
+  }
+}
+
+TEST(VerticesTest, CsvAndPlyRoundTrip) {
+  fs::path dir = scratch("round-trip");
+  std::vector<VertexSample> original = someVertices();
+  for (const char* name : {"v.csv", "v.ply"}) {
+    const std::string path = (dir / name).string();
+    ASSERT_TRUE(writeVertices(path, original).ok()) << name;
+    Result<std::vector<VertexSample>> read = readVertices(path);
+    ASSERT_TRUE(read.ok()) << read.error().message;
+    ASSERT_EQ(read->size(), original.size());
+    for (std::size_t v = 0; v < original.size(); ++v) {
+      EXPECT_NEAR(length((*read)[v].position - original[v].position), 0, 1e-7);
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR((*read)[v].radiance[c], original[v].radiance[c], 1e-8 * std::fabs(original[v].radiance[c]) + 1e-300);
+    }
+  }
+  std::ifstream csv(dir / "v.csv");
+  std::string header;
+  std::getline(csv, header);
+  EXPECT_EQ(header, "x,y,z,nx,ny,nz,r,g,b");
+}
+
+TEST(VerticesTest, BadFilesNameTheFileAndLine) {
+  fs::path dir = scratch("bad");
+  EXPECT_FALSE(writeVertices((dir / "v.txt").string(), someVertices()).ok());
+  EXPECT_FALSE(fs::exists(dir / "v.txt"));
+  {
+    std::ofstream f(dir / "broken.csv");
+    f << "x,y,z,nx,ny,nz,r,g,b\n1,2,3,0,0,1,0.5,0.5,0.5\n1,2,oops,0,0,1,0.5,0.5,0.5\n";
+  }
+  auto broken = readVertices((dir / "broken.csv").string());
+  ASSERT_FALSE(broken.ok());
+  EXPECT_NE(broken.error().message.find("broken.csv:3:"), std::string::npos) << broken.error().message;
+  {
+    std::ofstream f(dir / "noheader.csv");
+    f << "1,2,3,0,0,1,0.5,0.5,0.5\n";
+  }
+  EXPECT_FALSE(readVertices((dir / "noheader.csv").string()).ok());
+  EXPECT_FALSE(readVertices((dir / "missing.csv").string()).ok());
+}
+
+}  // namespace
+}  // namespace lambert
