@@ -4,7 +4,10 @@
 #include <array>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -42,6 +45,11 @@ fs::path outputDir(const std::string& name) {
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
+}
+
+std::vector<char> fileBytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
 Rgb meanAround(const PngImage& image, double cx, double cy, int radius) {
@@ -210,6 +218,58 @@ TEST(CliTest, AdaptiveMeshRendersAndAnimates) {
   ASSERT_EQ(animate.exitCode, 0) << animate.output;
   EXPECT_GT(nlohmann::json::parse(animate.output)["cells_created"].get<int>(), 0);
   EXPECT_TRUE(fs::exists(dir / "frames" / "frame_0002.png"));
+}
+
+// The adaptive master table is saved at the end of a run and loaded by the next: nothing is
+// estimated again, and the image is the same to the byte.
+TEST(CliTest, AdaptiveFormFactorTableIsCachedAcrossRuns) {
+  fs::path dir = outputDir("adaptive-cache");
+  const std::string options = " --scene cornell-spots --adaptive --base-edge 180 --max-level 2 --json --cache-dir " +
+                              (dir / "cache").string();
+  auto render = [&](const std::string& png) { return run("render" + options + " --width 64 --height 64 -o " + (dir / png).string()); };
+  CommandResult first = render("first.png");
+  ASSERT_EQ(first.exitCode, 0) << first.output;
+  nlohmann::json computed = nlohmann::json::parse(first.output);
+  const std::string cache = computed["formfactor_cache"];
+  EXPECT_EQ(cache.rfind("saved " + (dir / "cache" / "formfactor-table-").string(), 0), 0u) << cache;
+  EXPECT_GT(computed["pairs_estimated"].get<long>(), 0);
+  EXPECT_EQ(computed["pairs_loaded"].get<long>(), 0);
+  fs::path file;
+  for (const auto& entry : fs::directory_iterator(dir / "cache")) file = entry.path();
+  EXPECT_EQ(file.extension(), ".lft");
+
+  CommandResult second = render("second.png");
+  ASSERT_EQ(second.exitCode, 0) << second.output;
+  nlohmann::json loaded = nlohmann::json::parse(second.output);
+  EXPECT_EQ(loaded["formfactor_cache"].get<std::string>().rfind("loaded " + file.string() + " (", 0), 0u) << loaded["formfactor_cache"];
+  EXPECT_EQ(loaded["pairs_estimated"].get<long>(), 0);
+  EXPECT_EQ(loaded["pairs_loaded"].get<long>(), computed["pairs_estimated"].get<long>());
+  EXPECT_EQ(loaded["patches"], computed["patches"]);
+  EXPECT_EQ(loaded["absorbed_watts"].get<double>(), computed["absorbed_watts"].get<double>());
+  EXPECT_EQ(fileBytes(dir / "first.png"), fileBytes(dir / "second.png"));
+
+  // A damaged file is reported, ignored and replaced; the image does not change.
+  fs::resize_file(file, fs::file_size(file) - 3);
+  CommandResult repaired = render("repaired.png");
+  ASSERT_EQ(repaired.exitCode, 0) << repaired.output;
+  EXPECT_NE(repaired.output.find("lambert: warning: " + file.string() + ": truncated"), std::string::npos) << repaired.output;
+  nlohmann::json again = nlohmann::json::parse(repaired.output.substr(repaired.output.find('{')));
+  EXPECT_EQ(again["formfactor_cache"].get<std::string>().rfind("saved ", 0), 0u) << again["formfactor_cache"];
+  EXPECT_EQ(again["pairs_estimated"], computed["pairs_estimated"]);
+  EXPECT_EQ(fileBytes(dir / "first.png"), fileBytes(dir / "repaired.png"));
+
+  // animate shares the table with render (same scene, mesh and form-factor options); the moving
+  // spots activate new cells, whose pairs are added to the file.
+  CommandResult animate = run("animate" + options + " --frames 2 --width 32 --height 32 -o " + (dir / "frames").string());
+  ASSERT_EQ(animate.exitCode, 0) << animate.output;
+  nlohmann::json animated = nlohmann::json::parse(animate.output);
+  EXPECT_EQ(animated["formfactor_cache"].get<std::string>().rfind("loaded " + file.string(), 0), 0u) << animated["formfactor_cache"];
+  EXPECT_GT(animated["pairs_loaded"].get<long>(), 0);
+
+  CommandResult off = run("render --scene cornell-spots --adaptive --base-edge 180 --max-level 2 --width 32 --height 32 --json "
+                          "--no-cache -o " + (dir / "off.png").string());
+  ASSERT_EQ(off.exitCode, 0) << off.output;
+  EXPECT_EQ(nlohmann::json::parse(off.output)["formfactor_cache"], "off");
 }
 
 TEST(CliTest, NormalisedRowsKeepLightInAndAddEnergy) {

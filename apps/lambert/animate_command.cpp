@@ -121,6 +121,7 @@ int runAnimate(const AnimateCommandOptions& o) {
     Status written = writePng((directory / name).string(), image.width, image.height, toSrgb8(image, o.image.exposure));
     if (!written) {
       std::fprintf(stderr, "lambert animate: %s\n", written.error().message.c_str());
+      if (adaptive) (void)adaptive->saveTable();  // the pairs computed so far are still good
       return 1;
     }
     render.add(renderTimer.seconds(), o.frames);
@@ -137,6 +138,7 @@ int runAnimate(const AnimateCommandOptions& o) {
     stats.add("cells_created", "cells ever created", static_cast<std::int64_t>(adaptive->mesh().numNodes()));
     stats.add("pairs_estimated", "cell pairs estimated (master table)", static_cast<std::int64_t>(pairsEstimated));
     stats.add("pairs_reused", "cell pairs reused from the table", static_cast<std::int64_t>(adaptive->table().pairsReused()));
+    saveAdaptiveTable(*adaptive, stats);
   } else {
     stats.add("shots", "shots (all frames)", static_cast<std::int64_t>(totalShots));
   }

@@ -9,6 +9,7 @@ namespace lambert::cli {
 // Registers `lambert render`; the returned callback runs it and gives the exit code.
 std::function<int()> addRenderCommand(CLI::App& app);
 std::function<int()> addAnimateCommand(CLI::App& app);
+std::function<int()> addSolveCommand(CLI::App& app);
 std::function<int()> addScenesCommand(CLI::App& app);
 
 }  // namespace lambert::cli

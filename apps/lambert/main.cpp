@@ -11,6 +11,8 @@ int main(int argc, char** argv) {
   std::vector<std::pair<CLI::App*, std::function<int()>>> commands;
   auto render = lambert::cli::addRenderCommand(app);
   commands.emplace_back(app.get_subcommand("render"), render);
+  auto solve = lambert::cli::addSolveCommand(app);
+  commands.emplace_back(app.get_subcommand("solve"), solve);
   auto animate = lambert::cli::addAnimateCommand(app);
   commands.emplace_back(app.get_subcommand("animate"), animate);
   auto scenes = lambert::cli::addScenesCommand(app);

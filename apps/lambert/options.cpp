@@ -122,7 +122,25 @@ AdaptiveOptions adaptiveOptions(const Scene& scene, const SolveCommandOptions& o
   a.direct.seed = o.seed;
   a.gradientThreshold = o.gradientThreshold;
   a.normalizeRows = o.normalizeRows;
+  a.cacheDirectory = pipelineOptions(o).cacheDirectory;
   return a;
+}
+
+void saveAdaptiveTable(AdaptiveRadiosity& adaptive, Stats& stats) {
+  // A failure is already reported on stderr by saveTable, and costs only the next run's time.
+  (void)adaptive.saveTable();
+  const AdaptiveTableFile& file = adaptive.tableFile();
+  std::string cache;
+  if (file.path.empty()) {
+    cache = "off";
+  } else {
+    if (file.loaded) cache = "loaded " + file.path + " (" + std::to_string(file.pairsInFile) + " pairs)";
+    if (file.saved) cache += (cache.empty() ? "" : "; ") + ("saved " + file.path + " (" + std::to_string(file.pairsSaved) + " pairs)");
+    if (cache.empty()) cache = "not saved: " + file.path;
+  }
+  stats.add("pairs_loaded", "cell pairs loaded from the table file", static_cast<std::int64_t>(adaptive.table().pairsLoaded()));
+  stats.add("formfactor_cache", "form-factor table file", cache);
+  stats.add("formfactor_cache_seconds", "table file load + save time", file.loadSeconds + file.saveSeconds, "s");
 }
 
 Image renderAdaptiveImage(const Scene& scene, const std::vector<Light>& lights, const AdaptiveRadiosity& adaptive,

@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "lambert/core/stats.h"
 #include "lambert/pipeline/adaptive.h"
 #include "lambert/pipeline/pipeline.h"
 #include "lambert/render/rasterizer.h"
@@ -52,6 +53,10 @@ struct ImageCommandOptions {
 
 void addSolveOptions(CLI::App& command, SolveCommandOptions& options);
 AdaptiveOptions adaptiveOptions(const Scene& scene, const SolveCommandOptions& options);
+// At the end of an adaptive run: saves the master table (when caching is on; a failure is a
+// warning, never an error) and reports it: pairs_loaded, formfactor_cache ("loaded <path> (N
+// pairs)", "saved <path> (N pairs)", both, or "off") and formfactor_cache_seconds.
+void saveAdaptiveTable(AdaptiveRadiosity& adaptive, Stats& stats);
 void addImageOptions(CLI::App& command, ImageCommandOptions& options);
 
 // The named built-in scene, or a message on stderr naming the choices.

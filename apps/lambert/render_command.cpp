@@ -51,6 +51,8 @@ std::unique_ptr<AdaptiveRadiosity> solveAdaptive(const Scene& scene, const Solve
   stats.add("formfactor_method", "form-factor method", formFactorMethodName(options.formFactors.method));
   stats.add("pairs_estimated", "cell pairs estimated (master table)", static_cast<std::int64_t>(adaptive->table().pairsEstimated()));
   stats.add("pairs_reused", "cell pairs reused from the table", static_cast<std::int64_t>(adaptive->table().pairsReused()));
+  // The solve is done: no more pairs will be added, so the table is saved now, whatever follows.
+  saveAdaptiveTable(*adaptive, stats);
   stats.add("formfactor_seconds", "form-factor time", sum.formFactorSeconds, "s");
   stats.add("iterations", "iterations (last pass)", static_cast<std::int64_t>(sum.iterations));
   stats.add("solve_seconds", "solve time", sum.solveSeconds, "s");

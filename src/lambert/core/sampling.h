@@ -8,14 +8,15 @@
 
 namespace lambert {
 
-inline std::uint32_t vanDerCorput(std::uint32_t index, std::uint32_t scramble) {
-  index = (index << 16) | (index >> 16);
-  index = ((index & 0x00ff00ffu) << 8) | ((index & 0xff00ff00u) >> 8);
-  index = ((index & 0x0f0f0f0fu) << 4) | ((index & 0xf0f0f0f0u) >> 4);
-  index = ((index & 0x33333333u) << 2) | ((index & 0xccccccccu) >> 2);
-  index = ((index & 0x55555555u) << 1) | ((index & 0xaaaaaaaau) >> 1);
-  return index ^ scramble;
+inline std::uint32_t reverseBits(std::uint32_t v) {
+  v = (v << 16) | (v >> 16);
+  v = ((v & 0x00ff00ffu) << 8) | ((v & 0xff00ff00u) >> 8);
+  v = ((v & 0x0f0f0f0fu) << 4) | ((v & 0xf0f0f0f0u) >> 4);
+  v = ((v & 0x33333333u) << 2) | ((v & 0xccccccccu) >> 2);
+  return ((v & 0x55555555u) << 1) | ((v & 0xaaaaaaaau) >> 1);
 }
+
+inline std::uint32_t vanDerCorput(std::uint32_t index, std::uint32_t scramble) { return reverseBits(index) ^ scramble; }
 
 inline std::uint32_t sobolSecondDimension(std::uint32_t index, std::uint32_t scramble) {
   for (std::uint32_t v = 1u << 31; index; index >>= 1, v ^= v >> 1)
@@ -26,6 +27,21 @@ inline std::uint32_t sobolSecondDimension(std::uint32_t index, std::uint32_t scr
 struct UnitSquarePoint {
   double u, v;
 };
+
+// A random permutation of sample indices by nested uniform (Owen) scrambling of their bits
+// (Burley, "Practical Hash-based Owen Scrambling", JCGT 2020). Two point sets drawn with the same
+// index k are correlated even under different XOR scrambles (the radical inverse is linear in
+// XOR); drawing the second with shuffledIndex(k) pairs them at random. For k < 2^m the result is
+// a permutation of one aligned block of 2^m indices, so power-of-two prefixes stay (0,m,2)-nets.
+inline std::uint32_t shuffledIndex(std::uint32_t index, std::uint32_t seed) {
+  std::uint32_t x = reverseBits(index);
+  x += seed;  // Laine–Karras permutation: each bit depends only on the bits below it
+  x ^= x * 0x6c50b47cu;
+  x ^= x * 0xb82f1e52u;
+  x ^= x * 0xc7afe638u;
+  x ^= x * 0x8d22f6e6u;
+  return reverseBits(x);
+}
 
 // Point `index` of the scrambled (0,2)-sequence, in [0,1)².
 inline UnitSquarePoint scrambledZeroTwo(std::uint32_t index, std::uint32_t scrambleU, std::uint32_t scrambleV) {

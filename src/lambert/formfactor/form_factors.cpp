@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <tbb/enumerable_thread_specific.h>
@@ -13,6 +14,7 @@
 #include "lambert/core/rng.h"
 #include "lambert/core/sampling.h"
 #include "lambert/core/timer.h"
+#include "lambert/formfactor/hemicube.h"
 #include "lambert/formfactor/kernels.h"
 
 namespace lambert {
@@ -21,8 +23,14 @@ std::string formFactorMethodName(FormFactorMethod method) {
   switch (method) {
     case FormFactorMethod::PointToPoint: return "point";
     case FormFactorMethod::AreaMonteCarlo: return "mc";
+    case FormFactorMethod::Hemicube: return "hemicube";
+    case FormFactorMethod::HemisphereRays: return "hemisphere";
   }
   return "?";
+}
+
+bool isPairMethod(FormFactorMethod method) {
+  return method == FormFactorMethod::PointToPoint || method == FormFactorMethod::AreaMonteCarlo;
 }
 
 namespace {
@@ -46,7 +54,7 @@ double longestEdge(const Mesh& mesh, std::size_t patch) {
 
 PairFormFactors::PairFormFactors(const Mesh& mesh, const RayCaster& caster, const FormFactorOptions& options)
     : mesh_(mesh), caster_(caster), options_(options), epsilon_(rayEpsilon(mesh)) {
-  LAMBERT_CHECK(options.samplePairs >= 1);
+  LAMBERT_CHECK(options.samplePairs >= 1 && isPairMethod(options.method));
 }
 
 bool PairFormFactors::culled(std::size_t i, std::size_t j) const {
@@ -94,9 +102,10 @@ double PairFormFactors::areaMonteCarlo(std::size_t i, std::size_t j) {
   const Patch& pj = mesh_.patches[j];
   const int rayCount = options_.samplePairs;
   const int kernelCount = rayCount * (nearField(i, j) ? options_.nearFieldBoost : 1);
-  // Independent scrambles for the points on i and on j pair them at random.
+  // Independent scrambles for the points on i and on j, paired through a shuffled index.
   Pcg32 rng(options_.seed, (static_cast<std::uint64_t>(i) << 32) | j);
-  const std::uint32_t su = rng.nextUint(), sv = rng.nextUint(), tu = rng.nextUint(), tv = rng.nextUint();
+  const std::uint32_t su = rng.nextUint(), sv = rng.nextUint(), tu = rng.nextUint(), tv = rng.nextUint(),
+                      pairing = rng.nextUint();
   const auto sourceCorners = mesh_.corners(i), targetCorners = mesh_.corners(j);
 
   rays_.clear();
@@ -117,7 +126,7 @@ double PairFormFactors::areaMonteCarlo(std::size_t i, std::size_t j) {
     double f = contourFormFactor(x, pi.normal, visiblePart);
     kernelSum += f;
     if (k >= rayCount || f <= 0) continue;
-    auto [s, t] = scrambledZeroTwo(static_cast<std::uint32_t>(k), tu, tv);
+    auto [s, t] = scrambledZeroTwo(shuffledIndex(static_cast<std::uint32_t>(k), pairing), tu, tv);
     kernels_.push_back(f);
     rays_.push_back(segment(x, pi.normal, sampleConvexPolygon(visiblePart, s, t), pj.normal));
   }
@@ -143,6 +152,30 @@ FormFactorMatrix computeFormFactors(const Mesh& mesh, const RayCaster& caster, c
   FormFactorMatrix F = FormFactorMatrix::Zero(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
   const std::uint64_t raysBefore = caster.raysCast();
   std::atomic<std::uint64_t> evaluated{0}, culled{0};
+
+  if (!isPairMethod(options.method)) {
+    // Whole rows from each patch; no reciprocity fill (the rows are what the method measures).
+    Progress progress("form factors", n, options.showProgress);
+    std::optional<Hemicube> hemicube;
+    if (options.method == FormFactorMethod::Hemicube) hemicube.emplace(options.hemicubeResolution);
+    tbb::enumerable_thread_specific<Hemicube::Scratch> scratch;
+    parallelFor(0, n, [&](std::size_t i) {
+      float* row = F.data() + i * n;
+      if (hemicube)
+        hemicube->row(mesh, i, scratch.local(), row);
+      else
+        hemisphereRow(mesh, caster, i, options.hemisphereRays, options.seed, row);
+      progress.advance();
+    });
+    progress.finish();
+    if (stats) {
+      stats->pairsEvaluated = n * (n - 1);
+      stats->visibilityRays = caster.raysCast() - raysBefore;
+      stats->seconds = timer.seconds();
+    }
+    return F;
+  }
+
   Progress progress("form factors", n * (n - 1) / 2, options.showProgress);
 
   tbb::enumerable_thread_specific<PairFormFactors> estimators([&] { return PairFormFactors(mesh, caster, options); });

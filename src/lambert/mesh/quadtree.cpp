@@ -15,6 +15,12 @@ Vec3 bilinear(const std::array<Vec3, 4>& q, double u, double v) {
 Result<AdaptiveMesh> AdaptiveMesh::build(const Scene& scene, const QuadtreeOptions& options) {
   if (!(options.baseEdgeLength > 0)) return Error{"quad-tree: base edge length must be positive"};
   if (options.maxLevel < 0 || options.maxLevel > 12) return Error{"quad-tree: deepest level must be between 0 and 12"};
+  static_assert(12 < (1 << kAddressLevelBits), "every level must fit in an address");
+  if (scene.surfaces.size() > (std::size_t{1} << kAddressSurfaceBits))
+    return Error{"quad-tree: " + std::to_string(scene.surfaces.size()) + " surfaces; cell addresses hold at most " +
+                 std::to_string(std::size_t{1} << kAddressSurfaceBits)};
+  // Cells along an edge at the deepest level, as a double first: the count may not fit any integer.
+  const double maxFineCells = static_cast<double>(std::uint32_t{1} << kAddressCellBits);
   AdaptiveMesh mesh;
   mesh.options_ = options;
   const std::uint32_t scale = 1u << options.maxLevel;
@@ -28,6 +34,12 @@ Result<AdaptiveMesh> AdaptiveMesh::build(const Scene& scene, const QuadtreeOptio
     const auto& c = grid.corners;
     double alongU = std::fmax(length(c[1] - c[0]), length(c[2] - c[3]));
     double alongV = std::fmax(length(c[3] - c[0]), length(c[2] - c[1]));
+    const double fineAlong =
+        std::fmax(std::ceil(alongU / options.baseEdgeLength - 1e-9), std::ceil(alongV / options.baseEdgeLength - 1e-9)) * scale;
+    if (!(fineAlong <= maxFineCells))
+      return Error{"quad-tree: surface '" + surface.name + "' needs more than " +
+                   std::to_string(static_cast<std::uint64_t>(maxFineCells)) +
+                   " cells along an edge at the deepest level, the most a cell address holds; use a longer base edge or fewer levels"};
     grid.baseColumns = std::max<std::uint32_t>(1, static_cast<std::uint32_t>(std::ceil(alongU / options.baseEdgeLength - 1e-9)));
     grid.baseRows = std::max<std::uint32_t>(1, static_cast<std::uint32_t>(std::ceil(alongV / options.baseEdgeLength - 1e-9)));
     grid.fineColumns = grid.baseColumns * scale;
@@ -54,6 +66,19 @@ Result<AdaptiveMesh> AdaptiveMesh::build(const Scene& scene, const QuadtreeOptio
       for (std::uint32_t i = 0; i < mesh.grids_[s].baseColumns; ++i) mesh.nodes_[mesh.createNode(s, 0, i, j, -1)].active = true;
   mesh.rebuildActiveList();
   return mesh;
+}
+
+std::uint64_t AdaptiveMesh::packAddress(std::uint32_t surface, int level, std::uint32_t i, std::uint32_t j) {
+  LAMBERT_CHECK(surface < (std::uint64_t{1} << kAddressSurfaceBits));
+  LAMBERT_CHECK(level >= 0 && level < (1 << kAddressLevelBits));
+  LAMBERT_CHECK(i < (std::uint64_t{1} << kAddressCellBits) && j < (std::uint64_t{1} << kAddressCellBits));
+  return (static_cast<std::uint64_t>(surface) << (kAddressLevelBits + 2 * kAddressCellBits)) |
+         (static_cast<std::uint64_t>(level) << (2 * kAddressCellBits)) | (static_cast<std::uint64_t>(j) << kAddressCellBits) | i;
+}
+
+std::uint64_t AdaptiveMesh::address(std::uint32_t id) const {
+  const QuadNode& n = nodes_[id];
+  return packAddress(n.surface, n.level, n.i, n.j);
 }
 
 Vec3 AdaptiveMesh::gridPoint(const SurfaceGrid& grid, std::uint32_t a, std::uint32_t b) const {

@@ -3,7 +3,9 @@
 // longer than a base edge length; any cell can be split into four children, down to a deepest
 // level, and four sibling leaves merged back into their parent. Every node ever created keeps a
 // unique id for the life of the mesh, so what is computed for a node (its form factors, in the
-// master table) is found again when the node becomes active again.
+// master table) is found again when the node becomes active again. Ids follow the order cells were
+// created in, so they differ between runs that refine differently; a node's address (surface,
+// level, i, j) does not, and is what names it outside one run (the master table's file).
 //
 // All positions lie on each surface's finest grid (2^maxLevel × the base grid), so rendering can
 // always use that finest level, with values interpolated from the active level: no T-junction
@@ -41,6 +43,18 @@ class AdaptiveMesh {
   const QuadtreeOptions& options() const { return options_; }
   std::size_t numNodes() const { return nodes_.size(); }
   const QuadNode& node(std::uint32_t id) const { return nodes_[id]; }
+
+  // A node's stable address: the same cell has the same address in every run of the same scene
+  // and options, whatever order cells were refined in. Bits, most significant first:
+  //   63–44  surface (20 bits)
+  //   43–40  level   (4 bits)
+  //   39–20  j, the row at that level    (20 bits)
+  //   19–0   i, the column at that level (20 bits)
+  // so addresses order cells by surface, then level, row and column. build() rejects scenes and
+  // options whose cells would not fit.
+  std::uint64_t address(std::uint32_t id) const;
+  static constexpr int kAddressSurfaceBits = 20, kAddressLevelBits = 4, kAddressCellBits = 20;
+  static std::uint64_t packAddress(std::uint32_t surface, int level, std::uint32_t i, std::uint32_t j);
   // Every node ever created, as a patch: patch id = node id. It grows as nodes are created.
   const Mesh& nodeMesh() const { return nodeMesh_; }
 

@@ -1,8 +1,10 @@
 #include "lambert/pipeline/adaptive.h"
 
 #include <cmath>
+#include <cstdio>
 
 #include "lambert/core/timer.h"
+#include "lambert/formfactor/cache_file.h"
 #include "lambert/light/emission.h"
 
 namespace lambert {
@@ -44,6 +46,10 @@ double luminanceRange(std::span<const Rgb> values) {
 }  // namespace
 
 Result<std::unique_ptr<AdaptiveRadiosity>> AdaptiveRadiosity::create(const Scene& scene, const AdaptiveOptions& options) {
+  // The master table is filled a pair at a time; the hemi-cube and hemisphere methods give rows.
+  if (!isPairMethod(options.formFactors.method))
+    return Error{"adaptive meshing needs a pair-wise form-factor method (mc or point), not '" +
+                 formFactorMethodName(options.formFactors.method) + "'"};
   Result<AdaptiveMesh> mesh = AdaptiveMesh::build(scene, options.quadtree);
   if (!mesh) return mesh.error();
   return std::unique_ptr<AdaptiveRadiosity>(new AdaptiveRadiosity(scene, std::move(*mesh), options));
@@ -52,8 +58,52 @@ Result<std::unique_ptr<AdaptiveRadiosity>> AdaptiveRadiosity::create(const Scene
 AdaptiveRadiosity::AdaptiveRadiosity(const Scene& scene, AdaptiveMesh mesh, const AdaptiveOptions& options)
     : scene_(scene), options_(options), mesh_(std::move(mesh)), baseMesh_(mesh_.activeMesh()) {
   caster_ = makeEmbreeRayCaster(baseMesh_);
-  table_ = std::make_unique<FormFactorTable>(mesh_.nodeMesh(), *caster_, options.formFactors);
+  // Addresses, not ids, name cells in the table's file: ids depend on the order of refinement.
+  table_ = std::make_unique<FormFactorTable>(mesh_.nodeMesh(), *caster_, options.formFactors,
+                                             [this](std::uint32_t id) { return mesh_.address(id); });
   epsilon_ = rayEpsilon(baseMesh_);
+  if (!options.cacheDirectory.empty()) loadTable();
+}
+
+void AdaptiveRadiosity::warnAboutTable(const std::string& line) {
+  std::fprintf(stderr, "lambert: warning: %s\n", line.c_str());
+  if (!tableFile_.warning.empty()) tableFile_.warning += '\n';
+  tableFile_.warning += line;
+}
+
+void AdaptiveRadiosity::loadTable() {
+  tableKey_ = formFactorTableKey(scene_, options_.quadtree, options_.formFactors);
+  tableFile_.path = formFactorTablePath(options_.cacheDirectory, tableKey_);
+  Timer timer;
+  Result<std::size_t> loaded = table_->load(tableFile_.path, tableKey_);
+  tableFile_.loadSeconds = timer.seconds();
+  if (loaded) {
+    tableFile_.loaded = true;
+    tableFile_.pairsInFile = *loaded;
+    fileCurrent_ = true;
+    estimatedAtFile_ = table_->pairsEstimated();
+    return;
+  }
+  // No file is the ordinary first run; anything else (unreadable, damaged, stale) is reported and
+  // ignored: the table starts empty and saveTable() replaces the file.
+  if (!cachefile::isMissing(tableFile_.path)) warnAboutTable(loaded.error().message + "; recomputing");
+}
+
+Status AdaptiveRadiosity::saveTable() {
+  if (tableFile_.path.empty()) return Ok{};
+  if (fileCurrent_ && table_->pairsEstimated() == estimatedAtFile_) return Ok{};
+  Timer timer;
+  Result<std::size_t> saved = table_->save(tableFile_.path, tableKey_);
+  tableFile_.saveSeconds += timer.seconds();
+  if (!saved) {
+    warnAboutTable(saved.error().message + "; form-factor table not cached");
+    return saved.error();
+  }
+  tableFile_.saved = true;
+  tableFile_.pairsSaved = *saved;
+  fileCurrent_ = true;
+  estimatedAtFile_ = table_->pairsEstimated();
+  return Ok{};
 }
 
 bool AdaptiveRadiosity::crossesSpotEdge(const Light& light, const PatchCorners& corners, const Vec3& normal) {
@@ -164,11 +214,13 @@ AdaptiveUpdate AdaptiveRadiosity::update(const std::vector<Light>& lights) {
   Mesh activeMesh = mesh_.activeMesh();
   if (active != lastActive_ || !problem_.formFactors) {
     Timer ffTimer;
-    std::uint64_t estimatedBefore = table_->pairsEstimated(), reusedBefore = table_->pairsReused();
+    std::uint64_t estimatedBefore = table_->pairsEstimated(), reusedBefore = table_->pairsReused(),
+                  loadedBefore = table_->pairsLoaded();
     auto F = std::make_shared<FormFactorMatrix>(table_->matrix(active));
     if (options_.normalizeRows) normalizeRows(*F);
     update.pairsEstimated = table_->pairsEstimated() - estimatedBefore;
     update.pairsReused = table_->pairsReused() - reusedBefore;
+    update.pairsLoaded = table_->pairsLoaded() - loadedBefore;
     problem_.formFactors = std::move(F);
     problem_.albedo = patchAlbedo(scene_, activeMesh);
     problem_.area.resize(active.size());

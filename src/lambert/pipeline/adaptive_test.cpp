@@ -195,6 +195,14 @@ TEST(AdaptiveTest, RowNormalisationAndItsEffectOnEnergy) {
   }
 }
 
+TEST(AdaptiveTest, RowMethodsAreRejected) {
+  AdaptiveOptions options;
+  options.formFactors.method = FormFactorMethod::Hemicube;
+  auto adaptive = AdaptiveRadiosity::create(cornellBox(), options);
+  ASSERT_FALSE(adaptive.ok());
+  EXPECT_NE(adaptive.error().message.find("hemicube"), std::string::npos) << adaptive.error().message;
+}
+
 TEST(AdaptiveTest, NonQuadScenesAreRejected) {
   Scene scene = testing::sceneOf({{"triangle", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, 0, {}}});
   auto adaptive = AdaptiveRadiosity::create(scene, {});

@@ -1,0 +1,60 @@
+// `lambert solve`: solve a scene's radiosity and export every mesh vertex's outgoing radiance
+// (no image), for comparison with the reference path tracer or other renderers.
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "commands.h"
+#include "lambert/core/timer.h"
+#include "lambert/io/vertices.h"
+#include "lambert/render/rasterizer.h"
+#include "options.h"
+
+namespace lambert::cli {
+namespace {
+
+struct SolveOnlyOptions {
+  SolveCommandOptions solve;
+  std::string exportVertices;
+};
+
+int runSolve(const SolveOnlyOptions& o) {
+  Timer total;
+  std::optional<Scene> scene = findScene("solve", o.solve.scene);
+  if (!scene) return 2;
+  if (o.solve.adaptive) {
+    std::fprintf(stderr, "lambert solve: --adaptive is for render and animate; solve exports a uniform mesh\n");
+    return 2;
+  }
+  RadiositySolution solution = solveScene(*scene, pipelineOptions(o.solve));
+  if (!o.exportVertices.empty()) {
+    // The vertex values the renderer interpolates: area-weighted B of each vertex's patches, / π.
+    std::vector<Rgb> radiance = vertexRadiosity(solution.mesh, solution.radiosity);
+    for (Rgb& l : radiance) l = l / kPi;
+    Status written = writeVertices(o.exportVertices, vertexSamples(solution.mesh, radiance));
+    if (!written) {
+      std::fprintf(stderr, "lambert solve: %s\n", written.error().message.c_str());
+      return 1;
+    }
+    solution.stats.add("vertices_file", "vertices written to", o.exportVertices);
+  }
+  solution.stats.add("total_seconds", "total time", total.seconds(), "s");
+  if (o.solve.json)
+    std::printf("%s\n", solution.stats.json().dump(2).c_str());
+  else if (!o.solve.quiet)
+    std::printf("%s", solution.stats.table().c_str());
+  return 0;
+}
+
+}  // namespace
+
+std::function<int()> addSolveCommand(CLI::App& app) {
+  auto options = std::make_shared<SolveOnlyOptions>();
+  CLI::App* cmd = app.add_subcommand("solve", "Solve a scene's radiosity; export per-vertex radiance (CSV or PLY)");
+  addSolveOptions(*cmd, options->solve);
+  cmd->add_option("--export-vertices", options->exportVertices,
+                  "Write every mesh vertex: position, normal, outgoing radiance L = B/pi (.csv or .ply)");
+  return [options] { return runSolve(*options); };
+}
+
+}  // namespace lambert::cli

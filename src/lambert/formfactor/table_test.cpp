@@ -1,0 +1,625 @@
+// The master form-factor table's file: cells named by stable addresses, so a later run, whose
+// cells have other ids, finds every pair an earlier run computed; and the same guarantees as the
+// uniform cache (atomic writes, damaged or foreign files rejected with a warning, recomputed).
+#include "lambert/formfactor/table.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "lambert/formfactor/cache.h"
+#include "lambert/formfactor/cache_file.h"
+#include "lambert/geometry/ray_caster.h"
+#include "lambert/mesh/quadtree.h"
+#include "lambert/pipeline/adaptive.h"
+#include "tests/support/scenes.h"
+
+namespace lambert {
+namespace {
+
+namespace fs = std::filesystem;
+
+#ifndef LAMBERT_TEST_OUTPUT_DIR
+#define LAMBERT_TEST_OUTPUT_DIR "/tmp/lambert-test-output"
+#endif
+
+constexpr std::size_t kHeaderBytes = 32, kEntryBytes = 20, kChecksumBytes = 8;
+
+// A fresh, empty directory for one test.
+fs::path scratch(const std::string& name) {
+  fs::path dir = fs::path(LAMBERT_TEST_OUTPUT_DIR) / "formfactor-table" / (name + "-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::vector<char> readBytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+void writeBytes(const fs::path& path, const std::vector<char>& bytes) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  ASSERT_TRUE(out.good()) << path;
+}
+
+std::uint64_t loadLe64(const std::vector<char>& bytes, std::size_t offset) {
+  std::uint64_t v = 0;
+  for (int k = 7; k >= 0; --k) v = (v << 8) | static_cast<unsigned char>(bytes[offset + k]);
+  return v;
+}
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+bool bitIdentical(const FormFactorMatrix& a, const FormFactorMatrix& b) {
+  return a.rows() == b.rows() && a.cols() == b.cols() &&
+         std::memcmp(a.data(), b.data(), static_cast<std::size_t>(a.size()) * sizeof(float)) == 0;
+}
+
+bool hasTemporaryFiles(const fs::path& dir) {
+  for (const auto& entry : fs::directory_iterator(dir))
+    if (entry.path().filename().string().find(".tmp") != std::string::npos) return true;
+  return false;
+}
+
+FormFactorOptions quietOptions() {
+  FormFactorOptions options;
+  options.showProgress = false;
+  return options;
+}
+
+const QuadtreeOptions kQuadtree{0.5, 2};  // four level-0 cells per face of the unit cube
+
+// An adaptive mesh of the unit cube with its master table, as AdaptiveRadiosity sets them up.
+// Heap-allocated and never moved: the table refers to the mesh.
+struct Cells {
+  AdaptiveMesh mesh;
+  Mesh base;
+  std::unique_ptr<RayCaster> caster;
+  std::unique_ptr<FormFactorTable> table;
+
+  explicit Cells(AdaptiveMesh built) : mesh(std::move(built)), base(mesh.activeMesh()) {
+    caster = makeEmbreeRayCaster(base);
+    table = std::make_unique<FormFactorTable>(mesh.nodeMesh(), *caster, quietOptions(),
+                                              [this](std::uint32_t id) { return mesh.address(id); });
+  }
+
+  std::uint32_t idOf(std::uint64_t address) const {
+    for (std::uint32_t id = 0; id < mesh.numNodes(); ++id)
+      if (mesh.address(id) == address) return id;
+    ADD_FAILURE() << "no cell at address " << address;
+    return 0;
+  }
+  // Splits the active cell at each address in turn.
+  void refine(const std::vector<std::uint64_t>& addresses) {
+    for (std::uint64_t a : addresses) EXPECT_TRUE(mesh.refine(idOf(a)));
+  }
+  // The ids of the cells at these addresses, in the same order.
+  std::vector<std::uint32_t> ids(const std::vector<std::uint64_t>& addresses) const {
+    std::vector<std::uint32_t> result;
+    for (std::uint64_t a : addresses) result.push_back(idOf(a));
+    return result;
+  }
+  std::vector<std::uint64_t> activeAddresses() const {
+    std::vector<std::uint64_t> result;
+    for (std::uint32_t id : mesh.activeNodes()) result.push_back(mesh.address(id));
+    return result;
+  }
+};
+
+std::unique_ptr<Cells> cube(const std::vector<std::uint64_t>& refineOrder = {}) {
+  Result<AdaptiveMesh> mesh = AdaptiveMesh::build(testing::closedCube(1), kQuadtree);
+  EXPECT_TRUE(mesh.ok()) << mesh.error().message;
+  auto cells = std::make_unique<Cells>(std::move(*mesh));
+  cells->refine(refineOrder);
+  return cells;
+}
+
+std::uint64_t at(std::uint32_t surface, int level, std::uint32_t i, std::uint32_t j) {
+  return AdaptiveMesh::packAddress(surface, level, i, j);
+}
+
+// Two refinement orders that reach the same cells with different ids: in the first, face 0's
+// cell (0, 0) is split before face 3's cell (1, 1); in the second, after it. Then one child of
+// the first split is split again.
+const std::vector<std::uint64_t> kOrderA = {at(0, 0, 0, 0), at(3, 0, 1, 1), at(0, 1, 1, 0)};
+const std::vector<std::uint64_t> kOrderB = {at(3, 0, 1, 1), at(0, 0, 0, 0), at(0, 1, 1, 0)};
+
+std::size_t pairsOf(std::size_t n) { return n * (n - 1) / 2; }
+
+// ---------------------------------------------------------------------------------------------
+// Addresses
+
+TEST(FormFactorTableAddressTest, PackedAsDocumented) {
+  EXPECT_EQ(AdaptiveMesh::packAddress(0, 0, 0, 0), 0u);
+  EXPECT_EQ(AdaptiveMesh::packAddress(3, 2, 5, 7), (3ULL << 44) | (2ULL << 40) | (7ULL << 20) | 5ULL);
+  const std::uint32_t maxCell = (1u << 20) - 1, maxSurface = (1u << 20) - 1;
+  EXPECT_EQ(AdaptiveMesh::packAddress(maxSurface, 15, maxCell, maxCell), ~0ULL);
+  // Ordered by surface, then level, row, column.
+  EXPECT_LT(at(0, 3, maxCell, maxCell), at(1, 0, 0, 0));
+  EXPECT_LT(at(1, 0, maxCell, maxCell), at(1, 1, 0, 0));
+  EXPECT_LT(at(1, 1, maxCell, 0), at(1, 1, 0, 1));
+}
+
+TEST(FormFactorTableAddressTest, AddressesAreUniqueAndStableAcrossRefinementOrders) {
+  auto a = cube(kOrderA), b = cube(kOrderB);
+  ASSERT_EQ(a->mesh.numNodes(), b->mesh.numNodes());
+  std::set<std::uint64_t> seen;
+  int idsDiffer = 0;
+  for (std::uint32_t id = 0; id < a->mesh.numNodes(); ++id) {
+    const QuadNode& n = a->mesh.node(id);
+    const std::uint64_t address = a->mesh.address(id);
+    EXPECT_EQ(address, at(n.surface, n.level, n.i, n.j));
+    EXPECT_TRUE(seen.insert(address).second) << "address " << address << " repeated";
+    const std::uint32_t other = b->idOf(address);
+    idsDiffer += other != id;
+    // The same cell, wherever its id puts it.
+    EXPECT_DOUBLE_EQ(a->mesh.nodeMesh().patches[id].area, b->mesh.nodeMesh().patches[other].area);
+    EXPECT_EQ(a->mesh.nodeMesh().patches[id].centroid, b->mesh.nodeMesh().patches[other].centroid);
+  }
+  EXPECT_GT(idsDiffer, 0);
+}
+
+TEST(FormFactorTableAddressTest, GridsTooLargeToAddressAreRejected) {
+  // More cells along an edge at the deepest level than an address's 2^20 columns: rejected before
+  // anything is allocated for the grid.
+  for (QuadtreeOptions options : {QuadtreeOptions{1e-7, 0}, QuadtreeOptions{1.0 / 4097, 8}, QuadtreeOptions{1.0 / 1048577, 0}}) {
+    Result<AdaptiveMesh> mesh = AdaptiveMesh::build(testing::closedCube(1), options);
+    ASSERT_FALSE(mesh.ok()) << options.baseEdgeLength << " " << options.maxLevel;
+    EXPECT_TRUE(contains(mesh.error().message, "cell address")) << mesh.error().message;
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Keys and paths
+
+TEST(FormFactorTableKeyTest, ChangesWithQuadtreeOptionsFormFactorOptionsAndGeometry) {
+  const Scene scene = testing::closedCube(1);
+  const FormFactorOptions options = quietOptions();
+  const std::uint64_t key = formFactorTableKey(scene, kQuadtree, options);
+  EXPECT_EQ(formFactorTableKey(testing::closedCube(1), kQuadtree, quietOptions()), key);
+
+  std::set<std::uint64_t> keys = {key};
+  auto expectNew = [&](std::uint64_t k, const char* what) { EXPECT_TRUE(keys.insert(k).second) << what; };
+  expectNew(formFactorTableKey(scene, {0.25, 2}, options), "base edge length");
+  expectNew(formFactorTableKey(scene, {std::nextafter(0.5, 1.0), 2}, options), "base edge length, one ulp");
+  expectNew(formFactorTableKey(scene, {0.5, 3}, options), "deepest level");
+  FormFactorOptions o = options;
+  o.seed = 2;
+  expectNew(formFactorTableKey(scene, kQuadtree, o), "seed");
+  o = options;
+  o.samplePairs = 32;
+  expectNew(formFactorTableKey(scene, kQuadtree, o), "sample pairs");
+  o = options;
+  o.nearFieldBoost = 1;
+  expectNew(formFactorTableKey(scene, kQuadtree, o), "near-field boost");
+  o = options;
+  o.method = FormFactorMethod::PointToPoint;
+  expectNew(formFactorTableKey(scene, kQuadtree, o), "method");
+  Scene moved = scene;
+  moved.surfaces[2].vertices[1].y = std::nextafter(moved.surfaces[2].vertices[1].y, 2.0);
+  expectNew(formFactorTableKey(moved, kQuadtree, options), "a vertex, one ulp");
+  Scene swapped = scene;
+  std::swap(swapped.surfaces[0], swapped.surfaces[1]);
+  expectNew(formFactorTableKey(swapped, kQuadtree, options), "surface order (part of every address)");
+  Scene fewer = scene;
+  fewer.surfaces.pop_back();
+  expectNew(formFactorTableKey(fewer, kQuadtree, options), "surface count");
+  // Nor is it the uniform cache's key for anything.
+  EXPECT_NE(formFactorCacheKey(subdivideScene(scene, 24), options), key);
+
+  // What F does not depend on leaves the key alone.
+  o = options;
+  o.showProgress = true;
+  EXPECT_EQ(formFactorTableKey(scene, kQuadtree, o), key);
+  Scene repainted = scene;
+  repainted.surfaces[0].emittedRadiance = {1, 1, 1};
+  repainted.materials[0].albedo = Rgb::gray(0.9);
+  repainted.name = "renamed";
+  EXPECT_EQ(formFactorTableKey(repainted, kQuadtree, options), key);
+}
+
+TEST(FormFactorTableKeyTest, PathNamesTheKeyInSixteenHexDigits) {
+  EXPECT_EQ(formFactorTablePath("/tmp/cache", 0xff), "/tmp/cache/formfactor-table-00000000000000ff.lft");
+  EXPECT_EQ(formFactorTablePath("c", 0x0123456789abcdefULL), "c/formfactor-table-0123456789abcdef.lft");
+}
+
+// ---------------------------------------------------------------------------------------------
+// save / load
+
+// A table that has seen two active sets (the level-0 cells, then the refined mesh), saved.
+struct SavedTable {
+  std::unique_ptr<Cells> cells;
+  std::vector<std::uint64_t> coarse, refined;  // the two active sets, by address
+  FormFactorMatrix coarseF, refinedF;
+  std::string path;
+  std::uint64_t key = 0;
+};
+
+SavedTable savedTable(const std::string& test) {
+  SavedTable s;
+  s.cells = cube();
+  s.coarse = s.cells->activeAddresses();
+  s.coarseF = s.cells->table->matrix(s.cells->ids(s.coarse));
+  s.cells->refine(kOrderA);
+  s.refined = s.cells->activeAddresses();
+  s.refinedF = s.cells->table->matrix(s.cells->ids(s.refined));
+  s.key = formFactorTableKey(testing::closedCube(1), kQuadtree, quietOptions());
+  s.path = formFactorTablePath(scratch(test).string(), s.key);
+  Result<std::size_t> saved = s.cells->table->save(s.path, s.key);
+  EXPECT_TRUE(saved.ok()) << saved.error().message;
+  if (saved) {
+    EXPECT_EQ(*saved, s.cells->table->pairsStored());
+  }
+  return s;
+}
+
+TEST(FormFactorTableFileTest, RoundTripGivesIdenticalMatricesWhenIdsDiffer) {
+  SavedTable saved = savedTable("roundtrip");
+  const Cells& a = *saved.cells;
+  EXPECT_EQ(a.table->pairsEstimated(), a.table->pairsStored());
+  EXPECT_GT(saved.refinedF.maxCoeff(), 0.0f);
+
+  auto b = cube(kOrderB);
+  // The point of addresses: the same cells have other ids, and for some pairs the order of the
+  // ids is the other way round, so a value keyed or directed by id would be read backwards.
+  int flipped = 0;
+  for (std::size_t x = 0; x < saved.refined.size(); ++x)
+    for (std::size_t y = x + 1; y < saved.refined.size(); ++y)
+      flipped += (a.idOf(saved.refined[x]) < a.idOf(saved.refined[y])) != (b->idOf(saved.refined[x]) < b->idOf(saved.refined[y]));
+  ASSERT_GT(flipped, 0);
+
+  Result<std::size_t> loaded = b->table->load(saved.path, saved.key);
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  EXPECT_EQ(*loaded, a.table->pairsStored());
+  // The same active sets, in the same order of cells, give bit-identical matrices without one
+  // pair estimated.
+  EXPECT_TRUE(bitIdentical(b->table->matrix(b->ids(saved.refined)), saved.refinedF));
+  EXPECT_TRUE(bitIdentical(b->table->matrix(b->ids(saved.coarse)), saved.coarseF));
+  EXPECT_EQ(b->table->pairsEstimated(), 0u);
+  EXPECT_EQ(b->table->pairsLoaded(), a.table->pairsStored());
+  EXPECT_EQ(b->table->pairsReused(), pairsOf(saved.refined.size()) + pairsOf(saved.coarse.size()) - a.table->pairsStored());
+  // Once taken from the file, a pair is in the table like any other.
+  const std::uint64_t reused = b->table->pairsReused();
+  b->table->matrix(b->ids(saved.refined));
+  EXPECT_EQ(b->table->pairsLoaded(), a.table->pairsStored());
+  EXPECT_EQ(b->table->pairsReused(), reused + pairsOf(saved.refined.size()));
+}
+
+TEST(FormFactorTableFileTest, NewPairsAreEstimatedAndUnusedLoadedPairsAreKept) {
+  SavedTable saved = savedTable("union");
+  const std::set<std::uint64_t> known(saved.coarse.begin(), saved.coarse.end());
+  std::set<std::uint64_t> everActive = known;
+  everActive.insert(saved.refined.begin(), saved.refined.end());
+
+  // Another run splits a cell the first never did, and never shows the level-0 set again.
+  auto b = cube(kOrderB);
+  ASSERT_TRUE(b->table->load(saved.path, saved.key).ok());
+  b->refine({at(5, 0, 0, 1)});
+  const std::vector<std::uint64_t> active = b->activeAddresses();
+  const FormFactorMatrix F = b->table->matrix(b->ids(active));
+  std::size_t newCells = 0;
+  for (std::uint64_t address : active) newCells += !everActive.count(address);
+  ASSERT_EQ(newCells, 4u);
+  const std::size_t newPairs = pairsOf(active.size()) - pairsOf(active.size() - newCells);
+  EXPECT_EQ(b->table->pairsEstimated(), newPairs);
+  EXPECT_EQ(b->table->pairsLoaded(), pairsOf(active.size()) - newPairs);
+
+  // Saved again: the file's pairs this run never used are kept, the new ones added.
+  const std::string path = formFactorTablePath(scratch("union-again").string(), saved.key);
+  Result<std::size_t> resaved = b->table->save(path, saved.key);
+  ASSERT_TRUE(resaved.ok()) << resaved.error().message;
+  EXPECT_EQ(*resaved, saved.cells->table->pairsStored() + newPairs);
+
+  // A third run, in the first order, finds all of both runs' pairs.
+  auto c = cube(kOrderA);
+  ASSERT_TRUE(c->table->load(path, saved.key).ok());
+  EXPECT_TRUE(bitIdentical(c->table->matrix(c->ids(saved.coarse)), saved.coarseF));
+  EXPECT_TRUE(bitIdentical(c->table->matrix(c->ids(saved.refined)), saved.refinedF));
+  c->refine({at(5, 0, 0, 1)});
+  EXPECT_TRUE(bitIdentical(c->table->matrix(c->ids(active)), F));
+  EXPECT_EQ(c->table->pairsEstimated(), 0u);
+}
+
+TEST(FormFactorTableFileTest, FileLayoutIsAsDocumented) {
+  SavedTable saved = savedTable("layout");
+  const std::vector<char> bytes = readBytes(saved.path);
+  const std::size_t m = saved.cells->table->pairsStored();
+  ASSERT_EQ(bytes.size(), kHeaderBytes + kEntryBytes * m + kChecksumBytes);
+  EXPECT_EQ(std::string(bytes.data(), 8), std::string("LMBRTFT\0", 8));
+  EXPECT_EQ(loadLe64(bytes, 8), 1u);  // version 1, reserved 0
+  EXPECT_EQ(loadLe64(bytes, 16), saved.key);
+  EXPECT_EQ(loadLe64(bytes, 24), m);
+  // Entries ascend by (p, q) with p < q, and F runs from p to q: checked against the matrix.
+  std::map<std::uint64_t, std::size_t> position;
+  for (std::size_t k = 0; k < saved.refined.size(); ++k) position[saved.refined[k]] = k;
+  std::size_t checked = 0;
+  std::uint64_t lastP = 0, lastQ = 0;
+  for (std::size_t k = 0; k < m; ++k) {
+    const std::size_t offset = kHeaderBytes + k * kEntryBytes;
+    const std::uint64_t p = loadLe64(bytes, offset), q = loadLe64(bytes, offset + 8);
+    float f;
+    std::memcpy(&f, bytes.data() + offset + 16, 4);
+    EXPECT_LT(p, q);
+    if (k > 0) {
+      EXPECT_TRUE(p > lastP || (p == lastP && q > lastQ)) << "entry " << k;
+    }
+    lastP = p;
+    lastQ = q;
+    if (position.count(p) && position.count(q)) {
+      EXPECT_EQ(f, saved.refinedF(static_cast<Eigen::Index>(position[p]), static_cast<Eigen::Index>(position[q])));
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, pairsOf(saved.refined.size()));
+  cachefile::Xxh64 checksum;
+  checksum.update(bytes.data(), bytes.size() - kChecksumBytes);
+  EXPECT_EQ(loadLe64(bytes, bytes.size() - kChecksumBytes), checksum.digest());
+  EXPECT_FALSE(hasTemporaryFiles(fs::path(saved.path).parent_path()));
+}
+
+// A table that failed to load is as it was: the pairs are estimated, none loaded.
+void expectUnloaded(const SavedTable& saved, Cells& cells) {
+  EXPECT_TRUE(bitIdentical(cells.table->matrix(cells.ids(saved.coarse)), saved.coarseF));
+  EXPECT_EQ(cells.table->pairsLoaded(), 0u);
+  EXPECT_EQ(cells.table->pairsEstimated(), pairsOf(saved.coarse.size()));
+}
+
+TEST(FormFactorTableFileTest, TruncatedDamagedAndForeignFilesAreRejected) {
+  SavedTable saved = savedTable("rejected");
+  const std::vector<char> good = readBytes(saved.path);
+  struct Case {
+    std::string what;
+    std::vector<char> bytes;
+    std::uint64_t key;
+    std::string why;
+  };
+  std::vector<Case> cases;
+  for (std::size_t length : {std::size_t{0}, std::size_t{20}, kHeaderBytes, kHeaderBytes + 7, good.size() / 2,
+                             good.size() - kChecksumBytes, good.size() - 1})
+    cases.push_back({"cut at " + std::to_string(length),
+                     std::vector<char>(good.begin(), good.begin() + static_cast<std::ptrdiff_t>(length)), saved.key, "truncated"});
+  std::vector<char> flipped = good;
+  flipped[kHeaderBytes + kEntryBytes * 3 + 17] ^= 0x04;  // one bit of a form factor
+  cases.push_back({"flipped value bit", flipped, saved.key, "checksum"});
+  flipped = good;
+  flipped[kHeaderBytes + kEntryBytes * 5 + 2] ^= 0x01;  // one bit of an address
+  cases.push_back({"flipped address bit", flipped, saved.key, "checksum"});
+  cases.push_back({"another key", good, saved.key + 1, "key"});
+  std::vector<char> extended = good;
+  extended.push_back(0);
+  cases.push_back({"trailing byte", extended, saved.key, "trailing"});
+  std::vector<char> huge = good;
+  for (int k = 0; k < 8; ++k) huge[24 + k] = k == 7 ? 0x7f : static_cast<char>(0xff);  // 2^63 − 1 pairs
+  cases.push_back({"absurd pair count", huge, saved.key, "pairs"});
+  // The uniform cache's file at this path is not a table.
+  const std::string lff = (fs::path(saved.path).parent_path() / "matrix.lff").string();
+  ASSERT_TRUE(saveFormFactors(lff, saved.key, FormFactorMatrix::Zero(2, 2)).ok());
+  cases.push_back({"a matrix cache file", readBytes(lff), saved.key, "magic"});
+
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.what);
+    writeBytes(saved.path, c.bytes);
+    auto cells = cube();
+    Result<std::size_t> loaded = cells->table->load(saved.path, c.key);
+    ASSERT_FALSE(loaded.ok());
+    EXPECT_TRUE(contains(loaded.error().message, saved.path)) << loaded.error().message;
+    EXPECT_TRUE(contains(loaded.error().message, c.why)) << loaded.error().message;
+    expectUnloaded(saved, *cells);
+  }
+  auto cells = cube();
+  Result<std::size_t> missing = cells->table->load(saved.path + ".missing", saved.key);
+  ASSERT_FALSE(missing.ok());
+  EXPECT_TRUE(contains(missing.error().message, saved.path + ".missing")) << missing.error().message;
+}
+
+// Files whose checksum is right but whose pairs are not what save() writes: a buggy or foreign
+// writer. Lookups rely on the order, and solutions on the values.
+TEST(FormFactorTableFileTest, MisorderedOrInvalidPairsAreRejected) {
+  SavedTable saved = savedTable("invalid");
+  const std::vector<char> good = readBytes(saved.path);
+  const std::vector<unsigned char> payload(good.begin() + kHeaderBytes, good.end() - kChecksumBytes);
+  const std::size_t m = payload.size() / kEntryBytes;
+  const cachefile::Format format{{'L', 'M', 'B', 'R', 'T', 'F', 'T', '\0'}, 1, "form-factor table file"};
+  auto entry = [&](std::vector<unsigned char>& bytes, std::size_t k) { return bytes.data() + k * kEntryBytes; };
+
+  std::vector<std::pair<std::string, std::vector<unsigned char>>> cases;
+  std::vector<unsigned char> swapped = payload;  // two entries out of order
+  std::swap_ranges(entry(swapped, 3), entry(swapped, 4), entry(swapped, 4));
+  cases.push_back({"out of order", swapped});
+  std::vector<unsigned char> repeated = payload;  // one pair twice
+  std::memcpy(entry(repeated, 4), entry(repeated, 3), kEntryBytes);
+  cases.push_back({"out of order or repeated", repeated});
+  std::vector<unsigned char> backwards = payload;  // q before p
+  std::swap_ranges(entry(backwards, 0), entry(backwards, 0) + 8, entry(backwards, 0) + 8);
+  cases.push_back({"not in address order", backwards});
+  for (float bad : {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(), -0.5f}) {
+    std::vector<unsigned char> value = payload;
+    std::memcpy(entry(value, m - 1) + 16, &bad, 4);
+    cases.push_back({"form factor", value});
+  }
+  for (const auto& [why, bytes] : cases) {
+    SCOPED_TRACE(why);
+    ASSERT_TRUE(cachefile::writeFile(saved.path, format, saved.key, m, bytes).ok());
+    auto cells = cube();
+    Result<std::size_t> loaded = cells->table->load(saved.path, saved.key);
+    ASSERT_FALSE(loaded.ok());
+    EXPECT_TRUE(contains(loaded.error().message, saved.path)) << loaded.error().message;
+    EXPECT_TRUE(contains(loaded.error().message, why)) << loaded.error().message;
+    expectUnloaded(saved, *cells);
+  }
+  // The same pairs as written are accepted: the checks above are not just rejecting everything.
+  ASSERT_TRUE(cachefile::writeFile(saved.path, format, saved.key, m, payload).ok());
+  EXPECT_TRUE(cube()->table->load(saved.path, saved.key).ok());
+}
+
+TEST(FormFactorTableFileTest, EmptyTableRoundTrips) {
+  auto cells = cube();
+  const std::string path = (scratch("empty") / "t.lft").string();
+  Result<std::size_t> saved = cells->table->save(path, 9);
+  ASSERT_TRUE(saved.ok()) << saved.error().message;
+  EXPECT_EQ(*saved, 0u);
+  EXPECT_EQ(fs::file_size(path), kHeaderBytes + kChecksumBytes);
+  Result<std::size_t> loaded = cube()->table->load(path, 9);
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  EXPECT_EQ(*loaded, 0u);
+}
+
+// ---------------------------------------------------------------------------------------------
+// AdaptiveRadiosity with a cache directory
+
+Light downwardSpot() {
+  Light spot;
+  spot.kind = LightKind::Spot;
+  spot.position = {0.5, 0.95, 0.5};
+  spot.direction = normalize(Vec3{0.3, -1, 0.2});
+  spot.intensity = {1, 1, 1};
+  spot.coneAngleDegrees = 25;
+  spot.falloffDegrees = 5;
+  return spot;
+}
+
+AdaptiveOptions cachedOptions(const fs::path& dir) {
+  AdaptiveOptions options;
+  options.quadtree = {0.34, 2};
+  options.formFactors = quietOptions();
+  options.cacheDirectory = dir.string();
+  return options;
+}
+
+struct SolvedRun {
+  std::unique_ptr<AdaptiveRadiosity> adaptive;
+  std::vector<Rgb> radiosity;
+  std::string stderrText;
+};
+
+// Creates, solves two updates (refining along the spot's edge and then by gradient) and saves.
+SolvedRun solve(const AdaptiveOptions& options, bool save = true) {
+  SolvedRun run;
+  ::testing::internal::CaptureStderr();
+  auto created = AdaptiveRadiosity::create(testing::closedCube(1), options);
+  if (created) {
+    run.adaptive = std::move(*created);
+    run.adaptive->update({downwardSpot()});
+    run.adaptive->update({downwardSpot()});
+    run.radiosity = run.adaptive->radiosity();
+    if (save) (void)run.adaptive->saveTable();
+  }
+  run.stderrText = ::testing::internal::GetCapturedStderr();
+  EXPECT_TRUE(created.ok()) << created.error().message;
+  return run;
+}
+
+TEST(FormFactorTableCacheTest, SecondRunLoadsEverythingAndSolvesIdentically) {
+  const fs::path dir = scratch("adaptive") / "cache";
+  SolvedRun first = solve(cachedOptions(dir));
+  const AdaptiveTableFile& saved = first.adaptive->tableFile();
+  EXPECT_TRUE(first.stderrText.empty()) << first.stderrText;
+  EXPECT_FALSE(saved.loaded);
+  EXPECT_TRUE(saved.saved);
+  EXPECT_EQ(saved.path, formFactorTablePath(dir.string(), formFactorTableKey(testing::closedCube(1), {0.34, 2}, quietOptions())));
+  EXPECT_TRUE(fs::is_regular_file(saved.path));
+  EXPECT_EQ(saved.pairsSaved, first.adaptive->table().pairsStored());
+  EXPECT_GT(first.adaptive->table().pairsEstimated(), 0u);
+  EXPECT_GT(first.adaptive->mesh().numNodes(), first.adaptive->mesh().activeNodes().size());  // it refined
+
+  SolvedRun second = solve(cachedOptions(dir));
+  const AdaptiveTableFile& loaded = second.adaptive->tableFile();
+  EXPECT_TRUE(second.stderrText.empty()) << second.stderrText;
+  EXPECT_TRUE(loaded.loaded);
+  EXPECT_EQ(loaded.pairsInFile, saved.pairsSaved);
+  EXPECT_FALSE(loaded.saved);  // nothing new: the file already holds these pairs
+  EXPECT_EQ(second.adaptive->table().pairsEstimated(), 0u);
+  EXPECT_EQ(second.adaptive->table().pairsLoaded(), saved.pairsSaved);
+  EXPECT_EQ(second.radiosity, first.radiosity);
+
+  // Off: neither read nor written.
+  AdaptiveOptions off = cachedOptions(dir);
+  off.cacheDirectory.clear();
+  SolvedRun uncached = solve(off);
+  EXPECT_TRUE(uncached.adaptive->tableFile().path.empty());
+  EXPECT_EQ(uncached.adaptive->table().pairsLoaded(), 0u);
+  EXPECT_EQ(uncached.radiosity, first.radiosity);
+  EXPECT_TRUE(uncached.adaptive->saveTable().ok());
+
+  // Another seed is another file.
+  AdaptiveOptions reseeded = cachedOptions(dir);
+  reseeded.formFactors.seed = 7;
+  SolvedRun other = solve(reseeded);
+  EXPECT_FALSE(other.adaptive->tableFile().loaded);
+  EXPECT_NE(other.adaptive->tableFile().path, saved.path);
+  EXPECT_GT(other.adaptive->table().pairsEstimated(), 0u);
+}
+
+TEST(FormFactorTableCacheTest, DamagedFileWarnsRecomputesAndIsRepaired) {
+  const fs::path dir = scratch("damaged");
+  SolvedRun first = solve(cachedOptions(dir));
+  const std::string path = first.adaptive->tableFile().path;
+  const std::vector<char> good = readBytes(path);
+
+  for (bool truncate : {false, true}) {
+    SCOPED_TRACE(truncate ? "truncated" : "flipped");
+    std::vector<char> damaged = good;
+    if (truncate) damaged.resize(good.size() * 2 / 3);
+    else damaged[kHeaderBytes + kEntryBytes * 7 + 18] ^= 0x20;
+    writeBytes(path, damaged);
+    SolvedRun again = solve(cachedOptions(dir));
+    EXPECT_TRUE(contains(again.stderrText, "lambert: warning: " + path + ": ")) << again.stderrText;
+    EXPECT_TRUE(contains(again.stderrText, "; recomputing\n")) << again.stderrText;
+    EXPECT_TRUE(contains(again.adaptive->tableFile().warning, truncate ? "truncated" : "checksum"))
+        << again.adaptive->tableFile().warning;
+    EXPECT_FALSE(again.adaptive->tableFile().loaded);
+    EXPECT_EQ(again.adaptive->table().pairsLoaded(), 0u);
+    EXPECT_EQ(again.adaptive->table().pairsEstimated(), first.adaptive->table().pairsEstimated());
+    EXPECT_EQ(again.radiosity, first.radiosity);
+    // Replaced by a valid file, the same bytes as the first run's.
+    EXPECT_TRUE(again.adaptive->tableFile().saved);
+    EXPECT_EQ(readBytes(path), good);
+    EXPECT_FALSE(hasTemporaryFiles(dir));
+  }
+}
+
+TEST(FormFactorTableCacheTest, FileOfAnotherKeyAtThePathIsRecomputed) {
+  // The right name but another scene's pairs (as if copied or renamed).
+  const fs::path dir = scratch("stale");
+  SolvedRun first = solve(cachedOptions(dir), false);
+  const std::string path = first.adaptive->tableFile().path;
+  ASSERT_TRUE(first.adaptive->table().save(path, 1234).ok());
+  SolvedRun again = solve(cachedOptions(dir));
+  EXPECT_TRUE(contains(again.stderrText, "lambert: warning: " + path + ": key mismatch")) << again.stderrText;
+  EXPECT_EQ(again.adaptive->table().pairsLoaded(), 0u);
+  EXPECT_EQ(again.radiosity, first.radiosity);
+  EXPECT_TRUE(again.adaptive->tableFile().saved);
+  EXPECT_TRUE(solve(cachedOptions(dir)).adaptive->tableFile().loaded);
+}
+
+TEST(FormFactorTableCacheTest, UnwritableDirectoryWarnsAndStillSolves) {
+  const fs::path dir = scratch("readonly");
+  writeBytes(dir / "file", {'x'});
+  SolvedRun run = solve(cachedOptions(dir / "file" / "cache"), false);
+  ::testing::internal::CaptureStderr();
+  Status saved = run.adaptive->saveTable();
+  const std::string printed = ::testing::internal::GetCapturedStderr();
+  ASSERT_FALSE(saved.ok());
+  const std::string& path = run.adaptive->tableFile().path;
+  EXPECT_TRUE(contains(saved.error().message, path)) << saved.error().message;
+  EXPECT_TRUE(contains(printed, "lambert: warning: " + path + ": ")) << printed;
+  EXPECT_TRUE(contains(run.adaptive->tableFile().warning, path)) << run.adaptive->tableFile().warning;
+  EXPECT_FALSE(run.adaptive->tableFile().saved);
+  EXPECT_FALSE(run.radiosity.empty());
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1);
+}
+
+}  // namespace
+}  // namespace lambert
