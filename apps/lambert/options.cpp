@@ -18,10 +18,20 @@ void addSolveOptions(CLI::App& cmd, SolveCommandOptions& o) {
   cmd.add_option("--max-edge", o.maxEdge, "Longest patch edge in scene units (instead of --patches)")
       ->check(CLI::PositiveNumber)
       ->excludes(patches);
-  cmd.add_option("--formfactor", o.formFactor, "Form-factor estimator: mc (area Monte Carlo) or point (seed 000)")
+  cmd.add_option("--formfactor", o.formFactor,
+                 "Form-factor method: mc (area Monte Carlo), point (seed 000), hemicube (seed 001) or hemisphere (ray-cast)")
       ->transform(CLI::CheckedTransformer(std::map<std::string, FormFactorMethod>{
-          {"mc", FormFactorMethod::AreaMonteCarlo}, {"point", FormFactorMethod::PointToPoint}}))
+          {"mc", FormFactorMethod::AreaMonteCarlo},
+          {"point", FormFactorMethod::PointToPoint},
+          {"hemicube", FormFactorMethod::Hemicube},
+          {"hemisphere", FormFactorMethod::HemisphereRays}}))
       ->default_str("mc");
+  cmd.add_option("--hemicube-resolution", o.hemicubeResolution, "Hemi-cube: pixels along the top face (even)")
+      ->check(CLI::Range(2, 4096) & CLI::Validator([](std::string& v) { return std::stoi(v) % 2 == 0 ? "" : "must be even"; }, "EVEN"))
+      ->capture_default_str();
+  cmd.add_option("--hemisphere-rays", o.hemisphereRays, "Hemisphere: rays per patch")
+      ->check(CLI::Range(1, 1 << 24))
+      ->capture_default_str();
   cmd.add_option("--samples", o.samples, "Sample pairs per patch pair (mc)")->check(CLI::Range(1, 4096))->capture_default_str();
   cmd.add_option("--seed", o.seed, "Random seed")->capture_default_str();
   cmd.add_option("--light-samples", o.lightSamples, "Points per patch the lights' direct light is averaged over")
@@ -100,6 +110,8 @@ PipelineOptions pipelineOptions(const SolveCommandOptions& o) {
   p.maxEdgeLength = o.maxEdge;
   p.formFactors.method = o.formFactor;
   p.formFactors.samplePairs = o.samples;
+  p.formFactors.hemicubeResolution = o.hemicubeResolution;
+  p.formFactors.hemisphereRays = o.hemisphereRays;
   p.formFactors.seed = o.seed;
   p.formFactors.showProgress = !o.quiet && !o.json;
   p.directLight.samplesPerPatch = o.lightSamples;

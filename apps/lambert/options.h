@@ -25,6 +25,8 @@ struct SolveCommandOptions {
   double maxEdge = 0;
   FormFactorMethod formFactor = FormFactorMethod::AreaMonteCarlo;
   int samples = 16;
+  int hemicubeResolution = 256;
+  int hemisphereRays = 1024;
   std::uint64_t seed = 1;
   int lightSamples = 16;
   SolverKind solver = SolverKind::GaussSeidel;

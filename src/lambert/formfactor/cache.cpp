@@ -48,6 +48,8 @@ std::uint64_t formFactorCacheKey(const Mesh& mesh, const FormFactorOptions& opti
   h.text(formFactorMethodName(options.method));
   h.u64(static_cast<std::uint64_t>(static_cast<std::int64_t>(options.samplePairs)));
   h.u64(static_cast<std::uint64_t>(static_cast<std::int64_t>(options.nearFieldBoost)));
+  h.u64(static_cast<std::uint64_t>(static_cast<std::int64_t>(options.hemicubeResolution)));
+  h.u64(static_cast<std::uint64_t>(static_cast<std::int64_t>(options.hemisphereRays)));
   h.u64(options.seed);
   h.u64(mesh.positions.size());
   for (const Vec3& p : mesh.positions) h.vec3(p);

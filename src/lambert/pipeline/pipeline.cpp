@@ -37,6 +37,10 @@ RadiositySolution solveScene(const Scene& scene, const PipelineOptions& options)
             options.cacheDirectory.empty() ? std::string("off") : (cached.fromCache ? "loaded " : "saved ") + cached.path);
   if (options.formFactors.method == FormFactorMethod::AreaMonteCarlo)
     stats.add("sample_pairs", "sample pairs per patch pair", static_cast<std::int64_t>(options.formFactors.samplePairs));
+  if (options.formFactors.method == FormFactorMethod::Hemicube)
+    stats.add("hemicube_resolution", "hemi-cube resolution", static_cast<std::int64_t>(options.formFactors.hemicubeResolution), "px");
+  if (options.formFactors.method == FormFactorMethod::HemisphereRays)
+    stats.add("hemisphere_rays", "rays per patch", static_cast<std::int64_t>(options.formFactors.hemisphereRays));
   stats.add("pairs_evaluated", "patch pairs evaluated", static_cast<std::int64_t>(ffStats.pairsEvaluated));
   stats.add("pairs_culled", "patch pairs culled", static_cast<std::int64_t>(ffStats.pairsCulled));
   stats.add("visibility_rays", "visibility rays", static_cast<std::int64_t>(ffStats.visibilityRays));

@@ -56,6 +56,13 @@ void shuffle(std::vector<std::uint32_t>& order, Pcg32& rng) {
   }
 }
 
+// Power heuristic (β = 2) weight of a strategy whose density is pOwn against one of density
+// pOther, written so that an infinite density gives 0 or 1, never NaN.
+double powerWeight(double pOwn, double pOther) {
+  double ratio = pOther / pOwn;
+  return 1 / (1 + ratio * ratio);
+}
+
 UnitSquarePoint randomPoint(Pcg32& rng) {
   double u = rng.nextDouble();
   return {u, rng.nextDouble()};
@@ -99,15 +106,6 @@ Rgb ReferenceRenderer::lightIrradiance(const Vertex& v) const {
     e += irradiance(light, v.position, v.normal, *caster_, epsilon_, scene_.metresPerUnit);
   return e;
 }
-
-// Power heuristic (β = 2) weight of a strategy whose density is pOwn against one of density
-// pOther, written so that an infinite density gives 0 or 1, never NaN.
-namespace {
-double powerWeight(double pOwn, double pOther) {
-  double ratio = pOther / pOwn;
-  return 1 / (1 + ratio * ratio);
-}
-}  // namespace
 
 // MIS weight of the cosine-sampled direction that reached an emitter at squared distance r² (scene
 // units²), against next-event estimation: both as densities per steradian.
