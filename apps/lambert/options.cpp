@@ -10,7 +10,7 @@
 
 namespace lambert::cli {
 
-void addSolveOptions(CLI::App& cmd, SolveCommandOptions& o) {
+void addMeshOptions(CLI::App& cmd, MeshCommandOptions& o) {
   cmd.add_option("--scene", o.scene, "Built-in scene name (see `lambert scenes`)")->capture_default_str();
   auto* patches = cmd.add_option("--patches", o.patches, "Target patch count; the mesh edge length is chosen to reach it")
                       ->check(CLI::Range(std::size_t{1}, std::size_t{200000}))
@@ -18,6 +18,15 @@ void addSolveOptions(CLI::App& cmd, SolveCommandOptions& o) {
   cmd.add_option("--max-edge", o.maxEdge, "Longest patch edge in scene units (instead of --patches)")
       ->check(CLI::PositiveNumber)
       ->excludes(patches);
+  cmd.add_option("--seed", o.seed, "Random seed")->capture_default_str();
+}
+
+Mesh meshFor(const Scene& scene, const MeshCommandOptions& o) {
+  return subdivideScene(scene, o.maxEdge > 0 ? o.maxEdge : edgeLengthForPatchCount(scene, o.patches));
+}
+
+void addSolveOptions(CLI::App& cmd, SolveCommandOptions& o) {
+  addMeshOptions(cmd, o);
   cmd.add_option("--formfactor", o.formFactor,
                  "Form-factor method: mc (area Monte Carlo), point (seed 000), hemicube (seed 001) or hemisphere (ray-cast)")
       ->transform(CLI::CheckedTransformer(std::map<std::string, FormFactorMethod>{
@@ -33,7 +42,6 @@ void addSolveOptions(CLI::App& cmd, SolveCommandOptions& o) {
       ->check(CLI::Range(1, 1 << 24))
       ->capture_default_str();
   cmd.add_option("--samples", o.samples, "Sample pairs per patch pair (mc)")->check(CLI::Range(1, 4096))->capture_default_str();
-  cmd.add_option("--seed", o.seed, "Random seed")->capture_default_str();
   cmd.add_option("--light-samples", o.lightSamples, "Points per patch the lights' direct light is averaged over")
       ->check(CLI::Range(1, 4096))
       ->capture_default_str();

@@ -19,15 +19,19 @@ enum class Lighting {
   Radiosity,  // everything from the interpolated radiosity solution
 };
 
-struct SolveCommandOptions {
+// Which scene, meshed how finely: all that `reference` needs to find the solution's vertices.
+struct MeshCommandOptions {
   std::string scene = "cornell";
   std::size_t patches = 784;
   double maxEdge = 0;
+  std::uint64_t seed = 1;
+};
+
+struct SolveCommandOptions : MeshCommandOptions {
   FormFactorMethod formFactor = FormFactorMethod::AreaMonteCarlo;
   int samples = 16;
   int hemicubeResolution = 256;
   int hemisphereRays = 1024;
-  std::uint64_t seed = 1;
   int lightSamples = 16;
   SolverKind solver = SolverKind::GaussSeidel;
   double tolerance = 1e-7;
@@ -53,7 +57,10 @@ struct ImageCommandOptions {
   Lighting lighting = Lighting::Hybrid;
 };
 
+void addMeshOptions(CLI::App& command, MeshCommandOptions& options);
 void addSolveOptions(CLI::App& command, SolveCommandOptions& options);
+// The uniform mesh the options ask for (the one solveScene builds).
+Mesh meshFor(const Scene& scene, const MeshCommandOptions& options);
 AdaptiveOptions adaptiveOptions(const Scene& scene, const SolveCommandOptions& options);
 // At the end of an adaptive run: saves the master table (when caching is on; a failure is a
 // warning, never an error) and reports it: pairs_loaded, formfactor_cache ("loaded <path> (N

@@ -33,6 +33,9 @@ struct Patch {
   Vec3 normal;                            // unit, front side
   Vec3 centroid;
   double area = 0;                        // scene units²
+  // Share of the patch not covered by other geometry (the floor under a block, the ceiling above
+  // a light panel): its light falls on this part only. 1 until measured (geometry/coverage.h).
+  double openFraction = 1;
 };
 
 struct Mesh {

@@ -2,7 +2,8 @@
 
 #include <cmath>
 
-#include "lambert/core/error.h"
+#include "lambert/geometry/coverage.h"
+#include "lambert/geometry/ray_caster.h"
 
 namespace lambert {
 namespace {
@@ -63,6 +64,37 @@ std::vector<char> awayFromEmitters(const Scene& scene, std::span<const Vec3> poi
       if (distanceToPolygon(points[i], surface) < distance) keep[i] = 0;
   }
   return keep;
+}
+
+Result<VertexComparison> compareVertices(const Scene& scene, std::span<const VertexSample> value,
+                                         std::span<const VertexSample> reference, double rimDistance) {
+  if (value.size() != reference.size())
+    return Error{"the solution has " + std::to_string(value.size()) + " vertices but the reference " +
+                 std::to_string(reference.size()) + ": use the same scene and mesh options"};
+  const double diagonal = sceneDiagonal(scene);
+  std::vector<Vec3> positions;
+  std::vector<Rgb> mine, truth;
+  for (std::size_t v = 0; v < value.size(); ++v) {
+    if (length(value[v].position - reference[v].position) > 1e-6 * diagonal)
+      return Error{"vertex " + std::to_string(v) + " lies at different places in the two: use the same mesh options"};
+    positions.push_back(value[v].position);
+    mine.push_back(value[v].radiance);
+    truth.push_back(reference[v].radiance);
+  }
+  VertexComparison result;
+  std::vector<char> keep = awayFromEmitters(scene, positions, rimDistance >= 0 ? rimDistance : 0.05 * diagonal);
+  for (char k : keep) result.nearEmitters += !k;
+  Mesh geometry = subdivideScene(scene, 2 * diagonal);
+  auto caster = makeEmbreeRayCaster(geometry);
+  const double epsilon = rayEpsilon(geometry);
+  for (std::size_t v = 0; v < keep.size(); ++v)
+    if (keep[v] && isCovered(*caster, value[v].position, value[v].normal, epsilon)) {
+      keep[v] = 0;
+      ++result.covered;
+    }
+  result.error = radianceError(mine, truth, keep);
+  result.everywhere = radianceError(mine, truth);
+  return result;
 }
 
 }  // namespace lambert

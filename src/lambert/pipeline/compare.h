@@ -5,7 +5,9 @@
 #include <span>
 #include <vector>
 
+#include "lambert/core/error.h"
 #include "lambert/core/rgb.h"
+#include "lambert/io/vertices.h"
 #include "lambert/scene/scene.h"
 
 namespace lambert {
@@ -25,5 +27,17 @@ RadianceError radianceError(std::span<const Rgb> value, std::span<const Rgb> ref
 // A mask that leaves out points within `distance` (scene units) of any emissive surface: its rim
 // is where a finite-element solution and the truth differ most and least meaningfully.
 std::vector<char> awayFromEmitters(const Scene& scene, std::span<const Vec3> points, double distance);
+
+struct VertexComparison {
+  RadianceError error;        // away from emitters' rims, and not inside geometry
+  RadianceError everywhere;   // every vertex
+  std::size_t nearEmitters = 0;
+  std::size_t covered = 0;    // vertices inside solid geometry (the floor under a block): the truth is black there
+};
+
+// Compares per-vertex radiance with a reference at the same vertices (same mesh, same order: an
+// error otherwise). rimDistance in scene units; negative means 5% of the scene's diagonal.
+Result<VertexComparison> compareVertices(const Scene& scene, std::span<const VertexSample> value,
+                                         std::span<const VertexSample> reference, double rimDistance = -1);
 
 }  // namespace lambert

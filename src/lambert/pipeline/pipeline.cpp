@@ -3,6 +3,7 @@
 #include "lambert/core/timer.h"
 #include "lambert/formfactor/cache.h"
 #include "lambert/formfactor/table.h"
+#include "lambert/geometry/coverage.h"
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/solve/energy.h"
 #include "lambert/solve/problem.h"
@@ -27,6 +28,7 @@ RadiositySolution solveScene(const Scene& scene, const PipelineOptions& options)
   solution.caster = makeEmbreeRayCaster(mesh);
   const RayCaster& caster = *solution.caster;
   stats.add("bvh_seconds", "BVH build time", bvhTimer.seconds(), "s");
+  measureOpenFractions(solution.mesh, caster);
 
   FormFactorStats ffStats;
   CachedFormFactors cached = cachedFormFactors(mesh, caster, options.formFactors, options.cacheDirectory, &ffStats);

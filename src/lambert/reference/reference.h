@@ -66,7 +66,8 @@ class ReferenceRenderer {
   // Outgoing radiance L_o in W/(m²·sr) leaving the front of point x on surface `surface` (unit
   // normal n): L_e + ρ/π · E(x), with E the irradiance from everything (the lights exactly, the
   // emitters and the indirect light from vertexSamples stratified (0,2)-sequence cosine directions
-  // and as many stratified emitter samples). Deterministic in (options.seed, stream).
+  // and as many stratified emitter samples; the first bounce is never rouletted). Deterministic in
+  // (options.seed, stream).
   Rgb outgoingRadiance(const Vec3& x, const Vec3& n, std::uint32_t surface, std::uint64_t stream) const;
 
   // (b) outgoingRadiance at every vertex of a radiosity mesh, stream = vertex index. The normal is
@@ -78,7 +79,8 @@ class ReferenceRenderer {
   std::vector<Rgb> vertexRadiance(const Mesh& radiosityMesh) const;
 
   // (a) Linear radiance image from scene.camera, width × height, samplesPerPixel paths per pixel
-  // (pixel positions, first emitter sample and first bounce stratified by (0,2)-sequences). Camera
+  // (pixel positions, first emitter sample and first bounce each a (0,2)-sequence, paired through
+  // random permutations of their indices so the pixel estimate converges as spp grows). Camera
   // rays see L_e of the emitter they hit; back faces and the background are black. Parallel over
   // rows; deterministic per (seed, pixel).
   Image render(int width, int height) const;

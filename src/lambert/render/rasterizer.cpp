@@ -276,20 +276,6 @@ void addDirect(const PinholeCamera& camera, const Mesh& mesh, const DirectRadian
 
 }  // namespace
 
-std::vector<Rgb> vertexRadiosity(const Mesh& mesh, const std::vector<Rgb>& patchRadiosity) {
-  LAMBERT_CHECK(patchRadiosity.size() == mesh.numPatches());
-  std::vector<Rgb> weighted(mesh.numVertices());
-  std::vector<double> area(mesh.numVertices(), 0.0);
-  for (std::size_t i = 0; i < mesh.numPatches(); ++i) {
-    const Patch& patch = mesh.patches[i];
-    for (std::uint32_t v : mesh.cornerIndices(i)) {
-      weighted[v] += patchRadiosity[i] * patch.area;
-      area[v] += patch.area;
-    }
-  }
-  for (std::size_t v = 0; v < weighted.size(); ++v) weighted[v] = area[v] > 0 ? weighted[v] / area[v] : Rgb{};
-  return weighted;
-}
 
 namespace {
 
@@ -385,7 +371,17 @@ Image renderRadiance(const Camera& camera, const Mesh& mesh, const std::vector<R
                      const RenderOptions& options) {
   LAMBERT_CHECK(patchRadiosity.size() == mesh.numPatches());
   const bool gouraud = options.shading == Shading::Gouraud;
-  std::vector<Rgb> radiance = gouraud ? vertexRadiosity(mesh, patchRadiosity) : patchRadiosity;
+  std::vector<Rgb> radiance;
+  if (gouraud) {
+    radiance = vertexRadiosity(mesh, patchRadiosity);
+  } else {
+    // What is seen of a partly covered patch is its open part (geometry/coverage.h).
+    radiance.resize(mesh.numPatches());
+    for (std::size_t i = 0; i < mesh.numPatches(); ++i) {
+      double f = mesh.patches[i].openFraction;
+      radiance[i] = f > 0 ? patchRadiosity[i] / f : Rgb{};
+    }
+  }
   for (Rgb& l : radiance) l = l / kPi;
   return render(camera, mesh, radiance, gouraud, options);
 }

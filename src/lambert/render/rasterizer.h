@@ -6,6 +6,7 @@
 
 #include "lambert/core/rgb.h"
 #include "lambert/mesh/mesh.h"
+#include "lambert/render/vertex_radiosity.h"
 #include "lambert/scene/scene.h"
 
 namespace lambert {
@@ -37,10 +38,6 @@ struct RenderOptions {
   int supersample = 2;                   // samples per pixel per axis, box-filtered down
   DirectRadianceFn directRadiance = {};  // empty: radiosity only
 };
-
-// Radiosity B (W/m²) at every mesh vertex: the area-weighted average over the patches that use
-// it. Vertices belong to one surface, so creases stay sharp. Unused vertices get zero.
-std::vector<Rgb> vertexRadiosity(const Mesh& mesh, const std::vector<Rgb>& patchRadiosity);
 
 // Renders every patch of the mesh as seen by the camera, in radiance L = B/π. Back faces are
 // drawn black (they occlude, as the back of a surface is opaque); the background is black.

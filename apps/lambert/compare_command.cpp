@@ -1,0 +1,143 @@
+// `lambert compare`: how far a radiosity solution is from the path-traced truth of the same scene:
+// per-vertex and per-image RMSE and largest errors, and the solution's energy balance. Either side
+// may come from a vertex file written by `solve` / `reference --export-vertices`.
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "commands.h"
+#include "lambert/core/timer.h"
+#include "lambert/io/png.h"
+#include "lambert/io/vertices.h"
+#include "lambert/pipeline/compare.h"
+#include "lambert/render/tonemap.h"
+#include "options.h"
+
+namespace lambert::cli {
+namespace {
+
+struct CompareCommandOptions {
+  SolveCommandOptions solve;
+  ImageCommandOptions image;
+  ReferenceOptions reference;
+  double rimDistance = -1;  // scene units; negative: 5% of the scene's diagonal
+  std::string radiosityVertices, referenceVertices;
+  std::string radiosityImage, referenceImage;
+  bool noImage = false;
+};
+
+Result<std::vector<VertexSample>> load(const std::string& path) { return readVertices(path); }
+
+void addError(Stats& stats, const std::string& prefix, const std::string& what, const RadianceError& e) {
+  stats.add(prefix + "_compared", what + " values compared", static_cast<std::int64_t>(e.count));
+  stats.add(prefix + "_mean_reference", what + " mean reference radiance", e.meanReference, "W/(m2 sr)");
+  stats.add(prefix + "_rmse", what + " RMSE", e.rmse, "W/(m2 sr)");
+  stats.add(prefix + "_relative_rmse", what + " relative RMSE", e.relativeRmse);
+  stats.add(prefix + "_max_abs", what + " max error", e.maxAbsolute, "W/(m2 sr)");
+  stats.add(prefix + "_max_rel", what + " max relative error", e.maxRelative);
+}
+
+int runCompare(const CompareCommandOptions& o) {
+  Timer total;
+  std::optional<Scene> scene = findScene("compare", o.solve.scene);
+  if (!scene) return 2;
+  Stats stats;
+
+  // The radiosity side: a vertex file, or a solve.
+  std::vector<VertexSample> radiosity;
+  std::optional<RadiositySolution> solution;
+  Timer radiosityTimer;
+  if (!o.radiosityVertices.empty()) {
+    auto loaded = load(o.radiosityVertices);
+    if (!loaded) {
+      std::fprintf(stderr, "lambert compare: %s\n", loaded.error().message.c_str());
+      return 2;
+    }
+    radiosity = std::move(*loaded);
+  } else {
+    solution = solveScene(*scene, pipelineOptions(o.solve));
+    stats = solution->stats;
+    std::vector<Rgb> radiance = vertexRadiosity(solution->mesh, solution->radiosity);
+    for (Rgb& l : radiance) l = l / kPi;
+    radiosity = vertexSamples(solution->mesh, radiance);
+  }
+  stats.add("radiosity_seconds", "radiosity time", radiosityTimer.seconds(), "s");
+
+  // The reference side: a vertex file, or the path tracer at the same vertices.
+  ReferenceOptions referenceOptions = o.reference;
+  referenceOptions.seed = o.solve.seed;
+  referenceOptions.showProgress = !o.solve.quiet && !o.solve.json;
+  std::unique_ptr<ReferenceRenderer> renderer;
+  auto tracer = [&]() -> ReferenceRenderer& {
+    if (!renderer)
+      renderer = std::make_unique<ReferenceRenderer>(*scene, subdivideScene(*scene, 2 * sceneDiagonal(*scene)), referenceOptions);
+    return *renderer;
+  };
+  std::vector<VertexSample> reference;
+  Timer referenceTimer;
+  if (!o.referenceVertices.empty()) {
+    auto loaded = load(o.referenceVertices);
+    if (!loaded) {
+      std::fprintf(stderr, "lambert compare: %s\n", loaded.error().message.c_str());
+      return 2;
+    }
+    reference = std::move(*loaded);
+  } else {
+    Mesh mesh = solution ? solution->mesh : meshFor(*scene, o.solve);
+    reference = vertexSamples(mesh, tracer().vertexRadiance(mesh));
+  }
+  stats.add("reference_seconds", "reference time", referenceTimer.seconds(), "s");
+
+  Result<VertexComparison> vertices = compareVertices(*scene, radiosity, reference, o.rimDistance);
+  if (!vertices) {
+    std::fprintf(stderr, "lambert compare: %s\n", vertices.error().message.c_str());
+    return 2;
+  }
+  stats.add("near_emitter_vertices", "vertices near emitters (left out)", static_cast<std::int64_t>(vertices->nearEmitters));
+  stats.add("covered_vertices", "vertices inside geometry (left out)", static_cast<std::int64_t>(vertices->covered));
+  addError(stats, "vertex", "vertex", vertices->error);
+  addError(stats, "vertex_all", "vertex (all)", vertices->everywhere);
+
+  if (!o.noImage && solution) {
+    Image mine = renderImage(*scene, scene->lights, solution->mesh, *solution->caster, solution->radiosity,
+                             solution->indirectRadiosity(), solution->problem.albedo, o.image);
+    Image truth = tracer().render(o.image.width, o.image.height);
+    addError(stats, "image", "image", radianceError(mine.pixels, truth.pixels));
+    for (auto [path, image] : {std::pair{o.radiosityImage, &mine}, std::pair{o.referenceImage, &truth}}) {
+      if (path.empty()) continue;
+      Status written = writePng(path, image->width, image->height, toSrgb8(*image, o.image.exposure));
+      if (!written) {
+        std::fprintf(stderr, "lambert compare: %s\n", written.error().message.c_str());
+        return 1;
+      }
+    }
+  }
+  stats.add("total_seconds", "total time", total.seconds(), "s");
+  if (o.solve.json)
+    std::printf("%s\n", stats.json().dump(2).c_str());
+  else if (!o.solve.quiet)
+    std::printf("%s", stats.table().c_str());
+  return 0;
+}
+
+}  // namespace
+
+std::function<int()> addCompareCommand(CLI::App& app) {
+  auto options = std::make_shared<CompareCommandOptions>();
+  options->reference.samplesPerPixel = 64;
+  options->reference.vertexSamples = 1024;
+  CLI::App* cmd = app.add_subcommand("compare", "Measure a radiosity solution against the path-traced reference");
+  addSolveOptions(*cmd, options->solve);
+  addImageOptions(*cmd, options->image);
+  addReferenceOptions(*cmd, options->reference);
+  cmd->add_option("--rim-distance", options->rimDistance,
+                  "Leave out vertices this close to an emitter, scene units (default 5% of the scene's diagonal)");
+  cmd->add_option("--radiosity-vertices", options->radiosityVertices, "Take the radiosity side from this vertex file (from `solve`)");
+  cmd->add_option("--reference-vertices", options->referenceVertices, "Take the reference side from this vertex file (from `reference`)");
+  cmd->add_option("--radiosity-image", options->radiosityImage, "Also write the radiosity image compared (PNG)");
+  cmd->add_option("--reference-image", options->referenceImage, "Also write the reference image compared (PNG)");
+  cmd->add_flag("--no-image", options->noImage, "Compare vertices only");
+  return [options] { return runCompare(*options); };
+}
+
+}  // namespace lambert::cli

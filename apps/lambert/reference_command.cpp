@@ -1,0 +1,109 @@
+// `lambert reference`: the ground truth. An unbiased path tracer of the same diffuse scene renders
+// the camera's image and the outgoing radiance at every vertex of the radiosity mesh the same
+// options would build, for `lambert compare` and for other tools.
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "commands.h"
+#include "lambert/core/timer.h"
+#include "lambert/io/png.h"
+#include "lambert/io/vertices.h"
+#include "lambert/reference/reference.h"
+#include "lambert/render/tonemap.h"
+#include "options.h"
+
+namespace lambert::cli {
+namespace {
+
+struct ReferenceCommandOptions {
+  MeshCommandOptions mesh;
+  ReferenceOptions reference;
+  int width = 512, height = 512;
+  double exposure = 0;
+  std::string output;          // image; none unless asked for
+  std::string exportVertices;  // vertex radiance; none unless asked for
+  bool json = false, quiet = false;
+};
+
+int runReference(const ReferenceCommandOptions& o) {
+  Timer total;
+  std::optional<Scene> scene = findScene("reference", o.mesh.scene);
+  if (!scene) return 2;
+  if (o.output.empty() && o.exportVertices.empty()) {
+    std::fprintf(stderr, "lambert reference: nothing to do: give -o IMAGE.png and/or --export-vertices FILE\n");
+    return 2;
+  }
+  ReferenceOptions options = o.reference;
+  options.seed = o.mesh.seed;
+  options.showProgress = !o.quiet && !o.json;
+  // The tracer's own geometry: each surface as a triangle fan, the smallest exact description.
+  Mesh geometry = subdivideScene(*scene, sceneDiagonal(*scene) * 2);
+  ReferenceRenderer renderer(*scene, geometry, options);
+
+  Stats stats;
+  stats.add("scene", "scene", scene->name);
+  if (!o.exportVertices.empty()) {
+    Timer timer;
+    Mesh mesh = meshFor(*scene, o.mesh);
+    std::vector<Rgb> radiance = renderer.vertexRadiance(mesh);
+    Status written = writeVertices(o.exportVertices, vertexSamples(mesh, radiance));
+    if (!written) {
+      std::fprintf(stderr, "lambert reference: %s\n", written.error().message.c_str());
+      return 1;
+    }
+    stats.add("vertices", "mesh vertices", static_cast<std::int64_t>(mesh.numVertices()));
+    stats.add("vertex_samples", "samples per vertex", static_cast<std::int64_t>(options.vertexSamples));
+    stats.add("vertex_seconds", "vertex time", timer.seconds(), "s");
+    stats.add("vertices_file", "vertices written to", o.exportVertices);
+  }
+  if (!o.output.empty()) {
+    Timer timer;
+    Image image = renderer.render(o.width, o.height);
+    Status written = writePng(o.output, image.width, image.height, toSrgb8(image, o.exposure));
+    if (!written) {
+      std::fprintf(stderr, "lambert reference: %s\n", written.error().message.c_str());
+      return 1;
+    }
+    stats.add("samples_per_pixel", "samples per pixel", static_cast<std::int64_t>(options.samplesPerPixel));
+    stats.add("image_seconds", "image time", timer.seconds(), "s");
+    stats.add("output", "image written to", o.output);
+  }
+  stats.add("rays", "rays", static_cast<std::int64_t>(renderer.raysCast()));
+  stats.add("total_seconds", "total time", total.seconds(), "s");
+  if (o.json)
+    std::printf("%s\n", stats.json().dump(2).c_str());
+  else if (!o.quiet)
+    std::printf("%s", stats.table().c_str());
+  return 0;
+}
+
+}  // namespace
+
+void addReferenceOptions(CLI::App& cmd, ReferenceOptions& o) {
+  cmd.add_option("--spp", o.samplesPerPixel, "Reference: samples per pixel")->check(CLI::Range(1, 1 << 20))->capture_default_str();
+  cmd.add_option("--vertex-samples", o.vertexSamples, "Reference: hemisphere samples per vertex")
+      ->check(CLI::Range(1, 1 << 24))
+      ->capture_default_str();
+  cmd.add_option("--max-bounces", o.maxBounces, "Reference: cap on reflections per path (its only bias)")
+      ->check(CLI::Range(1, 100000))
+      ->capture_default_str();
+}
+
+std::function<int()> addReferenceCommand(CLI::App& app) {
+  auto options = std::make_shared<ReferenceCommandOptions>();
+  CLI::App* cmd = app.add_subcommand("reference", "Path-trace the ground truth: an image and/or per-vertex radiance");
+  addMeshOptions(*cmd, options->mesh);
+  addReferenceOptions(*cmd, options->reference);
+  cmd->add_option("--width", options->width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
+  cmd->add_option("--height", options->height, "Image height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
+  cmd->add_option("--exposure", options->exposure, "Exposure in stops")->capture_default_str();
+  cmd->add_option("-o,--output", options->output, "Image to write (PNG)");
+  cmd->add_option("--export-vertices", options->exportVertices,
+                  "Write outgoing radiance at every vertex of the mesh --patches/--max-edge builds (.csv or .ply)");
+  cmd->add_flag("--json", options->json, "Print the stats as JSON");
+  cmd->add_flag("-q,--quiet", options->quiet, "Print nothing on success");
+  return [options] { return runReference(*options); };
+}
+
+}  // namespace lambert::cli

@@ -1,0 +1,25 @@
+#pragma once
+// Radiosity at mesh vertices from radiosity per patch, for Gouraud shading and vertex export.
+// Each patch counts with the radiosity of its open part, B / openFraction, and its open area
+// (geometry/coverage.h), so the dark floor under a block does not darken the floor around it.
+//
+// Interior vertices take the area-weighted average of the patches around them (seed 000's
+// Gouraud averaging), which is second-order accurate there. At a vertex on a surface's border
+// every patch lies on one side, so the average is biased toward the inside: a wall's top edge
+// looks as lit as its patches' centres although no direct light reaches the very corner. There,
+// as Cohen & Wallace recommend (Radiosity and Realistic Image Synthesis, §9.2), the value is
+// extrapolated: a linear function of position is fitted by area-weighted least squares to the
+// centroids of the patches within two rings of the vertex and evaluated at it, limited to the
+// range those patches span widened by that range on each side (and never below zero), so a
+// sharp shadow cannot throw it far off. Vertices are never shared across surfaces, so nothing is
+// ever mixed across a crease.
+#include <vector>
+
+#include "lambert/core/rgb.h"
+#include "lambert/mesh/mesh.h"
+
+namespace lambert {
+
+std::vector<Rgb> vertexRadiosity(const Mesh& mesh, const std::vector<Rgb>& patchRadiosity);
+
+}  // namespace lambert
