@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "lambert/io/png.h"
+#include "lambert/io/vertices.h"
 #include "lambert/render/camera.h"
 #include "lambert/scene/builtin.h"
 
@@ -28,7 +29,8 @@ struct CommandResult {
 CommandResult run(const std::string& arguments) {
   // Tests never touch the user's cache: every run that does not choose one gets no cache.
   const bool choosesCache = arguments.find("--cache-dir") != std::string::npos || arguments.find("--no-cache") != std::string::npos;
-  const bool solves = arguments.rfind("render", 0) == 0 || arguments.rfind("animate", 0) == 0;
+  const bool solves = arguments.rfind("render", 0) == 0 || arguments.rfind("animate", 0) == 0 ||
+                      arguments.rfind("solve", 0) == 0 || arguments.rfind("compare", 0) == 0;
   std::string command = std::string(LAMBERT_CLI_PATH) + " " + arguments + (solves && !choosesCache ? " --no-cache" : "") + " 2>&1";
   CommandResult result;
   FILE* pipe = popen(command.c_str(), "r");
@@ -283,12 +285,58 @@ TEST(CliTest, NormalisedRowsKeepLightInAndAddEnergy) {
   EXPECT_GT(stats["absorbed_watts"].get<double>(), 1.01 * stats["emitted_watts"].get<double>());
 }
 
+TEST(CliTest, SolveReferenceAndCompareMeasureTheSameVertices) {
+  fs::path dir = outputDir("compare");
+  const std::string radiosity = (dir / "radiosity.csv").string(), reference = (dir / "reference.ply").string();
+  CommandResult solved = run("solve --patches 192 --json --export-vertices " + radiosity);
+  ASSERT_EQ(solved.exitCode, 0) << solved.output;
+  CommandResult traced = run("reference --patches 192 --vertex-samples 256 --spp 4 --width 40 --height 30 --json -o " +
+                             (dir / "reference.png").string() + " --export-vertices " + reference);
+  ASSERT_EQ(traced.exitCode, 0) << traced.output;
+  Result<PngImage> image = readPng((dir / "reference.png").string());
+  ASSERT_TRUE(image.ok());
+  EXPECT_EQ(image->width, 40);
+  ASSERT_EQ(readVertices(radiosity)->size(), readVertices(reference)->size());
+
+  CommandResult fromFiles = run("compare --patches 192 --json --radiosity-vertices " + radiosity + " --reference-vertices " + reference);
+  ASSERT_EQ(fromFiles.exitCode, 0) << fromFiles.output;
+  nlohmann::json stats = nlohmann::json::parse(fromFiles.output);
+  EXPECT_GT(stats["vertex_compared"].get<int>(), 300);
+  EXPECT_GT(stats["covered_vertices"].get<int>(), 0);
+  EXPECT_GT(stats["near_emitter_vertices"].get<int>(), 0);
+  double error = stats["vertex_relative_rmse"].get<double>();
+  EXPECT_GT(error, 0.01);  // 192 patches are coarse …
+  EXPECT_LT(error, 1.0);   // … but the same scene
+
+  // Solved and traced in one go, with images.
+  CommandResult direct = run("compare --patches 192 --vertex-samples 256 --spp 4 --width 32 --height 24 --json --reference-image " +
+                             (dir / "truth.png").string());
+  ASSERT_EQ(direct.exitCode, 0) << direct.output;
+  nlohmann::json both = nlohmann::json::parse(direct.output);
+  EXPECT_GT(both["image_compared"].get<int>(), 0);
+  EXPECT_TRUE(both.contains("absorbed_watts"));
+  EXPECT_TRUE(fs::exists(dir / "truth.png"));
+
+  // Vertex files of different meshes are refused, naming the problem.
+  CommandResult mismatch = run("compare --patches 192 --radiosity-vertices " + radiosity + " --reference-vertices " + reference +
+                               " --rim-distance 10");
+  EXPECT_EQ(mismatch.exitCode, 0);
+  run("solve --patches 464 --export-vertices " + (dir / "other.csv").string());
+  CommandResult refused = run("compare --patches 192 --radiosity-vertices " + (dir / "other.csv").string() +
+                              " --reference-vertices " + reference);
+  EXPECT_NE(refused.exitCode, 0);
+  EXPECT_NE(refused.output.find("vertices"), std::string::npos) << refused.output;
+  CommandResult nothing = run("reference --patches 192");
+  EXPECT_NE(nothing.exitCode, 0);
+  EXPECT_NE(nothing.output.find("nothing to do"), std::string::npos) << nothing.output;
+}
+
 TEST(CliTest, HelpListsTheOptions) {
   CommandResult help = run("render --help");
   EXPECT_EQ(help.exitCode, 0);
   for (const char* option : {"--patches", "--formfactor", "--solver", "--width", "--json", "--shading", "--lighting",
                              "--cache-dir", "--no-cache", "--light-samples", "--adaptive", "--max-level",
-                             "--normalize-rows"})
+                             "--normalize-rows", "--hemicube-resolution", "--hemisphere-rays"})
     EXPECT_NE(help.output.find(option), std::string::npos) << option;
   CommandResult animate = run("animate --help");
   EXPECT_EQ(animate.exitCode, 0);

@@ -31,6 +31,7 @@ Result<std::vector<VertexSample>> load(const std::string& path) { return readVer
 void addError(Stats& stats, const std::string& prefix, const std::string& what, const RadianceError& e) {
   stats.add(prefix + "_compared", what + " values compared", static_cast<std::int64_t>(e.count));
   stats.add(prefix + "_mean_reference", what + " mean reference radiance", e.meanReference, "W/(m2 sr)");
+  stats.add(prefix + "_bias", what + " bias (mean / reference mean - 1)", e.meanReference > 0 ? e.meanValue / e.meanReference - 1 : 0.0);
   stats.add(prefix + "_rmse", what + " RMSE", e.rmse, "W/(m2 sr)");
   stats.add(prefix + "_relative_rmse", what + " relative RMSE", e.relativeRmse);
   stats.add(prefix + "_max_abs", what + " max error", e.maxAbsolute, "W/(m2 sr)");
@@ -126,6 +127,8 @@ std::function<int()> addCompareCommand(CLI::App& app) {
   auto options = std::make_shared<CompareCommandOptions>();
   options->reference.samplesPerPixel = 64;
   options->reference.vertexSamples = 1024;
+  // The path tracer box-filters 64 samples a pixel; match it, so edge pixels compare like with like.
+  options->image.supersample = 8;
   CLI::App* cmd = app.add_subcommand("compare", "Measure a radiosity solution against the path-traced reference");
   addSolveOptions(*cmd, options->solve);
   addImageOptions(*cmd, options->image);

@@ -35,7 +35,7 @@ RadianceError radianceError(std::span<const Rgb> value, std::span<const Rgb> ref
   LAMBERT_CHECK(value.size() == reference.size());
   LAMBERT_CHECK(include.empty() || include.size() == value.size());
   RadianceError e;
-  double largest = 0, sumSquares = 0, sum = 0;
+  double largest = 0, sumSquares = 0, sum = 0, sumValue = 0;
   for (std::size_t i = 0; i < value.size(); ++i)
     if (include.empty() || include[i]) largest = std::fmax(largest, reference[i].maxComponent());
   for (std::size_t i = 0; i < value.size(); ++i) {
@@ -43,6 +43,7 @@ RadianceError radianceError(std::span<const Rgb> value, std::span<const Rgb> ref
     for (int c = 0; c < 3; ++c) {
       double r = reference[i][c], d = std::fabs(value[i][c] - r);
       sum += r;
+      sumValue += value[i][c];
       sumSquares += d * d;
       e.maxAbsolute = std::fmax(e.maxAbsolute, d);
       if (r >= 0.01 * largest && r > 0) e.maxRelative = std::fmax(e.maxRelative, d / r);
@@ -51,6 +52,7 @@ RadianceError radianceError(std::span<const Rgb> value, std::span<const Rgb> ref
   }
   if (e.count == 0) return e;
   e.meanReference = sum / e.count;
+  e.meanValue = sumValue / e.count;
   e.rmse = std::sqrt(sumSquares / e.count);
   e.relativeRmse = e.meanReference > 0 ? e.rmse / e.meanReference : 0;
   return e;

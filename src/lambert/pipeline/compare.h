@@ -15,6 +15,7 @@ namespace lambert {
 struct RadianceError {
   std::size_t count = 0;           // values compared (× 3 channels)
   double meanReference = 0;        // W/(m²·sr)
+  double meanValue = 0;            // W/(m²·sr); meanValue / meanReference − 1 is the overall bias
   double rmse = 0;                 // W/(m²·sr)
   double relativeRmse = 0;         // rmse / meanReference
   double maxAbsolute = 0;          // W/(m²·sr)

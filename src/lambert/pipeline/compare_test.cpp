@@ -14,6 +14,7 @@ TEST(CompareTest, ErrorsOfAKnownDifference) {
   RadianceError all = radianceError(value, reference);
   EXPECT_EQ(all.count, 12u);
   EXPECT_NEAR(all.meanReference, 1.5, 1e-12);
+  EXPECT_NEAR(all.meanValue, (3 * 1.1 + 3 * 2 + 3 * 3 + 3 * 0.01) / 12, 1e-12);
   EXPECT_NEAR(all.rmse, std::sqrt((3 * 0.01 + 3 * 0.0001) / 12), 1e-12);
   EXPECT_NEAR(all.maxAbsolute, 0.1, 1e-12);
   EXPECT_NEAR(all.maxRelative, 0.1, 1e-12);  // the black element is too dark to divide by
