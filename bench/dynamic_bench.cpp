@@ -45,7 +45,11 @@
 using namespace lambert;
 using Json = nlohmann::ordered_json;
 
+#include "bench_common.h"
+
 namespace {
+
+using namespace lambert::bench;
 
 constexpr double kTargetUpdatesPerSecond = 60;
 constexpr double kTargetRelativeError = 0.01;
@@ -141,63 +145,11 @@ Options parseOptions(int argc, char** argv) {
   return options;
 }
 
-std::string cpuModel() {
-  std::ifstream cpuinfo("/proc/cpuinfo");
-  std::string line;
-  while (std::getline(cpuinfo, line)) {
-    if (line.rfind("model name", 0) == 0) {
-      auto colon = line.find(':');
-      if (colon == std::string::npos) break;
-      std::string model = line.substr(colon + 1);
-      model.erase(0, model.find_first_not_of(" \t"));
-      return model;
-    }
-  }
-  return "unknown CPU";
-}
 
-std::string utcNow() {
-  std::time_t now = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&now, &tm);
-  char buffer[32];
-  std::strftime(buffer, sizeof buffer, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buffer;
-}
 
-std::string buildDescription() {
-#ifdef NDEBUG
-  std::string type = "Release";
-#else
-  std::string type = "Debug";
-#endif
-#if defined(__clang__)
-  return type + ", " + __VERSION__;
-#elif defined(__GNUC__)
-  return type + ", GCC " + __VERSION__;
-#else
-  return type + ", " + __VERSION__;
-#endif
-}
 
-std::string loadAverage() {
-  std::ifstream in("/proc/loadavg");
-  std::string one, five, fifteen;
-  in >> one >> five >> fifteen;
-  return one.empty() ? "unknown" : one + " " + five + " " + fifteen;
-}
 
-double processCpuSeconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
 
-double roundDigits(double value, int decimals) {
-  double scale = std::pow(10.0, decimals);
-  return std::round(value * scale) / scale;
-}
-double seconds(double s) { return roundDigits(s, 6); }
 // Relative errors to three significant digits.
 double significant(double value) {
   if (value == 0 || !std::isfinite(value)) return value;

@@ -15,6 +15,7 @@
 #include "lambert/io/vertices.h"
 #include "lambert/render/camera.h"
 #include "lambert/scene/builtin.h"
+#include "tests/support/files.h"
 
 namespace lambert {
 namespace {
@@ -42,12 +43,7 @@ CommandResult run(const std::string& arguments) {
   return result;
 }
 
-fs::path outputDir(const std::string& name) {
-  fs::path dir = fs::path(LAMBERT_TEST_OUTPUT_DIR) / "cli" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path outputDir(const std::string& name) { return testing::scratchDirectory("cli", name); }
 
 std::vector<char> fileBytes(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);

@@ -153,11 +153,7 @@ int runAnimate(const AnimateCommandOptions& o) {
   stats.add("total_seconds", "total time", total.seconds(), "s");
   stats.add("output", "output", directory.string());
   stats.add("video", "video", video.empty() ? std::string("none (ffmpeg not installed)") : video);
-  if (o.solve.json) {
-    std::printf("%s\n", stats.json().dump(2).c_str());
-  } else if (!o.solve.quiet) {
-    std::printf("wrote %d frames to %s\n%s", o.frames, directory.string().c_str(), stats.table().c_str());
-  }
+  printStats(stats, o.solve.json, o.solve.quiet, "wrote " + std::to_string(o.frames) + " frames to " + directory.string());
   return 0;
 }
 

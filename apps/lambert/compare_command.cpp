@@ -114,10 +114,7 @@ int runCompare(const CompareCommandOptions& o) {
     }
   }
   stats.add("total_seconds", "total time", total.seconds(), "s");
-  if (o.solve.json)
-    std::printf("%s\n", stats.json().dump(2).c_str());
-  else if (!o.solve.quiet)
-    std::printf("%s", stats.table().c_str());
+  printStats(stats, o.solve.json, o.solve.quiet);
   return 0;
 }
 

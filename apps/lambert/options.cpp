@@ -92,6 +92,13 @@ void addImageOptions(CLI::App& cmd, ImageCommandOptions& o) {
   cmd.add_option("--exposure", o.exposure, "Exposure in stops (radiance × 2^stops before sRGB)")->capture_default_str();
 }
 
+void printStats(const Stats& stats, bool json, bool quiet, const std::string& headline) {
+  if (json)
+    std::printf("%s\n", stats.json().dump(2).c_str());
+  else if (!quiet)
+    std::printf("%s%s", headline.empty() ? "" : (headline + "\n").c_str(), stats.table().c_str());
+}
+
 std::optional<Scene> findScene(const std::string& command, const std::string& name) {
   std::optional<Scene> scene = builtinScene(name);
   if (!scene) {

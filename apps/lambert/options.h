@@ -68,6 +68,10 @@ AdaptiveOptions adaptiveOptions(const Scene& scene, const SolveCommandOptions& o
 void saveAdaptiveTable(AdaptiveRadiosity& adaptive, Stats& stats);
 void addImageOptions(CLI::App& command, ImageCommandOptions& options);
 
+// Prints a command's figures: JSON with --json, else the headline (if any) and a table, unless
+// --quiet.
+void printStats(const Stats& stats, bool json, bool quiet, const std::string& headline = "");
+
 // The named built-in scene, or a message on stderr naming the choices.
 std::optional<Scene> findScene(const std::string& command, const std::string& name);
 PipelineOptions pipelineOptions(const SolveCommandOptions& options);

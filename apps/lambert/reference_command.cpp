@@ -71,10 +71,7 @@ int runReference(const ReferenceCommandOptions& o) {
   }
   stats.add("rays", "rays", static_cast<std::int64_t>(renderer.raysCast()));
   stats.add("total_seconds", "total time", total.seconds(), "s");
-  if (o.json)
-    std::printf("%s\n", stats.json().dump(2).c_str());
-  else if (!o.quiet)
-    std::printf("%s", stats.table().c_str());
+  printStats(stats, o.json, o.quiet);
   return 0;
 }
 

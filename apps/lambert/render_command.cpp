@@ -98,11 +98,7 @@ int runRender(const RenderCommandOptions& o) {
   stats.add("render_seconds", "render time", renderSeconds, "s");
   stats.add("total_seconds", "total time", total.seconds(), "s");
   stats.add("output", "output", o.output);
-  if (o.solve.json) {
-    std::printf("%s\n", stats.json().dump(2).c_str());
-  } else if (!o.solve.quiet) {
-    std::printf("wrote %s\n%s", o.output.c_str(), stats.table().c_str());
-  }
+  printStats(stats, o.solve.json, o.solve.quiet, "wrote " + o.output);
   return 0;
 }
 

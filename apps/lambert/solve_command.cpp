@@ -39,10 +39,7 @@ int runSolve(const SolveOnlyOptions& o) {
     solution.stats.add("vertices_file", "vertices written to", o.exportVertices);
   }
   solution.stats.add("total_seconds", "total time", total.seconds(), "s");
-  if (o.solve.json)
-    std::printf("%s\n", solution.stats.json().dump(2).c_str());
-  else if (!o.solve.quiet)
-    std::printf("%s", solution.stats.table().c_str());
+  printStats(solution.stats, o.solve.json, o.solve.quiet);
   return 0;
 }
 

@@ -12,20 +12,23 @@
 namespace lambert {
 namespace {
 
-// Writes all of bytes to a new file; an empty string on success, else what failed.
-std::string writeNewFile(const std::string& path, std::span<const std::uint8_t> bytes) {
+// Writes all the parts to a new file (O_EXCL: never into one another writer has open); an empty
+// string on success, else what failed.
+std::string writeNewFile(const std::string& path, std::initializer_list<std::span<const std::uint8_t>> parts) {
   int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
   if (fd < 0) return "cannot create " + path + ": " + std::strerror(errno);
-  std::size_t written = 0;
-  while (written < bytes.size()) {
-    ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      std::string why = n < 0 ? std::strerror(errno) : "nothing written";
-      ::close(fd);
-      return "cannot write " + path + ": " + why;
+  for (std::span<const std::uint8_t> bytes : parts) {
+    std::size_t written = 0;
+    while (written < bytes.size()) {
+      ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) {
+        std::string why = n < 0 ? std::strerror(errno) : "nothing written";
+        ::close(fd);
+        return "cannot write " + path + ": " + why;
+      }
+      written += static_cast<std::size_t>(n);
     }
-    written += static_cast<std::size_t>(n);
   }
   // close is where some file systems (NFS) report a failed write.
   if (::close(fd) != 0) return "cannot write " + path + ": " + std::strerror(errno);
@@ -35,6 +38,10 @@ std::string writeNewFile(const std::string& path, std::span<const std::uint8_t> 
 }  // namespace
 
 Status writeFileAtomically(const std::string& path, std::span<const std::uint8_t> bytes) {
+  return writeFileAtomically(path, {bytes});
+}
+
+Status writeFileAtomically(const std::string& path, std::initializer_list<std::span<const std::uint8_t>> parts) {
   namespace fs = std::filesystem;
   if (path.empty()) return Error{"cannot write a file with an empty path"};
   std::error_code ec;
@@ -46,7 +53,9 @@ Status writeFileAtomically(const std::string& path, std::span<const std::uint8_t
   // Unique per process and call, so concurrent writers of one path never share a temporary.
   static std::atomic<std::uint64_t> counter{0};
   const std::string temp = path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
-  if (std::string why = writeNewFile(temp, bytes); !why.empty()) {
+  // No fsync: callers whose files matter check them when reading (sizes, checksums); a torn file
+  // after a crash is then rejected rather than trusted.
+  if (std::string why = writeNewFile(temp, parts); !why.empty()) {
     fs::remove(temp, ec);
     return Error{path + ": " + why};
   }

@@ -38,4 +38,14 @@ inline Vec3 componentMax(const Vec3& a, const Vec3& b) {
   return {std::fmax(a.x, b.x), std::fmax(a.y, b.y), std::fmax(a.z, b.z)};
 }
 
+// Unit tangents t, b with (t, b, n) right-handed and orthonormal, for a unit normal n, without
+// branches or a near-singular case (Duff et al., "Building an Orthonormal Basis, Revisited", 2017).
+inline void orthonormalBasis(const Vec3& n, Vec3& t, Vec3& b) {
+  double sign = std::copysign(1.0, n.z);
+  double a = -1 / (sign + n.z);
+  double c = n.x * n.y * a;
+  t = {1 + sign * n.x * n.x * a, sign * c, -sign * n.x};
+  b = {c, sign + n.y * n.y * a, -n.y};
+}
+
 }  // namespace lambert

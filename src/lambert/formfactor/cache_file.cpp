@@ -1,5 +1,7 @@
 #include "lambert/formfactor/cache_file.h"
 
+#include "lambert/core/atomic_file.h"
+
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -34,20 +36,6 @@ long long readFully(int fd, void* data, std::size_t size) {
   return static_cast<long long>(done);
 }
 
-// Writes all of size bytes; an empty string on success, else why not.
-std::string writeFully(int fd, const void* data, std::size_t size) {
-  const auto* p = static_cast<const unsigned char*>(data);
-  std::size_t done = 0;
-  while (done < size) {
-    ssize_t n = ::write(fd, p + done, size - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) return errnoText(errno);
-    if (n == 0) return "nothing written";
-    done += static_cast<std::size_t>(n);
-  }
-  return {};
-}
-
 class FileDescriptor {
  public:
   explicit FileDescriptor(int fd) : fd_(fd) {}
@@ -69,11 +57,6 @@ class FileDescriptor {
   int fd_;
 };
 
-// A name beside path that no other writer (thread or process) uses at the same time.
-std::string temporaryPath(const std::string& path) {
-  static std::atomic<std::uint64_t> counter{0};
-  return path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter.fetch_add(1));
-}
 
 }  // namespace
 
@@ -160,35 +143,8 @@ Status writeFile(const std::string& path, const Format& format, std::uint64_t ke
   unsigned char trailer[kChecksumBytes];
   storeLe64(trailer, checksum.digest());
 
-  std::error_code ec;
-  fs::path parent = fs::path(path).parent_path();
-  if (!parent.empty()) {
-    fs::create_directories(parent, ec);
-    if (ec) return Error{path + ": cannot create directory " + parent.string() + ": " + ec.message()};
-  }
-
-  const std::string temp = temporaryPath(path);
-  // O_EXCL: never write into a file some other writer has open.
-  FileDescriptor fd(::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666));
-  if (fd.get() < 0) return Error{path + ": cannot create " + temp + ": " + errnoText(errno)};
-  std::string why = writeFully(fd.get(), header, sizeof header);
-  if (why.empty() && !payload.empty()) why = writeFully(fd.get(), payload.data(), payload.size());
-  if (why.empty()) why = writeFully(fd.get(), trailer, sizeof trailer);
-  if (fd.close() != 0 && why.empty()) why = errnoText(errno);
-  // No fsync: a file torn by a crash fails its size or checksum check and is recomputed, which is
-  // cheaper than syncing every write.
-  if (!why.empty()) {
-    std::error_code ignored;
-    fs::remove(temp, ignored);
-    return Error{path + ": cannot write " + temp + ": " + why};
-  }
-  fs::rename(temp, path, ec);
-  if (ec) {
-    std::error_code ignored;
-    fs::remove(temp, ignored);
-    return Error{path + ": cannot rename " + temp + " over it: " + ec.message()};
-  }
-  return Ok{};
+  return writeFileAtomically(path, {std::span<const std::uint8_t>(header, sizeof header), payload,
+                                    std::span<const std::uint8_t>(trailer, sizeof trailer)});
 }
 
 Reader::Reader(Reader&& other) noexcept

@@ -18,36 +18,20 @@
 #include "lambert/mesh/mesh.h"
 #include "lambert/scene/builtin.h"
 
+#include "tests/support/files.h"
+
 namespace lambert {
 namespace {
 
 namespace fs = std::filesystem;
 
-#ifndef LAMBERT_TEST_OUTPUT_DIR
-#define LAMBERT_TEST_OUTPUT_DIR "/tmp/lambert-test-output"
-#endif
-
 constexpr std::size_t kHeaderBytes = 32;
 constexpr std::size_t kChecksumBytes = 8;
 
-// A fresh, empty directory for one test.
-fs::path scratch(const std::string& name) {
-  fs::path dir = fs::path(LAMBERT_TEST_OUTPUT_DIR) / "formfactor-cache" / (name + "-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path scratch(const std::string& name) { return testing::scratchDirectory("formfactor-cache", name); }
 
-std::vector<char> readBytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-void writeBytes(const fs::path& path, const std::vector<char>& bytes) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  ASSERT_TRUE(out.good()) << path;
-}
+using testing::readBytes;
+using testing::writeBytes;
 
 void storeLe(std::vector<char>& bytes, std::size_t offset, std::uint64_t value, int size) {
   for (int k = 0; k < size; ++k) bytes[offset + k] = static_cast<char>(value >> (8 * k));

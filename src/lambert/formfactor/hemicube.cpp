@@ -12,15 +12,6 @@
 namespace lambert {
 namespace {
 
-// An orthonormal frame (t, b, n) around a unit normal (Duff et al. 2017).
-void frame(const Vec3& n, Vec3& t, Vec3& b) {
-  double sign = std::copysign(1.0, n.z);
-  double a = -1 / (sign + n.z);
-  double c = n.x * n.y * a;
-  t = {1 + sign * n.x * n.x * a, sign * c, -sign * n.x};
-  b = {c, sign + n.y * n.y * a, -n.y};
-}
-
 // A face of the hemi-cube as a camera: looking along `forward`, image axes `right` and `up`,
 // the face plane at distance 1. Pixels span [-1, 1] along right and [vMin, 1] along up.
 struct Face {
@@ -65,7 +56,7 @@ void Hemicube::row(const Mesh& mesh, std::size_t i, Scratch& scratch, float* row
   std::fill(row, row + n, 0.0f);
   const Patch& patch = mesh.patches[i];
   Vec3 t, b;
-  frame(patch.normal, t, b);
+  orthonormalBasis(patch.normal, t, b);
   // Lift the eye off the patch so its own plane's neighbours do not z-fight with it.
   const double lift = 1e-6 * std::sqrt(patch.area);
   const Vec3 eye = patch.centroid + patch.normal * lift;
@@ -149,7 +140,7 @@ void hemisphereRow(const Mesh& mesh, const RayCaster& caster, std::size_t i, int
   const Patch& patch = mesh.patches[i];
   const PatchCorners corners = mesh.corners(i);
   Vec3 t, b;
-  frame(patch.normal, t, b);
+  orthonormalBasis(patch.normal, t, b);
   const double epsilon = rayEpsilon(mesh);
   Pcg32 rng(seed, i);
   const std::uint32_t su = rng.nextUint(), sv = rng.nextUint(), du = rng.nextUint(), dv = rng.nextUint(),

@@ -24,35 +24,19 @@
 #include "lambert/pipeline/adaptive.h"
 #include "tests/support/scenes.h"
 
+#include "tests/support/files.h"
+
 namespace lambert {
 namespace {
 
 namespace fs = std::filesystem;
 
-#ifndef LAMBERT_TEST_OUTPUT_DIR
-#define LAMBERT_TEST_OUTPUT_DIR "/tmp/lambert-test-output"
-#endif
-
 constexpr std::size_t kHeaderBytes = 32, kEntryBytes = 20, kChecksumBytes = 8;
 
-// A fresh, empty directory for one test.
-fs::path scratch(const std::string& name) {
-  fs::path dir = fs::path(LAMBERT_TEST_OUTPUT_DIR) / "formfactor-table" / (name + "-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path scratch(const std::string& name) { return testing::scratchDirectory("formfactor-table", name); }
 
-std::vector<char> readBytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-void writeBytes(const fs::path& path, const std::vector<char>& bytes) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  ASSERT_TRUE(out.good()) << path;
-}
+using testing::readBytes;
+using testing::writeBytes;
 
 std::uint64_t loadLe64(const std::vector<char>& bytes, std::size_t offset) {
   std::uint64_t v = 0;

@@ -7,22 +7,14 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/files.h"
+
 namespace lambert {
 namespace {
 
 namespace fs = std::filesystem;
 
-#ifndef LAMBERT_TEST_OUTPUT_DIR
-#define LAMBERT_TEST_OUTPUT_DIR "/tmp/lambert-test-output"
-#endif
-
-// A fresh, empty directory for one test.
-fs::path scratch(const std::string& name) {
-  fs::path dir = fs::path(LAMBERT_TEST_OUTPUT_DIR) / "png" / (name + "-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path scratch(const std::string& name) { return testing::scratchDirectory("png", name); }
 
 std::vector<std::uint8_t> pattern(int width, int height, int seed) {
   std::vector<std::uint8_t> rgb(static_cast<std::size_t>(width) * height * 3);

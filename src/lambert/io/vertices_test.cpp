@@ -4,6 +4,7 @@
 #include <fstream>
 
 #include "lambert/io/vertices.h"
+#include "tests/support/files.h"
 #include "tests/support/scenes.h"
 
 namespace lambert {
@@ -11,12 +12,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path scratch(const std::string& name) {
-  fs::path dir = fs::path(LAMBERT_TEST_OUTPUT_DIR) / "vertices" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path scratch(const std::string& name) { return testing::scratchDirectory("vertices", name); }
 
 std::vector<VertexSample> someVertices() {
   Mesh mesh = subdivideScene(testing::perpendicularSquares(), 0.5);

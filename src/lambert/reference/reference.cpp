@@ -17,15 +17,6 @@ namespace {
 // Pixel streams start here, so they never coincide with vertex streams (vertex indices).
 constexpr std::uint64_t kPixelStreamBase = std::uint64_t{1} << 40;
 
-// Orthonormal tangents of a unit normal (Duff et al., "Building an Orthonormal Basis, Revisited").
-void tangents(const Vec3& n, Vec3& t, Vec3& b) {
-  double sign = std::copysign(1.0, n.z);
-  double a = -1 / (sign + n.z);
-  double c = n.x * n.y * a;
-  t = {1 + sign * n.x * n.x * a, sign * c, -sign * n.x};
-  b = {c, sign + n.y * n.y * a, -n.y};
-}
-
 // Cosine-weighted unit direction about n (pdf cosθ/π), by Shirley & Chiu's concentric map of the
 // square onto the disc, which keeps the (0,2)-sequence's stratification.
 Vec3 cosineDirection(const Vec3& n, UnitSquarePoint s) {
@@ -43,7 +34,7 @@ Vec3 cosineDirection(const Vec3& n, UnitSquarePoint s) {
   double dx = r * std::cos(phi), dy = r * std::sin(phi);
   double dz = std::sqrt(std::fmax(0.0, 1 - dx * dx - dy * dy));
   Vec3 t, bt;
-  tangents(n, t, bt);
+  orthonormalBasis(n, t, bt);
   return normalize(t * dx + bt * dy + n * dz);
 }
 

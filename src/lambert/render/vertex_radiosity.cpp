@@ -60,10 +60,8 @@ std::vector<Rgb> vertexRadiosity(const Mesh& mesh, const std::vector<Rgb>& radio
     std::sort(ring.begin(), ring.end());
     ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
 
-    const Vec3 normal = mesh.patches[around[v].front()].normal;
-    Vec3 tangent = std::fabs(normal.x) < 0.9 ? cross(normal, {1, 0, 0}) : cross(normal, {0, 1, 0});
-    tangent = normalize(tangent);
-    const Vec3 bitangent = cross(normal, tangent);
+    Vec3 tangent, bitangent;
+    orthonormalBasis(mesh.patches[around[v].front()].normal, tangent, bitangent);
     Eigen::Matrix3d normalMatrix = Eigen::Matrix3d::Zero();
     Eigen::Matrix3d rhs = Eigen::Matrix3d::Zero();  // one column per channel
     Rgb lo = patchRadiosity[ring.front()], hi = lo;

@@ -1,0 +1,75 @@
+#pragma once
+// What every benchmark reports about where and how it ran, so its JSON can be compared with
+// another run's (or explained by the load on a shared machine).
+#include <time.h>
+
+#include <cmath>
+#include <ctime>
+#include <fstream>
+#include <string>
+
+namespace lambert::bench {
+
+inline std::string cpuModel() {
+  std::ifstream cpuinfo("/proc/cpuinfo");
+  std::string line;
+  while (std::getline(cpuinfo, line)) {
+    if (line.rfind("model name", 0) == 0) {
+      auto colon = line.find(':');
+      if (colon == std::string::npos) break;
+      std::string model = line.substr(colon + 1);
+      model.erase(0, model.find_first_not_of(" \t"));
+      return model;
+    }
+  }
+  return "unknown CPU";
+}
+
+inline std::string utcNow() {
+  std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char buffer[32];
+  std::strftime(buffer, sizeof buffer, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buffer;
+}
+
+inline std::string buildDescription() {
+#ifdef NDEBUG
+  std::string type = "Release";
+#else
+  std::string type = "Debug";
+#endif
+#if defined(__clang__)
+  return type + ", " + __VERSION__;
+#elif defined(__GNUC__)
+  return type + ", GCC " + __VERSION__;
+#else
+  return type + ", " + __VERSION__;
+#endif
+}
+
+// Seconds to the microsecond, so the JSON stays readable (x·10^k rounded, then divided, is the
+// double nearest the decimal, which prints short).
+inline double roundDigits(double value, int decimals) {
+  double scale = std::pow(10.0, decimals);
+  return std::round(value * scale) / scale;
+}
+inline double seconds(double s) { return roundDigits(s, 6); }
+
+// CPU time of the whole process, all threads: against wall time it shows how many cores the
+// run actually got (others' compiles share this machine).
+inline double processCpuSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+inline std::string loadAverage() {
+  std::ifstream in("/proc/loadavg");
+  std::string one, five, fifteen;
+  in >> one >> five >> fifteen;
+  return one.empty() ? "unknown" : one + " " + five + " " + fifteen;
+}
+
+}  // namespace lambert::bench
