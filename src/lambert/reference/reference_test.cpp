@@ -3,7 +3,6 @@
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 
@@ -242,28 +241,6 @@ TEST(ReferenceCornell, VertexRadianceIsFiniteAndTheRedWallIsRed) {
       EXPECT_GE(radiance[i].r, 17.0);
     }
   }
-}
-
-// Timings for the report; run with --gtest_also_run_disabled_tests.
-TEST(ReferenceBenchmark, DISABLED_CornellTimings) {
-  using Clock = std::chrono::steady_clock;
-  Scene scene = cornellBox();
-  Mesh mesh = subdivideScene(scene, edgeLengthForPatchCount(scene, 3000));
-  std::printf("cornell mesh: %zu patches, %zu vertices\n", mesh.numPatches(), mesh.numVertices());
-  for (int samples : {256, 1024}) {
-    ReferenceRenderer reference(scene, coarse(scene), quietOptions(samples));
-    auto start = Clock::now();
-    std::vector<Rgb> radiance = reference.vertexRadiance(mesh);
-    double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-    std::printf("vertexRadiance, %d samples: %.2f s, %.3g rays, %.3g rays/s\n", samples, seconds,
-                static_cast<double>(reference.raysCast()), reference.raysCast() / seconds);
-  }
-  ReferenceRenderer reference(scene, coarse(scene), quietOptions(256, 64));
-  auto start = Clock::now();
-  Image image = reference.render(256, 256);
-  double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  std::printf("render 256x256, 64 spp: %.2f s, %.3g rays, %.3g rays/s\n", seconds,
-              static_cast<double>(reference.raysCast()), reference.raysCast() / seconds);
 }
 
 }  // namespace
