@@ -17,7 +17,7 @@ configure: deps
 	@cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS) > /dev/null
 
 build: configure
-	@cmake --build $(BUILD_DIR) -j$(JOBS)
+	@cmake --build $(BUILD_DIR) -j$(JOBS) -- --no-print-directory
 
 # Render the built-in Cornell box to out/cornell.png and print the stats table.
 run: build
@@ -40,7 +40,7 @@ bench: build
 # The test suite under AddressSanitizer and UndefinedBehaviorSanitizer.
 sanitize: deps
 	@cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLAMBERT_SANITIZE=ON -DLAMBERT_BUILD_BENCH=OFF > /dev/null
-	@cmake --build build-sanitize -j$(JOBS)
+	@cmake --build build-sanitize -j$(JOBS) -- --no-print-directory
 	@cd build-sanitize && ctest --output-on-failure -j$(JOBS)
 
 clean:
