@@ -14,10 +14,10 @@ deps:
 	@scripts/install-deps.sh
 
 configure: deps
-	@cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS) > /dev/null
+	@cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release -DLAMBERT_BUILD_TESTS=ON -DLAMBERT_BUILD_BENCH=ON $(CMAKE_FLAGS) > /dev/null
 
 build: configure
-	@cmake --build $(BUILD_DIR) -j$(JOBS) -- --no-print-directory
+	@cmake --build $(BUILD_DIR) -j$(JOBS) -- --no-print-directory >&2
 
 # Render the built-in Cornell box to out/cornell.png and print the stats table.
 run: build

@@ -2,6 +2,8 @@
 # Installs the Debian packages lambert needs to build, test and benchmark — only those missing.
 # Works as root or through sudo; prints what it installs. Safe to run on every `make`.
 set -euo pipefail
+# Progress goes to stderr, so commands whose stdout is data (make bench) stay clean.
+exec 1>&2
 
 packages=(
   build-essential cmake pkg-config
