@@ -4,7 +4,13 @@
 // Multidimensional Sampling", 2002). Every power-of-two prefix is a (0,m,2)-net: one point in each
 // of the N elementary rectangles of every shape, which plain per-axis stratification (N-rooks)
 // does not give. The scramble keeps that property and makes estimates unbiased.
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstdint>
+#include <span>
+
+#include "lambert/core/vec3.h"
 
 namespace lambert {
 
@@ -46,6 +52,31 @@ inline std::uint32_t shuffledIndex(std::uint32_t index, std::uint32_t seed) {
 // Point `index` of the scrambled (0,2)-sequence, in [0,1)².
 inline UnitSquarePoint scrambledZeroTwo(std::uint32_t index, std::uint32_t scrambleU, std::uint32_t scrambleV) {
   return {vanDerCorput(index, scrambleU) * 0x1p-32, sobolSecondDimension(index, scrambleV) * 0x1p-32};
+}
+
+// Maps (u, v) ∈ [0,1)² onto the triangle with equal area (Shirley & Chiu's warp, which keeps the
+// square's stratification).
+inline Vec3 sampleTriangle(const std::array<Vec3, 3>& triangle, double u, double v) {
+  double su = std::sqrt(u);
+  double b0 = 1 - su, b1 = v * su;
+  return triangle[0] * b0 + triangle[1] * b1 + triangle[2] * (1 - b0 - b1);
+}
+
+// Maps (u, v) ∈ [0,1)² onto a convex polygon of 3 to 5 vertices with equal area: u picks a fan
+// triangle in proportion to its area and is reused, rescaled, within it.
+inline Vec3 sampleConvexPolygon(std::span<const Vec3> polygon, double u, double v) {
+  if (polygon.size() == 3) return sampleTriangle({polygon[0], polygon[1], polygon[2]}, u, v);
+  double areas[4], total = 0;
+  const std::size_t fans = std::min<std::size_t>(polygon.size() - 2, 4);
+  for (std::size_t k = 0; k < fans; ++k) total += areas[k] = length(cross(polygon[k + 1] - polygon[0], polygon[k + 2] - polygon[0]));
+  double start = 0;
+  for (std::size_t k = 0; k < fans; ++k) {
+    double share = areas[k] / total;
+    if (u < start + share || k + 1 == fans)
+      return sampleTriangle({polygon[0], polygon[k + 1], polygon[k + 2]}, std::fmin((u - start) / share, 1.0), v);
+    start += share;
+  }
+  return polygon[0];
 }
 
 }  // namespace lambert

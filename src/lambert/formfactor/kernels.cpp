@@ -65,27 +65,7 @@ double pointToPolygonFormFactor(const Vec3& x, const Vec3& xNormal, std::span<co
   return contourFormFactor(x, xNormal, std::span<const Vec3>(clipped, count));
 }
 
-Vec3 sampleConvexPolygon(std::span<const Vec3> polygon, double u, double v) {
-  if (polygon.size() == 3) return sampleTriangle({polygon[0], polygon[1], polygon[2]}, u, v);
-  // Pick a fan triangle by area with u, then reuse u's position within that triangle's share.
-  double areas[4], total = 0;
-  const std::size_t fans = std::min<std::size_t>(polygon.size() - 2, 4);
-  for (std::size_t k = 0; k < fans; ++k) total += areas[k] = length(cross(polygon[k + 1] - polygon[0], polygon[k + 2] - polygon[0]));
-  double start = 0;
-  for (std::size_t k = 0; k < fans; ++k) {
-    double share = areas[k] / total;
-    if (u < start + share || k + 1 == fans)
-      return sampleTriangle({polygon[0], polygon[k + 1], polygon[k + 2]}, std::fmin((u - start) / share, 1.0), v);
-    start += share;
-  }
-  return polygon[0];
-}
 
-Vec3 sampleTriangle(const std::array<Vec3, 3>& triangle, double u, double v) {
-  double su = std::sqrt(u);
-  double b0 = 1 - su, b1 = v * su;
-  return triangle[0] * b0 + triangle[1] * b1 + triangle[2] * (1 - b0 - b1);
-}
 
 Vec3 incenter(const std::array<Vec3, 3>& triangle) {
   const auto& [a, b, c] = triangle;

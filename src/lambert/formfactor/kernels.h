@@ -4,6 +4,7 @@
 #include <array>
 #include <span>
 
+#include "lambert/core/sampling.h"
 #include "lambert/core/vec3.h"
 
 namespace lambert {
@@ -28,14 +29,6 @@ std::size_t clipAbovePlane(std::span<const Vec3> polygon, const Vec3& point, con
 
 // Lambert's contour sum for a polygon already clipped to the hemisphere above x.
 double contourFormFactor(const Vec3& x, const Vec3& xNormal, std::span<const Vec3> clippedPolygon);
-
-// Maps (u, v) ∈ [0,1)² onto a convex polygon of 3 to 5 vertices with equal area: the first
-// coordinate picks a fan triangle in proportion to its area and is reused within it.
-Vec3 sampleConvexPolygon(std::span<const Vec3> polygon, double u, double v);
-
-// Maps (u, v) ∈ [0,1)² onto the triangle with equal area (Shirley & Chiu warp, which keeps
-// stratification of the square).
-Vec3 sampleTriangle(const std::array<Vec3, 3>& triangle, double u, double v);
 
 // Centre of the triangle's inscribed circle (where seed 000 samples its patches).
 Vec3 incenter(const std::array<Vec3, 3>& triangle);

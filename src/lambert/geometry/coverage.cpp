@@ -3,7 +3,6 @@
 #include "lambert/core/parallel.h"
 #include "lambert/core/rng.h"
 #include "lambert/core/sampling.h"
-#include "lambert/formfactor/kernels.h"
 
 namespace lambert {
 
