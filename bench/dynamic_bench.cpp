@@ -45,6 +45,8 @@
 using namespace lambert;
 using Json = nlohmann::ordered_json;
 
+#include <CLI/CLI.hpp>
+
 #include "bench_common.h"
 
 namespace {
@@ -68,79 +70,32 @@ struct Options {
   std::string cacheDirectory = "/tmp/lambert-bench-cache";
 };
 
-[[noreturn]] void usage(const char* message) {
-  std::fprintf(stderr,
-               "dynamic_bench: %s\n"
-               "usage: dynamic_bench [--patches N] [--frames N] [--fps F] [--shots N[,N...]]\n"
-               "                     [--light-samples N] [--tolerance T] [--max-settle-frames N]\n"
-               "                     [--cache-dir DIR]\n"
-               "  --patches            target patch count for cornell-spots (default 5000)\n"
-               "  --frames             frames with the lights moving (default 240)\n"
-               "  --fps                frames per scene second: the lights move 1/F s a frame (default 60)\n"
-               "  --shots              per-frame shot budgets to compare; 0 = until converged\n"
-               "                       (default 100,300,1000)\n"
-               "  --light-samples      direct-light points per patch (default 8)\n"
-               "  --tolerance          unshot power fraction the shooter stops at (default 1e-4)\n"
-               "  --max-settle-frames  frames to wait for 1%% after the lights stop (default 600)\n"
-               "  --cache-dir          form-factor cache; '' disables it (default /tmp/lambert-bench-cache)\n",
-               message);
-  std::exit(2);
-}
-
-long long parseInteger(const std::string& text, long long min) {
-  char* end = nullptr;
-  long long value = std::strtoll(text.c_str(), &end, 10);
-  if (text.empty() || *end != '\0' || value < min)
-    usage(("not an integer ≥ " + std::to_string(min) + ": '" + text + "'").c_str());
-  return value;
-}
-
-double parsePositive(const std::string& text) {
-  char* end = nullptr;
-  double value = std::strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0' || !(value > 0) || !std::isfinite(value))
-    usage(("not a positive number: '" + text + "'").c_str());
-  return value;
-}
-
 Options parseOptions(int argc, char** argv) {
   Options options;
-  for (int a = 1; a < argc; ++a) {
-    std::string arg = argv[a];
-    auto value = [&]() -> std::string {
-      if (auto eq = arg.find('='); eq != std::string::npos) return arg.substr(eq + 1);
-      if (a + 1 >= argc) usage((arg + " needs a value").c_str());
-      return argv[++a];
-    };
-    std::string name = arg.substr(0, arg.find('='));
-    if (name == "--patches") {
-      options.patches = static_cast<std::size_t>(parseInteger(value(), 1));
-    } else if (name == "--frames") {
-      options.frames = static_cast<int>(parseInteger(value(), 1));
-    } else if (name == "--fps") {
-      options.fps = parsePositive(value());
-    } else if (name == "--shots") {
-      options.shots.clear();
-      std::string list = value();
-      for (std::size_t begin = 0; begin <= list.size();) {
-        std::size_t comma = list.find(',', begin);
-        if (comma == std::string::npos) comma = list.size();
-        options.shots.push_back(parseInteger(list.substr(begin, comma - begin), 0));
-        begin = comma + 1;
-      }
-    } else if (name == "--light-samples") {
-      options.lightSamples = static_cast<int>(parseInteger(value(), 1));
-    } else if (name == "--tolerance") {
-      options.tolerance = parsePositive(value());
-    } else if (name == "--max-settle-frames") {
-      options.maxSettleFrames = static_cast<int>(parseInteger(value(), 0));
-    } else if (name == "--cache-dir") {
-      options.cacheDirectory = value();
-    } else if (name == "-h" || name == "--help") {
-      usage("help");
-    } else {
-      usage(("unknown argument '" + arg + "'").c_str());
-    }
+  CLI::App app{"dynamic_bench: moving spotlights on cornell-spots at a per-frame shot budget, as JSON"};
+  app.add_option("--patches", options.patches, "Target patch count")->check(CLI::Range(std::size_t{1}, std::size_t{200000}))->capture_default_str();
+  app.add_option("--frames", options.frames, "Frames with the lights moving")->check(CLI::Range(1, 1000000))->capture_default_str();
+  app.add_option("--fps", options.fps, "Frames per scene second: the lights move 1/F s a frame")
+      ->check(CLI::Range(1e-3, 1e6))
+      ->capture_default_str();
+  app.add_option("--shots", options.shots, "Per-frame shot budgets to compare; 0 = until converged")
+      ->delimiter(',')
+      ->check(CLI::Range(0LL, 1000000000LL))
+      ->capture_default_str();
+  app.add_option("--light-samples", options.lightSamples, "Direct-light points per patch")
+      ->check(CLI::Range(1, 4096))
+      ->capture_default_str();
+  app.add_option("--tolerance", options.tolerance, "Unshot power fraction the shooter stops at")
+      ->check(CLI::Range(1e-15, 1.0))
+      ->capture_default_str();
+  app.add_option("--max-settle-frames", options.maxSettleFrames, "Frames to wait for 1% after the lights stop")
+      ->check(CLI::Range(0, 1000000))
+      ->capture_default_str();
+  app.add_option("--cache-dir", options.cacheDirectory, "Form-factor cache; '' disables it")->capture_default_str();
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    std::exit(app.exit(e));
   }
   return options;
 }

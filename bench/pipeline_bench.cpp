@@ -31,6 +31,8 @@
 using namespace lambert;
 using Json = nlohmann::ordered_json;
 
+#include <CLI/CLI.hpp>
+
 #include "bench_common.h"
 
 namespace {
@@ -47,56 +49,24 @@ struct Options {
   int samples = 16;
 };
 
-[[noreturn]] void usage(const char* message) {
-  std::fprintf(stderr,
-               "pipeline_bench: %s\n"
-               "usage: pipeline_bench [--quick] [--patches N[,N...]] [--samples N]\n"
-               "  --quick        only 192,304,464,784 patches\n"
-               "  --patches      target patch counts (default 192,304,464,784,3000,10000)\n"
-               "  --samples      area Monte Carlo sample pairs per patch pair (default 16)\n",
-               message);
-  std::exit(2);
-}
-
-std::size_t parseCount(const std::string& text) {
-  char* end = nullptr;
-  unsigned long long value = std::strtoull(text.c_str(), &end, 10);
-  if (text.empty() || *end != '\0' || value == 0) usage(("not a positive integer: '" + text + "'").c_str());
-  return static_cast<std::size_t>(value);
-}
-
 Options parseOptions(int argc, char** argv) {
   Options options;
-  bool patchesGiven = false, quick = false;
-  for (int a = 1; a < argc; ++a) {
-    std::string arg = argv[a];
-    auto value = [&]() -> std::string {
-      if (auto eq = arg.find('='); eq != std::string::npos) return arg.substr(eq + 1);
-      if (a + 1 >= argc) usage((arg + " needs a value").c_str());
-      return argv[++a];
-    };
-    std::string name = arg.substr(0, arg.find('='));
-    if (name == "--quick") {
-      quick = true;
-    } else if (name == "--patches") {
-      options.patches.clear();
-      std::string list = value();
-      for (std::size_t begin = 0; begin <= list.size();) {
-        std::size_t comma = list.find(',', begin);
-        if (comma == std::string::npos) comma = list.size();
-        options.patches.push_back(parseCount(list.substr(begin, comma - begin)));
-        begin = comma + 1;
-      }
-      patchesGiven = true;
-    } else if (name == "--samples") {
-      options.samples = static_cast<int>(parseCount(value()));
-    } else if (name == "-h" || name == "--help") {
-      usage("help");
-    } else {
-      usage(("unknown argument '" + arg + "'").c_str());
-    }
+  bool quick = false;
+  CLI::App app{"pipeline_bench: the whole radiosity pipeline on the Cornell box per mesh size, as JSON"};
+  app.add_flag("--quick", quick, "Only 192, 304, 464 and 784 patches");
+  auto* patches = app.add_option("--patches", options.patches, "Target patch counts")
+                      ->delimiter(',')
+                      ->check(CLI::Range(std::size_t{1}, std::size_t{200000}))
+                      ->capture_default_str();
+  app.add_option("--samples", options.samples, "Area Monte Carlo sample pairs per patch pair")
+      ->check(CLI::Range(1, 4096))
+      ->capture_default_str();
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    std::exit(app.exit(e));
   }
-  if (quick && !patchesGiven) options.patches = {192, 304, 464, 784};
+  if (quick && patches->count() == 0) options.patches = {192, 304, 464, 784};
   return options;
 }
 

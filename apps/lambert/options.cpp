@@ -16,7 +16,7 @@ void addMeshOptions(CLI::App& cmd, MeshCommandOptions& o) {
                       ->check(CLI::Range(std::size_t{1}, std::size_t{200000}))
                       ->capture_default_str();
   cmd.add_option("--max-edge", o.maxEdge, "Longest patch edge in scene units (instead of --patches)")
-      ->check(CLI::PositiveNumber)
+      ->check(CLI::Range(1e-9, 1e12))
       ->excludes(patches);
   cmd.add_option("--seed", o.seed, "Random seed")->capture_default_str();
 }
@@ -63,13 +63,13 @@ void addSolveOptions(CLI::App& cmd, SolveCommandOptions& o) {
                "Divide each row of F by its sum (seed 003): hides estimation error, adds energy where light should escape");
   cmd.add_flag("--adaptive", o.adaptive, "Adaptive quad-tree mesh refined at spot and shadow edges (seed 003)");
   cmd.add_option("--base-edge", o.baseEdge, "Adaptive: longest edge of the coarsest cells, scene units (default: diagonal / 6)")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1e-9, 1e12));
   cmd.add_option("--max-level", o.maxLevel, "Adaptive: deepest refinement level (each halves a cell)")
       ->check(CLI::Range(0, 8))
       ->capture_default_str();
   cmd.add_option("--gradient-threshold", o.gradientThreshold,
                  "Adaptive: split cells whose corners' radiosity spans more than this × the mean (0: off)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(CLI::Range(0.0, 1e6))
       ->capture_default_str();
   cmd.add_option("--adapt-passes", o.adaptPasses, "Adaptive (render): refine-and-solve passes")
       ->check(CLI::Range(1, 20))
