@@ -100,11 +100,6 @@ Options parseOptions(int argc, char** argv) {
   return options;
 }
 
-
-
-
-
-
 // Relative errors to three significant digits.
 double significant(double value) {
   if (value == 0 || !std::isfinite(value)) return value;

@@ -57,7 +57,6 @@ class FileDescriptor {
   int fd_;
 };
 
-
 }  // namespace
 
 void Xxh64::update(const void* data, std::size_t size) {

@@ -65,8 +65,6 @@ double pointToPolygonFormFactor(const Vec3& x, const Vec3& xNormal, std::span<co
   return contourFormFactor(x, xNormal, std::span<const Vec3>(clipped, count));
 }
 
-
-
 Vec3 incenter(const std::array<Vec3, 3>& triangle) {
   const auto& [a, b, c] = triangle;
   double la = length(b - c), lb = length(c - a), lc = length(a - b);
