@@ -7,17 +7,10 @@
 #include "lambert/pipeline/compare.h"
 #include "lambert/pipeline/pipeline.h"
 #include "lambert/reference/reference.h"
-#include "lambert/render/vertex_radiosity.h"
 #include "lambert/scene/builtin.h"
 
 namespace lambert {
 namespace {
-
-std::vector<VertexSample> radiosityVertices(const RadiositySolution& solution) {
-  std::vector<Rgb> radiance = vertexRadiosity(solution.mesh, solution.radiosity);
-  for (Rgb& l : radiance) l = l / kPi;
-  return vertexSamples(solution.mesh, radiance);
-}
 
 VertexComparison againstReference(const Scene& scene, const RadiositySolution& solution) {
   ReferenceOptions options;
@@ -25,7 +18,7 @@ VertexComparison againstReference(const Scene& scene, const RadiositySolution& s
   options.showProgress = false;
   ReferenceRenderer reference(scene, subdivideScene(scene, 2 * sceneDiagonal(scene)), options);
   std::vector<VertexSample> truth = vertexSamples(solution.mesh, reference.vertexRadiance(solution.mesh));
-  Result<VertexComparison> comparison = compareVertices(scene, radiosityVertices(solution), truth);
+  Result<VertexComparison> comparison = compareVertices(scene, vertexSamples(solution.mesh, solution.vertexRadiance()), truth);
   EXPECT_TRUE(comparison.ok());
   return *comparison;
 }

@@ -26,7 +26,15 @@ struct CompareCommandOptions {
   bool noImage = false;
 };
 
-Result<std::vector<VertexSample>> load(const std::string& path) { return readVertices(path); }
+// A vertex file, or nothing with the reason on stderr.
+std::optional<std::vector<VertexSample>> loadVertices(const std::string& path) {
+  Result<std::vector<VertexSample>> loaded = readVertices(path);
+  if (!loaded) {
+    std::fprintf(stderr, "lambert compare: %s\n", loaded.error().message.c_str());
+    return std::nullopt;
+  }
+  return std::move(*loaded);
+}
 
 void addError(Stats& stats, const std::string& prefix, const std::string& what, const RadianceError& e) {
   stats.add(prefix + "_compared", what + " values compared", static_cast<std::int64_t>(e.count));
@@ -49,18 +57,13 @@ int runCompare(const CompareCommandOptions& o) {
   std::optional<RadiositySolution> solution;
   Timer radiosityTimer;
   if (!o.radiosityVertices.empty()) {
-    auto loaded = load(o.radiosityVertices);
-    if (!loaded) {
-      std::fprintf(stderr, "lambert compare: %s\n", loaded.error().message.c_str());
-      return 2;
-    }
+    auto loaded = loadVertices(o.radiosityVertices);
+    if (!loaded) return 2;
     radiosity = std::move(*loaded);
   } else {
     solution = solveScene(*scene, pipelineOptions(o.solve));
     stats = solution->stats;
-    std::vector<Rgb> radiance = vertexRadiosity(solution->mesh, solution->radiosity);
-    for (Rgb& l : radiance) l = l / kPi;
-    radiosity = vertexSamples(solution->mesh, radiance);
+    radiosity = vertexSamples(solution->mesh, solution->vertexRadiance());
   }
   stats.add("radiosity_seconds", "radiosity time", radiosityTimer.seconds(), "s");
 
@@ -77,11 +80,8 @@ int runCompare(const CompareCommandOptions& o) {
   std::vector<VertexSample> reference;
   Timer referenceTimer;
   if (!o.referenceVertices.empty()) {
-    auto loaded = load(o.referenceVertices);
-    if (!loaded) {
-      std::fprintf(stderr, "lambert compare: %s\n", loaded.error().message.c_str());
-      return 2;
-    }
+    auto loaded = loadVertices(o.referenceVertices);
+    if (!loaded) return 2;
     reference = std::move(*loaded);
   } else {
     Mesh mesh = solution ? solution->mesh : meshFor(*scene, o.solve);

@@ -28,10 +28,7 @@ int runSolve(const SolveOnlyOptions& o) {
   }
   RadiositySolution solution = solveScene(*scene, pipelineOptions(o.solve));
   if (!o.exportVertices.empty()) {
-    // The vertex values the renderer interpolates: area-weighted B of each vertex's patches, / π.
-    std::vector<Rgb> radiance = vertexRadiosity(solution.mesh, solution.radiosity);
-    for (Rgb& l : radiance) l = l / kPi;
-    Status written = writeVertices(o.exportVertices, vertexSamples(solution.mesh, radiance));
+    Status written = writeVertices(o.exportVertices, vertexSamples(solution.mesh, solution.vertexRadiance()));
     if (!written) {
       std::fprintf(stderr, "lambert solve: %s\n", written.error().message.c_str());
       return 1;

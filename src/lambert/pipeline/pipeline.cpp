@@ -4,6 +4,7 @@
 #include "lambert/formfactor/cache.h"
 #include "lambert/formfactor/table.h"
 #include "lambert/geometry/coverage.h"
+#include "lambert/render/vertex_radiosity.h"
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/solve/energy.h"
 #include "lambert/solve/problem.h"
@@ -79,6 +80,12 @@ RadiositySolution solveScene(const Scene& scene, const PipelineOptions& options)
   stats.add("absorbed_watts", "absorbed power", balance.absorbedWatts, "W");
   stats.add("escaped_watts", "escaped power (openings)", balance.escapedWatts, "W");
   return solution;
+}
+
+std::vector<Rgb> RadiositySolution::vertexRadiance() const {
+  std::vector<Rgb> radiance = vertexRadiosity(mesh, radiosity);
+  for (Rgb& l : radiance) l = l / kPi;
+  return radiance;
 }
 
 std::vector<Rgb> RadiositySolution::indirectRadiosity() const {

@@ -36,6 +36,8 @@ struct RadiositySolution {
   // B less the lights' directly injected part: the indirect light to interpolate when the
   // lights' direct light is drawn per pixel.
   std::vector<Rgb> indirectRadiosity() const;
+  // Outgoing radiance L = B/π at every mesh vertex, as Gouraud shading interpolates it.
+  std::vector<Rgb> vertexRadiance() const;
 };
 
 RadiositySolution solveScene(const Scene& scene, const PipelineOptions& options);
