@@ -32,14 +32,10 @@
 #include <nlohmann/json.hpp>
 
 #include "lambert/core/timer.h"
-#include "lambert/formfactor/cache.h"
-#include "lambert/formfactor/form_factors.h"
-#include "lambert/geometry/ray_caster.h"
+#include "lambert/core/warning.h"
+#include "lambert/engine/radiosity.h"
 #include "lambert/light/lights.h"
-#include "lambert/mesh/mesh.h"
-#include "lambert/pipeline/dynamic.h"
 #include "lambert/scene/builtin.h"
-#include "lambert/solve/problem.h"
 #include "lambert/solve/solver.h"
 
 using namespace lambert;
@@ -65,7 +61,7 @@ struct Options {
   double fps = 60;
   std::vector<long long> shots{100, 300, 1000};
   int lightSamples = 8;
-  double tolerance = DynamicOptions{}.tolerance;
+  double tolerance = 1e-4;
   int maxSettleFrames = 600;
   std::string cacheDirectory = "/tmp/lambert-bench-cache";
 };
@@ -182,10 +178,8 @@ struct Settle {
 
 struct Setup {
   Scene scene = cornellBoxWithSpots();
-  Mesh mesh;
-  std::unique_ptr<RayCaster> caster;
-  RadiosityProblem problem;  // surfaces only: the spots are injected per frame
-  DirectLightOptions direct;
+  RadiosityOptions options;           // the uniform mesh, form factors, light samples, cache
+  std::unique_ptr<Radiosity> coldEngine;  // LU (or Gauss–Seidel to 1e-9): the references
 
   std::vector<Light> lightsAt(double t) const {
     std::vector<Light> lights;
@@ -193,28 +187,35 @@ struct Setup {
     return lights;
   }
 
-  // Inject the lights into a copy of the problem and solve it cold, to convergence.
-  Reference solve(const std::vector<Light>& lights, Json* report) const {
-    RadiosityProblem p = problem;
-    std::vector<Rgb> injected(mesh.numPatches());
-    for (const Light& light : lights) {
-      std::vector<Rgb> e = injectedRadiosity(mesh, p.albedo, patchIrradiance(mesh, *caster, light, scene.metresPerUnit, direct));
-      for (std::size_t i = 0; i < e.size(); ++i) injected[i] += e[i];
+  // A fresh engine over the same mesh and form factors (from the cache when there is one).
+  std::unique_ptr<Radiosity> engine(SolverKind solver, double tolerance, int maxIterations) const {
+    RadiosityOptions o = options;
+    o.solver = solver;
+    o.tolerance = tolerance;
+    o.maxIterations = maxIterations;
+    Result<std::unique_ptr<Radiosity>> created = Radiosity::create(scene, o);
+    if (!created) {
+      std::fprintf(stderr, "dynamic_bench: %s\n", created.error().message.c_str());
+      std::exit(1);
     }
-    for (std::size_t i = 0; i < injected.size(); ++i) p.emitted[i] += injected[i];
-    SolveOptions solveOptions;
-    solveOptions.tolerance = kReferenceTolerance;
-    solveOptions.maxIterations = 10000;
-    SolverKind kind = mesh.numPatches() <= kDirectMaxPatches ? SolverKind::Direct : SolverKind::GaussSeidel;
+    return std::move(*created);
+  }
+
+  // Inject the lights and solve cold, to convergence.
+  Reference solve(const std::vector<Light>& lights, Json* report) const {
+    coldEngine->setLights(lights);
+    Result<SolveCallReport> solved = coldEngine->solve();
+    const SolutionView& view = coldEngine->solution();
     Reference reference;
-    SolveReport solved = makeSolver(kind, solveOptions)->solve(p, reference.radiosity);
-    for (std::size_t i = 0; i < injected.size(); ++i) {
+    reference.radiosity = view.radiosity();
+    for (std::size_t i = 0; i < reference.radiosity.size(); ++i) {
       reference.maxRadiosity = std::fmax(reference.maxRadiosity, reference.radiosity[i].maxComponent());
-      reference.maxIndirect = std::fmax(reference.maxIndirect, (reference.radiosity[i] - injected[i]).maxComponent());
+      reference.maxIndirect = std::fmax(reference.maxIndirect, (reference.radiosity[i] - view.injected()[i]).maxComponent());
     }
     if (report)
-      *report = Json{{"solver", solved.solver}, {"iterations", solved.iterations}, {"residual", solved.residual},
-                     {"converged", solved.converged}, {"seconds", seconds(solved.seconds)}};
+      *report = Json{{"solver", solverName(coldEngine->options().solver)}, {"iterations", solved->iterations},
+                     {"residual", relativeResidual(view.problem(), view.radiosity())}, {"converged", solved->converged},
+                     {"seconds", seconds(solved->solveSeconds)}};
     return reference;
   }
 };
@@ -231,11 +232,13 @@ std::vector<int> checkpoints(const Options& options) {
 
 Json runBudget(const Setup& setup, const Options& options, long long budget,
                const std::map<int, Reference>& references, const Reference& stopped) {
-  DynamicOptions dynamicOptions;
-  dynamicOptions.direct = setup.direct;
-  dynamicOptions.shotsPerFrame = budget;
-  dynamicOptions.tolerance = options.tolerance;
-  DynamicRadiosity dynamic(setup.mesh, *setup.caster, setup.problem, setup.scene.metresPerUnit, dynamicOptions);
+  // Progressive refinement with its state kept between frames: each frame shoots what changed.
+  std::unique_ptr<Radiosity> dynamic = setup.engine(SolverKind::Shooting, options.tolerance, 1000000);
+  const SolveBudget frameBudget{.maxShots = budget};
+  auto update = [&](const std::vector<Light>& lights) {
+    dynamic->setLights(lights);
+    return *dynamic->solve(frameBudget);
+  };
 
   // Moving: every frame both spots have turned, so both are re-injected.
   std::vector<double> inject, solve, frame, wall;
@@ -249,18 +252,18 @@ Json runBudget(const Setup& setup, const Options& options, long long budget,
   for (int f = 0; f < options.frames; ++f) {
     std::vector<Light> lights = setup.lightsAt(f / options.fps);
     Timer timer;
-    FrameReport report = dynamic.update(lights);
+    SolveCallReport report = update(lights);
     double w = timer.seconds();
     movingWall += w;
     wall.push_back(w);
     inject.push_back(report.injectSeconds);
     solve.push_back(report.solveSeconds);
     frame.push_back(report.injectSeconds + report.solveSeconds);
-    shots.push_back(static_cast<double>(report.shots));
+    shots.push_back(static_cast<double>(report.iterations));
     unshotLast = report.unshotFraction;
-    lightsUpdatedMin = std::min(lightsUpdatedMin, report.lightsUpdated);
+    lightsUpdatedMin = std::min(lightsUpdatedMin, report.lightsInjected);
     if (auto it = references.find(f); it != references.end()) {
-      Json point = compare(dynamic.radiosity(), it->second).json();
+      Json point = compare(dynamic->solution().radiosity(), it->second).json();
       point["frame"] = f;
       point["t"] = roundDigits(f / options.fps, 4);
       point["unshot_fraction"] = significant(report.unshotFraction);
@@ -276,7 +279,7 @@ Json runBudget(const Setup& setup, const Options& options, long long budget,
   // light is, |ΔB| ≤ 1% of the brightest reference indirect patch (max_rel_indirect; a stricter
   // bar, as the injected direct light is exact from the frame it is injected).
   const std::vector<Light> held = setup.lightsAt((options.frames - 1) / options.fps);
-  const Deviation atStop = compare(dynamic.radiosity(), stopped);
+  const Deviation atStop = compare(dynamic->solution().radiosity(), stopped);
   Settle total, indirect;
   total.note(atStop.maxRelative, 0, 0, 0);
   indirect.note(atStop.maxRelativeIndirect, 0, 0, 0);
@@ -285,20 +288,20 @@ Json runBudget(const Setup& setup, const Options& options, long long budget,
   long long settleShots = 0;
   bool stalled = false;
   while (!(total.reached && indirect.reached) && settleFrames < options.maxSettleFrames) {
-    FrameReport report = dynamic.update(held);
+    SolveCallReport report = update(held);
     ++settleFrames;
     settleSeconds += report.injectSeconds + report.solveSeconds;
-    settleShots += report.shots;
-    Deviation now = compare(dynamic.radiosity(), stopped);
+    settleShots += report.iterations;
+    Deviation now = compare(dynamic->solution().radiosity(), stopped);
     total.note(now.maxRelative, settleFrames, settleSeconds, settleShots);
     indirect.note(now.maxRelativeIndirect, settleFrames, settleSeconds, settleShots);
-    if (report.shots == 0 && !(total.reached && indirect.reached)) {
+    if (report.iterations == 0 && !(total.reached && indirect.reached)) {
       stalled = true;  // the shooter is at its tolerance and will not move again
       break;
     }
   }
   const bool reached = total.reached;
-  const Deviation last = compare(dynamic.radiosity(), stopped);
+  const Deviation last = compare(dynamic->solution().radiosity(), stopped);
 
   Json row;
   row["shots_per_frame"] = budget == 0 ? Json("until converged") : Json(budget);
@@ -347,7 +350,10 @@ Json runBudget(const Setup& setup, const Options& options, long long budget,
 int main(int argc, char** argv) {
   Options options = parseOptions(argc, argv);
   Setup setup;
-  setup.direct.samplesPerPatch = options.lightSamples;
+  setup.options.uniform.targetPatches = options.patches;
+  setup.options.directLight.samplesPerPatch = options.lightSamples;
+  setup.options.formFactors.showProgress = true;  // the defaults otherwise: area Monte Carlo, 16 sample pairs
+  setup.options.cacheDirectory = options.cacheDirectory;
 
   Json doc;
   doc["machine"] = cpuModel() + " (" + std::to_string(std::thread::hardware_concurrency()) + " hardware threads)";
@@ -357,35 +363,38 @@ int main(int argc, char** argv) {
   doc["scene"] = setup.scene.name;
   doc["target_patches"] = options.patches;
 
-  std::fprintf(stderr, "dynamic_bench: meshing %s for %zu patches\n", setup.scene.name.c_str(), options.patches);
-  double maxEdge = edgeLengthForPatchCount(setup.scene, options.patches);
-  setup.mesh = subdivideScene(setup.scene, maxEdge);
-  setup.caster = makeEmbreeRayCaster(setup.mesh);
-  const std::size_t n = setup.mesh.numPatches();
+  // The reference engine computes (or loads) the form factors first; later engines load them.
+  std::fprintf(stderr, "dynamic_bench: meshing %s for %zu patches, form factors (cache: %s)\n", setup.scene.name.c_str(),
+               options.patches, options.cacheDirectory.empty() ? "off" : options.cacheDirectory.c_str());
+  std::string cacheWarning;
+  WarningSink previousSink = setWarningSink([&](const std::string& message) {
+    std::fprintf(stderr, "lambert: warning: %s\n", message.c_str());
+    cacheWarning += (cacheWarning.empty() ? "" : "\n") + message;
+  });
+  Timer ffTimer;
+  const std::size_t n = uniformMesh(setup.scene, setup.options.uniform).numPatches();
+  setup.coldEngine = setup.engine(n <= kDirectMaxPatches ? SolverKind::Direct : SolverKind::GaussSeidel, kReferenceTolerance, 10000);
+  const double ffSeconds = ffTimer.seconds();
+  setWarningSink(previousSink);
+  setup.options.formFactors.showProgress = false;
   doc["patches"] = n;
 
-  FormFactorOptions ffOptions;  // the pipeline's defaults: area Monte Carlo, 16 sample pairs
-  std::fprintf(stderr, "dynamic_bench: form factors for %zu patches (cache: %s)\n", n,
-               options.cacheDirectory.empty() ? "off" : options.cacheDirectory.c_str());
-  FormFactorStats ffStats;
-  Timer ffTimer;
-  CachedFormFactors cached = cachedFormFactors(setup.mesh, *setup.caster, ffOptions, options.cacheDirectory, &ffStats);
-  const double ffSeconds = ffTimer.seconds();
-  setup.problem = makeRadiosityProblem(setup.scene, setup.mesh, std::make_shared<FormFactorMatrix>(std::move(cached.matrix)));
+  const Stats setupStats = setup.coldEngine->stats();
+  const std::string cache = std::get<std::string>(setupStats.find("formfactor_cache")->value);
+  const bool fromCache = cache.rfind("loaded ", 0) == 0;
   Json ff;
-  ff["method"] = formFactorMethodName(ffOptions.method);
-  ff["sample_pairs"] = ffOptions.samplePairs;
-  ff["cache"] = options.cacheDirectory.empty() ? "off" : (cached.fromCache ? "loaded" : "computed and saved");
-  ff["from_cache"] = cached.fromCache;
-  ff["cache_file"] = cached.path;
-  if (!cached.warning.empty()) ff["cache_warning"] = cached.warning;
-  ff["seconds"] = seconds(ffSeconds);  // compute time, or load time when from_cache
-  if (!cached.fromCache) ff["visibility_rays"] = ffStats.visibilityRays;
+  ff["method"] = formFactorMethodName(setup.options.formFactors.method);
+  ff["sample_pairs"] = setup.options.formFactors.samplePairs;
+  ff["cache"] = options.cacheDirectory.empty() ? "off" : (fromCache ? "loaded" : "computed and saved");
+  ff["from_cache"] = fromCache;
+  ff["cache_file"] = options.cacheDirectory.empty() ? "" : cache.substr(cache.find(' ') + 1);
+  if (!cacheWarning.empty()) ff["cache_warning"] = cacheWarning;
+  ff["seconds"] = seconds(ffSeconds);  // mesh, BVH and compute time, or load time when from_cache
+  if (!fromCache) ff["visibility_rays"] = std::get<std::int64_t>(setupStats.find("visibility_rays")->value);
   ff["matrix_mib"] = roundDigits(static_cast<double>(n) * static_cast<double>(n) * sizeof(float) / (1024.0 * 1024.0), 1);
-  doc["formfactor_seconds"] = cached.fromCache ? Json(nullptr) : Json(seconds(ffSeconds));
+  doc["formfactor_seconds"] = fromCache ? Json(nullptr) : Json(seconds(ffSeconds));
   doc["formfactors"] = std::move(ff);
-  std::fprintf(stderr, "dynamic_bench: %zu patches, form factors %s in %.2f s\n", n,
-               cached.fromCache ? "loaded" : "computed", ffSeconds);
+  std::fprintf(stderr, "dynamic_bench: %zu patches, form factors %s in %.2f s\n", n, fromCache ? "loaded" : "computed", ffSeconds);
 
   doc["lights"] = Json::array();
   for (const Light& light : setup.scene.lights) {

@@ -23,7 +23,8 @@
 #include "lambert/mesh/mesh.h"
 #include "lambert/render/rasterizer.h"
 #include "lambert/scene/builtin.h"
-#include "lambert/solve/gather.h"
+#include "lambert/solve/gather_row.h"
+#include "lambert/light/emission.h"
 #include "lambert/solve/problem.h"
 #include "lambert/solve/solver.h"
 
@@ -49,7 +50,7 @@ struct CornellFixture {
     FormFactorOptions ffOptions;
     ffOptions.showProgress = false;
     auto F = std::make_shared<FormFactorMatrix>(computeFormFactors(mesh, *caster, ffOptions));
-    problem = makeRadiosityProblem(scene, mesh, F);
+    problem = makeRadiosityProblem(mesh, emittedRadiosity(scene, mesh), patchAlbedo(scene, mesh), F);
     makeSolver(SolverKind::GaussSeidel)->solve(problem, radiosity);
     makeRays();
   }

@@ -23,8 +23,8 @@
 #include "lambert/core/timer.h"
 #include "lambert/formfactor/form_factors.h"
 #include "lambert/geometry/ray_caster.h"
-#include "lambert/pipeline/pipeline.h"
-#include "lambert/render/rasterizer.h"
+#include "lambert/engine/radiosity.h"
+#include "lambert/render/solution_image.h"
 #include "lambert/scene/builtin.h"
 #include "lambert/solve/solver.h"
 
@@ -93,26 +93,28 @@ std::string statString(const Stats& stats, const std::string& key) {
 }
 
 Json benchSize(const Scene& scene, std::size_t target, int samples) {
-  PipelineOptions options;
-  options.targetPatches = target;
+  RadiosityOptions options;
+  options.uniform.targetPatches = target;
   options.formFactors.method = FormFactorMethod::AreaMonteCarlo;
   options.formFactors.samplePairs = samples;
   options.formFactors.showProgress = true;
   options.solver = SolverKind::GaussSeidel;
-  options.solve.tolerance = 1e-7;
+  options.tolerance = 1e-7;
 
   Timer total;
   const double cpuBefore = processCpuSeconds();
-  RadiositySolution solution = solveScene(scene, options);
+  std::unique_ptr<Radiosity> engine = std::move(*Radiosity::create(scene, options));
+  if (Result<SolveCallReport> solved = engine->solve(); !solved) std::fprintf(stderr, "pipeline_bench: %s\n", solved.error().message.c_str());
   Timer renderTimer;
-  Image image = renderRadiance(scene.camera, solution.mesh, solution.radiosity, RenderOptions{});
+  Image image = renderSolution(engine->solution(), SolutionImageOptions{});
   double renderSeconds = renderTimer.seconds();
   double totalSeconds = total.seconds();
   double cpuSeconds = processCpuSeconds() - cpuBefore;
   if (image.pixels.empty()) std::fprintf(stderr, "pipeline_bench: empty image\n");
 
-  const Stats& stats = solution.stats;
-  const std::size_t n = solution.mesh.numPatches();
+  const Stats stats = engine->stats();
+  const SolutionView& solution = engine->solution();
+  const std::size_t n = solution.mesh().numPatches();
   Json row;
   row["target_patches"] = target;
   row["patches"] = n;
@@ -134,24 +136,24 @@ Json benchSize(const Scene& scene, std::size_t target, int samples) {
   if (target <= kComparisonMaxPatches) {
     std::fprintf(stderr, "  direct LU solve (%zu patches)\n", n);
     std::vector<Rgb> direct;
-    SolveReport report = makeSolver(SolverKind::Direct)->solve(solution.problem, direct);
+    SolveReport report = makeSolver(SolverKind::Direct)->solve(solution.problem(), direct);
     row["direct_solve_seconds"] = seconds(report.seconds);
     row["direct_residual"] = report.residual;
 
     std::fprintf(stderr, "  point-to-point form factors (%zu patches)\n", n);
-    auto caster = makeEmbreeRayCaster(solution.mesh);
+    auto caster = makeEmbreeRayCaster(solution.mesh());
     FormFactorOptions pointOptions;
     pointOptions.method = FormFactorMethod::PointToPoint;
     pointOptions.showProgress = true;
     FormFactorStats pointStats;
     {
-      FormFactorMatrix F = computeFormFactors(solution.mesh, *caster, pointOptions, &pointStats);
+      FormFactorMatrix F = computeFormFactors(solution.mesh(), *caster, pointOptions, &pointStats);
       (void)F;  // freed here, before anything else is allocated
     }
     row["point_formfactor_seconds"] = seconds(pointStats.seconds);
     row["point_visibility_rays"] = pointStats.visibilityRays;
   }
-  return row;  // `solution`, and with it the form-factor matrix, is freed here
+  return row;  // the engine, and with it the form-factor matrix, is freed here
 }
 
 }  // namespace
@@ -169,8 +171,8 @@ int main(int argc, char** argv) {
   doc["formfactor_method"] = formFactorMethodName(FormFactorMethod::AreaMonteCarlo);
   doc["solver"] = solverName(SolverKind::GaussSeidel);
   doc["tolerance"] = 1e-7;
-  doc["render"] = Json{{"width", RenderOptions{}.width}, {"height", RenderOptions{}.height},
-                       {"supersample", RenderOptions{}.supersample}};
+  doc["render"] = Json{{"width", SolutionImageOptions{}.width}, {"height", SolutionImageOptions{}.height},
+                       {"supersample", SolutionImageOptions{}.supersample}};
   doc["target"] = Json{{"pipeline_784_seconds_max", kTarget784Seconds}, {"met", nullptr}};
 
   Json sizes = Json::array();

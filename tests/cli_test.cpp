@@ -29,7 +29,8 @@ struct CommandResult {
 
 CommandResult run(const std::string& arguments) {
   // Tests never touch the user's cache: every run that does not choose one gets no cache.
-  const bool choosesCache = arguments.find("--cache-dir") != std::string::npos || arguments.find("--no-cache") != std::string::npos;
+  const bool choosesCache = arguments.find("--cache-dir") != std::string::npos || arguments.find("--no-cache") != std::string::npos ||
+                            arguments.find("--radiosity-vertices") != std::string::npos;  // compare solves nothing then
   const bool solves = arguments.rfind("render", 0) == 0 || arguments.rfind("animate", 0) == 0 ||
                       arguments.rfind("solve", 0) == 0 || arguments.rfind("compare", 0) == 0;
   std::string command = std::string(LAMBERT_CLI_PATH) + " " + arguments + (solves && !choosesCache ? " --no-cache" : "") + " 2>&1";
@@ -294,7 +295,7 @@ TEST(CliTest, SolveReferenceAndCompareMeasureTheSameVertices) {
   EXPECT_EQ(image->width, 40);
   ASSERT_EQ(readVertices(radiosity)->size(), readVertices(reference)->size());
 
-  CommandResult fromFiles = run("compare --patches 192 --json --radiosity-vertices " + radiosity + " --reference-vertices " + reference);
+  CommandResult fromFiles = run("compare --json --radiosity-vertices " + radiosity + " --reference-vertices " + reference);
   ASSERT_EQ(fromFiles.exitCode, 0) << fromFiles.output;
   nlohmann::json stats = nlohmann::json::parse(fromFiles.output);
   EXPECT_GT(stats["vertex_compared"].get<int>(), 300);
@@ -314,17 +315,75 @@ TEST(CliTest, SolveReferenceAndCompareMeasureTheSameVertices) {
   EXPECT_TRUE(fs::exists(dir / "truth.png"));
 
   // Vertex files of different meshes are refused, naming the problem.
-  CommandResult mismatch = run("compare --patches 192 --radiosity-vertices " + radiosity + " --reference-vertices " + reference +
+  CommandResult mismatch = run("compare --radiosity-vertices " + radiosity + " --reference-vertices " + reference +
                                " --rim-distance 10");
   EXPECT_EQ(mismatch.exitCode, 0);
   run("solve --patches 464 --export-vertices " + (dir / "other.csv").string());
-  CommandResult refused = run("compare --patches 192 --radiosity-vertices " + (dir / "other.csv").string() +
-                              " --reference-vertices " + reference);
+  CommandResult refused = run("compare --radiosity-vertices " + (dir / "other.csv").string() + " --reference-vertices " + reference);
   EXPECT_NE(refused.exitCode, 0);
   EXPECT_NE(refused.output.find("vertices"), std::string::npos) << refused.output;
+  EXPECT_EQ(refused.output.find("has no effect"), std::string::npos) << refused.output;
   CommandResult nothing = run("reference --patches 192");
   EXPECT_NE(nothing.exitCode, 0);
   EXPECT_NE(nothing.output.find("nothing to do"), std::string::npos) << nothing.output;
+}
+
+// An option the chosen path would not read is an error naming it and why, before any work.
+TEST(CliTest, OptionsThePathDoesNotUseAreRefused) {
+  fs::path dir = outputDir("unused");
+  const std::string png = " -o " + (dir / "never.png").string();
+  const std::pair<std::string, std::string> cases[] = {
+      {"render --patches 64 --hemicube-resolution 64", "--hemicube-resolution has no effect"},
+      {"render --patches 64 --formfactor hemicube --samples 4", "--samples has no effect"},
+      {"render --patches 64 --formfactor mc --hemisphere-rays 64", "--hemisphere-rays has no effect"},
+      {"render --patches 64 --max-level 2", "--max-level has no effect: it applies to --adaptive"},
+      {"render --adaptive --patches 64", "--patches has no effect"},
+      {"render --patches 64 --solver direct --tolerance 1e-3", "--tolerance has no effect: the direct solver"},
+      {"render --scene cornell --patches 64 --light-samples 4", "--light-samples has no effect: scene 'cornell'"},
+      {"render --scene cornell --patches 64 --lighting hybrid", "--lighting has no effect"},
+      {"render --patches 64 --no-cache --cache-dir /tmp/x", "--cache-dir has no effect"},
+      {"render --adaptive --formfactor hemicube", "pair-wise form-factor method"},
+      {"animate --patches 64 --frames 1 --sweeps-per-frame 3", "shoot takes shots or milliseconds"},
+      {"animate --patches 64 --frames 1 --solver gs --shots-per-frame 3", "a budget of shots is for the shoot solver"},
+      {"animate --patches 64 --frames 1 --solver direct --frame-ms 5", "the direct solver solves exactly"},
+      {"reference --patches 64 -o " + (dir / "r.png").string(), "--patches has no effect"},
+      {"compare --radiosity-vertices x.csv --solver jacobi", "--solver has no effect: the radiosity side comes from"},
+      {"compare --patches 64 --no-image --width 10", "--width has no effect: --no-image"},
+  };
+  for (const auto& [arguments, message] : cases) {
+    CommandResult result = run(arguments + (arguments.rfind("render", 0) == 0 ? png : ""));
+    EXPECT_EQ(result.exitCode, 2) << arguments << "\n" << result.output;
+    EXPECT_NE(result.output.find(message), std::string::npos) << arguments << "\n" << result.output;
+  }
+  EXPECT_FALSE(fs::exists(dir / "never.png"));
+}
+
+// The consumers of a solution read one view, whatever the mesh: vertex export and comparison work
+// on the adaptive quad-tree's finest level as they do on a uniform mesh, and animate's stats
+// describe the lit frames it drew.
+TEST(CliTest, AdaptiveSolutionsExportAndCompareAndAnimationStatsAreLit) {
+  fs::path dir = outputDir("one-view");
+  const std::string adaptive = " --scene cornell-spots --adaptive --base-edge 180 --max-level 1";
+  CommandResult solved = run("solve" + adaptive + " --json --export-vertices " + (dir / "adaptive.csv").string());
+  ASSERT_EQ(solved.exitCode, 0) << solved.output;
+  Result<std::vector<VertexSample>> vertices = readVertices((dir / "adaptive.csv").string());
+  ASSERT_TRUE(vertices.ok());
+  EXPECT_GT(vertices->size(), static_cast<std::size_t>(nlohmann::json::parse(solved.output)["patches"].get<int>()));
+
+  CommandResult compared = run("compare" + adaptive + " --vertex-samples 64 --no-image --json");
+  ASSERT_EQ(compared.exitCode, 0) << compared.output;
+  nlohmann::json stats = nlohmann::json::parse(compared.output);
+  EXPECT_EQ(stats["mesh"], "adaptive quad-tree");
+  EXPECT_EQ(stats["vertex_all_compared"].get<std::size_t>(), 3 * vertices->size());
+
+  CommandResult animated = run("animate --scene cornell-spots --patches 192 --frames 3 --solver gs --sweeps-per-frame 4 "
+                               "--width 32 --height 32 --json -o " + (dir / "frames").string());
+  ASSERT_EQ(animated.exitCode, 0) << animated.output;
+  nlohmann::json frames = nlohmann::json::parse(animated.output);
+  EXPECT_EQ(frames["solver"], "gs");
+  EXPECT_EQ(frames["solves"], 3);
+  EXPECT_LE(frames["iterations_all_frames"].get<int>(), 12);
+  EXPECT_GT(frames["emitted_watts"].get<double>(), 0.01) << "the stats must describe the lit frames";
 }
 
 TEST(CliTest, HelpListsTheOptions) {

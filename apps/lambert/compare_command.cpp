@@ -9,7 +9,8 @@
 #include "lambert/core/timer.h"
 #include "lambert/io/png.h"
 #include "lambert/io/vertices.h"
-#include "lambert/pipeline/compare.h"
+#include "lambert/reference/compare.h"
+#include "lambert/reference/reference.h"
 #include "lambert/render/tonemap.h"
 #include "options.h"
 
@@ -46,24 +47,55 @@ void addError(Stats& stats, const std::string& prefix, const std::string& what, 
   stats.add(prefix + "_max_rel", what + " max relative error", e.maxRelative);
 }
 
+// Options that the chosen sources would not use are refused: a solve's options when the
+// radiosity side is a file, the tracer's when the reference side is, images when nothing solves.
+Status checkSources(const CompareCommandOptions& o) {
+  const bool radiosityFile = !o.radiosityVertices.empty(), referenceFile = !o.referenceVertices.empty();
+  const std::initializer_list<const char*> imageOptions = {"--width", "--height", "--shading", "--lighting", "--supersample",
+                                                           "--exposure", "--radiosity-image", "--reference-image"};
+  if (radiosityFile) {
+    if (Status s = refuseGiven(o.solve, solveOnlyOptions(), "the radiosity side comes from --radiosity-vertices"); !s) return s;
+    const std::string why = "images are compared only when compare solves (not with --radiosity-vertices)";
+    if (Status s = refuseGiven(o.image, imageOptions, why); !s) return s;
+    if (Status s = refuseGiven(o.solve, {"--no-image"}, why); !s) return s;
+  } else if (o.noImage) {
+    if (Status s = refuseGiven(o.image, imageOptions, "--no-image compares vertices only"); !s) return s;
+  }
+  const bool tracesImage = !radiosityFile && !o.noImage;
+  if (referenceFile) {
+    if (Status s = refuseGiven(o.solve, {"--vertex-samples"}, "the reference side comes from --reference-vertices"); !s) return s;
+    if (!tracesImage)
+      if (Status s = refuseGiven(o.solve, {"--spp", "--max-bounces"}, "nothing is path-traced: both vertex sides are files and no image is compared"); !s)
+        return s;
+  }
+  if (radiosityFile && referenceFile)
+    if (Status s = refuseGiven(o.solve, {"--patches", "--max-edge", "--seed"}, "both sides come from vertex files"); !s) return s;
+  return Ok{};
+}
+
 int runCompare(const CompareCommandOptions& o) {
   Timer total;
   std::optional<Scene> scene = findScene("compare", o.solve.scene);
   if (!scene) return 2;
+  if (Status ok = checkSources(o); !ok) return fail("compare", ok.error().message);
+  if (Status ok = checkImageOptions(*scene, o.image); !ok) return fail("compare", ok.error().message);
   Stats stats;
 
   // The radiosity side: a vertex file, or a solve.
   std::vector<VertexSample> radiosity;
-  std::optional<RadiositySolution> solution;
+  std::unique_ptr<Radiosity> engine;
   Timer radiosityTimer;
   if (!o.radiosityVertices.empty()) {
     auto loaded = loadVertices(o.radiosityVertices);
     if (!loaded) return 2;
     radiosity = std::move(*loaded);
   } else {
-    solution = solveScene(*scene, pipelineOptions(o.solve));
-    stats = solution->stats;
-    radiosity = vertexSamples(solution->mesh, solution->vertexRadiance());
+    engine = makeEngine("compare", *scene, o.solve);
+    if (!engine) return 2;
+    if (Result<SolveCallReport> solved = engine->solve(); !solved) return fail("compare", solved.error().message);
+    (void)engine->saveCache();
+    stats = engine->stats();
+    radiosity = vertexSamples(engine->solution());
   }
   stats.add("radiosity_seconds", "radiosity time", radiosityTimer.seconds(), "s");
 
@@ -84,25 +116,21 @@ int runCompare(const CompareCommandOptions& o) {
     if (!loaded) return 2;
     reference = std::move(*loaded);
   } else {
-    Mesh mesh = solution ? solution->mesh : meshFor(*scene, o.solve);
+    const Mesh mesh = engine ? engine->solution().vertexMesh() : uniformMesh(*scene, {o.solve.patches, o.solve.maxEdge});
     reference = vertexSamples(mesh, tracer().vertexRadiance(mesh));
   }
   stats.add("reference_seconds", "reference time", referenceTimer.seconds(), "s");
 
   Result<VertexComparison> vertices = compareVertices(*scene, radiosity, reference, o.rimDistance);
-  if (!vertices) {
-    std::fprintf(stderr, "lambert compare: %s\n", vertices.error().message.c_str());
-    return 2;
-  }
+  if (!vertices) return fail("compare", vertices.error().message);
   stats.add("near_emitter_vertices", "vertices near emitters (left out)", static_cast<std::int64_t>(vertices->nearEmitters));
   stats.add("covered_vertices", "vertices inside geometry (left out)", static_cast<std::int64_t>(vertices->covered));
   addError(stats, "vertex", "vertex", vertices->error);
   addError(stats, "vertex_all", "vertex (all)", vertices->everywhere);
 
-  if (!o.noImage && solution) {
-    Image mine = renderImage(*scene, scene->lights, solution->mesh, *solution->caster, solution->radiosity,
-                             solution->indirectRadiosity(), solution->problem.albedo, o.image);
-    Image truth = tracer().render(o.image.width, o.image.height);
+  if (!o.noImage && engine) {
+    Image mine = renderSolution(engine->solution(), o.image.image);
+    Image truth = tracer().render(o.image.image.width, o.image.image.height);
     addError(stats, "image", "image", radianceError(mine.pixels, truth.pixels));
     for (auto [path, image] : {std::pair{o.radiosityImage, &mine}, std::pair{o.referenceImage, &truth}}) {
       if (path.empty()) continue;
@@ -125,7 +153,7 @@ std::function<int()> addCompareCommand(CLI::App& app) {
   options->reference.samplesPerPixel = 64;
   options->reference.vertexSamples = 1024;
   // The path tracer box-filters 64 samples a pixel; match it, so edge pixels compare like with like.
-  options->image.supersample = 8;
+  options->image.image.supersample = 8;
   CLI::App* cmd = app.add_subcommand("compare", "Measure a radiosity solution against the path-traced reference");
   addSolveOptions(*cmd, options->solve);
   addImageOptions(*cmd, options->image);

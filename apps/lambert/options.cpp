@@ -5,12 +5,12 @@
 #include <map>
 
 #include "lambert/mesh/mesh.h"
-#include "lambert/render/hybrid.h"
 #include "lambert/scene/builtin.h"
 
 namespace lambert::cli {
 
 void addMeshOptions(CLI::App& cmd, MeshCommandOptions& o) {
+  o.command = &cmd;
   cmd.add_option("--scene", o.scene, "Built-in scene name (see `lambert scenes`)")->capture_default_str();
   auto* patches = cmd.add_option("--patches", o.patches, "Target patch count; the mesh edge length is chosen to reach it")
                       ->check(CLI::Range(std::size_t{1}, std::size_t{200000}))
@@ -19,10 +19,6 @@ void addMeshOptions(CLI::App& cmd, MeshCommandOptions& o) {
       ->check(CLI::Range(1e-9, 1e12))
       ->excludes(patches);
   cmd.add_option("--seed", o.seed, "Random seed")->capture_default_str();
-}
-
-Mesh meshFor(const Scene& scene, const MeshCommandOptions& o) {
-  return subdivideScene(scene, o.maxEdge > 0 ? o.maxEdge : edgeLengthForPatchCount(scene, o.patches));
 }
 
 void addSolveOptions(CLI::App& cmd, SolveCommandOptions& o) {
@@ -71,7 +67,7 @@ void addSolveOptions(CLI::App& cmd, SolveCommandOptions& o) {
                  "Adaptive: split cells whose corners' radiosity spans more than this × the mean (0: off)")
       ->check(CLI::Range(0.0, 1e6))
       ->capture_default_str();
-  cmd.add_option("--adapt-passes", o.adaptPasses, "Adaptive (render): refine-and-solve passes")
+  cmd.add_option("--adapt-passes", o.adaptPasses, "Adaptive: refine-and-solve passes per solve (per frame in animate)")
       ->check(CLI::Range(1, 20))
       ->capture_default_str();
   cmd.add_flag("--json", o.json, "Print the stats as JSON instead of a table");
@@ -79,16 +75,17 @@ void addSolveOptions(CLI::App& cmd, SolveCommandOptions& o) {
 }
 
 void addImageOptions(CLI::App& cmd, ImageCommandOptions& o) {
-  cmd.add_option("--width", o.width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
-  cmd.add_option("--height", o.height, "Image height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
-  cmd.add_option("--shading", o.shading, "gouraud (interpolated) or flat (one value per patch)")
+  o.command = &cmd;
+  cmd.add_option("--width", o.image.width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
+  cmd.add_option("--height", o.image.height, "Image height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
+  cmd.add_option("--shading", o.image.shading, "gouraud (interpolated) or flat (one value per patch)")
       ->transform(CLI::CheckedTransformer(std::map<std::string, Shading>{{"gouraud", Shading::Gouraud}, {"flat", Shading::Flat}}))
       ->default_str("gouraud");
-  cmd.add_option("--lighting", o.lighting,
+  cmd.add_option("--lighting", o.image.lighting,
                  "hybrid (lights' direct light per pixel, with shadow rays) or radiosity (all from the solution)")
       ->transform(CLI::CheckedTransformer(std::map<std::string, Lighting>{{"hybrid", Lighting::Hybrid}, {"radiosity", Lighting::Radiosity}}))
       ->default_str("hybrid");
-  cmd.add_option("--supersample", o.supersample, "Samples per pixel along each axis")->check(CLI::Range(1, 8))->capture_default_str();
+  cmd.add_option("--supersample", o.image.supersample, "Samples per pixel along each axis")->check(CLI::Range(1, 8))->capture_default_str();
   cmd.add_option("--exposure", o.exposure, "Exposure in stops (radiance × 2^stops before sRGB)")->capture_default_str();
 }
 
@@ -119,88 +116,90 @@ std::string defaultCacheDirectory() {
 
 }  // namespace
 
-PipelineOptions pipelineOptions(const SolveCommandOptions& o) {
-  PipelineOptions p;
-  p.targetPatches = o.patches;
-  p.maxEdgeLength = o.maxEdge;
-  p.formFactors.method = o.formFactor;
-  p.formFactors.samplePairs = o.samples;
-  p.formFactors.hemicubeResolution = o.hemicubeResolution;
-  p.formFactors.hemisphereRays = o.hemisphereRays;
-  p.formFactors.seed = o.seed;
-  p.formFactors.showProgress = !o.quiet && !o.json;
-  p.directLight.samplesPerPatch = o.lightSamples;
-  p.directLight.seed = o.seed;
-  p.solver = o.solver;
-  p.solve.tolerance = o.tolerance;
-  p.solve.maxIterations = o.maxIterations;
-  p.cacheDirectory = o.noCache ? "" : (o.cacheDir.empty() ? defaultCacheDirectory() : o.cacheDir);
-  p.normalizeRows = o.normalizeRows;
-  return p;
+int fail(const std::string& command, const std::string& message) {
+  std::fprintf(stderr, "lambert %s: %s\n", command.c_str(), message.c_str());
+  return 2;
 }
 
-AdaptiveOptions adaptiveOptions(const Scene& scene, const SolveCommandOptions& o) {
-  AdaptiveOptions a;
-  a.quadtree.baseEdgeLength = o.baseEdge > 0 ? o.baseEdge : sceneDiagonal(scene) / 6;
-  a.quadtree.maxLevel = o.maxLevel;
-  a.formFactors = pipelineOptions(o).formFactors;
-  a.formFactors.showProgress = false;
-  a.direct.samplesPerPatch = o.lightSamples;
-  a.direct.seed = o.seed;
-  a.gradientThreshold = o.gradientThreshold;
-  a.normalizeRows = o.normalizeRows;
-  a.cacheDirectory = pipelineOptions(o).cacheDirectory;
-  return a;
+const std::initializer_list<const char*>& solveOnlyOptions() {
+  static const std::initializer_list<const char*> options = {
+      "--formfactor", "--samples", "--hemicube-resolution", "--hemisphere-rays", "--light-samples", "--solver",
+      "--tolerance", "--max-iterations", "--cache-dir", "--no-cache", "--normalize-rows", "--adaptive", "--base-edge",
+      "--max-level", "--gradient-threshold", "--adapt-passes"};
+  return options;
 }
 
-void saveAdaptiveTable(AdaptiveRadiosity& adaptive, Stats& stats) {
-  // A failure is already reported on stderr by saveTable, and costs only the next run's time.
-  (void)adaptive.saveTable();
-  const AdaptiveTableFile& file = adaptive.tableFile();
-  std::string cache;
-  if (file.path.empty()) {
-    cache = "off";
-  } else {
-    if (file.loaded) cache = "loaded " + file.path + " (" + std::to_string(file.pairsInFile) + " pairs)";
-    if (file.saved) cache += (cache.empty() ? "" : "; ") + ("saved " + file.path + " (" + std::to_string(file.pairsSaved) + " pairs)");
-    if (cache.empty()) cache = "not saved: " + file.path;
-  }
-  stats.add("pairs_loaded", "cell pairs loaded from the table file", static_cast<std::int64_t>(adaptive.table().pairsLoaded()));
-  stats.add("formfactor_cache", "form-factor table file", cache);
-  stats.add("formfactor_cache_seconds", "table file load + save time", file.loadSeconds + file.saveSeconds, "s");
+Status refuseGiven(const GivenOptions& o, std::initializer_list<const char*> options, const std::string& why) {
+  for (const char* option : options)
+    if (o.given(option)) return Error{std::string(option) + " has no effect: " + why};
+  return Ok{};
 }
 
-Image renderAdaptiveImage(const Scene& scene, const std::vector<Light>& lights, const AdaptiveRadiosity& adaptive,
-                          const ImageCommandOptions& options) {
-  const AdaptiveMesh& mesh = adaptive.mesh();
-  if (options.shading == Shading::Flat) {
-    Mesh active = mesh.activeMesh();
-    return renderImage(scene, lights, active, adaptive.caster(), adaptive.radiosity(), adaptive.indirectRadiosity(),
-                       adaptive.problem().albedo, options);
-  }
-  const bool hybrid = options.lighting == Lighting::Hybrid && !lights.empty();
-  std::vector<Rgb> vertices = mesh.fineVertexRadiosity(hybrid ? adaptive.indirectRadiosity() : adaptive.radiosity());
-  std::vector<Rgb> albedo = adaptive.fineAlbedo();
-  RenderOptions render = renderOptions(options);
-  if (hybrid) render = withDirectLight(render, scene, mesh.fineMesh(), adaptive.caster(), albedo, lights);
-  return renderVertexRadiosity(scene.camera, mesh.fineMesh(), vertices, render);
-}
+Result<RadiosityOptions> radiosityOptions(const Scene& scene, const SolveCommandOptions& o) {
+  // Each option the chosen path would not read is refused, saying what reads it.
+  struct Rule {
+    bool unused;
+    std::initializer_list<const char*> options;
+    std::string why;
+  };
+  const bool mc = o.formFactor == FormFactorMethod::AreaMonteCarlo;
+  const std::string method = formFactorMethodName(o.formFactor);
+  const Rule rules[] = {
+      {o.adaptive, {"--patches", "--max-edge"}, "they size the uniform mesh; --adaptive cells are sized by --base-edge and --max-level"},
+      {!o.adaptive, {"--base-edge", "--max-level", "--gradient-threshold", "--adapt-passes"}, "it applies to --adaptive meshing only"},
+      {!mc, {"--samples"}, "sample pairs are for --formfactor mc, not " + method},
+      {o.formFactor != FormFactorMethod::Hemicube, {"--hemicube-resolution"}, "it is for --formfactor hemicube, not " + method},
+      {o.formFactor != FormFactorMethod::HemisphereRays, {"--hemisphere-rays"}, "it is for --formfactor hemisphere, not " + method},
+      {o.solver == SolverKind::Direct, {"--tolerance", "--max-iterations"}, "the direct solver is exact; they are for gs, jacobi and shoot"},
+      {o.noCache, {"--cache-dir"}, "--no-cache turns the cache off"},
+      {scene.lights.empty(), {"--light-samples"}, "scene '" + scene.name + "' has no point, spot or directional lights"},
+  };
+  for (const Rule& rule : rules)
+    if (rule.unused)
+      if (Status refused = refuseGiven(o, rule.options, rule.why); !refused) return refused.error();
 
-RenderOptions renderOptions(const ImageCommandOptions& o) {
-  RenderOptions r;
-  r.width = o.width;
-  r.height = o.height;
-  r.shading = o.shading;
-  r.supersample = o.supersample;
+  RadiosityOptions r;
+  r.meshing = o.adaptive ? MeshStrategy::Adaptive : MeshStrategy::Uniform;
+  r.uniform.targetPatches = o.patches;
+  r.uniform.maxEdgeLength = o.maxEdge;
+  r.adaptive.quadtree.baseEdgeLength = o.baseEdge;
+  r.adaptive.quadtree.maxLevel = o.maxLevel;
+  r.adaptive.gradientThreshold = o.gradientThreshold;
+  r.adaptive.passesPerSolve = o.adaptPasses;
+  r.formFactors.method = o.formFactor;
+  r.formFactors.samplePairs = o.samples;
+  r.formFactors.hemicubeResolution = o.hemicubeResolution;
+  r.formFactors.hemisphereRays = o.hemisphereRays;
+  r.formFactors.seed = o.seed;
+  r.formFactors.showProgress = !o.quiet && !o.json;
+  r.normalizeRows = o.normalizeRows;
+  r.directLight.samplesPerPatch = o.lightSamples;
+  r.directLight.seed = o.seed;
+  r.solver = o.solver;
+  r.tolerance = o.tolerance;
+  r.maxIterations = o.maxIterations;
+  r.cacheDirectory = o.noCache ? "" : (o.cacheDir.empty() ? defaultCacheDirectory() : o.cacheDir);
   return r;
 }
 
-Image renderImage(const Scene& scene, const std::vector<Light>& lights, const Mesh& mesh, const RayCaster& caster,
-                  const std::vector<Rgb>& radiosity, const std::vector<Rgb>& indirect, const std::vector<Rgb>& albedo,
-                  const ImageCommandOptions& options) {
-  if (options.lighting == Lighting::Hybrid && !lights.empty())
-    return renderHybrid(scene, mesh, caster, indirect, albedo, lights, renderOptions(options));
-  return renderRadiance(scene.camera, mesh, radiosity, renderOptions(options));
+Status checkImageOptions(const Scene& scene, const ImageCommandOptions& o) {
+  if (scene.lights.empty())
+    return refuseGiven(o, {"--lighting"}, "scene '" + scene.name + "' has no point, spot or directional lights to draw per pixel");
+  return Ok{};
+}
+
+std::unique_ptr<Radiosity> makeEngine(const std::string& command, const Scene& scene, const SolveCommandOptions& o) {
+  Result<RadiosityOptions> options = radiosityOptions(scene, o);
+  if (!options) {
+    fail(command, options.error().message);
+    return nullptr;
+  }
+  Result<std::unique_ptr<Radiosity>> engine = Radiosity::create(scene, std::move(*options));
+  if (!engine) {
+    fail(command, engine.error().message);
+    return nullptr;
+  }
+  return std::move(*engine);
 }
 
 }  // namespace lambert::cli

@@ -1,26 +1,29 @@
 #pragma once
 // Options shared by the subcommands that solve and draw a scene, registered on each of them from
-// one place, so `render` and `animate` spell and default every option the same way.
+// one place, so that every command spells and defaults every option the same way, and turned
+// into the library's option structs. An option that the chosen path would not use is refused.
+#include <initializer_list>
 #include <optional>
 #include <string>
 
 #include <CLI/CLI.hpp>
 
+#include "lambert/core/error.h"
 #include "lambert/core/stats.h"
-#include "lambert/pipeline/adaptive.h"
-#include "lambert/pipeline/pipeline.h"
-#include "lambert/render/rasterizer.h"
+#include "lambert/engine/radiosity.h"
+#include "lambert/render/solution_image.h"
 #include "lambert/scene/scene.h"
 
 namespace lambert::cli {
 
-enum class Lighting {
-  Hybrid,     // lights' direct light per pixel over interpolated indirect radiosity (seed 000)
-  Radiosity,  // everything from the interpolated radiosity solution
+// Remembers the command its options were registered on, to tell which ones the user gave.
+struct GivenOptions {
+  const CLI::App* command = nullptr;
+  bool given(const std::string& option) const { return command && command->count(option) > 0; }
 };
 
 // Which scene, meshed how finely: all that `reference` needs to find the solution's vertices.
-struct MeshCommandOptions {
+struct MeshCommandOptions : GivenOptions {
   std::string scene = "cornell";
   std::size_t patches = 784;
   double maxEdge = 0;
@@ -49,24 +52,31 @@ struct SolveCommandOptions : MeshCommandOptions {
   bool quiet = false;
 };
 
-struct ImageCommandOptions {
-  int width = 512, height = 512;
-  Shading shading = Shading::Gouraud;
-  int supersample = 2;
+struct ImageCommandOptions : GivenOptions {
+  SolutionImageOptions image;
   double exposure = 0;
-  Lighting lighting = Lighting::Hybrid;
 };
 
 void addMeshOptions(CLI::App& command, MeshCommandOptions& options);
 void addSolveOptions(CLI::App& command, SolveCommandOptions& options);
-// The uniform mesh the options ask for (the one solveScene builds).
-Mesh meshFor(const Scene& scene, const MeshCommandOptions& options);
-AdaptiveOptions adaptiveOptions(const Scene& scene, const SolveCommandOptions& options);
-// At the end of an adaptive run: saves the master table (when caching is on; a failure is a
-// warning, never an error) and reports it: pairs_loaded, formfactor_cache ("loaded <path> (N
-// pairs)", "saved <path> (N pairs)", both, or "off") and formfactor_cache_seconds.
-void saveAdaptiveTable(AdaptiveRadiosity& adaptive, Stats& stats);
 void addImageOptions(CLI::App& command, ImageCommandOptions& options);
+
+// The options that only a solve reads (form factors, lights, solver, cache, meshing), for
+// commands that may take their solution from a file instead.
+const std::initializer_list<const char*>& solveOnlyOptions();
+
+// An error naming the first of `options` that was given, "<option> has no effect: <why>".
+Status refuseGiven(const GivenOptions& given, std::initializer_list<const char*> options, const std::string& why);
+
+// The library's options for a solve, or an error naming a given option the solve would not use
+// (a method's own setting under another method, adaptive settings on a uniform mesh, …).
+Result<RadiosityOptions> radiosityOptions(const Scene& scene, const SolveCommandOptions& options);
+// The same check for the image options (--lighting on a scene without lights).
+Status checkImageOptions(const Scene& scene, const ImageCommandOptions& options);
+
+// The engine for a scene and options: errors (refused options, impossible combinations) are
+// printed as "lambert <command>: <why>" and give nothing.
+std::unique_ptr<Radiosity> makeEngine(const std::string& command, const Scene& scene, const SolveCommandOptions& options);
 
 // Prints a command's figures: JSON with --json, else the headline (if any) and a table, unless
 // --quiet.
@@ -74,17 +84,8 @@ void printStats(const Stats& stats, bool json, bool quiet, const std::string& he
 
 // The named built-in scene, or a message on stderr naming the choices.
 std::optional<Scene> findScene(const std::string& command, const std::string& name);
-PipelineOptions pipelineOptions(const SolveCommandOptions& options);
-RenderOptions renderOptions(const ImageCommandOptions& options);
 
-// Draws an adaptive solution: its finest level with radiosity interpolated from the active level
-// (flat shading shows the active cells themselves).
-Image renderAdaptiveImage(const Scene& scene, const std::vector<Light>& lights, const AdaptiveRadiosity& adaptive,
-                          const ImageCommandOptions& options);
-
-// Draws a solved scene as the image options ask: hybrid (lights per pixel) or radiosity only.
-Image renderImage(const Scene& scene, const std::vector<Light>& lights, const Mesh& mesh, const RayCaster& caster,
-                  const std::vector<Rgb>& radiosity, const std::vector<Rgb>& indirect, const std::vector<Rgb>& albedo,
-                  const ImageCommandOptions& options);
+// Prints "lambert <command>: <message>" on stderr and returns exit code 2 (bad input).
+int fail(const std::string& command, const std::string& message);
 
 }  // namespace lambert::cli

@@ -30,10 +30,14 @@ int runReference(const ReferenceCommandOptions& o) {
   Timer total;
   std::optional<Scene> scene = findScene("reference", o.mesh.scene);
   if (!scene) return 2;
-  if (o.output.empty() && o.exportVertices.empty()) {
-    std::fprintf(stderr, "lambert reference: nothing to do: give -o IMAGE.png and/or --export-vertices FILE\n");
-    return 2;
-  }
+  if (o.output.empty() && o.exportVertices.empty())
+    return fail("reference", "nothing to do: give -o IMAGE.png and/or --export-vertices FILE");
+  if (o.exportVertices.empty())
+    if (Status s = refuseGiven(o.mesh, {"--patches", "--max-edge", "--vertex-samples"}, "they choose the vertices, and no --export-vertices is asked for"); !s)
+      return fail("reference", s.error().message);
+  if (o.output.empty())
+    if (Status s = refuseGiven(o.mesh, {"--spp", "--width", "--height", "--exposure"}, "they shape the image, and no -o IMAGE.png is asked for"); !s)
+      return fail("reference", s.error().message);
   ReferenceOptions options = o.reference;
   options.seed = o.mesh.seed;
   options.showProgress = !o.quiet && !o.json;
@@ -45,7 +49,7 @@ int runReference(const ReferenceCommandOptions& o) {
   stats.add("scene", "scene", scene->name);
   if (!o.exportVertices.empty()) {
     Timer timer;
-    Mesh mesh = meshFor(*scene, o.mesh);
+    Mesh mesh = uniformMesh(*scene, {o.mesh.patches, o.mesh.maxEdge});
     std::vector<Rgb> radiance = renderer.vertexRadiance(mesh);
     Status written = writeVertices(o.exportVertices, vertexSamples(mesh, radiance));
     if (!written) {

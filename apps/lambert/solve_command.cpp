@@ -1,5 +1,6 @@
-// `lambert solve`: solve a scene's radiosity and export every mesh vertex's outgoing radiance
-// (no image), for comparison with the reference path tracer or other renderers.
+// `lambert solve`: solve a scene's radiosity and export every vertex's outgoing radiance (no
+// image), for comparison with the reference path tracer or other renderers. With --adaptive the
+// vertices are those of the quad-tree's finest level.
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -7,7 +8,6 @@
 #include "commands.h"
 #include "lambert/core/timer.h"
 #include "lambert/io/vertices.h"
-#include "lambert/render/rasterizer.h"
 #include "options.h"
 
 namespace lambert::cli {
@@ -22,21 +22,21 @@ int runSolve(const SolveOnlyOptions& o) {
   Timer total;
   std::optional<Scene> scene = findScene("solve", o.solve.scene);
   if (!scene) return 2;
-  if (o.solve.adaptive) {
-    std::fprintf(stderr, "lambert solve: --adaptive is for render and animate; solve exports a uniform mesh\n");
-    return 2;
-  }
-  RadiositySolution solution = solveScene(*scene, pipelineOptions(o.solve));
+  std::unique_ptr<Radiosity> engine = makeEngine("solve", *scene, o.solve);
+  if (!engine) return 2;
+  if (Result<SolveCallReport> solved = engine->solve(); !solved) return fail("solve", solved.error().message);
+  (void)engine->saveCache();
+  Stats stats = engine->stats();
   if (!o.exportVertices.empty()) {
-    Status written = writeVertices(o.exportVertices, vertexSamples(solution.mesh, solution.vertexRadiance()));
+    Status written = writeVertices(o.exportVertices, vertexSamples(engine->solution()));
     if (!written) {
       std::fprintf(stderr, "lambert solve: %s\n", written.error().message.c_str());
       return 1;
     }
-    solution.stats.add("vertices_file", "vertices written to", o.exportVertices);
+    stats.add("vertices_file", "vertices written to", o.exportVertices);
   }
-  solution.stats.add("total_seconds", "total time", total.seconds(), "s");
-  printStats(solution.stats, o.solve.json, o.solve.quiet);
+  stats.add("total_seconds", "total time", total.seconds(), "s");
+  printStats(stats, o.solve.json, o.solve.quiet);
   return 0;
 }
 

@@ -9,6 +9,8 @@ void Stats::add(std::string key, std::string label, Value value, std::string uni
   entries_.push_back({std::move(key), std::move(label), std::move(value), std::move(unit)});
 }
 
+void Stats::append(const Stats& other) { entries_.insert(entries_.end(), other.entries_.begin(), other.entries_.end()); }
+
 const Stats::Entry* Stats::find(const std::string& key) const {
   for (const Entry& e : entries_)
     if (e.key == key) return &e;

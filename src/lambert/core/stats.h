@@ -21,6 +21,8 @@ class Stats {
   };
 
   void add(std::string key, std::string label, Value value, std::string unit = "");
+  // Adds every entry of other, in its order.
+  void append(const Stats& other);
   const std::vector<Entry>& entries() const { return entries_; }
   const Entry* find(const std::string& key) const;
 

@@ -15,6 +15,8 @@
 // file (table.cpp).
 #include "lambert/formfactor/cache.h"
 
+#include "lambert/core/warning.h"
+
 #include <algorithm>
 #include <cstdio>
 #include <limits>
@@ -109,7 +111,7 @@ CachedFormFactors cachedFormFactors(const Mesh& mesh, const RayCaster& caster, c
     return result;
   }
   auto warn = [&](const std::string& line) {
-    std::fprintf(stderr, "lambert: warning: %s\n", line.c_str());
+    warning(line);
     if (!result.warning.empty()) result.warning += '\n';
     result.warning += line;
   };

@@ -1,7 +1,7 @@
 #pragma once
 // Internal to the caches, not part of the library's interface: what the uniform mesh's matrix
 // cache (cache.cpp, .lff) and the adaptive master table's file (table.cpp, .lft; opened by
-// pipeline/adaptive.cpp) share, so both make the same promises with one piece of code: a key hashed with XXH64 from a fixed little-endian encoding of its inputs, and files made
+// engine/adaptive_meshing.cpp) share, so both make the same promises with one piece of code: a key hashed with XXH64 from a fixed little-endian encoding of its inputs, and files made
 // of a 32-byte header, a payload and a checksum, written atomically and trusted only once every
 // check has passed.
 //

@@ -7,16 +7,11 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Core>
-
+#include "lambert/formfactor/matrix.h"
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/mesh/mesh.h"
 
 namespace lambert {
-
-// Row-major so that a gather over row i (Gauss–Seidel, shooting via reciprocity) reads contiguous
-// memory; single precision halves the bandwidth those sweeps are bound by.
-using FormFactorMatrix = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
 enum class FormFactorMethod {
   // Seed 000: one kernel evaluation and one visibility ray between the patches' incircle centres.

@@ -21,7 +21,6 @@
 #include "lambert/formfactor/cache_file.h"
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/mesh/quadtree.h"
-#include "lambert/pipeline/adaptive.h"
 #include "tests/support/scenes.h"
 
 #include "tests/support/files.h"
@@ -65,7 +64,7 @@ FormFactorOptions quietOptions() {
 
 const QuadtreeOptions kQuadtree{0.5, 2};  // four level-0 cells per face of the unit cube
 
-// An adaptive mesh of the unit cube with its master table, as AdaptiveRadiosity sets them up.
+// An adaptive mesh of the unit cube with its master table, as AdaptiveMeshing sets them up.
 // Heap-allocated and never moved: the table refers to the mesh.
 struct Cells {
   AdaptiveMesh mesh;
@@ -458,151 +457,6 @@ TEST(FormFactorTableFileTest, EmptyTableRoundTrips) {
   Result<std::size_t> loaded = cube()->table->load(path, 9);
   ASSERT_TRUE(loaded.ok()) << loaded.error().message;
   EXPECT_EQ(*loaded, 0u);
-}
-
-// ---------------------------------------------------------------------------------------------
-// AdaptiveRadiosity with a cache directory
-
-Light downwardSpot() {
-  Light spot;
-  spot.kind = LightKind::Spot;
-  spot.position = {0.5, 0.95, 0.5};
-  spot.direction = normalize(Vec3{0.3, -1, 0.2});
-  spot.intensity = {1, 1, 1};
-  spot.coneAngleDegrees = 25;
-  spot.falloffDegrees = 5;
-  return spot;
-}
-
-AdaptiveOptions cachedOptions(const fs::path& dir) {
-  AdaptiveOptions options;
-  options.quadtree = {0.34, 2};
-  options.formFactors = quietOptions();
-  options.cacheDirectory = dir.string();
-  return options;
-}
-
-struct SolvedRun {
-  std::unique_ptr<AdaptiveRadiosity> adaptive;
-  std::vector<Rgb> radiosity;
-  std::string stderrText;
-};
-
-// Creates, solves two updates (refining along the spot's edge and then by gradient) and saves.
-SolvedRun solve(const AdaptiveOptions& options, bool save = true) {
-  SolvedRun run;
-  ::testing::internal::CaptureStderr();
-  auto created = AdaptiveRadiosity::create(testing::closedCube(1), options);
-  if (created) {
-    run.adaptive = std::move(*created);
-    run.adaptive->update({downwardSpot()});
-    run.adaptive->update({downwardSpot()});
-    run.radiosity = run.adaptive->radiosity();
-    if (save) (void)run.adaptive->saveTable();
-  }
-  run.stderrText = ::testing::internal::GetCapturedStderr();
-  EXPECT_TRUE(created.ok()) << created.error().message;
-  return run;
-}
-
-TEST(FormFactorTableCacheTest, SecondRunLoadsEverythingAndSolvesIdentically) {
-  const fs::path dir = scratch("adaptive") / "cache";
-  SolvedRun first = solve(cachedOptions(dir));
-  const AdaptiveTableFile& saved = first.adaptive->tableFile();
-  EXPECT_TRUE(first.stderrText.empty()) << first.stderrText;
-  EXPECT_FALSE(saved.loaded);
-  EXPECT_TRUE(saved.saved);
-  EXPECT_EQ(saved.path, formFactorTablePath(dir.string(), formFactorTableKey(testing::closedCube(1), {0.34, 2}, quietOptions())));
-  EXPECT_TRUE(fs::is_regular_file(saved.path));
-  EXPECT_EQ(saved.pairsSaved, first.adaptive->table().pairsStored());
-  EXPECT_GT(first.adaptive->table().pairsEstimated(), 0u);
-  EXPECT_GT(first.adaptive->mesh().numNodes(), first.adaptive->mesh().activeNodes().size());  // it refined
-
-  SolvedRun second = solve(cachedOptions(dir));
-  const AdaptiveTableFile& loaded = second.adaptive->tableFile();
-  EXPECT_TRUE(second.stderrText.empty()) << second.stderrText;
-  EXPECT_TRUE(loaded.loaded);
-  EXPECT_EQ(loaded.pairsInFile, saved.pairsSaved);
-  EXPECT_FALSE(loaded.saved);  // nothing new: the file already holds these pairs
-  EXPECT_EQ(second.adaptive->table().pairsEstimated(), 0u);
-  EXPECT_EQ(second.adaptive->table().pairsLoaded(), saved.pairsSaved);
-  EXPECT_EQ(second.radiosity, first.radiosity);
-
-  // Off: neither read nor written.
-  AdaptiveOptions off = cachedOptions(dir);
-  off.cacheDirectory.clear();
-  SolvedRun uncached = solve(off);
-  EXPECT_TRUE(uncached.adaptive->tableFile().path.empty());
-  EXPECT_EQ(uncached.adaptive->table().pairsLoaded(), 0u);
-  EXPECT_EQ(uncached.radiosity, first.radiosity);
-  EXPECT_TRUE(uncached.adaptive->saveTable().ok());
-
-  // Another seed is another file.
-  AdaptiveOptions reseeded = cachedOptions(dir);
-  reseeded.formFactors.seed = 7;
-  SolvedRun other = solve(reseeded);
-  EXPECT_FALSE(other.adaptive->tableFile().loaded);
-  EXPECT_NE(other.adaptive->tableFile().path, saved.path);
-  EXPECT_GT(other.adaptive->table().pairsEstimated(), 0u);
-}
-
-TEST(FormFactorTableCacheTest, DamagedFileWarnsRecomputesAndIsRepaired) {
-  const fs::path dir = scratch("damaged");
-  SolvedRun first = solve(cachedOptions(dir));
-  const std::string path = first.adaptive->tableFile().path;
-  const std::vector<char> good = readBytes(path);
-
-  for (bool truncate : {false, true}) {
-    SCOPED_TRACE(truncate ? "truncated" : "flipped");
-    std::vector<char> damaged = good;
-    if (truncate) damaged.resize(good.size() * 2 / 3);
-    else damaged[kHeaderBytes + kEntryBytes * 7 + 18] ^= 0x20;
-    writeBytes(path, damaged);
-    SolvedRun again = solve(cachedOptions(dir));
-    EXPECT_TRUE(contains(again.stderrText, "lambert: warning: " + path + ": ")) << again.stderrText;
-    EXPECT_TRUE(contains(again.stderrText, "; recomputing\n")) << again.stderrText;
-    EXPECT_TRUE(contains(again.adaptive->tableFile().warning, truncate ? "truncated" : "checksum"))
-        << again.adaptive->tableFile().warning;
-    EXPECT_FALSE(again.adaptive->tableFile().loaded);
-    EXPECT_EQ(again.adaptive->table().pairsLoaded(), 0u);
-    EXPECT_EQ(again.adaptive->table().pairsEstimated(), first.adaptive->table().pairsEstimated());
-    EXPECT_EQ(again.radiosity, first.radiosity);
-    // Replaced by a valid file, the same bytes as the first run's.
-    EXPECT_TRUE(again.adaptive->tableFile().saved);
-    EXPECT_EQ(readBytes(path), good);
-    EXPECT_FALSE(hasTemporaryFiles(dir));
-  }
-}
-
-TEST(FormFactorTableCacheTest, FileOfAnotherKeyAtThePathIsRecomputed) {
-  // The right name but another scene's pairs (as if copied or renamed).
-  const fs::path dir = scratch("stale");
-  SolvedRun first = solve(cachedOptions(dir), false);
-  const std::string path = first.adaptive->tableFile().path;
-  ASSERT_TRUE(first.adaptive->table().save(path, 1234).ok());
-  SolvedRun again = solve(cachedOptions(dir));
-  EXPECT_TRUE(contains(again.stderrText, "lambert: warning: " + path + ": key mismatch")) << again.stderrText;
-  EXPECT_EQ(again.adaptive->table().pairsLoaded(), 0u);
-  EXPECT_EQ(again.radiosity, first.radiosity);
-  EXPECT_TRUE(again.adaptive->tableFile().saved);
-  EXPECT_TRUE(solve(cachedOptions(dir)).adaptive->tableFile().loaded);
-}
-
-TEST(FormFactorTableCacheTest, UnwritableDirectoryWarnsAndStillSolves) {
-  const fs::path dir = scratch("readonly");
-  writeBytes(dir / "file", {'x'});
-  SolvedRun run = solve(cachedOptions(dir / "file" / "cache"), false);
-  ::testing::internal::CaptureStderr();
-  Status saved = run.adaptive->saveTable();
-  const std::string printed = ::testing::internal::GetCapturedStderr();
-  ASSERT_FALSE(saved.ok());
-  const std::string& path = run.adaptive->tableFile().path;
-  EXPECT_TRUE(contains(saved.error().message, path)) << saved.error().message;
-  EXPECT_TRUE(contains(printed, "lambert: warning: " + path + ": ")) << printed;
-  EXPECT_TRUE(contains(run.adaptive->tableFile().warning, path)) << run.adaptive->tableFile().warning;
-  EXPECT_FALSE(run.adaptive->tableFile().saved);
-  EXPECT_FALSE(run.radiosity.empty());
-  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1);
 }
 
 }  // namespace

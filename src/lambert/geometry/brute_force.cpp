@@ -7,6 +7,7 @@ namespace {
 
 class BruteForceRayCaster final : public RayCaster {
  public:
+  // Copies the patches it needs: the caster holds no reference to a mesh that could move away.
   explicit BruteForceRayCaster(const Mesh& mesh) : mesh_(mesh) {}
 
   bool occluded(const Ray& ray) const override {
@@ -58,7 +59,7 @@ class BruteForceRayCaster final : public RayCaster {
     return t;
   }
 
-  const Mesh& mesh_;
+  const Mesh mesh_;
 };
 
 }  // namespace

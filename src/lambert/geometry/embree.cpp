@@ -3,6 +3,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <vector>
 
 #include "lambert/geometry/ray_caster.h"
 
@@ -32,7 +33,11 @@ RTCRay toRtcRay(const Ray& ray) {
 
 class EmbreeRayCaster final : public RayCaster {
  public:
-  explicit EmbreeRayCaster(const Mesh& mesh) : mesh_(mesh) {
+  // Embree copies the geometry into its own buffers; the caster keeps only the normals it needs to
+  // tell a hit's side, so it holds no reference to a mesh that could move away.
+  explicit EmbreeRayCaster(const Mesh& mesh) {
+    normals_.reserve(mesh.numPatches());
+    for (const Patch& patch : mesh.patches) normals_.push_back(patch.normal);
     device_ = rtcNewDevice(nullptr);
     if (!device_) {
       std::fprintf(stderr, "embree: cannot create a device (error %d)\n", static_cast<int>(rtcGetDeviceError(nullptr)));
@@ -105,12 +110,12 @@ class EmbreeRayCaster final : public RayCaster {
     rtcIntersect1(scene_, &context, &rayHit);
     if (rayHit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
     std::uint32_t patch = rayHit.hit.primID;
-    bool front = dot(ray.direction, mesh_.patches[patch].normal) < 0;
+    bool front = dot(ray.direction, normals_[patch]) < 0;
     return RayHit{rayHit.ray.tfar, patch, front};
   }
 
  private:
-  const Mesh& mesh_;
+  std::vector<Vec3> normals_;  // per patch: the front side
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
 };

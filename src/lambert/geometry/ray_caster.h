@@ -46,7 +46,8 @@ class RayCaster {
   mutable std::atomic<std::uint64_t> raysCast_{0};
 };
 
-// Embree 3 BVH over the mesh's patches.
+// Embree 3 BVH over the mesh's patches. Casters copy what they need: the mesh may be moved or
+// destroyed afterwards.
 std::unique_ptr<RayCaster> makeEmbreeRayCaster(const Mesh& mesh);
 // Tests every triangle for every ray; only for checking the fast backend.
 std::unique_ptr<RayCaster> makeBruteForceRayCaster(const Mesh& mesh);

@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "lambert/core/atomic_file.h"
-#include "lambert/render/tonemap.h"
+#include "lambert/core/srgb.h"
 
 namespace lambert {
 namespace {
@@ -50,6 +50,10 @@ bool parseRow(const std::string& line, char separator, double (&values)[9]) {
 constexpr const char* kCsvHeader = "x,y,z,nx,ny,nz,r,g,b";
 
 }  // namespace
+
+std::vector<VertexSample> vertexSamples(const SolutionView& solution) {
+  return vertexSamples(solution.vertexMesh(), solution.vertexRadiance());
+}
 
 std::vector<VertexSample> vertexSamples(const Mesh& mesh, const std::vector<Rgb>& vertexRadiance) {
   LAMBERT_CHECK(vertexRadiance.size() == mesh.numVertices());

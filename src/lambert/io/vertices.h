@@ -8,6 +8,7 @@
 
 #include "lambert/core/error.h"
 #include "lambert/core/rgb.h"
+#include "lambert/engine/solution.h"
 #include "lambert/mesh/mesh.h"
 
 namespace lambert {
@@ -20,6 +21,8 @@ struct VertexSample {
 
 // Every vertex of mesh with its surface's normal (area-weighted over its patches) and radiance.
 std::vector<VertexSample> vertexSamples(const Mesh& mesh, const std::vector<Rgb>& vertexRadiance);
+// Every vertex of a solution's vertex mesh with its outgoing radiance.
+std::vector<VertexSample> vertexSamples(const SolutionView& solution);
 
 // Chooses the format by extension (.csv or .ply); written atomically.
 Status writeVertices(const std::string& path, const std::vector<VertexSample>& vertices);

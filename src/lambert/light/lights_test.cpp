@@ -6,6 +6,7 @@
 #include "lambert/formfactor/form_factors.h"
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/light/lights.h"
+#include "lambert/light/emission.h"
 #include "lambert/solve/problem.h"
 #include "lambert/solve/solver.h"
 #include "tests/support/scenes.h"
@@ -201,7 +202,7 @@ TEST(LightTest, InjectedPointLightMatchesATinyEmissiveSphere) {
   for (std::size_t s = 6; s < withSphere.surfaces.size(); ++s) sphereArea += surfaceArea(withSphere.surfaces[s]);
 
   // Emitter: the sphere's patches emit.
-  RadiosityProblem emitting = makeRadiosityProblem(withSphere, mesh, F);
+  RadiosityProblem emitting = makeRadiosityProblem(mesh, emittedRadiosity(withSphere, mesh), patchAlbedo(withSphere, mesh), F);
   std::vector<Rgb> fromSphere;
   makeSolver(SolverKind::Direct)->solve(emitting, fromSphere);
 
@@ -209,7 +210,7 @@ TEST(LightTest, InjectedPointLightMatchesATinyEmissiveSphere) {
   Light light = pointLight({0.5, 0.5, 0.5}, radiance * (sphereArea / 4));
   Scene dark = withSphere;
   for (Surface& s : dark.surfaces) s.emittedRadiance = {};
-  RadiosityProblem injected = makeRadiosityProblem(dark, mesh, F);
+  RadiosityProblem injected = makeRadiosityProblem(mesh, emittedRadiosity(dark, mesh), patchAlbedo(dark, mesh), F);
   // Sample points on the sphere would be inside it: the light sits at its centre, so shadow rays
   // from the walls would hit the sphere. Cast them against the room alone.
   Mesh roomOnly = subdivideScene(testing::closedCube(1, {}, Rgb::gray(0.5)), 0.2);

@@ -37,7 +37,7 @@
 #include "lambert/core/vec3.h"
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/mesh/mesh.h"
-#include "lambert/render/rasterizer.h"
+#include "lambert/core/image.h"
 #include "lambert/scene/scene.h"
 
 namespace lambert {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "lambert/core/error.h"
+#include "lambert/mesh/vertex_radiosity.h"
 #include "lambert/core/parallel.h"
 #include "lambert/render/camera.h"
 

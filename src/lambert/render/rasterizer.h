@@ -4,20 +4,12 @@
 #include <functional>
 #include <vector>
 
+#include "lambert/core/image.h"
 #include "lambert/core/rgb.h"
 #include "lambert/mesh/mesh.h"
-#include "lambert/render/vertex_radiosity.h"
 #include "lambert/scene/scene.h"
 
 namespace lambert {
-
-struct Image {
-  int width = 0, height = 0;
-  std::vector<Rgb> pixels;  // linear radiance L in W/(m²·sr), row-major, top row first
-
-  Rgb& at(int x, int y) { return pixels[static_cast<std::size_t>(y) * width + x]; }
-  const Rgb& at(int x, int y) const { return pixels[static_cast<std::size_t>(y) * width + x]; }
-};
 
 enum class Shading {
   Gouraud,  // radiosity interpolated from the vertices (area-weighted averages of their patches)

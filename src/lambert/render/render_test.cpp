@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "lambert/mesh/mesh.h"
+#include "lambert/mesh/vertex_radiosity.h"
 #include "lambert/render/camera.h"
 #include "lambert/render/rasterizer.h"
 #include "lambert/render/tonemap.h"

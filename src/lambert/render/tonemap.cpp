@@ -5,11 +5,6 @@
 
 namespace lambert {
 
-double srgbEncode(double linear) {
-  if (linear <= 0.0031308) return 12.92 * linear;
-  return 1.055 * std::pow(linear, 1.0 / 2.4) - 0.055;
-}
-
 std::vector<std::uint8_t> toSrgb8(const Image& image, double exposureStops) {
   const double scale = std::exp2(exposureStops);
   std::vector<std::uint8_t> out;

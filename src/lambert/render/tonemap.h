@@ -3,7 +3,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "lambert/render/rasterizer.h"
+#include "lambert/core/image.h"
+#include "lambert/core/srgb.h"
 
 namespace lambert {
 
@@ -11,8 +12,5 @@ namespace lambert {
 // [0, 1], applies the sRGB transfer function and rounds to 8 bits: RGB interleaved, row-major,
 // top row first. Negative or NaN values become black.
 std::vector<std::uint8_t> toSrgb8(const Image& image, double exposureStops);
-
-// The exact piecewise sRGB OETF, for a linear value in [0, 1].
-double srgbEncode(double linear);
 
 }  // namespace lambert

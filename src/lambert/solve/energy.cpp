@@ -1,6 +1,6 @@
 #include "lambert/solve/energy.h"
 
-#include "lambert/solve/gather.h"
+#include "lambert/solve/gather_row.h"
 
 namespace lambert {
 

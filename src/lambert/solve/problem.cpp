@@ -1,15 +1,17 @@
 #include "lambert/solve/problem.h"
 
-#include "lambert/light/emission.h"
+#include "lambert/core/error.h"
 
 namespace lambert {
 
-RadiosityProblem makeRadiosityProblem(const Scene& scene, const Mesh& mesh,
+RadiosityProblem makeRadiosityProblem(const Mesh& mesh, std::vector<Rgb> emitted, std::vector<Rgb> albedo,
                                       std::shared_ptr<const FormFactorMatrix> formFactors) {
+  LAMBERT_CHECK(emitted.size() == mesh.numPatches() && albedo.size() == mesh.numPatches());
+  LAMBERT_CHECK(!formFactors || static_cast<std::size_t>(formFactors->rows()) == mesh.numPatches());
   RadiosityProblem problem;
   problem.formFactors = std::move(formFactors);
-  problem.emitted = emittedRadiosity(scene, mesh);
-  problem.albedo = patchAlbedo(scene, mesh);
+  problem.emitted = std::move(emitted);
+  problem.albedo = std::move(albedo);
   problem.area.resize(mesh.numPatches());
   for (std::size_t i = 0; i < mesh.numPatches(); ++i) problem.area[i] = mesh.patches[i].area;
   return problem;

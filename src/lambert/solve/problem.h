@@ -1,12 +1,16 @@
 #pragma once
-#include "lambert/scene/scene.h"
+// The radiosity system B = E + ρFB of a mesh, from numbers: what each patch emits and reflects
+// (light/emission.h computes them from a scene's materials) and its form factors.
+#include <memory>
+#include <vector>
+
 #include "lambert/mesh/mesh.h"
 #include "lambert/solve/solver.h"
 
 namespace lambert {
 
-// The radiosity system for a meshed scene: emission and albedo from its surfaces and materials.
-RadiosityProblem makeRadiosityProblem(const Scene& scene, const Mesh& mesh,
+// emitted: E_i in W/m², albedo: ρ_i, one per patch of mesh (whose areas the problem takes).
+RadiosityProblem makeRadiosityProblem(const Mesh& mesh, std::vector<Rgb> emitted, std::vector<Rgb> albedo,
                                       std::shared_ptr<const FormFactorMatrix> formFactors);
 
 }  // namespace lambert

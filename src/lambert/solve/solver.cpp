@@ -3,8 +3,8 @@
 #include <cmath>
 
 #include "lambert/core/parallel.h"
-#include "lambert/solve/gather.h"
-#include "lambert/solve/solvers.h"
+#include "lambert/solve/gather_row.h"
+#include "lambert/solve/concrete_solvers.h"
 
 namespace lambert {
 

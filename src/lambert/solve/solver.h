@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "lambert/core/rgb.h"
-#include "lambert/formfactor/form_factors.h"
+#include "lambert/formfactor/matrix.h"
 
 namespace lambert {
 
@@ -34,6 +34,8 @@ struct SolveOptions {
   double tolerance = 1e-7;
   // Sweeps for Gauss–Seidel and Jacobi; shots for shooting are limited to this many per patch.
   int maxIterations = 1000;
+  // Wall-clock limit in seconds, checked between sweeps (every 32 shots for shooting); 0: none.
+  double maxSeconds = 0;
   // Called every progressEvery iterations with the displayable estimate (for shooting, radiosity
   // plus the ambient term); 0 turns it off.
   int progressEvery = 0;

@@ -5,6 +5,7 @@
 #include "lambert/formfactor/form_factors.h"
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/solve/energy.h"
+#include "lambert/light/emission.h"
 #include "lambert/solve/problem.h"
 #include "lambert/solve/solver.h"
 #include "tests/support/scenes.h"
@@ -26,7 +27,7 @@ Solved setUp(const Scene& scene, double maxEdge) {
   FormFactorOptions options;
   options.showProgress = false;
   auto F = std::make_shared<FormFactorMatrix>(computeFormFactors(s.mesh, *caster, options));
-  s.problem = makeRadiosityProblem(scene, s.mesh, F);
+  s.problem = makeRadiosityProblem(s.mesh, emittedRadiosity(scene, s.mesh), patchAlbedo(scene, s.mesh), F);
   return s;
 }
 

@@ -2,9 +2,9 @@
 
 #include <cmath>
 
-#include "lambert/pipeline/adaptive.h"
+#include "lambert/engine/adaptive_meshing.h"
+#include "lambert/engine/radiosity.h"
 #include "lambert/solve/energy.h"
-#include "lambert/solve/problem.h"
 #include "tests/support/scenes.h"
 
 namespace lambert {
@@ -25,11 +25,30 @@ Light downwardSpot(Vec3 position, Vec3 direction) {
   return spot;
 }
 
-AdaptiveOptions geometricOnly() {
-  AdaptiveOptions options;
-  options.quadtree = {0.25, 3};
-  options.gradientThreshold = 0;
+RadiosityOptions adaptiveOptions(QuadtreeOptions quadtree, double gradientThreshold) {
+  RadiosityOptions options;
+  options.meshing = MeshStrategy::Adaptive;
+  options.adaptive.quadtree = quadtree;
+  options.adaptive.gradientThreshold = gradientThreshold;
+  options.formFactors.showProgress = false;
   return options;
+}
+
+RadiosityOptions geometricOnly() { return adaptiveOptions({0.25, 3}, 0); }
+
+// An adaptive engine lit by `lights`, solved once.
+std::unique_ptr<Radiosity> solvedEngine(const Scene& scene, const RadiosityOptions& options, std::vector<Light> lights) {
+  auto engine = Radiosity::create(scene, options);
+  EXPECT_TRUE(engine.ok()) << engine.error().message;
+  (*engine)->setLights(std::move(lights));
+  auto solved = (*engine)->solve();
+  EXPECT_TRUE(solved.ok());
+  return std::move(*engine);
+}
+
+std::int64_t statInt(const Stats& stats, const std::string& key) {
+  const Stats::Entry* entry = stats.find(key);
+  return entry ? std::get<std::int64_t>(entry->value) : -1;
 }
 
 // Whether a node has been split, at any depth below it.
@@ -39,18 +58,21 @@ bool isRefined(const AdaptiveMesh& mesh, std::uint32_t id) { return !mesh.node(i
 // no active cell above the deepest level does.
 TEST(AdaptiveTest, RefinesExactlyAlongTheSpotsEdge) {
   Scene scene = floorMetre();
-  auto adaptive = AdaptiveRadiosity::create(scene, geometricOnly());
+  auto adaptive = AdaptiveMeshing::create(scene, geometricOnly());
   ASSERT_TRUE(adaptive.ok()) << adaptive.error().message;
-  AdaptiveRadiosity& a = **adaptive;
+  AdaptiveMeshing& a = **adaptive;
   Light spot = downwardSpot({0.45, 0.6, 0.55}, {0.1, -1, 0});
-  AdaptiveUpdate update = a.update({spot});
+  std::vector<Rgb> radiosity;
+  SolveCallReport update;
+  EXPECT_TRUE(a.refine({spot}, radiosity, update));
   EXPECT_GT(update.refined, 0);
+  EXPECT_EQ(radiosity.size(), a.elements().numPatches());  // a warm start for the new cells
 
   const AdaptiveMesh& mesh = a.mesh();
   int split = 0, coarseUntouched = 0, deepest = 0;
   for (std::uint32_t id = 0; id < mesh.numNodes(); ++id) {
     const QuadNode& n = mesh.node(id);
-    bool crosses = AdaptiveRadiosity::crossesSpotEdge(spot, mesh.nodeMesh().corners(id), mesh.nodeMesh().patches[id].normal);
+    bool crosses = AdaptiveMeshing::crossesSpotEdge(spot, mesh.nodeMesh().corners(id), mesh.nodeMesh().patches[id].normal);
     if (isRefined(mesh, id)) {
       ++split;
       EXPECT_TRUE(crosses) << "node " << id << " split without the edge crossing it";
@@ -73,62 +95,68 @@ TEST(AdaptiveTest, RefinesExactlyAlongTheSpotsEdge) {
     return c;
   };
   const Vec3 up{0, 1, 0};
-  EXPECT_FALSE(AdaptiveRadiosity::crossesSpotEdge(spot, quad(0.5, 0.5, 0.05), up));
-  EXPECT_FALSE(AdaptiveRadiosity::crossesSpotEdge(spot, quad(0.9, 0.9, 0.05), up));
+  EXPECT_FALSE(AdaptiveMeshing::crossesSpotEdge(spot, quad(0.5, 0.5, 0.05), up));
+  EXPECT_FALSE(AdaptiveMeshing::crossesSpotEdge(spot, quad(0.9, 0.9, 0.05), up));
   double edgeRadius = 0.6 * std::tan(25 * kPi / 180);
-  EXPECT_TRUE(AdaptiveRadiosity::crossesSpotEdge(spot, quad(0.45 + 0.06 + edgeRadius - 0.02, 0.53, 0.04), up));
+  EXPECT_TRUE(AdaptiveMeshing::crossesSpotEdge(spot, quad(0.45 + 0.06 + edgeRadius - 0.02, 0.53, 0.04), up));
   // A beam narrower than a cell that lands inside it, all corners dark: still an edge.
   Light narrow = downwardSpot({0.5, 0.3, 0.5}, {0, -1, 0});
   narrow.coneAngleDegrees = 2;
   narrow.falloffDegrees = 1;
-  EXPECT_TRUE(AdaptiveRadiosity::crossesSpotEdge(narrow, quad(0.25, 0.25, 0.5), up));
+  EXPECT_TRUE(AdaptiveMeshing::crossesSpotEdge(narrow, quad(0.25, 0.25, 0.5), up));
 }
 
 // Seed 003's master table: a spot moves away and back; the cells it re-activates find their form
 // factors in the table, and nothing is computed twice.
 TEST(AdaptiveTest, ReactivatedCellsReuseTheirFormFactors) {
   Scene scene = testing::closedCube(1, {}, Rgb::gray(0.5));
-  AdaptiveOptions options = geometricOnly();
-  options.quadtree = {0.34, 2};
-  auto adaptive = AdaptiveRadiosity::create(scene, options);
-  ASSERT_TRUE(adaptive.ok());
-  AdaptiveRadiosity& a = **adaptive;
+  auto created = Radiosity::create(scene, adaptiveOptions({0.34, 2}, 0));
+  ASSERT_TRUE(created.ok());
+  Radiosity& engine = **created;
   Light here = downwardSpot({0.5, 0.95, 0.5}, {0.3, -1, 0.2});
   Light there = downwardSpot({0.5, 0.95, 0.5}, {-0.4, -1, -0.3});
+  auto update = [&](const Light& light) {
+    engine.setLights({light});
+    Result<SolveCallReport> report = engine.solve();
+    EXPECT_TRUE(report.ok());
+    return *report;
+  };
 
-  AdaptiveUpdate first = a.update({here});
+  SolveCallReport first = update(here);
   EXPECT_GT(first.pairsEstimated, 0u);
-  const std::uint64_t afterFirst = a.table().pairsEstimated();
-  const std::size_t activeHere = first.activeNodes;
+  const std::int64_t afterFirst = statInt(engine.stats(), "pairs_estimated");
+  const std::size_t activeHere = first.elements;
 
-  AdaptiveUpdate moved = a.update({there});
+  SolveCallReport moved = update(there);
   EXPECT_GT(moved.pairsEstimated, 0u);   // new cells: new pairs
   EXPECT_GT(moved.pairsReused, 0u);      // the rest were known
   EXPECT_GT(moved.coarsened, 0);         // the old footprint merged back
-  const std::uint64_t afterMove = a.table().pairsEstimated();
+  const std::int64_t afterMove = statInt(engine.stats(), "pairs_estimated");
   EXPECT_GT(afterMove, afterFirst);
 
-  AdaptiveUpdate back = a.update({here});
-  EXPECT_EQ(back.activeNodes, activeHere);
+  SolveCallReport back = update(here);
+  EXPECT_EQ(back.elements, activeHere);
   EXPECT_EQ(back.pairsEstimated, 0u);    // everything found in the table
-  EXPECT_EQ(a.table().pairsEstimated(), afterMove);
+  EXPECT_EQ(statInt(engine.stats(), "pairs_estimated"), afterMove);
   EXPECT_EQ(back.pairsReused, activeHere * (activeHere - 1) / 2);
-  AdaptiveUpdate still = a.update({here});
+  SolveCallReport still = update(here);
   EXPECT_EQ(still.refined + still.coarsened, 0);
+  EXPECT_EQ(still.lightsInjected, 0);    // the same light on the same cells: nothing traced
 }
 
 TEST(AdaptiveTest, RefinesAlongShadowEdges) {
   Scene scene = floorMetre();
   scene.surfaces.push_back({"blocker", {{0.4, 0.5, 0.4}, {0.6, 0.5, 0.4}, {0.6, 0.5, 0.6}, {0.4, 0.5, 0.6}}, 0, {}});
-  AdaptiveOptions options = geometricOnly();
-  auto adaptive = AdaptiveRadiosity::create(scene, options);
+  auto adaptive = AdaptiveMeshing::create(scene, geometricOnly());
   ASSERT_TRUE(adaptive.ok());
-  AdaptiveRadiosity& a = **adaptive;
+  AdaptiveMeshing& a = **adaptive;
   Light point;
   point.kind = LightKind::Point;
   point.position = {0.5, 1.0, 0.5};
   point.intensity = {1, 1, 1};
-  a.update({point});
+  std::vector<Rgb> radiosity;
+  SolveCallReport report;
+  a.refine({point}, radiosity, report);
   // The blocker's shadow on the floor spans 0.3 … 0.7: cells across its edge are split.
   auto cell = [](double x0, double z0, double size) {
     PatchCorners c;
@@ -148,17 +176,14 @@ TEST(AdaptiveTest, RefinesAlongShadowEdges) {
 
 // The radiosity-gradient criterion refines where light changes fast, even without lights.
 TEST(AdaptiveTest, GradientCriterionRefinesWhereRadiosityChanges) {
-  AdaptiveOptions options;
-  options.quadtree = {120, 2};
-  options.gradientThreshold = 0.5;
-  auto adaptive = AdaptiveRadiosity::create(cornellBox(), options);
-  ASSERT_TRUE(adaptive.ok());
-  AdaptiveRadiosity& a = **adaptive;
-  AdaptiveUpdate first = a.update({});
+  auto created = Radiosity::create(cornellBox(), adaptiveOptions({120, 2}, 0.5));
+  ASSERT_TRUE(created.ok());
+  Radiosity& engine = **created;
+  SolveCallReport first = *engine.solve();
   EXPECT_EQ(first.refined, 0);  // no solution yet to judge by
-  AdaptiveUpdate second = a.update({});
+  SolveCallReport second = *engine.solve();
   EXPECT_GT(second.refined, 0);
-  EXPECT_GT(second.activeNodes, first.activeNodes);
+  EXPECT_GT(second.elements, first.elements);
 }
 
 // Seed 003 divides each row of F by its sum. In a closed room, where rows already sum to one,
@@ -168,24 +193,21 @@ TEST(AdaptiveTest, RowNormalisationAndItsEffectOnEnergy) {
   for (bool closed : {true, false}) {
     Scene scene = closed ? testing::closedCube(1, {}, Rgb::gray(0.5)) : cornellBox();
     if (closed) scene.surfaces[0].emittedRadiance = {1, 1, 1};
-    AdaptiveOptions options;
-    options.quadtree = {closed ? 0.25 : 110.0, 0};
-    options.gradientThreshold = 0;
-    auto plain = AdaptiveRadiosity::create(scene, options);
+    RadiosityOptions options = adaptiveOptions({closed ? 0.25 : 110.0, 0}, 0);
+    std::unique_ptr<Radiosity> plainEngine = solvedEngine(scene, options, {});
     options.normalizeRows = true;
-    auto normalised = AdaptiveRadiosity::create(scene, options);
-    ASSERT_TRUE(plain.ok() && normalised.ok());
-    (*plain)->update({});
-    (*normalised)->update({});
-    const FormFactorMatrix& F = *(*normalised)->problem().formFactors;
+    std::unique_ptr<Radiosity> normalisedEngine = solvedEngine(scene, options, {});
+    const SolutionView& plain = plainEngine->solution();
+    const SolutionView& normalised = normalisedEngine->solution();
+    const FormFactorMatrix& F = *normalised.problem().formFactors;
     for (Eigen::Index i = 0; i < F.rows(); ++i) EXPECT_NEAR(F.row(i).cast<double>().sum(), 1, 1e-5);
 
     double plainPower = 0, normalisedPower = 0;
-    for (std::size_t k = 0; k < (*plain)->radiosity().size(); ++k) {
-      plainPower += (*plain)->radiosity()[k].sum() * (*plain)->problem().area[k];
-      normalisedPower += (*normalised)->radiosity()[k].sum() * (*normalised)->problem().area[k];
+    for (std::size_t k = 0; k < plain.radiosity().size(); ++k) {
+      plainPower += plain.radiosity()[k].sum() * plain.problem().area[k];
+      normalisedPower += normalised.radiosity()[k].sum() * normalised.problem().area[k];
     }
-    EnergyBalance balance = energyBalance((*normalised)->problem(), (*normalised)->radiosity(), scene.metresPerUnit);
+    EnergyBalance balance = energyBalance(normalised.problem(), normalised.radiosity(), scene.metresPerUnit);
     EXPECT_NEAR(balance.escapedWatts, 0, 1e-6 * balance.emittedWatts);  // nothing leaves any more
     if (closed) {
       EXPECT_LT(testing::relativeError(normalisedPower, plainPower), 0.01);
@@ -196,16 +218,16 @@ TEST(AdaptiveTest, RowNormalisationAndItsEffectOnEnergy) {
 }
 
 TEST(AdaptiveTest, RowMethodsAreRejected) {
-  AdaptiveOptions options;
+  RadiosityOptions options = geometricOnly();
   options.formFactors.method = FormFactorMethod::Hemicube;
-  auto adaptive = AdaptiveRadiosity::create(cornellBox(), options);
+  auto adaptive = Radiosity::create(cornellBox(), options);
   ASSERT_FALSE(adaptive.ok());
   EXPECT_NE(adaptive.error().message.find("hemicube"), std::string::npos) << adaptive.error().message;
 }
 
 TEST(AdaptiveTest, NonQuadScenesAreRejected) {
   Scene scene = testing::sceneOf({{"triangle", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, 0, {}}});
-  auto adaptive = AdaptiveRadiosity::create(scene, {});
+  auto adaptive = Radiosity::create(scene, geometricOnly());
   ASSERT_FALSE(adaptive.ok());
   EXPECT_NE(adaptive.error().message.find("triangle"), std::string::npos);
 }

@@ -1,4 +1,4 @@
-#include "lambert/pipeline/compare.h"
+#include "lambert/reference/compare.h"
 
 #include <cmath>
 

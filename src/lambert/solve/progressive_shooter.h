@@ -28,6 +28,13 @@ class ProgressiveShooter {
   // Shoots until the unshot power is at most tolerance × the total power, or maxShots are spent.
   // Returns the number of shots.
   long long shoot(long long maxShots, double tolerance);
+  // The same within a wall-clock limit too (checked every 32 shots; 0: none). converged: it
+  // stopped at the tolerance, not at a limit.
+  struct Outcome {
+    long long shots = 0;
+    bool converged = false;
+  };
+  Outcome shoot(long long maxShots, double tolerance, double maxSeconds);
 
   const std::vector<Rgb>& radiosity() const { return radiosity_; }
   const std::vector<Rgb>& unshot() const { return unshot_; }

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "lambert/pipeline/compare.h"
+#include "lambert/reference/compare.h"
 #include "lambert/scene/builtin.h"
 
 namespace lambert {

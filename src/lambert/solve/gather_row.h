@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "lambert/core/rgb.h"
-#include "lambert/formfactor/form_factors.h"
+#include "lambert/formfactor/matrix.h"
 
 namespace lambert {
 

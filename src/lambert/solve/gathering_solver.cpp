@@ -5,8 +5,8 @@
 
 #include "lambert/core/parallel.h"
 #include "lambert/core/timer.h"
-#include "lambert/solve/gather.h"
-#include "lambert/solve/solvers.h"
+#include "lambert/solve/gather_row.h"
+#include "lambert/solve/concrete_solvers.h"
 
 namespace lambert {
 
@@ -50,6 +50,7 @@ SolveReport GatheringSolver::solve(const RadiosityProblem& problem, std::vector<
       report.converged = true;
       break;
     }
+    if (options_.maxSeconds > 0 && timer.seconds() >= options_.maxSeconds) break;
   }
   report.residual = relativeResidual(problem, radiosity);
   report.seconds = timer.seconds();

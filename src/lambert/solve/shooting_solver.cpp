@@ -1,8 +1,10 @@
 // The Solver face of progressive refinement: a ProgressiveShooter run to convergence, with the
 // ambient-corrected estimate handed to onProgress along the way.
+#include <algorithm>
+
 #include "lambert/core/timer.h"
-#include "lambert/solve/shooter.h"
-#include "lambert/solve/solvers.h"
+#include "lambert/solve/progressive_shooter.h"
+#include "lambert/solve/concrete_solvers.h"
 
 namespace lambert {
 
@@ -18,15 +20,13 @@ SolveReport ShootingSolver::solve(const RadiosityProblem& problem, std::vector<R
   const long long chunk = reporting ? options_.progressEvery : maxShots;
   long long shots = 0;
   while (shots < maxShots) {
-    long long done = shooter.shoot(std::min(chunk, maxShots - shots), options_.tolerance);
-    shots += done;
-    if (done < std::min(chunk, maxShots - shots + done)) {
-      report.converged = true;
-      break;
-    }
+    const double secondsLeft = options_.maxSeconds > 0 ? std::max(1e-9, options_.maxSeconds - timer.seconds()) : 0;
+    ProgressiveShooter::Outcome outcome = shooter.shoot(std::min(chunk, maxShots - shots), options_.tolerance, secondsLeft);
+    shots += outcome.shots;
+    report.converged = outcome.converged;
+    if (outcome.converged || (options_.maxSeconds > 0 && timer.seconds() >= options_.maxSeconds)) break;
     if (reporting) options_.onProgress(static_cast<int>(shots), options_.displayAmbient ? shooter.displayRadiosity() : shooter.radiosity());
   }
-  if (!report.converged) report.converged = shooter.unshotFraction() <= options_.tolerance;
   report.iterations = static_cast<int>(shots);
   radiosity = shooter.radiosity();
   report.residual = relativeResidual(problem, radiosity);

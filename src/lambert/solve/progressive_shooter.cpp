@@ -1,10 +1,12 @@
-#include "lambert/solve/shooter.h"
+#include "lambert/solve/progressive_shooter.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "lambert/core/error.h"
 #include "lambert/core/parallel.h"
-#include "lambert/solve/gather.h"
+#include "lambert/core/timer.h"
+#include "lambert/solve/gather_row.h"
 
 namespace lambert {
 namespace {
@@ -67,6 +69,24 @@ long long ProgressiveShooter::shoot(long long maxShots, double tolerance) {
     ++shots;
   }
   return shots;
+}
+
+ProgressiveShooter::Outcome ProgressiveShooter::shoot(long long maxShots, double tolerance, double maxSeconds) {
+  Timer timer;
+  const long long chunk = maxSeconds > 0 ? 32 : maxShots;
+  Outcome outcome;
+  while (outcome.shots < maxShots) {
+    const long long want = std::min(chunk, maxShots - outcome.shots);
+    const long long done = shoot(want, tolerance);
+    outcome.shots += done;
+    if (done < want) {
+      outcome.converged = true;
+      return outcome;
+    }
+    if (maxSeconds > 0 && timer.seconds() >= maxSeconds) break;
+  }
+  outcome.converged = unshotFraction() <= tolerance;
+  return outcome;
 }
 
 double ProgressiveShooter::unshotFraction() const {

@@ -3,7 +3,7 @@
 #include <Eigen/LU>
 
 #include "lambert/core/timer.h"
-#include "lambert/solve/solvers.h"
+#include "lambert/solve/concrete_solvers.h"
 
 namespace lambert {
 

@@ -1,4 +1,4 @@
-#include "lambert/render/vertex_radiosity.h"
+#include "lambert/mesh/vertex_radiosity.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,0 +1,220 @@
+#include "lambert/engine/radiosity.h"
+
+#include <algorithm>
+#include <limits>
+
+#include "lambert/core/timer.h"
+#include "lambert/engine/adaptive_meshing.h"
+#include "lambert/engine/uniform_meshing.h"
+#include "lambert/light/emission.h"
+#include "lambert/light/injection.h"
+#include "lambert/solve/energy.h"
+#include "lambert/solve/problem.h"
+#include "lambert/solve/progressive_shooter.h"
+
+namespace lambert {
+
+Result<std::unique_ptr<Meshing>> makeMeshing(const Scene& scene, const RadiosityOptions& options) {
+  switch (options.meshing) {
+    case MeshStrategy::Uniform: return std::unique_ptr<Meshing>(std::make_unique<UniformMeshing>(scene, options));
+    case MeshStrategy::Adaptive: {
+      Result<std::unique_ptr<AdaptiveMeshing>> adaptive = AdaptiveMeshing::create(scene, options);
+      if (!adaptive) return adaptive.error();
+      return std::unique_ptr<Meshing>(std::move(*adaptive));
+    }
+  }
+  return Error{"unknown mesh strategy"};
+}
+
+Result<std::unique_ptr<Radiosity>> Radiosity::create(Scene scene, RadiosityOptions options) {
+  if (options.tolerance <= 0 || options.maxIterations < 1)
+    return Error{"the solver needs a positive tolerance and at least one iteration"};
+  std::unique_ptr<Radiosity> engine(new Radiosity(std::move(scene), std::move(options)));
+  // The strategy keeps a reference to the engine's scene, which never moves.
+  Result<std::unique_ptr<Meshing>> meshing = makeMeshing(engine->scene_, engine->options_);
+  if (!meshing) return meshing.error();
+  engine->meshing_ = std::move(*meshing);
+  engine->rebuildProblem();
+  return engine;
+}
+
+Radiosity::Radiosity(Scene scene, RadiosityOptions options)
+    : scene_(std::move(scene)),
+      options_(std::move(options)),
+      lights_(scene_.lights),
+      injection_(std::make_unique<DirectLightInjection>(options_.directLight)),
+      view_(*this) {}
+
+Radiosity::~Radiosity() = default;
+
+void Radiosity::setLights(std::vector<Light> lights) { lights_ = std::move(lights); }
+const std::vector<Light>& Radiosity::lights() const { return lights_; }
+const SolutionView& Radiosity::solution() const { return view_; }
+const Scene& Radiosity::scene() const { return scene_; }
+const RadiosityOptions& Radiosity::options() const { return options_; }
+Status Radiosity::saveCache() { return meshing_->saveCache(); }
+
+// The elements changed (or were just made): the system, the lights' injection and the shooter's
+// state all belong to the old ones.
+void Radiosity::rebuildProblem() {
+  const Mesh& elements = meshing_->elements();
+  surfaceEmitted_ = emittedRadiosity(scene_, elements);
+  problem_ = makeRadiosityProblem(elements, surfaceEmitted_, patchAlbedo(scene_, elements), meshing_->formFactors());
+  injection_->reset();
+  shooter_.reset();
+  injected_.assign(elements.numPatches(), Rgb{});
+  if (!solved_) radiosity_.assign(elements.numPatches(), Rgb{});
+  vertexMeshAlbedo_ = patchAlbedo(scene_, meshing_->vertexMesh());
+}
+
+Status checkSolveBudget(SolverKind kind, const SolveBudget& budget) {
+  if (budget.maxShots < 0 || budget.maxSweeps < 0 || !(budget.maxMilliseconds >= 0))
+    return Error{"a solve budget cannot be negative"};
+  const std::string solver = solverName(kind);
+  switch (kind) {
+    case SolverKind::Direct:
+      if (!budget.unlimited())
+        return Error{"the direct solver solves exactly, so it takes no budget of shots, sweeps or time: use gs, jacobi or shoot"};
+      break;
+    case SolverKind::GaussSeidel:
+    case SolverKind::Jacobi:
+      if (budget.maxShots > 0) return Error{"a budget of shots is for the shoot solver; " + solver + " takes sweeps or milliseconds"};
+      break;
+    case SolverKind::Shooting:
+      if (budget.maxSweeps > 0) return Error{"a budget of sweeps is for gs and jacobi; shoot takes shots or milliseconds"};
+      break;
+  }
+  return Ok{};
+}
+
+Result<SolveCallReport> Radiosity::solve(const SolveBudget& budget) {
+  if (Status ok = checkSolveBudget(options_.solver, budget); !ok) return ok.error();
+  SolveCallReport report;
+  const int passes = options_.meshing == MeshStrategy::Adaptive ? options_.adaptive.passesPerSolve : 1;
+  for (int pass = 0; pass < passes; ++pass) {
+    if (meshing_->refine(lights_, radiosity_, report)) {
+      solved_ = true;  // radiosity_ now holds the refinement's warm start
+      rebuildProblem();
+    }
+    solvePass(budget, report);
+  }
+  report.elements = meshing_->elements().numPatches();
+  ++solves_;
+  last_ = report;
+  injectSeconds_ += report.injectSeconds;
+  solveSeconds_ += report.solveSeconds;
+  adaptSeconds_ += report.adaptSeconds;
+  formFactorSeconds_ += report.formFactorSeconds;
+  refined_ += report.refined;
+  coarsened_ += report.coarsened;
+  return report;
+}
+
+void Radiosity::solvePass(const SolveBudget& budget, SolveCallReport& report) {
+  const Mesh& elements = meshing_->elements();
+  const RayCaster& caster = meshing_->caster();
+
+  Timer injectTimer;
+  const std::uint64_t raysBefore = caster.raysCast();
+  report.lightsInjected += injection_->update(elements, caster, problem_.albedo, lights_, scene_.metresPerUnit);
+  // Lights may also have been removed without any being traced: E is always rebuilt (O(n)).
+  injected_ = injection_->total();
+  for (std::size_t i = 0; i < elements.numPatches(); ++i) problem_.emitted[i] = surfaceEmitted_[i] + injected_[i];
+  shadowRays_ += caster.raysCast() - raysBefore;
+  report.injectSeconds += injectTimer.seconds();
+
+  Timer solveTimer;
+  const std::size_t n = problem_.size();
+  if (options_.solver == SolverKind::Shooting) {
+    // One shooter for the engine's life (until the elements change): a moved light's difference
+    // is shot from where the last solve left off (Chen 1990), not from scratch.
+    if (!shooter_) {
+      shooter_ = std::make_unique<ProgressiveShooter>(problem_);
+      if (solved_) shooter_->warmStart(radiosity_);
+    } else {
+      shooter_->setEmitted(problem_.emitted);
+    }
+    const long long limit = static_cast<long long>(options_.maxIterations) * static_cast<long long>(n);
+    const long long maxShots = budget.maxShots > 0 ? std::min(budget.maxShots, limit) : limit;
+    ProgressiveShooter::Outcome outcome = shooter_->shoot(maxShots, options_.tolerance, budget.maxMilliseconds / 1e3);
+    report.iterations = outcome.shots;
+    report.converged = outcome.converged;
+    report.unshotFraction = shooter_->unshotFraction();
+    radiosity_ = shooter_->radiosity();
+  } else {
+    SolveOptions solve;
+    solve.tolerance = options_.tolerance;
+    solve.maxIterations = budget.maxSweeps > 0 ? std::min(budget.maxSweeps, options_.maxIterations) : options_.maxIterations;
+    solve.maxSeconds = budget.maxMilliseconds / 1e3;
+    if (!solved_) radiosity_.clear();  // start from B = E
+    SolveReport solved = makeSolver(options_.solver, solve)->solve(problem_, radiosity_);
+    report.iterations = solved.iterations;
+    report.converged = solved.converged;
+  }
+  solved_ = true;
+  report.solveSeconds += solveTimer.seconds();
+}
+
+Stats Radiosity::stats() const {
+  Stats stats;
+  stats.add("scene", "scene", scene_.name);
+  meshing_->addStats(stats);
+  if (options_.meshing == MeshStrategy::Adaptive) {
+    stats.add("refined", "cells split", static_cast<std::int64_t>(refined_));
+    stats.add("coarsened", "cells merged", static_cast<std::int64_t>(coarsened_));
+    stats.add("adapt_seconds", "refinement time", adaptSeconds_, "s");
+    stats.add("formfactor_seconds", "form-factor time", formFactorSeconds_, "s");
+  }
+  if (!lights_.empty()) {
+    stats.add("lights", "lights", static_cast<std::int64_t>(lights_.size()));
+    stats.add("shadow_rays", "direct-light shadow rays", static_cast<std::int64_t>(shadowRays_));
+    stats.add("inject_seconds", "direct-light injection time", injectSeconds_, "s");
+  }
+  stats.add("solver", "solver", solverName(options_.solver));
+  stats.add("solves", "solves", static_cast<std::int64_t>(solves_));
+  stats.add("iterations", options_.meshing == MeshStrategy::Adaptive ? "iterations (last pass)" : "iterations",
+            static_cast<std::int64_t>(last_.iterations));
+  stats.add("residual", "relative residual", solves_ > 0 ? relativeResidual(problem_, radiosity_) : 1.0);
+  stats.add("converged", "converged", std::string(solves_ > 0 && last_.converged ? "yes" : "no"));
+  stats.add("solve_seconds", "solve time", solveSeconds_, "s");
+
+  EnergyBalance balance = energyBalance(problem_, radiosity_, scene_.metresPerUnit);
+  // With lights, E includes their injected first reflection ρ·E_direct, so "emitted" counts it.
+  stats.add("emitted_watts", lights_.empty() ? "emitted power" : "emitted + injected power", balance.emittedWatts, "W");
+  stats.add("absorbed_watts", "absorbed power", balance.absorbedWatts, "W");
+  stats.add("escaped_watts", "escaped power (openings)", balance.escapedWatts, "W");
+  return stats;
+}
+
+// The view reads the engine's current state.
+
+const Scene& SolutionView::scene() const { return engine_->scene_; }
+const std::vector<Light>& SolutionView::lights() const { return engine_->lights_; }
+const Mesh& SolutionView::mesh() const { return engine_->meshing_->elements(); }
+const std::vector<Rgb>& SolutionView::radiosity() const { return engine_->radiosity_; }
+const std::vector<Rgb>& SolutionView::injected() const { return engine_->injected_; }
+const std::vector<Rgb>& SolutionView::emitted() const { return engine_->surfaceEmitted_; }
+const std::vector<Rgb>& SolutionView::albedo() const { return engine_->problem_.albedo; }
+const RadiosityProblem& SolutionView::problem() const { return engine_->problem_; }
+const RayCaster& SolutionView::caster() const { return engine_->meshing_->caster(); }
+const Mesh& SolutionView::vertexMesh() const { return engine_->meshing_->vertexMesh(); }
+const std::vector<Rgb>& SolutionView::vertexMeshAlbedo() const { return engine_->vertexMeshAlbedo_; }
+
+std::vector<Rgb> SolutionView::indirectRadiosity() const {
+  std::vector<Rgb> indirect = radiosity();
+  const std::vector<Rgb>& direct = injected();
+  for (std::size_t i = 0; i < indirect.size(); ++i) indirect[i] -= direct[i];
+  return indirect;
+}
+
+std::vector<Rgb> SolutionView::vertexValues(const std::vector<Rgb>& perElement) const {
+  return engine_->meshing_->vertexValues(perElement);
+}
+
+std::vector<Rgb> SolutionView::vertexRadiance() const {
+  std::vector<Rgb> radiance = vertexValues(radiosity());
+  for (Rgb& l : radiance) l = l / kPi;
+  return radiance;
+}
+
+}  // namespace lambert

@@ -1,0 +1,166 @@
+#pragma once
+// lambert's one entry point: a radiosity solve of a scene that it owns from start to finish.
+//
+//   auto engine = Radiosity::create(scene, options);   // mesh, BVH, form factors (cached)
+//   (*engine)->solve();                                 // inject the lights, solve to tolerance
+//   const SolutionView& view = (*engine)->solution();   // B, vertex values, what to draw
+//   (*engine)->setLights(moved);                        // next frame: lights move …
+//   (*engine)->solve({.maxShots = 300});                // … re-solved warm, within a budget
+//
+// The engine owns the mesh, the ray caster over it and the transport between its elements (the
+// dense form-factor matrix of a uniform mesh, or the master table of an adaptive quad-tree; see
+// engine/meshing.h). It is created behind a unique_ptr and can be neither copied nor moved, so
+// the views and references it hands out stay valid for its whole life. See docs/api.md.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "lambert/core/error.h"
+#include "lambert/core/stats.h"
+#include "lambert/engine/solution.h"
+#include "lambert/formfactor/form_factors.h"
+#include "lambert/light/lights.h"
+#include "lambert/mesh/quadtree.h"
+#include "lambert/scene/scene.h"
+#include "lambert/solve/solver.h"
+
+namespace lambert {
+
+class Meshing;
+class DirectLightInjection;
+class ProgressiveShooter;
+
+enum class MeshStrategy {
+  Uniform,   // longest-edge bisection to a patch count or edge length (seed 000), computed once
+  Adaptive,  // quad-tree cells split at spot, shadow and radiosity edges (seed 003), every solve
+};
+
+struct UniformMeshOptions {
+  std::size_t targetPatches = 784;  // used when maxEdgeLength is 0
+  double maxEdgeLength = 0;         // scene units; 0 picks it from targetPatches
+};
+
+struct AdaptiveMeshOptions {
+  // baseEdgeLength 0: a sixth of the scene's diagonal.
+  QuadtreeOptions quadtree{0, 3};
+  bool refineAtSpotEdges = true;
+  bool refineAtShadowEdges = true;
+  // Split a leaf whose corner radiosities span more than this × the mean radiosity (luminance);
+  // 0 turns the criterion off. Leaves merge back below half of it.
+  double gradientThreshold = 0.5;
+  // Refine-and-solve passes in each solve(): the gradient criterion judges the previous pass.
+  int passesPerSolve = 1;
+};
+
+struct RadiosityOptions {
+  MeshStrategy meshing = MeshStrategy::Uniform;
+  UniformMeshOptions uniform;    // read only with MeshStrategy::Uniform
+  AdaptiveMeshOptions adaptive;  // read only with MeshStrategy::Adaptive
+  FormFactorOptions formFactors;
+  bool normalizeRows = false;    // seed 003's row normalisation (formfactor/table.h): adds energy
+  DirectLightOptions directLight;
+  SolverKind solver = SolverKind::GaussSeidel;
+  double tolerance = 1e-7;       // relative change (gs, jacobi) or unshot power fraction (shoot)
+  int maxIterations = 1000;      // sweeps (gs, jacobi); shots per element (shoot)
+  // Where form factors (uniform: the matrix, .lff) or the master table (adaptive, .lft) are read
+  // and written; empty: always computed, never saved.
+  std::string cacheDirectory;
+};
+
+// How much one solve() may do beyond stopping at the tolerance; 0 everywhere: run to the
+// tolerance (or maxIterations). Each limit belongs to the solvers that can stop early on it;
+// any other is an error from solve().
+struct SolveBudget {
+  long long maxShots = 0;       // shoot
+  int maxSweeps = 0;            // gs, jacobi
+  double maxMilliseconds = 0;   // gs, jacobi, shoot (checked between sweeps or every few shots)
+
+  bool unlimited() const { return maxShots == 0 && maxSweeps == 0 && maxMilliseconds == 0; }
+};
+
+// The uniform mesh an engine with these options solves on, for tools that need its vertices
+// without solving (the reference path tracer).
+Mesh uniformMesh(const Scene& scene, const UniformMeshOptions& options);
+
+// Whether a solver can honour the budget: shots are for shoot, sweeps for gs and jacobi, time for
+// all three; the direct solver takes none. The Error says which budget fits instead.
+Status checkSolveBudget(SolverKind solver, const SolveBudget& budget);
+
+// What one solve() did.
+struct SolveCallReport {
+  int lightsInjected = 0;    // lights traced again (moved, new, or every one after refinement)
+  long long iterations = 0;  // of the last pass: sweeps (gs, jacobi), shots (shoot), 1 (direct)
+  bool converged = false;    // the last pass reached the tolerance
+  double unshotFraction = 0; // shoot: unshot power left (for a later solve() to shoot)
+  // Adaptive meshing, over every pass of this call.
+  int refined = 0, coarsened = 0;
+  std::uint64_t pairsEstimated = 0, pairsReused = 0, pairsLoaded = 0;
+  std::size_t elements = 0;  // after the call
+  double adaptSeconds = 0, formFactorSeconds = 0, injectSeconds = 0, solveSeconds = 0;
+};
+
+class Radiosity {
+ public:
+  // Meshes the scene, builds the ray caster and (uniform meshing) computes or loads the form
+  // factors. Fails, saying why, for combinations that cannot work (an adaptive mesh of a scene
+  // that is not all quads, or with a row-wise form-factor method). The scene's lights are the
+  // initial lights.
+  static Result<std::unique_ptr<Radiosity>> create(Scene scene, RadiosityOptions options);
+  ~Radiosity();
+  Radiosity(const Radiosity&) = delete;
+  Radiosity& operator=(const Radiosity&) = delete;
+
+  // The lights for the next solve(): any number, in any order. Lights equal to the one at the
+  // same index last time are not traced again.
+  void setLights(std::vector<Light> lights);
+  const std::vector<Light>& lights() const;
+
+  // Brings the solution up to date: (adaptive) refines the mesh, injects the lights that
+  // changed, and solves warm from the last state, to the tolerance or within the budget.
+  // Errors: a budget the solver cannot honour (shots for gs, sweeps for shoot, any for direct).
+  Result<SolveCallReport> solve(const SolveBudget& budget = {});
+
+  // The current solution. Valid for the engine's life; its contents change with solve().
+  const SolutionView& solution() const;
+
+  // Figures describing the current solution and how it was made: mesh, form factors and cache,
+  // lights, solver (iterations and convergence of the last solve, times summed over all),
+  // residual, energy balance in watts. Keys are stable (README lists them).
+  Stats stats() const;
+
+  // Writes what the cache directory should keep that creation did not already write (the
+  // adaptive master table, grown by refinement); Ok, doing nothing, otherwise. A failure is also
+  // reported through warning() and never affects the solution.
+  Status saveCache();
+
+  const Scene& scene() const;
+  const RadiosityOptions& options() const;
+
+ private:
+  friend class SolutionView;
+  Radiosity(Scene scene, RadiosityOptions options);
+  void rebuildProblem();
+  void solvePass(const SolveBudget& budget, SolveCallReport& report);
+
+  Scene scene_;
+  RadiosityOptions options_;
+  std::vector<Light> lights_;
+  std::unique_ptr<Meshing> meshing_;
+  std::unique_ptr<DirectLightInjection> injection_;
+  RadiosityProblem problem_;           // E includes the injected direct light
+  std::vector<Rgb> surfaceEmitted_;    // E of emissive surfaces alone, W/m²
+  std::vector<Rgb> injected_;          // the lights' ρ·E_direct, W/m²
+  std::vector<Rgb> vertexMeshAlbedo_;  // ρ per patch of the meshing's vertex mesh
+  std::vector<Rgb> radiosity_;         // B, W/m², one per element
+  bool solved_ = false;                // radiosity_ holds a solution (or a refinement's warm start)
+  std::unique_ptr<ProgressiveShooter> shooter_;  // shoot: kept between solves, warm
+  SolutionView view_;
+  // Totals over every solve(), for stats().
+  int solves_ = 0;
+  SolveCallReport last_;
+  double injectSeconds_ = 0, solveSeconds_ = 0, adaptSeconds_ = 0, formFactorSeconds_ = 0;
+  std::uint64_t shadowRays_ = 0;
+  int refined_ = 0, coarsened_ = 0;
+};
+
+}  // namespace lambert

@@ -1,0 +1,57 @@
+#pragma once
+// The read-only view of a radiosity solution that every consumer reads: the rasterizer and the
+// hybrid renderer (render/solution_image.h), vertex export (io/vertices.h), comparison with the
+// path tracer, animation, benchmarks and programs embedding lambert.
+//
+// Two meshes: mesh() holds the elements B is solved on (uniform patches, or the active cells of
+// an adaptive quad-tree); vertexMesh() is the mesh whose vertices carry continuous values for
+// Gouraud shading and export (the same mesh for uniform meshing; the quad-tree's finest level,
+// with hanging vertices constrained, for adaptive meshing). Units: B, E and injected light in
+// W/m² (radiant exitance), radiance L = B/π in W/(m²·sr), albedo ρ dimensionless.
+#include <vector>
+
+#include "lambert/core/rgb.h"
+#include "lambert/geometry/ray_caster.h"
+#include "lambert/mesh/mesh.h"
+#include "lambert/scene/scene.h"
+#include "lambert/solve/solver.h"
+
+namespace lambert {
+
+class Radiosity;
+
+class SolutionView {
+ public:
+  const Scene& scene() const;                // surfaces, materials, camera, metresPerUnit
+  const std::vector<Light>& lights() const;  // the point, spot and directional lights solved for
+
+  // The elements and, per element: B, the lights' injected ρ·E_direct, the surfaces' own
+  // emission E, and ρ. Before the first solve() B is zero.
+  const Mesh& mesh() const;
+  const std::vector<Rgb>& radiosity() const;
+  const std::vector<Rgb>& injected() const;
+  const std::vector<Rgb>& emitted() const;
+  const std::vector<Rgb>& albedo() const;
+  // B less the injected direct light: what to interpolate when direct light is drawn per pixel
+  // (seed 000's hybrid image).
+  std::vector<Rgb> indirectRadiosity() const;
+  // The system the solver last solved, B = E + ρFB (E here includes the injected light), for
+  // programs that solve it another way.
+  const RadiosityProblem& problem() const;
+  // Visibility over the scene's geometry, for shadow rays.
+  const RayCaster& caster() const;
+
+  // Per vertex of vertexMesh(): continuous values of a per-element quantity (B, or the indirect
+  // part), and the outgoing radiance L = B/π; albedo per patch of vertexMesh().
+  const Mesh& vertexMesh() const;
+  std::vector<Rgb> vertexValues(const std::vector<Rgb>& perElement) const;
+  std::vector<Rgb> vertexRadiance() const;
+  const std::vector<Rgb>& vertexMeshAlbedo() const;
+
+ private:
+  friend class Radiosity;
+  explicit SolutionView(const Radiosity& engine) : engine_(&engine) {}
+  const Radiosity* engine_;
+};
+
+}  // namespace lambert

@@ -1,0 +1,66 @@
+#include "lambert/engine/uniform_meshing.h"
+
+#include "lambert/core/timer.h"
+#include "lambert/formfactor/cache.h"
+#include "lambert/formfactor/table.h"
+#include "lambert/geometry/coverage.h"
+#include "lambert/mesh/vertex_radiosity.h"
+
+namespace lambert {
+
+namespace {
+
+double maxEdgeLength(const Scene& scene, const UniformMeshOptions& options) {
+  return options.maxEdgeLength > 0 ? options.maxEdgeLength : edgeLengthForPatchCount(scene, options.targetPatches);
+}
+
+}  // namespace
+
+Mesh uniformMesh(const Scene& scene, const UniformMeshOptions& options) {
+  return subdivideScene(scene, maxEdgeLength(scene, options));
+}
+
+UniformMeshing::UniformMeshing(const Scene& scene, const RadiosityOptions& options) {
+  const UniformMeshOptions& uniform = options.uniform;
+  const FormFactorOptions& ff = options.formFactors;
+  Timer meshTimer;
+  const double maxEdge = maxEdgeLength(scene, uniform);
+  mesh_ = subdivideScene(scene, maxEdge);
+  stats_.add("mesh", "mesh", std::string("uniform bisection"));
+  stats_.add("patches", "patches", static_cast<std::int64_t>(mesh_.numPatches()));
+  stats_.add("vertices", "vertices", static_cast<std::int64_t>(mesh_.numVertices()));
+  stats_.add("max_edge_length", "max edge length", maxEdge, "scene units");
+  stats_.add("mesh_seconds", "mesh time", meshTimer.seconds(), "s");
+
+  Timer bvhTimer;
+  caster_ = makeEmbreeRayCaster(mesh_);
+  stats_.add("bvh_seconds", "BVH build time", bvhTimer.seconds(), "s");
+  measureOpenFractions(mesh_, *caster_);
+
+  FormFactorStats ffStats;
+  CachedFormFactors cached = cachedFormFactors(mesh_, *caster_, ff, options.cacheDirectory, &ffStats);
+  auto F = std::make_shared<FormFactorMatrix>(std::move(cached.matrix));
+  if (options.normalizeRows) normalizeRows(*F);
+  formFactors_ = std::move(F);
+  stats_.add("formfactor_method", "form-factor method", formFactorMethodName(ff.method));
+  stats_.add("formfactor_cache", "form-factor cache",
+             options.cacheDirectory.empty() ? std::string("off") : (cached.fromCache ? "loaded " : "saved ") + cached.path);
+  if (ff.method == FormFactorMethod::AreaMonteCarlo)
+    stats_.add("sample_pairs", "sample pairs per patch pair", static_cast<std::int64_t>(ff.samplePairs));
+  if (ff.method == FormFactorMethod::Hemicube)
+    stats_.add("hemicube_resolution", "hemi-cube resolution", static_cast<std::int64_t>(ff.hemicubeResolution), "px");
+  if (ff.method == FormFactorMethod::HemisphereRays)
+    stats_.add("hemisphere_rays", "rays per patch", static_cast<std::int64_t>(ff.hemisphereRays));
+  stats_.add("pairs_evaluated", "patch pairs evaluated", static_cast<std::int64_t>(ffStats.pairsEvaluated));
+  stats_.add("pairs_culled", "patch pairs culled", static_cast<std::int64_t>(ffStats.pairsCulled));
+  stats_.add("visibility_rays", "visibility rays", static_cast<std::int64_t>(ffStats.visibilityRays));
+  stats_.add("formfactor_seconds", "form-factor time", ffStats.seconds, "s");
+  stats_.add("rays_per_second", "visibility rays per second",
+             ffStats.seconds > 0 ? static_cast<double>(ffStats.visibilityRays) / ffStats.seconds : 0.0, "rays/s");
+}
+
+std::vector<Rgb> UniformMeshing::vertexValues(const std::vector<Rgb>& perElement) const {
+  return vertexRadiosity(mesh_, perElement);
+}
+
+}  // namespace lambert

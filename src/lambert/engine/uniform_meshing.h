@@ -1,0 +1,30 @@
+#pragma once
+// Seed 000's uniform mesh inside the engine: every surface bisected along its longest edges to a
+// patch count or an edge length, patches' open fractions measured, and the dense form-factor
+// matrix computed once by any method (or read from the .lff cache).
+#include "lambert/engine/meshing.h"
+#include "lambert/engine/radiosity.h"
+
+namespace lambert {
+
+class UniformMeshing final : public Meshing {
+ public:
+  UniformMeshing(const Scene& scene, const RadiosityOptions& options);
+
+  const Mesh& elements() const override { return mesh_; }
+  const RayCaster& caster() const override { return *caster_; }
+  std::shared_ptr<const FormFactorMatrix> formFactors() const override { return formFactors_; }
+  bool refine(const std::vector<Light>&, std::vector<Rgb>&, SolveCallReport&) override { return false; }
+  const Mesh& vertexMesh() const override { return mesh_; }
+  std::vector<Rgb> vertexValues(const std::vector<Rgb>& perElement) const override;
+  void addStats(Stats& stats) const override { stats.append(stats_); }
+  Status saveCache() override { return Ok{}; }  // the matrix was saved when it was computed
+
+ private:
+  Mesh mesh_;
+  std::unique_ptr<RayCaster> caster_;
+  std::shared_ptr<const FormFactorMatrix> formFactors_;
+  Stats stats_;
+};
+
+}  // namespace lambert

@@ -1,0 +1,46 @@
+#include "lambert/render/solution_image.h"
+
+#include "lambert/light/lights.h"
+
+namespace lambert {
+namespace {
+
+// Render options that add the lights' direct light reflected by each patch of `mesh` (albedo ρ
+// per patch) at every visible sample. The references must outlive the render.
+RenderOptions withDirectLight(RenderOptions options, const SolutionView& solution, const Mesh& mesh,
+                              const std::vector<Rgb>& albedo) {
+  const double epsilon = rayEpsilon(mesh);
+  const double metresPerUnit = solution.scene().metresPerUnit;
+  const std::vector<Light>& lights = solution.lights();
+  const RayCaster& caster = solution.caster();
+  options.directRadiance = [&mesh, &caster, &albedo, &lights, epsilon, metresPerUnit](const Vec3& position, std::uint32_t patch) {
+    return reflectedDirectRadiance(lights, position, mesh.patches[patch].normal, albedo[patch], caster, epsilon, metresPerUnit);
+  };
+  return options;
+}
+
+}  // namespace
+
+bool drawsLightsPerPixel(const SolutionView& solution, const SolutionImageOptions& options) {
+  return options.lighting == Lighting::Hybrid && !solution.lights().empty();
+}
+
+Image renderSolution(const SolutionView& solution, const SolutionImageOptions& options) {
+  const bool hybrid = drawsLightsPerPixel(solution, options);
+  const std::vector<Rgb> values = hybrid ? solution.indirectRadiosity() : solution.radiosity();
+  const Camera& camera = options.camera ? *options.camera : solution.scene().camera;
+  RenderOptions render;
+  render.width = options.width;
+  render.height = options.height;
+  render.shading = options.shading;
+  render.supersample = options.supersample;
+  if (options.shading == Shading::Flat) {
+    if (hybrid) render = withDirectLight(render, solution, solution.mesh(), solution.albedo());
+    return renderRadiance(camera, solution.mesh(), values, render);
+  }
+  const Mesh& mesh = solution.vertexMesh();
+  if (hybrid) render = withDirectLight(render, solution, mesh, solution.vertexMeshAlbedo());
+  return renderVertexRadiosity(camera, mesh, solution.vertexValues(values), render);
+}
+
+}  // namespace lambert
