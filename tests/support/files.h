@@ -34,4 +34,14 @@ inline void writeBytes(const std::filesystem::path& path, const std::vector<char
   ASSERT_TRUE(out.good()) << path;
 }
 
+// Whether dir holds a temporary file of an atomic write (core/atomic_file.h names them *.tmp-*).
+inline bool hasTemporaryFiles(const std::filesystem::path& dir) {
+  if (!std::filesystem::is_directory(dir)) return false;
+  for (const auto& entry : std::filesystem::directory_iterator(dir))
+    if (entry.path().filename().string().find(".tmp") != std::string::npos) return true;
+  return false;
+}
+
+inline bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
 }  // namespace lambert::testing

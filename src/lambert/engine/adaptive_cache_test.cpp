@@ -16,18 +16,14 @@ namespace lambert {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::hasTemporaryFiles;
+using testing::contains;
 
 constexpr std::size_t kHeaderBytes = 32, kEntryBytes = 20;  // the .lft layout (table.cpp)
 const QuadtreeOptions kQuadtree{0.34, 2};
 
 fs::path scratch(const std::string& name) { return testing::scratchDirectory("adaptive-cache", name); }
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
-bool hasTemporaryFiles(const fs::path& dir) {
-  for (const auto& entry : fs::directory_iterator(dir))
-    if (entry.path().filename().string().find(".tmp") != std::string::npos) return true;
-  return false;
-}
 
 Light downwardSpot() {
   Light spot;

@@ -51,6 +51,14 @@ std::int64_t statInt(const Stats& stats, const std::string& key) {
   return entry ? std::get<std::int64_t>(entry->value) : -1;
 }
 
+// A square cell of the floor y = 0, corner (x0, z0), facing up.
+PatchCorners floorCell(double x0, double z0, double size) {
+  PatchCorners c;
+  c.count = 4;
+  c.points = {Vec3{x0, 0, z0}, Vec3{x0, 0, z0 + size}, Vec3{x0 + size, 0, z0 + size}, Vec3{x0 + size, 0, z0}};
+  return c;
+}
+
 // Whether a node has been split, at any depth below it.
 bool isRefined(const AdaptiveMesh& mesh, std::uint32_t id) { return !mesh.node(id).active && mesh.node(id).firstChild >= 0; }
 
@@ -88,12 +96,7 @@ TEST(AdaptiveTest, RefinesExactlyAlongTheSpotsEdge) {
   EXPECT_GT(coarseUntouched, 0);  // the middle of the beam and the dark corners stay coarse
 
   // A cell wholly inside the beam and one wholly outside do not cross; one on the edge does.
-  auto quad = [](double x0, double z0, double size) {
-    PatchCorners c;
-    c.count = 4;
-    c.points = {Vec3{x0, 0, z0}, Vec3{x0, 0, z0 + size}, Vec3{x0 + size, 0, z0 + size}, Vec3{x0 + size, 0, z0}};
-    return c;
-  };
+  auto quad = floorCell;
   const Vec3 up{0, 1, 0};
   EXPECT_FALSE(AdaptiveMeshing::crossesSpotEdge(spot, quad(0.5, 0.5, 0.05), up));
   EXPECT_FALSE(AdaptiveMeshing::crossesSpotEdge(spot, quad(0.9, 0.9, 0.05), up));
@@ -158,12 +161,7 @@ TEST(AdaptiveTest, RefinesAlongShadowEdges) {
   SolveCallReport report;
   a.refine({point}, radiosity, report);
   // The blocker's shadow on the floor spans 0.3 … 0.7: cells across its edge are split.
-  auto cell = [](double x0, double z0, double size) {
-    PatchCorners c;
-    c.count = 4;
-    c.points = {Vec3{x0, 0, z0}, Vec3{x0, 0, z0 + size}, Vec3{x0 + size, 0, z0 + size}, Vec3{x0 + size, 0, z0}};
-    return c;
-  };
+  auto cell = floorCell;
   const Vec3 up{0, 1, 0};
   EXPECT_TRUE(a.crossesShadowEdge(point, cell(0.25, 0.45, 0.1), up));
   EXPECT_FALSE(a.crossesShadowEdge(point, cell(0.45, 0.45, 0.1), up));  // wholly in shadow

@@ -24,6 +24,8 @@ namespace lambert {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::hasTemporaryFiles;
+using testing::contains;
 
 constexpr std::size_t kHeaderBytes = 32;
 constexpr std::size_t kChecksumBytes = 8;
@@ -37,12 +39,6 @@ void storeLe(std::vector<char>& bytes, std::size_t offset, std::uint64_t value, 
   for (int k = 0; k < size; ++k) bytes[offset + k] = static_cast<char>(value >> (8 * k));
 }
 
-bool hasTemporaryFiles(const fs::path& dir) {
-  if (!fs::is_directory(dir)) return false;
-  for (const auto& entry : fs::directory_iterator(dir))
-    if (entry.path().filename().string().find(".tmp") != std::string::npos) return true;
-  return false;
-}
 
 std::size_t fileCount(const fs::path& dir) {
   if (!fs::is_directory(dir)) return 0;
@@ -54,7 +50,6 @@ bool bitIdentical(const FormFactorMatrix& a, const FormFactorMatrix& b) {
          std::memcmp(a.data(), b.data(), static_cast<std::size_t>(a.size()) * sizeof(float)) == 0;
 }
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 FormFactorOptions quietOptions() {
   FormFactorOptions options;

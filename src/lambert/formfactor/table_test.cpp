@@ -29,6 +29,8 @@ namespace lambert {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::hasTemporaryFiles;
+using testing::contains;
 
 constexpr std::size_t kHeaderBytes = 32, kEntryBytes = 20, kChecksumBytes = 8;
 
@@ -43,18 +45,12 @@ std::uint64_t loadLe64(const std::vector<char>& bytes, std::size_t offset) {
   return v;
 }
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 bool bitIdentical(const FormFactorMatrix& a, const FormFactorMatrix& b) {
   return a.rows() == b.rows() && a.cols() == b.cols() &&
          std::memcmp(a.data(), b.data(), static_cast<std::size_t>(a.size()) * sizeof(float)) == 0;
 }
 
-bool hasTemporaryFiles(const fs::path& dir) {
-  for (const auto& entry : fs::directory_iterator(dir))
-    if (entry.path().filename().string().find(".tmp") != std::string::npos) return true;
-  return false;
-}
 
 FormFactorOptions quietOptions() {
   FormFactorOptions options;

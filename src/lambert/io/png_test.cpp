@@ -13,6 +13,7 @@ namespace lambert {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::hasTemporaryFiles;
 
 fs::path scratch(const std::string& name) { return testing::scratchDirectory("png", name); }
 
@@ -28,13 +29,6 @@ std::vector<std::uint8_t> pattern(int width, int height, int seed) {
   return rgb;
 }
 
-bool hasTemporaryFiles(const fs::path& dir) {
-  if (!fs::is_directory(dir)) return false;
-  for (const auto& entry : fs::directory_iterator(dir)) {
-    if (entry.path().filename().string().find(".tmp-") != std::string::npos) return true;
-  }
-  return false;
-}
 
 TEST(PngTest, WriteThenReadRoundTripsExactly) {
   fs::path dir = scratch("roundtrip");
