@@ -26,9 +26,10 @@ mkdir -p "$work" docs/images
 results="$work/results.jsonl"
 : > "$results"
 
-# method, its option, and the settings to try (the default one first).
+# method, its option, and the settings to try (the default one first); seed 000's point method has
+# no setting (one kernel and one ray per pair).
 settings=(
-  "point|--samples|1"
+  "point||-"
   "mc|--samples|16 4 64"
   "hemicube|--hemicube-resolution|256 64"
   "hemisphere|--hemisphere-rays|1024 256 4096"
@@ -43,19 +44,22 @@ for patches in $PATCHES; do
   for entry in "${settings[@]}"; do
     IFS='|' read -r method option values <<< "$entry"
     first=1
+    [ -z "$option" ] && values="-"
     for value in $values; do
+      setting=()
+      [ -n "$option" ] && setting=("$option" "$value")
       echo "  $method $option $value at $patches patches" >&2
       vertices="$work/$method-$value-$patches.csv"
       # No cache: the table times the computation.
-      solve=$($lambert solve --patches "$patches" --formfactor "$method" $option "$value" --no-cache \
+      solve=$($lambert solve --patches "$patches" --formfactor "$method" "${setting[@]}" --no-cache \
                 --export-vertices "$vertices" --json)
-      compare=$($lambert compare --patches "$patches" --radiosity-vertices "$vertices" --reference-vertices "$reference" --json)
+      compare=$($lambert compare --radiosity-vertices "$vertices" --reference-vertices "$reference" --json)
       python3 - "$method" "$option" "$value" "$first" <<PY >> "$results"
 import json, sys
 solve = json.loads('''$solve''')
 compare = json.loads('''$compare''')
 method, option, value, first = sys.argv[1:]
-print(json.dumps({"method": method, "setting": f"{option.lstrip('-')} {value}", "default": first == "1",
+print(json.dumps({"method": method, "setting": f"{option.lstrip('-')} {value}" if option else "one ray", "default": first == "1",
                   "patches": solve["patches"], "formfactor_seconds": solve["formfactor_seconds"],
                   "solve_seconds": solve["solve_seconds"], "relative_rmse": compare["vertex_relative_rmse"],
                   "max_relative": compare["vertex_max_rel"], "bias": compare["vertex_bias"]}))

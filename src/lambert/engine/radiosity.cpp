@@ -116,10 +116,14 @@ void Radiosity::solvePass(const SolveBudget& budget, SolveCallReport& report) {
 
   Timer injectTimer;
   const std::uint64_t raysBefore = caster.raysCast();
-  report.lightsInjected += injection_->update(elements, caster, problem_.albedo, lights_, scene_.metresPerUnit);
-  // Lights may also have been removed without any being traced: E is always rebuilt (O(n)).
-  injected_ = injection_->total();
-  for (std::size_t i = 0; i < elements.numPatches(); ++i) problem_.emitted[i] = surfaceEmitted_[i] + injected_[i];
+  const DirectLightInjection::Update injection =
+      injection_->update(elements, caster, problem_.albedo, lights_, scene_.metresPerUnit);
+  report.lightsInjected += injection.lightsTraced;
+  if (injection.changed) {
+    injected_ = injection_->total();
+    for (std::size_t i = 0; i < elements.numPatches(); ++i) problem_.emitted[i] = surfaceEmitted_[i] + injected_[i];
+    if (shooter_) shooter_->setEmitted(problem_.emitted);
+  }
   shadowRays_ += caster.raysCast() - raysBefore;
   report.injectSeconds += injectTimer.seconds();
 
@@ -131,8 +135,6 @@ void Radiosity::solvePass(const SolveBudget& budget, SolveCallReport& report) {
     if (!shooter_) {
       shooter_ = std::make_unique<ProgressiveShooter>(problem_);
       if (solved_) shooter_->warmStart(radiosity_);
-    } else {
-      shooter_->setEmitted(problem_.emitted);
     }
     const long long limit = static_cast<long long>(options_.maxIterations) * static_cast<long long>(n);
     const long long maxShots = budget.maxShots > 0 ? std::min(budget.maxShots, limit) : limit;

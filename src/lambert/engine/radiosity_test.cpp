@@ -150,6 +150,9 @@ TEST(RadiosityTest, BudgetsBelongToTheirSolvers) {
   SolveCallReport two = solved(*gs, {.maxSweeps = 2});
   EXPECT_EQ(two.iterations, 2);
   EXPECT_FALSE(two.converged);
+  SolveCallReport timed = solved(*gs, {.maxMilliseconds = 1e-6});  // one sweep, then the clock
+  EXPECT_EQ(timed.iterations, 1);
+  EXPECT_FALSE(timed.converged);
   // A time budget stops the shooter at its first look at the clock, after 32 shots.
   std::unique_ptr<Radiosity> shoot = makeEngine(scene, uniformOptions(200, SolverKind::Shooting, 1e-12));
   SolveCallReport brief = solved(*shoot, {.maxMilliseconds = 1e-6});

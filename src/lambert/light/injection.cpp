@@ -2,26 +2,27 @@
 
 namespace lambert {
 
-int DirectLightInjection::update(const Mesh& mesh, const RayCaster& caster, const std::vector<Rgb>& albedo,
+DirectLightInjection::Update DirectLightInjection::update(const Mesh& mesh, const RayCaster& caster, const std::vector<Rgb>& albedo,
                                  const std::vector<Light>& lights, double metresPerUnit) {
   const bool startAfresh = lights.size() != lights_.size() || total_.size() != mesh.numPatches();
   if (startAfresh) {
     lights_.assign(lights.size(), std::nullopt);
     perLight_.assign(lights.size(), {});
   }
-  int traced = 0;
+  Update update;
   for (std::size_t l = 0; l < lights.size(); ++l) {
     if (lights_[l] && *lights_[l] == lights[l]) continue;
     perLight_[l] = injectedRadiosity(mesh, albedo, patchIrradiance(mesh, caster, lights[l], metresPerUnit, options_));
     lights_[l] = lights[l];
-    ++traced;
+    ++update.lightsTraced;
   }
-  if (traced > 0 || startAfresh) {
+  update.changed = update.lightsTraced > 0 || startAfresh;
+  if (update.changed) {
     total_.assign(mesh.numPatches(), Rgb{});
     for (const std::vector<Rgb>& injected : perLight_)
       for (std::size_t i = 0; i < injected.size(); ++i) total_[i] += injected[i];
   }
-  return traced;
+  return update;
 }
 
 void DirectLightInjection::reset() {

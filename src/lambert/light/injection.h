@@ -19,9 +19,13 @@ class DirectLightInjection {
 
   // Brings the injection up to date for `lights` on `mesh` (albedo ρ per patch): a light equal to
   // the one last injected at its index is kept, every other one is traced again. After reset(),
-  // or when the number of lights changes, every light is. Returns the number of lights traced.
-  int update(const Mesh& mesh, const RayCaster& caster, const std::vector<Rgb>& albedo, const std::vector<Light>& lights,
-             double metresPerUnit);
+  // or when the number of lights changes, every light is.
+  struct Update {
+    int lightsTraced = 0;
+    bool changed = false;  // total() differs from before (traced, or lights removed)
+  };
+  Update update(const Mesh& mesh, const RayCaster& caster, const std::vector<Rgb>& albedo, const std::vector<Light>& lights,
+                double metresPerUnit);
   // The mesh changed: the next update traces every light afresh.
   void reset();
 
