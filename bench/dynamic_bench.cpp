@@ -1,11 +1,11 @@
-// Moving lights on a fixed scene (DynamicRadiosity, seed 003): how many light updates per second a
+// Moving lights on a fixed scene (the engine with the shoot solver, seed 003): how many light updates per second a
 // per-frame shot budget allows, how far the radiosity lags the moving lights, and how many frames it
 // takes to get within 1% of the converged solution once the lights stop. The target: ≥ 60
 // light updates per second at 5000 patches on a 2-core machine, with the light within 1% of a fully
 // converged solve after the lights stop.
 //
 // cornell-spots at about --patches patches; form factors computed once (or loaded from
-// --cache-dir). For each budget in --shots: a fresh DynamicRadiosity, --frames frames with the
+// --cache-dir). For each budget in --shots: a fresh engine, --frames frames with the
 // lights at t = frame / fps (both spots turn every frame, so both are re-injected every frame),
 // then the lights stop (held at the last frame's) and update() is called until the radiosity is
 // within 1% of a cold converged solve for those lights. Prints one JSON document on stdout;

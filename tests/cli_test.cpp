@@ -386,6 +386,31 @@ TEST(CliTest, AdaptiveSolutionsExportAndCompareAndAnimationStatsAreLit) {
   EXPECT_GT(frames["emitted_watts"].get<double>(), 0.01) << "the stats must describe the lit frames";
 }
 
+// A scene file renders like the built-in scene it describes, byte for byte; a bad one is refused
+// with the file and JSON path, and nothing is written.
+TEST(CliTest, SceneFilesRenderAndBadOnesAreRefused) {
+  fs::path dir = outputDir("scene-file");
+  const std::string file = std::string(LAMBERT_SOURCE_DIR) + "/scenes/cornell/cornell-spots.json";
+  const std::string common = " --patches 192 --width 48 --height 40 -q -o ";
+  ASSERT_EQ(run("render --scene cornell-spots" + common + (dir / "builtin.png").string()).exitCode, 0);
+  CommandResult fromFile = run("render --scene " + file + common + (dir / "file.png").string());
+  ASSERT_EQ(fromFile.exitCode, 0) << fromFile.output;
+  EXPECT_EQ(fileBytes(dir / "builtin.png"), fileBytes(dir / "file.png"));
+
+  const fs::path bad = dir / "bad.json";
+  std::ofstream(bad) << R"({"materials": [{"name": "m", "albedo": [1.2, 0.5, 0.5]}],
+    "surfaces": [{"material": "m", "vertices": [[0,0,0], [1,0,0], [0,1,0]]}]})";
+  CommandResult refused = run("render --scene " + bad.string() + common + (dir / "never.png").string());
+  EXPECT_EQ(refused.exitCode, 2);
+  EXPECT_NE(refused.output.find(bad.string() + ": /materials/0/albedo/0: 1.2 is out of range: allowed [0, 1)"), std::string::npos)
+      << refused.output;
+  EXPECT_FALSE(fs::exists(dir / "never.png"));
+
+  CommandResult exported = run("scenes --export " + (dir / "scenes").string());
+  ASSERT_EQ(exported.exitCode, 0) << exported.output;
+  EXPECT_TRUE(fs::exists(dir / "scenes" / "cornell.json"));
+}
+
 TEST(CliTest, HelpListsTheOptions) {
   CommandResult help = run("render --help");
   EXPECT_EQ(help.exitCode, 0);

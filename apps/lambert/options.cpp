@@ -5,13 +5,13 @@
 #include <map>
 
 #include "lambert/mesh/mesh.h"
-#include "lambert/scene/builtin.h"
+#include "lambert/scene/scene_file.h"
 
 namespace lambert::cli {
 
 void addMeshOptions(CLI::App& cmd, MeshCommandOptions& o) {
   o.command = &cmd;
-  cmd.add_option("--scene", o.scene, "Built-in scene name (see `lambert scenes`)")->capture_default_str();
+  cmd.add_option("--scene", o.scene, "Built-in scene name (see `lambert scenes`) or a scene file (.json, docs/scene-format.md)")->capture_default_str();
   auto* patches = cmd.add_option("--patches", o.patches, "Target patch count; the mesh edge length is chosen to reach it")
                       ->check(CLI::Range(std::size_t{1}, std::size_t{200000}))
                       ->capture_default_str();
@@ -96,14 +96,13 @@ void printStats(const Stats& stats, bool json, bool quiet, const std::string& he
     std::printf("%s%s", headline.empty() ? "" : (headline + "\n").c_str(), stats.table().c_str());
 }
 
-std::optional<Scene> findScene(const std::string& command, const std::string& name) {
-  std::optional<Scene> scene = builtinScene(name);
+std::optional<Scene> findScene(const std::string& command, const std::string& nameOrPath) {
+  Result<Scene> scene = loadScene(nameOrPath);
   if (!scene) {
-    std::string names;
-    for (const auto& n : builtinSceneNames()) names += (names.empty() ? "" : ", ") + n;
-    std::fprintf(stderr, "lambert %s: unknown scene '%s' (built-in scenes: %s)\n", command.c_str(), name.c_str(), names.c_str());
+    fail(command, scene.error().message);
+    return std::nullopt;
   }
-  return scene;
+  return std::move(*scene);
 }
 
 namespace {

@@ -82,8 +82,8 @@ std::unique_ptr<Radiosity> makeEngine(const std::string& command, const Scene& s
 // --quiet.
 void printStats(const Stats& stats, bool json, bool quiet, const std::string& headline = "");
 
-// The named built-in scene, or a message on stderr naming the choices.
-std::optional<Scene> findScene(const std::string& command, const std::string& name);
+// The named built-in scene or the scene file at the path; else nothing, with the reason on stderr.
+std::optional<Scene> findScene(const std::string& command, const std::string& nameOrPath);
 
 // Prints "lambert <command>: <message>" on stderr and returns exit code 2 (bad input).
 int fail(const std::string& command, const std::string& message);

@@ -1,0 +1,424 @@
+#include "lambert/scene/scene_file.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "lambert/core/atomic_file.h"
+#include "lambert/scene/builtin.h"
+
+namespace lambert {
+namespace {
+
+using Json = nlohmann::json;
+using OrderedJson = nlohmann::ordered_json;
+
+constexpr int kFormatVersion = 1;
+
+// Thrown inside this file only, caught by parseSceneFile: the JSON path and what is wrong.
+struct FieldError {
+  std::string pointer;
+  std::string message;
+};
+
+std::string typeName(const Json& value) {
+  if (value.is_number()) return "a number";
+  if (value.is_string()) return "a string";
+  if (value.is_boolean()) return "a boolean";
+  if (value.is_array()) return "an array";
+  if (value.is_object()) return "an object";
+  return "null";
+}
+
+std::string formatNumber(double v) {
+  std::ostringstream out;
+  out << v;
+  return out.str();
+}
+
+// One JSON object read field by field: every field it has must be asked for by finish().
+class ObjectReader {
+ public:
+  ObjectReader(const Json& object, std::string pointer) : object_(object), pointer_(std::move(pointer)) {
+    if (!object_.is_object()) throw FieldError{pointer_.empty() ? "/" : pointer_, "expected an object, found " + typeName(object_)};
+  }
+
+  bool has(const std::string& key) const { return object_.contains(key); }
+  std::string pointerOf(const std::string& key) const { return pointer_ + "/" + key; }
+
+  const Json* find(const std::string& key) {
+    known_.insert(key);
+    auto it = object_.find(key);
+    return it == object_.end() ? nullptr : &*it;
+  }
+  const Json& require(const std::string& key) {
+    const Json* value = find(key);
+    if (!value) throw FieldError{pointer_.empty() ? "/" : pointer_, "missing required field \"" + key + "\""};
+    return *value;
+  }
+
+  std::string string(const std::string& key, const std::string& fallback) {
+    const Json* value = find(key);
+    if (!value) return fallback;
+    if (!value->is_string()) throw FieldError{pointerOf(key), "expected a string, found " + typeName(*value)};
+    return value->get<std::string>();
+  }
+
+  // A finite number in [low, high] (open at either end when the flag says so).
+  double number(const std::string& key, double fallback, double low, double high, bool lowOpen = false, bool highOpen = false) {
+    const Json* value = find(key);
+    return value ? checkedNumber(*value, pointerOf(key), low, high, lowOpen, highOpen) : fallback;
+  }
+
+  static double checkedNumber(const Json& value, const std::string& pointer, double low, double high, bool lowOpen,
+                              bool highOpen) {
+    if (!value.is_number()) throw FieldError{pointer, "expected a number, found " + typeName(value)};
+    const double v = value.get<double>();
+    const bool below = lowOpen ? !(v > low) : !(v >= low);
+    const bool above = highOpen ? !(v < high) : !(v <= high);
+    if (!std::isfinite(v) || below || above)
+      throw FieldError{pointer, formatNumber(v) + " is out of range: allowed " + (lowOpen ? "(" : "[") + formatNumber(low) + ", " +
+                                    formatNumber(high) + (highOpen ? ")" : "]")};
+    return v;
+  }
+
+  // Three finite numbers, each in [low, high].
+  static Vec3 checkedTriple(const Json& value, const std::string& pointer, double low, double high, bool highOpen = false) {
+    if (!value.is_array() || value.size() != 3)
+      throw FieldError{pointer, "expected an array of 3 numbers, found " + (value.is_array() ? "an array of " + std::to_string(value.size()) : typeName(value))};
+    auto component = [&](int k) { return checkedNumber(value[k], pointer + "/" + std::to_string(k), low, high, false, highOpen); };
+    return {component(0), component(1), component(2)};
+  }
+  Vec3 vector(const std::string& key, Vec3 fallback, double low = -1e30, double high = 1e30) {
+    const Json* value = find(key);
+    return value ? checkedTriple(*value, pointerOf(key), low, high) : fallback;
+  }
+  Rgb colour(const std::string& key, Rgb fallback, double high, bool highOpen) {
+    const Json* value = find(key);
+    if (!value) return fallback;
+    Vec3 v = checkedTriple(*value, pointerOf(key), 0, high, highOpen);
+    return {v.x, v.y, v.z};
+  }
+
+  const Json& array(const std::string& key) {
+    static const Json empty = Json::array();
+    const Json* value = find(key);
+    if (!value) return empty;
+    if (!value->is_array()) throw FieldError{pointerOf(key), "expected an array, found " + typeName(*value)};
+    return *value;
+  }
+
+  // Every field must have been read: an unknown one is a typo or a feature lambert lacks.
+  void finish(const std::string& allowed) const {
+    for (auto it = object_.begin(); it != object_.end(); ++it)
+      if (!known_.count(it.key())) throw FieldError{pointerOf(it.key()), "unknown field (allowed here: " + allowed + ")"};
+  }
+
+ private:
+  const Json& object_;
+  std::string pointer_;
+  std::set<std::string> known_;
+};
+
+double metresPerUnitOf(const std::string& unit, const std::string& pointer) {
+  static const std::map<std::string, double> units = {{"m", 1}, {"cm", 0.01}, {"mm", 0.001}, {"in", 0.0254}, {"ft", 0.3048}};
+  auto it = units.find(unit);
+  if (it == units.end()) throw FieldError{pointer, "unknown unit \"" + unit + "\" (allowed: m, cm, mm, in, ft)"};
+  return it->second;
+}
+
+// A surface polygon must be convex (seen along its mean normal) with a non-zero area, as the
+// mesher's triangle fan assumes. It need not be exactly planar: the fan splits it (the published
+// Cornell box's red wall is 1.6 mm off plane).
+void checkPolygon(const std::vector<Vec3>& v, const std::string& pointer) {
+  if (v.size() < 3) throw FieldError{pointer, "a polygon needs at least 3 vertices, found " + std::to_string(v.size())};
+  Vec3 lo = v[0], hi = v[0];
+  for (const Vec3& p : v) {
+    lo = {std::fmin(lo.x, p.x), std::fmin(lo.y, p.y), std::fmin(lo.z, p.z)};
+    hi = {std::fmax(hi.x, p.x), std::fmax(hi.y, p.y), std::fmax(hi.z, p.z)};
+  }
+  const double size = length(hi - lo);
+  Vec3 areaVector;  // Newell's normal: twice the area along the polygon's normal
+  for (std::size_t k = 0; k < v.size(); ++k) areaVector += cross(v[k], v[(k + 1) % v.size()]);
+  const double twiceArea = length(areaVector);
+  if (!(twiceArea > 1e-12 * size * size)) throw FieldError{pointer, "the polygon has no area (its vertices are collinear or repeated)"};
+  const Vec3 normal = areaVector / twiceArea;
+  for (std::size_t k = 0; k < v.size(); ++k) {
+    const Vec3 a = v[k], b = v[(k + 1) % v.size()], c = v[(k + 2) % v.size()];
+    if (dot(cross(b - a, c - b), normal) < -1e-12 * size * size)
+      throw FieldError{pointer + "/" + std::to_string((k + 1) % v.size()), "the polygon is not convex at this vertex"};
+  }
+}
+
+Light readLight(const Json& value, const std::string& pointer) {
+  ObjectReader r(value, pointer);
+  Light light;
+  light.name = r.string("name", "light " + pointer.substr(pointer.rfind('/') + 1));
+  const std::string type = r.string("type", "");
+  const double maxVector = 1e30;
+  auto direction = [&] {
+    Vec3 d = ObjectReader::checkedTriple(r.require("direction"), r.pointerOf("direction"), -maxVector, maxVector);
+    if (!(length(d) > 0)) throw FieldError{r.pointerOf("direction"), "the direction must not be zero"};
+    return normalize(d);
+  };
+  if (type == "point" || type == "spot") {
+    light.kind = type == "point" ? LightKind::Point : LightKind::Spot;
+    light.position = ObjectReader::checkedTriple(r.require("position"), r.pointerOf("position"), -maxVector, maxVector);
+    Vec3 i = ObjectReader::checkedTriple(r.require("intensity"), r.pointerOf("intensity"), 0, maxVector);
+    light.intensity = {i.x, i.y, i.z};
+    if (light.kind == LightKind::Spot) {
+      light.direction = direction();
+      light.coneAngleDegrees = r.number("coneAngleDegrees", 30, 0, 90, true, false);
+      light.falloffDegrees = r.number("falloffDegrees", std::fmin(5, light.coneAngleDegrees), 0, light.coneAngleDegrees);
+      light.angularVelocity = r.vector("angularVelocity", {});
+      r.finish("name, type, position, direction, intensity, coneAngleDegrees, falloffDegrees, angularVelocity");
+    } else {
+      r.finish("name, type, position, intensity");
+    }
+  } else if (type == "directional") {
+    light.kind = LightKind::Directional;
+    light.direction = direction();
+    Vec3 e = ObjectReader::checkedTriple(r.require("irradiance"), r.pointerOf("irradiance"), 0, maxVector);
+    light.irradiance = {e.x, e.y, e.z};
+    light.angularVelocity = r.vector("angularVelocity", {});
+    r.finish("name, type, direction, irradiance, angularVelocity");
+  } else {
+    throw FieldError{r.pointerOf("type"), (type.empty() ? std::string("missing") : "unknown light type \"" + type + "\"") +
+                                              " (allowed: point, spot, directional)"};
+  }
+  return light;
+}
+
+Camera readCamera(const Json& value, const std::string& pointer) {
+  ObjectReader r(value, pointer);
+  Camera camera;
+  camera.eye = ObjectReader::checkedTriple(r.require("eye"), r.pointerOf("eye"), -1e30, 1e30);
+  camera.target = ObjectReader::checkedTriple(r.require("target"), r.pointerOf("target"), -1e30, 1e30);
+  camera.up = r.vector("up", {0, 1, 0});
+  camera.verticalFovDegrees = r.number("verticalFovDegrees", 40, 0, 180, true, true);
+  r.finish("eye, target, up, verticalFovDegrees");
+  if (!(length(camera.target - camera.eye) > 0)) throw FieldError{r.pointerOf("target"), "the target must differ from the eye"};
+  if (!(length(cross(camera.target - camera.eye, camera.up)) > 0))
+    throw FieldError{r.pointerOf("up"), "up must not be zero or parallel to the view direction"};
+  return camera;
+}
+
+// A camera that sees the whole scene: from in front (−z) of its bounding box, looking at its centre.
+Camera defaultCamera(const Scene& scene) {
+  Vec3 lo{INFINITY, INFINITY, INFINITY}, hi = -lo;
+  for (const Surface& s : scene.surfaces)
+    for (const Vec3& p : s.vertices) {
+      lo = {std::fmin(lo.x, p.x), std::fmin(lo.y, p.y), std::fmin(lo.z, p.z)};
+      hi = {std::fmax(hi.x, p.x), std::fmax(hi.y, p.y), std::fmax(hi.z, p.z)};
+    }
+  Camera camera;
+  const Vec3 centre = (lo + hi) * 0.5;
+  camera.target = centre;
+  camera.eye = centre - Vec3{0, 0, 1.5 * length(hi - lo)};
+  return camera;
+}
+
+Scene readScene(const Json& document, const std::string& path) {
+  ObjectReader r(document, "");
+  if (r.has("version")) {
+    const double version = r.number("version", kFormatVersion, 1, 1e9);
+    if (version != kFormatVersion)
+      throw FieldError{"/version", "version " + formatNumber(version) + " is not supported (this lambert reads version 1)"};
+  }
+  Scene scene;
+  scene.name = r.string("name", std::filesystem::path(path).stem().string());
+  if (r.has("unit") && r.has("metresPerUnit")) throw FieldError{"/metresPerUnit", "give either \"unit\" or \"metresPerUnit\", not both"};
+  scene.metresPerUnit = r.has("unit") ? metresPerUnitOf(r.string("unit", "m"), "/unit") : r.number("metresPerUnit", 1, 0, 1e12, true);
+
+  // Materials by name; the emission lives on the material.
+  std::map<std::string, int> materialIndex;
+  std::vector<Rgb> materialEmission;
+  const Json& materials = r.array("materials");
+  for (std::size_t m = 0; m < materials.size(); ++m) {
+    const std::string pointer = "/materials/" + std::to_string(m);
+    ObjectReader mr(materials[m], pointer);
+    Material material;
+    material.name = mr.string("name", "");
+    if (material.name.empty()) throw FieldError{pointer, "missing required field \"name\" (surfaces refer to materials by name)"};
+    if (materialIndex.count(material.name)) throw FieldError{pointer + "/name", "a second material named \"" + material.name + "\""};
+    material.albedo = mr.colour("albedo", Rgb::gray(0.5), 1, true);
+    const Rgb emission = mr.colour("emittedRadiance", {}, 1e30, false);
+    mr.finish("name, albedo, emittedRadiance");
+    materialIndex[material.name] = static_cast<int>(scene.materials.size());
+    scene.materials.push_back(material);
+    materialEmission.push_back(emission);
+  }
+
+  const Json& surfaces = r.array("surfaces");
+  for (std::size_t s = 0; s < surfaces.size(); ++s) {
+    const std::string pointer = "/surfaces/" + std::to_string(s);
+    ObjectReader sr(surfaces[s], pointer);
+    Surface surface;
+    surface.name = sr.string("name", "surface " + std::to_string(s));
+    const std::string material = sr.string("material", "");
+    auto it = materialIndex.find(material);
+    if (it == materialIndex.end())
+      throw FieldError{pointer + "/material", material.empty() ? "missing required field \"material\"" : "no material named \"" + material + "\""};
+    surface.material = it->second;
+    surface.emittedRadiance = materialEmission[static_cast<std::size_t>(it->second)];
+    const Json& vertices = sr.require("vertices");
+    if (!vertices.is_array()) throw FieldError{pointer + "/vertices", "expected an array of [x, y, z], found " + typeName(vertices)};
+    for (std::size_t k = 0; k < vertices.size(); ++k)
+      surface.vertices.push_back(ObjectReader::checkedTriple(vertices[k], pointer + "/vertices/" + std::to_string(k), -1e30, 1e30));
+    checkPolygon(surface.vertices, pointer + "/vertices");
+    sr.finish("name, material, vertices");
+    scene.surfaces.push_back(std::move(surface));
+  }
+  if (scene.surfaces.empty()) throw FieldError{"/surfaces", "the scene has no surfaces"};
+
+  const Json& lights = r.array("lights");
+  for (std::size_t l = 0; l < lights.size(); ++l) scene.lights.push_back(readLight(lights[l], "/lights/" + std::to_string(l)));
+  scene.camera = r.has("camera") ? readCamera(r.require("camera"), "/camera") : defaultCamera(scene);
+  r.finish("version, name, unit, metresPerUnit, materials, surfaces, lights, camera");
+  return scene;
+}
+
+OrderedJson triple(const Vec3& v) { return OrderedJson::array({v.x, v.y, v.z}); }
+OrderedJson triple(const Rgb& c) { return OrderedJson::array({c.r, c.g, c.b}); }
+
+}  // namespace
+
+Result<Scene> parseSceneFile(const std::string& text, const std::string& path) {
+  Json document;
+  try {
+    document = Json::parse(text);
+  } catch (const Json::parse_error& e) {
+    // The byte offset, as line:column of the text.
+    const std::size_t offset = std::min<std::size_t>(e.byte == 0 ? 0 : e.byte - 1, text.size());
+    std::size_t line = 1, column = 1;
+    for (std::size_t k = 0; k < offset; ++k) {
+      if (text[k] == '\n') {
+        ++line;
+        column = 1;
+      } else {
+        ++column;
+      }
+    }
+    std::string what = e.what();
+    if (auto colon = what.rfind(": "); colon != std::string::npos) what = what.substr(colon + 2);
+    return Error{path + ":" + std::to_string(line) + ":" + std::to_string(column) + ": not valid JSON: " + what};
+  } catch (const Json::exception& e) {  // a number too large for a double, and the like
+    std::string what = e.what();
+    if (auto bracket = what.find("] "); bracket != std::string::npos) what = what.substr(bracket + 2);
+    return Error{path + ": not valid JSON: " + what};
+  }
+  try {
+    return readScene(document, path);
+  } catch (const FieldError& e) {
+    return Error{path + ": " + e.pointer + ": " + e.message};
+  }
+}
+
+Result<Scene> readSceneFile(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return Error{path + ": no such scene file"};
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (!in.good() && !in.eof()) return Error{path + ": cannot be read"};
+  return parseSceneFile(text.str(), path);
+}
+
+std::string sceneFileText(const Scene& scene) {
+  OrderedJson doc;
+  doc["version"] = kFormatVersion;
+  doc["name"] = scene.name;
+  std::string unitName;
+  for (const char* unit : {"m", "cm", "mm", "in", "ft"})
+    if (metresPerUnitOf(unit, "") == scene.metresPerUnit) unitName = unit;
+  if (unitName.empty())
+    doc["metresPerUnit"] = scene.metresPerUnit;
+  else
+    doc["unit"] = unitName;
+  // One material per (material, emission) pair in use, in the scene's order of materials.
+  std::vector<std::pair<int, Rgb>> kinds;
+  for (int m = 0; m < static_cast<int>(scene.materials.size()); ++m)
+    for (const Surface& s : scene.surfaces)
+      if (s.material == m && std::find(kinds.begin(), kinds.end(), std::pair{m, s.emittedRadiance}) == kinds.end())
+        kinds.emplace_back(m, s.emittedRadiance);
+  std::vector<std::size_t> kindOf;
+  for (const Surface& s : scene.surfaces)
+    kindOf.push_back(static_cast<std::size_t>(std::find(kinds.begin(), kinds.end(), std::pair{s.material, s.emittedRadiance}) - kinds.begin()));
+  std::vector<std::string> names;
+  OrderedJson materials = OrderedJson::array();
+  for (const auto& [index, emission] : kinds) {
+    std::string name = scene.materials[static_cast<std::size_t>(index)].name;
+    for (int copy = 2; std::find(names.begin(), names.end(), name) != names.end(); ++copy)
+      name = scene.materials[static_cast<std::size_t>(index)].name + " " + std::to_string(copy);
+    names.push_back(name);
+    OrderedJson m{{"name", name}, {"albedo", triple(scene.materials[static_cast<std::size_t>(index)].albedo)}};
+    if (emission.maxComponent() > 0) m["emittedRadiance"] = triple(emission);
+    materials.push_back(std::move(m));
+  }
+  doc["materials"] = std::move(materials);
+  OrderedJson surfaces = OrderedJson::array();
+  for (std::size_t s = 0; s < scene.surfaces.size(); ++s) {
+    OrderedJson vertices = OrderedJson::array();
+    for (const Vec3& v : scene.surfaces[s].vertices) vertices.push_back(triple(v));
+    surfaces.push_back({{"name", scene.surfaces[s].name}, {"material", names[kindOf[s]]}, {"vertices", std::move(vertices)}});
+  }
+  doc["surfaces"] = std::move(surfaces);
+  OrderedJson lights = OrderedJson::array();
+  for (const Light& light : scene.lights) {
+    OrderedJson l{{"name", light.name}};
+    switch (light.kind) {
+      case LightKind::Point:
+        l["type"] = "point";
+        l["position"] = triple(light.position);
+        l["intensity"] = triple(light.intensity);
+        break;
+      case LightKind::Spot:
+        l["type"] = "spot";
+        l["position"] = triple(light.position);
+        l["direction"] = triple(light.direction);
+        l["intensity"] = triple(light.intensity);
+        l["coneAngleDegrees"] = light.coneAngleDegrees;
+        l["falloffDegrees"] = light.falloffDegrees;
+        l["angularVelocity"] = triple(light.angularVelocity);
+        break;
+      case LightKind::Directional:
+        l["type"] = "directional";
+        l["direction"] = triple(light.direction);
+        l["irradiance"] = triple(light.irradiance);
+        l["angularVelocity"] = triple(light.angularVelocity);
+        break;
+    }
+    lights.push_back(std::move(l));
+  }
+  doc["lights"] = std::move(lights);
+  doc["camera"] = {{"eye", triple(scene.camera.eye)},
+                   {"target", triple(scene.camera.target)},
+                   {"up", triple(scene.camera.up)},
+                   {"verticalFovDegrees", scene.camera.verticalFovDegrees}};
+  // Triples of numbers on one line each, for people reading and editing the file.
+  static const std::regex triple(R"(\[\s*([^\s,\[\]]+),\s*([^\s,\[\]]+),\s*([^\s,\[\]]+)\s*\])");
+  return std::regex_replace(doc.dump(2), triple, "[$1, $2, $3]") + "\n";
+}
+
+Status writeSceneFile(const std::string& path, const Scene& scene) {
+  const std::string text = sceneFileText(scene);
+  return writeFileAtomically(path, std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
+}
+
+Result<Scene> loadScene(const std::string& nameOrPath) {
+  if (std::optional<Scene> builtin = builtinScene(nameOrPath)) return *builtin;
+  const std::string extension = std::filesystem::path(nameOrPath).extension().string();
+  if (extension == ".json") return readSceneFile(nameOrPath);
+  std::string names;
+  for (const std::string& n : builtinSceneNames()) names += (names.empty() ? "" : ", ") + n;
+  return Error{"unknown scene '" + nameOrPath + "' (built-in scenes: " + names + "; or a scene file, .json)"};
+}
+
+}  // namespace lambert

@@ -1,0 +1,30 @@
+#pragma once
+// lambert's own scene file: a JSON document of materials, planar polygons, lights, a camera and a
+// unit (docs/scene-format.md lists every field with its unit and default). Reading is strict,
+// as pbrt's and Mitsuba's are: an unknown field, a wrong type or a value out of range is an
+// error naming the file, the JSON path (/lights/2/coneAngleDegrees) and what is allowed; a
+// syntax error names the file, line and column. Nothing is thrown out of these functions.
+#include <string>
+
+#include "lambert/core/error.h"
+#include "lambert/scene/scene.h"
+
+namespace lambert {
+
+// Reads a scene file. The scene's name is the file's "name", else the file's stem.
+Result<Scene> readSceneFile(const std::string& path);
+// The same from text already in memory; `path` only names it in errors.
+Result<Scene> parseSceneFile(const std::string& text, const std::string& path);
+
+// The scene as a scene file that readSceneFile reads back to the same scene, bit for bit (numbers
+// are written in their shortest round-trip form). Materials carry the emission, so surfaces of
+// one material that emit differently become materials of their own.
+std::string sceneFileText(const Scene& scene);
+// Writes sceneFileText atomically (a temporary file renamed over path).
+Status writeSceneFile(const std::string& path, const Scene& scene);
+
+// A built-in scene by name (scene/builtin.h), or a file by its extension (.json); anything else
+// is an error naming the choices.
+Result<Scene> loadScene(const std::string& nameOrPath);
+
+}  // namespace lambert

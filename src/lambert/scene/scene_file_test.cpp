@@ -1,0 +1,136 @@
+#include "lambert/scene/scene_file.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "lambert/scene/builtin.h"
+#include "tests/support/files.h"
+
+namespace lambert {
+namespace {
+
+void expectSameScene(const Scene& a, const Scene& b) {
+  EXPECT_EQ(a.name, b.name);
+  EXPECT_EQ(a.metresPerUnit, b.metresPerUnit);
+  ASSERT_EQ(a.surfaces.size(), b.surfaces.size());
+  for (std::size_t s = 0; s < a.surfaces.size(); ++s) {
+    EXPECT_EQ(a.surfaces[s].name, b.surfaces[s].name);
+    EXPECT_EQ(a.surfaces[s].vertices, b.surfaces[s].vertices) << a.surfaces[s].name;  // bit for bit
+    EXPECT_EQ(a.surfaces[s].emittedRadiance, b.surfaces[s].emittedRadiance);
+    EXPECT_EQ(a.materials[a.surfaces[s].material].albedo, b.materials[b.surfaces[s].material].albedo);
+  }
+  EXPECT_EQ(a.lights, b.lights);
+  EXPECT_EQ(a.camera.eye, b.camera.eye);
+  EXPECT_EQ(a.camera.target, b.camera.target);
+  EXPECT_EQ(a.camera.up, b.camera.up);
+  EXPECT_EQ(a.camera.verticalFovDegrees, b.camera.verticalFovDegrees);
+}
+
+TEST(SceneFileTest, BuiltInScenesRoundTripBitForBit) {
+  for (const std::string& name : builtinSceneNames()) {
+    Scene scene = *builtinScene(name);
+    Result<Scene> read = parseSceneFile(sceneFileText(scene), name + ".json");
+    ASSERT_TRUE(read.ok()) << read.error().message;
+    expectSameScene(*read, scene);
+  }
+}
+
+TEST(SceneFileTest, TheShippedCornellBoxIsTheBuiltInOne) {
+  for (const std::string& name : {std::string("cornell"), std::string("cornell-spots")}) {
+    const std::string path = std::string(LAMBERT_SOURCE_DIR) + "/scenes/cornell/" + name + ".json";
+    Result<Scene> read = loadScene(path);
+    ASSERT_TRUE(read.ok()) << read.error().message;
+    expectSameScene(*read, *builtinScene(name));
+  }
+}
+
+TEST(SceneFileTest, UnitsDefaultsAndNames) {
+  const std::string square = R"("materials": [{"name": "grey"}],
+      "surfaces": [{"material": "grey", "vertices": [[0,0,0], [1,0,0], [1,1,0], [0,1,0]]}])";
+  Result<Scene> metres = parseSceneFile("{" + square + "}", "dir/room.json");
+  ASSERT_TRUE(metres.ok()) << metres.error().message;
+  EXPECT_EQ(metres->name, "room");                      // the file's stem
+  EXPECT_EQ(metres->metresPerUnit, 1);                  // metres by default
+  EXPECT_EQ(metres->materials[0].albedo, Rgb::gray(0.5));
+  EXPECT_TRUE(metres->lights.empty());
+  EXPECT_EQ(metres->camera.target, (Vec3{0.5, 0.5, 0}));  // looking at the bounding box's centre
+  EXPECT_LT(metres->camera.eye.z, 0);
+  for (auto [unit, factor] : {std::pair{"cm", 0.01}, std::pair{"mm", 0.001}, std::pair{"in", 0.0254}, std::pair{"ft", 0.3048}}) {
+    Result<Scene> scaled = parseSceneFile(std::string("{\"unit\": \"") + unit + "\", " + square + "}", "x.json");
+    ASSERT_TRUE(scaled.ok()) << scaled.error().message;
+    EXPECT_EQ(scaled->metresPerUnit, factor) << unit;
+  }
+  Result<Scene> lit = parseSceneFile(R"({"materials": [{"name": "lamp", "albedo": [0.2, 0.3, 0.4], "emittedRadiance": [5, 6, 7]}],
+      "surfaces": [{"name": "panel", "material": "lamp", "vertices": [[0,0,0], [1,0,0], [0,1,0]]}],
+      "lights": [{"type": "directional", "direction": [0, -2, 0], "irradiance": [1, 1, 1]},
+                 {"type": "point", "position": [0, 1, 0], "intensity": [2, 2, 2]}]})", "lit.json");
+  ASSERT_TRUE(lit.ok()) << lit.error().message;
+  EXPECT_EQ(lit->surfaces[0].emittedRadiance, (Rgb{5, 6, 7}));  // emission comes with the material
+  EXPECT_EQ(lit->lights[0].kind, LightKind::Directional);
+  EXPECT_EQ(lit->lights[0].direction, (Vec3{0, -1, 0}));       // normalised
+  EXPECT_EQ(lit->lights[1].intensity, (Rgb{2, 2, 2}));
+}
+
+// Every error names the file and the JSON path (or line and column) and what is allowed.
+TEST(SceneFileTest, BadFilesAreRefusedNamingThePathAndTheRule) {
+  const std::string material = R"("materials": [{"name": "m"}])";
+  const std::string surface = R"("surfaces": [{"material": "m", "vertices": [[0,0,0], [1,0,0], [0,1,0]]}])";
+  const std::string base = material + ", " + surface;
+  const std::pair<std::string, std::string> cases[] = {
+      {"{" + base + ", \"colour\": 1}", "bad.json: /colour: unknown field (allowed here: version, name, unit"},
+      {"{" + base + R"(, "lights": [{"type": "point", "position": [0,1,0], "intensity": [1,1,1], "direction": [0,1,0]}]})",
+       "bad.json: /lights/0/direction: unknown field (allowed here: name, type, position, intensity)"},
+      {"{" + base + R"(, "lights": [{"type": "spot", "position": [0,1,0], "direction": [0,-1,0], "intensity": [1,1,1], "coneAngleDegrees": 120}]})",
+       "bad.json: /lights/0/coneAngleDegrees: 120 is out of range: allowed (0, 90]"},
+      {"{" + base + R"(, "lights": [{"type": "spot", "position": [0,1,0], "direction": [0,-1,0], "intensity": [1,1,1], "coneAngleDegrees": 20, "falloffDegrees": 30}]})",
+       "/lights/0/falloffDegrees: 30 is out of range: allowed [0, 20]"},
+      {"{" + base + R"(, "lights": [{"type": "laser"}]})", "/lights/0/type: unknown light type \"laser\" (allowed: point, spot, directional)"},
+      {"{" + base + R"(, "lights": [{"type": "directional", "direction": [0,0,0], "irradiance": [1,1,1]}]})", "/lights/0/direction: the direction must not be zero"},
+      {"{" + base + R"(, "lights": [{"type": "point", "position": "here", "intensity": [1,1,1]}]})", "/lights/0/position: expected an array of 3 numbers, found a string"},
+      {R"({"materials": [{"name": "m", "albedo": [1, 0.5, 0.5]}], )" + surface + "}", "/materials/0/albedo/0: 1 is out of range: allowed [0, 1)"},
+      {R"({"materials": [{"name": "m", "albedo": [0.5, -0.1, 0.5]}], )" + surface + "}", "/materials/0/albedo/1: -0.1 is out of range"},
+      {R"({"materials": [{"name": "m", "emittedRadiance": [1, -2, 0]}], )" + surface + "}", "/materials/0/emittedRadiance/1: -2 is out of range"},
+      {R"({"materials": [{"name": "m"}, {"name": "m"}], )" + surface + "}", "/materials/1/name: a second material named \"m\""},
+      {"{" + material + R"(, "surfaces": [{"material": "stone", "vertices": [[0,0,0], [1,0,0], [0,1,0]]}]})", "/surfaces/0/material: no material named \"stone\""},
+      {"{" + material + R"(, "surfaces": [{"material": "m", "vertices": [[0,0,0], [1,0,0], [2,0,0]]}]})", "/surfaces/0/vertices: the polygon has no area"},
+      {"{" + material + R"(, "surfaces": [{"material": "m", "vertices": [[0,0,0], [2,0,0], [1,0.3,0], [1,2,0]]}]})", "/surfaces/0/vertices/2: the polygon is not convex at this vertex"},
+      {"{" + material + R"(, "surfaces": [{"material": "m", "vertices": [[0,0,0], [1,0,0]]}]})", "a polygon needs at least 3 vertices, found 2"},
+      {"{" + material + R"(, "surfaces": [{"material": "m", "vertices": [[0,0,0], [1,0,0], [0,1,1e400]]}]})", "not valid JSON"},
+      {"{" + material + "}", "bad.json: /surfaces: the scene has no surfaces"},
+      {"{\"unit\": \"furlong\", " + base + "}", "/unit: unknown unit \"furlong\" (allowed: m, cm, mm, in, ft)"},
+      {"{\"unit\": \"m\", \"metresPerUnit\": 1, " + base + "}", "give either \"unit\" or \"metresPerUnit\", not both"},
+      {"{\"version\": 2, " + base + "}", "/version: version 2 is not supported"},
+      {"{" + base + R"(, "camera": {"eye": [0,0,0], "target": [0,0,0]}})", "/camera/target: the target must differ from the eye"},
+      {"[1, 2]", "bad.json: /: expected an object, found an array"},
+      {"{\n  \"name\": \"x\",\n  \"surfaces\": [,]\n}", "bad.json:3:16: not valid JSON"},
+  };
+  for (const auto& [text, message] : cases) {
+    Result<Scene> read = parseSceneFile(text, "bad.json");
+    ASSERT_FALSE(read.ok()) << text;
+    EXPECT_NE(read.error().message.find(message), std::string::npos) << "got: " << read.error().message << "\nwanted: " << message;
+  }
+}
+
+TEST(SceneFileTest, LoadSceneChoosesByNameOrExtension) {
+  EXPECT_TRUE(loadScene("cornell").ok());
+  Result<Scene> unknown = loadScene("nowhere");
+  ASSERT_FALSE(unknown.ok());
+  EXPECT_NE(unknown.error().message.find("unknown scene 'nowhere' (built-in scenes: cornell, cornell-spots"), std::string::npos);
+  Result<Scene> missing = loadScene("/no/such/room.json");
+  ASSERT_FALSE(missing.ok());
+  EXPECT_EQ(missing.error().message, "/no/such/room.json: no such scene file");
+  Result<Scene> wrongKind = loadScene("room.obj");
+  ASSERT_FALSE(wrongKind.ok());
+
+  const std::filesystem::path dir = testing::scratchDirectory("scene-file", "write");
+  const std::string path = (dir / "sub" / "box.json").string();
+  ASSERT_TRUE(writeSceneFile(path, cornellBox()).ok());
+  Result<Scene> back = loadScene(path);
+  ASSERT_TRUE(back.ok()) << back.error().message;
+  expectSameScene(*back, cornellBox());
+  EXPECT_FALSE(testing::hasTemporaryFiles(dir / "sub"));
+}
+
+}  // namespace
+}  // namespace lambert
