@@ -406,6 +406,26 @@ TEST(CliTest, SceneFilesRenderAndBadOnesAreRefused) {
       << refused.output;
   EXPECT_FALSE(fs::exists(dir / "never.png"));
 
+  // An OBJ with its MTL: a floor of two triangles under an emissive panel, in centimetres.
+  std::ofstream(dir / "room.obj") << "mtllib room.mtl\nv 0 0 0\nv 200 0 0\nv 200 0 200\nv 0 0 200\n"
+                                     "v 80 190 80\nv 120 190 80\nv 120 190 120\nv 80 190 120\n"
+                                     "o floor\nusemtl wall\nf 1 4 3\nf 1 3 2\no lamp\nusemtl lamp\nf 5 6 7 8\n";
+  std::ofstream(dir / "room.mtl") << "newmtl wall\nKd 0.7 0.7 0.7\nnewmtl lamp\nKd 0.5 0.5 0.5\nKe 5 5 5\n";
+  CommandResult obj = run("render --scene " + (dir / "room.obj").string() + " --units cm --patches 64 --width 32 --height 32 --json -o " +
+                          (dir / "room.png").string());
+  ASSERT_EQ(obj.exitCode, 0) << obj.output;
+  nlohmann::json stats = nlohmann::json::parse(obj.output);
+  EXPECT_EQ(stats["scene"], "room");
+  // The panel, 0.4 × 0.4 m emitting π·5 W/m² per channel, in watts over three channels.
+  EXPECT_NEAR(stats["emitted_watts"].get<double>(), 3 * 0.16 * kPi * 5, 1e-9);
+  CommandResult crease = run("render --scene " + file + " --crease-angle 30" + common + (dir / "never.png").string());
+  EXPECT_EQ(crease.exitCode, 2);
+  EXPECT_NE(crease.output.find("--crease-angle has no effect"), std::string::npos) << crease.output;
+  CommandResult units = run("render --scene " + file + " --units cm" + common + (dir / "never.png").string());
+  EXPECT_EQ(units.exitCode, 2);
+  EXPECT_NE(units.output.find("a unit is for OBJ files"), std::string::npos) << units.output;
+  EXPECT_FALSE(fs::exists(dir / "never.png"));
+
   CommandResult exported = run("scenes --export " + (dir / "scenes").string());
   ASSERT_EQ(exported.exitCode, 0) << exported.output;
   EXPECT_TRUE(fs::exists(dir / "scenes" / "cornell.json"));

@@ -54,7 +54,7 @@ std::string encodeVideo(const std::filesystem::path& directory, double fps, bool
 
 int runAnimate(const AnimateCommandOptions& o) {
   Timer total;
-  std::optional<Scene> scene = findScene("animate", o.solve.scene);
+  std::optional<Scene> scene = findScene("animate", o.solve);
   if (!scene) return 2;
   if (Status ok = checkImageOptions(*scene, o.image); !ok) return fail("animate", ok.error().message);
   const SolveBudget budget{o.shotsPerFrame, o.sweepsPerFrame, o.frameMilliseconds};

@@ -75,7 +75,7 @@ Status checkSources(const CompareCommandOptions& o) {
 
 int runCompare(const CompareCommandOptions& o) {
   Timer total;
-  std::optional<Scene> scene = findScene("compare", o.solve.scene);
+  std::optional<Scene> scene = findScene("compare", o.solve);
   if (!scene) return 2;
   if (Status ok = checkSources(o); !ok) return fail("compare", ok.error().message);
   if (Status ok = checkImageOptions(*scene, o.image); !ok) return fail("compare", ok.error().message);

@@ -1,6 +1,7 @@
 #include "options.h"
 
 #include <cstdio>
+#include <filesystem>
 #include <cstdlib>
 #include <map>
 
@@ -19,6 +20,12 @@ void addMeshOptions(CLI::App& cmd, MeshCommandOptions& o) {
       ->check(CLI::Range(1e-9, 1e12))
       ->excludes(patches);
   cmd.add_option("--seed", o.seed, "Random seed")->capture_default_str();
+  cmd.add_option("--units", o.metresPerUnit, "Unit of an OBJ file's numbers: m, cm, mm, in or ft (default m)")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, double>{{"m", 1}, {"cm", 0.01}, {"mm", 0.001}, {"in", 0.0254}, {"ft", 0.3048}}));
+  cmd.add_option("--crease-angle", o.creaseAngleDegrees,
+                 "Mesh files: neighbouring faces whose normals differ by more are not smoothed (degrees)")
+      ->check(CLI::Range(0.0, 180.0))
+      ->capture_default_str();
 }
 
 void addSolveOptions(CLI::App& cmd, SolveCommandOptions& o) {
@@ -96,8 +103,17 @@ void printStats(const Stats& stats, bool json, bool quiet, const std::string& he
     std::printf("%s%s", headline.empty() ? "" : (headline + "\n").c_str(), stats.table().c_str());
 }
 
-std::optional<Scene> findScene(const std::string& command, const std::string& nameOrPath) {
-  Result<Scene> scene = loadScene(nameOrPath);
+std::optional<Scene> findScene(const std::string& command, const MeshCommandOptions& o) {
+  std::string extension = std::filesystem::path(o.scene).extension().string();
+  if (extension != ".obj" && extension != ".OBJ")
+    if (Status s = refuseGiven(o, {"--crease-angle"}, "it is for mesh files (.obj), and '" + o.scene + "' is not one"); !s) {
+      fail(command, s.error().message);
+      return std::nullopt;
+    }
+  LoadOptions load;
+  load.metresPerUnit = o.metresPerUnit;
+  load.creaseAngleDegrees = o.creaseAngleDegrees;
+  Result<Scene> scene = loadScene(o.scene, load);
   if (!scene) {
     fail(command, scene.error().message);
     return std::nullopt;

@@ -28,6 +28,8 @@ struct MeshCommandOptions : GivenOptions {
   std::size_t patches = 784;
   double maxEdge = 0;
   std::uint64_t seed = 1;
+  double metresPerUnit = 0;       // --units for OBJ files; 0: metres
+  double creaseAngleDegrees = 20; // --crease-angle for mesh files
 };
 
 struct SolveCommandOptions : MeshCommandOptions {
@@ -82,8 +84,9 @@ std::unique_ptr<Radiosity> makeEngine(const std::string& command, const Scene& s
 // --quiet.
 void printStats(const Stats& stats, bool json, bool quiet, const std::string& headline = "");
 
-// The named built-in scene or the scene file at the path; else nothing, with the reason on stderr.
-std::optional<Scene> findScene(const std::string& command, const std::string& nameOrPath);
+// The built-in scene or scene file that --scene names, read with --units and --crease-angle;
+// else nothing, with the reason on stderr.
+std::optional<Scene> findScene(const std::string& command, const MeshCommandOptions& options);
 
 // Prints "lambert <command>: <message>" on stderr and returns exit code 2 (bad input).
 int fail(const std::string& command, const std::string& message);

@@ -28,7 +28,7 @@ struct ReferenceCommandOptions {
 
 int runReference(const ReferenceCommandOptions& o) {
   Timer total;
-  std::optional<Scene> scene = findScene("reference", o.mesh.scene);
+  std::optional<Scene> scene = findScene("reference", o.mesh);
   if (!scene) return 2;
   if (o.output.empty() && o.exportVertices.empty())
     return fail("reference", "nothing to do: give -o IMAGE.png and/or --export-vertices FILE");

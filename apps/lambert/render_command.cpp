@@ -20,7 +20,7 @@ struct RenderCommandOptions {
 
 int runRender(const RenderCommandOptions& o) {
   Timer total;
-  std::optional<Scene> scene = findScene("render", o.solve.scene);
+  std::optional<Scene> scene = findScene("render", o.solve);
   if (!scene) return 2;
   if (Status ok = checkImageOptions(*scene, o.image); !ok) return fail("render", ok.error().message);
   std::unique_ptr<Radiosity> engine = makeEngine("render", *scene, o.solve);

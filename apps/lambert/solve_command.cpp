@@ -20,7 +20,7 @@ struct SolveOnlyOptions {
 
 int runSolve(const SolveOnlyOptions& o) {
   Timer total;
-  std::optional<Scene> scene = findScene("solve", o.solve.scene);
+  std::optional<Scene> scene = findScene("solve", o.solve);
   if (!scene) return 2;
   std::unique_ptr<Radiosity> engine = makeEngine("solve", *scene, o.solve);
   if (!engine) return 2;

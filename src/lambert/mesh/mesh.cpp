@@ -90,10 +90,15 @@ Mesh subdivideScene(const Scene& scene, double maxEdgeLength) {
   for (std::uint32_t s = 0; s < scene.surfaces.size(); ++s) {
     const Surface& surface = scene.surfaces[s];
     LAMBERT_CHECK(surface.vertices.size() >= 3);
+    // One subdivider for all the surface's faces: an edge two faces share is split at the same
+    // midpoint vertex for both, so the region's mesh is conforming across it.
     SurfaceSubdivider subdivider(mesh, s, maxEdgeLength);
-    std::vector<std::uint32_t> corners;
-    for (const Vec3& v : surface.vertices) corners.push_back(subdivider.addVertex(v));
-    for (std::size_t i = 1; i + 1 < corners.size(); ++i) subdivider.split(corners[0], corners[i], corners[i + 1]);
+    const auto first = static_cast<std::uint32_t>(mesh.positions.size());
+    for (const Vec3& v : surface.vertices) subdivider.addVertex(v);
+    for (const std::vector<std::uint32_t>& face : surfaceFaces(surface)) {
+      LAMBERT_CHECK(face.size() >= 3);
+      for (std::size_t i = 1; i + 1 < face.size(); ++i) subdivider.split(first + face[0], first + face[i], first + face[i + 1]);
+    }
   }
   return mesh;
 }

@@ -26,9 +26,11 @@ Result<AdaptiveMesh> AdaptiveMesh::build(const Scene& scene, const QuadtreeOptio
   const std::uint32_t scale = 1u << options.maxLevel;
   for (std::uint32_t s = 0; s < scene.surfaces.size(); ++s) {
     const Surface& surface = scene.surfaces[s];
-    if (surface.vertices.size() != 4)
+    const bool oneQuad = surface.vertices.size() == 4 &&
+                         (surface.faces.empty() || surface.faces == std::vector<std::vector<std::uint32_t>>{{0, 1, 2, 3}});
+    if (!oneQuad)
       return Error{"quad-tree: surface '" + surface.name + "' has " + std::to_string(surface.vertices.size()) +
-                   " vertices; adaptive meshing needs quads"};
+                   " vertices in " + std::to_string(surfaceFaces(surface).size()) + " faces; adaptive meshing needs quads"};
     SurfaceGrid grid;
     for (int k = 0; k < 4; ++k) grid.corners[k] = surface.vertices[k];
     const auto& c = grid.corners;

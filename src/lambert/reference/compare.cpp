@@ -15,9 +15,8 @@ double distanceToSegment(const Vec3& p, const Vec3& a, const Vec3& b) {
 }
 
 // Distance from p to a planar convex polygon (its interior or its edges).
-double distanceToPolygon(const Vec3& p, const Surface& surface) {
-  const auto& v = surface.vertices;
-  Vec3 n = surfaceNormal(surface);
+double distanceToPolygon(const Vec3& p, const std::vector<Vec3>& v) {
+  Vec3 n = polygonNormal(v);
   double height = dot(p - v[0], n);
   Vec3 projected = p - n * height;
   bool inside = true;
@@ -62,8 +61,11 @@ std::vector<char> awayFromEmitters(const Scene& scene, std::span<const Vec3> poi
   std::vector<char> keep(points.size(), 1);
   for (const Surface& surface : scene.surfaces) {
     if (surface.emittedRadiance.maxComponent() <= 0) continue;
-    for (std::size_t i = 0; i < points.size(); ++i)
-      if (distanceToPolygon(points[i], surface) < distance) keep[i] = 0;
+    for (const std::vector<std::uint32_t>& face : surfaceFaces(surface)) {
+      const std::vector<Vec3> polygon = facePositions(surface, face);
+      for (std::size_t i = 0; i < points.size(); ++i)
+        if (distanceToPolygon(points[i], polygon) < distance) keep[i] = 0;
+    }
   }
   return keep;
 }

@@ -1,6 +1,7 @@
 #pragma once
 // A scene as plain data: what is there, what it is made of, what emits, and where the eye is.
 // Geometry is in scene units (metresPerUnit converts them to metres, for power in watts).
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -14,14 +15,20 @@ struct Material {
   Rgb albedo;  // diffuse reflectance ρ per channel, dimensionless, in [0, 1)
 };
 
-// A planar convex polygon. Vertices run counter-clockwise seen from the front, so the normal
+// A surface is one smooth region: one or more convex polygons (faces) over shared vertices, all of
+// one material. Faces run counter-clockwise seen from the front, so a face's normal
 // cross(v1 - v0, v2 - v0) points to the side that emits and reflects (the back is black and
-// opaque). Quads need not be exactly planar: they are split into a triangle fan.
+// opaque). Faces that share an edge are meshed conforming across it and shaded smoothly across
+// it; nothing is shared between surfaces, so nothing is ever averaged across a crease or a
+// material boundary. A face need not be exactly planar: it is split into its triangle fan.
 struct Surface {
   std::string name;
   std::vector<Vec3> vertices;
   int material = 0;
   Rgb emittedRadiance;  // L_e in W/(m²·sr); emitted radiosity E = π·L_e in W/m²
+  // Each face's vertex indices; empty: the one polygon of all the vertices in order (the
+  // built-in scenes, and a scene file's inline polygons).
+  std::vector<std::vector<std::uint32_t>> faces = {};
 };
 
 // A light without area (seed 003): its light enters the radiosity solution as the direct
@@ -62,9 +69,19 @@ struct Scene {
   double metresPerUnit = 1;  // 0.001 for a scene in millimetres
 };
 
-// Unit normal of a surface's plane (from its first three vertices' winding).
+// The surface's faces as vertex-index lists (the single polygon when Surface::faces is empty).
+std::vector<std::vector<std::uint32_t>> surfaceFaces(const Surface& surface);
+// The corner positions of one face.
+std::vector<Vec3> facePositions(const Surface& surface, const std::vector<std::uint32_t>& face);
+// Unit normal of a polygon by Newell's method (robust for slightly non-planar ones); of a
+// surface, its area-weighted mean over the faces.
+Vec3 polygonNormal(const std::vector<Vec3>& polygon);
 Vec3 surfaceNormal(const Surface& surface);
-// Area of a surface in scene units², as the sum of its fan triangles.
+// Area of a surface in scene units², as the sum of its faces' fan triangles.
 double surfaceArea(const Surface& surface);
+
+// A camera that sees the whole scene, for files that have none: from in front (−z) of its
+// bounding box, 1.5 diagonals away, looking at its centre, 40° vertical field of view.
+Camera cameraViewingScene(const Scene& scene);
 
 }  // namespace lambert

@@ -1,6 +1,7 @@
 #include "lambert/scene/scene_file.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -13,6 +14,7 @@
 
 #include "lambert/core/atomic_file.h"
 #include "lambert/scene/builtin.h"
+#include "lambert/scene/obj.h"
 
 namespace lambert {
 namespace {
@@ -210,21 +212,6 @@ Camera readCamera(const Json& value, const std::string& pointer) {
   return camera;
 }
 
-// A camera that sees the whole scene: from in front (−z) of its bounding box, looking at its centre.
-Camera defaultCamera(const Scene& scene) {
-  Vec3 lo{INFINITY, INFINITY, INFINITY}, hi = -lo;
-  for (const Surface& s : scene.surfaces)
-    for (const Vec3& p : s.vertices) {
-      lo = {std::fmin(lo.x, p.x), std::fmin(lo.y, p.y), std::fmin(lo.z, p.z)};
-      hi = {std::fmax(hi.x, p.x), std::fmax(hi.y, p.y), std::fmax(hi.z, p.z)};
-    }
-  Camera camera;
-  const Vec3 centre = (lo + hi) * 0.5;
-  camera.target = centre;
-  camera.eye = centre - Vec3{0, 0, 1.5 * length(hi - lo)};
-  return camera;
-}
-
 Scene readScene(const Json& document, const std::string& path) {
   ObjectReader r(document, "");
   if (r.has("version")) {
@@ -280,7 +267,7 @@ Scene readScene(const Json& document, const std::string& path) {
 
   const Json& lights = r.array("lights");
   for (std::size_t l = 0; l < lights.size(); ++l) scene.lights.push_back(readLight(lights[l], "/lights/" + std::to_string(l)));
-  scene.camera = r.has("camera") ? readCamera(r.require("camera"), "/camera") : defaultCamera(scene);
+  scene.camera = r.has("camera") ? readCamera(r.require("camera"), "/camera") : cameraViewingScene(scene);
   r.finish("version, name, unit, metresPerUnit, materials, surfaces, lights, camera");
   return scene;
 }
@@ -412,13 +399,23 @@ Status writeSceneFile(const std::string& path, const Scene& scene) {
   return writeFileAtomically(path, std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
 }
 
-Result<Scene> loadScene(const std::string& nameOrPath) {
+Result<Scene> loadScene(const std::string& nameOrPath, const LoadOptions& options) {
+  std::string extension = std::filesystem::path(nameOrPath).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const bool obj = extension == ".obj";
+  if (options.metresPerUnit > 0 && !obj)
+    return Error{nameOrPath + ": a unit is for OBJ files, whose numbers have none; this scene states its own"};
   if (std::optional<Scene> builtin = builtinScene(nameOrPath)) return *builtin;
-  const std::string extension = std::filesystem::path(nameOrPath).extension().string();
   if (extension == ".json") return readSceneFile(nameOrPath);
+  if (obj) {
+    ObjOptions obj;
+    obj.metresPerUnit = options.metresPerUnit > 0 ? options.metresPerUnit : 1;
+    obj.regions.creaseAngleDegrees = options.creaseAngleDegrees;
+    return readObj(nameOrPath, obj);
+  }
   std::string names;
   for (const std::string& n : builtinSceneNames()) names += (names.empty() ? "" : ", ") + n;
-  return Error{"unknown scene '" + nameOrPath + "' (built-in scenes: " + names + "; or a scene file, .json)"};
+  return Error{"unknown scene '" + nameOrPath + "' (built-in scenes: " + names + "; or a scene file: .json, .obj)"};
 }
 
 }  // namespace lambert

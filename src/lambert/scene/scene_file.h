@@ -23,8 +23,14 @@ std::string sceneFileText(const Scene& scene);
 // Writes sceneFileText atomically (a temporary file renamed over path).
 Status writeSceneFile(const std::string& path, const Scene& scene);
 
-// A built-in scene by name (scene/builtin.h), or a file by its extension (.json); anything else
-// is an error naming the choices.
-Result<Scene> loadScene(const std::string& nameOrPath);
+// How to read files that do not say everything themselves.
+struct LoadOptions {
+  double metresPerUnit = 0;        // OBJ: the unit of its numbers (0: metres); others state theirs
+  double creaseAngleDegrees = 20;  // mesh files: neighbours whose normals differ more are not smoothed
+};
+
+// A built-in scene by name (scene/builtin.h), or a file by its extension (.json, .obj); anything
+// else is an error naming the choices. A unit for a file that states its own is an error.
+Result<Scene> loadScene(const std::string& nameOrPath, const LoadOptions& options = {});
 
 }  // namespace lambert

@@ -1,0 +1,95 @@
+#include "lambert/scene/obj.h"
+
+#include <tiny_obj_loader.h>
+
+#include <filesystem>
+
+#include "lambert/core/warning.h"
+
+namespace lambert {
+namespace {
+
+constexpr double kMaxAlbedo = 0.999;
+
+// tinyobjloader's messages are lines; lambert's name the file once.
+std::string oneLine(std::string text) {
+  while (!text.empty() && (text.back() == '\n' || text.back() == '\r')) text.pop_back();
+  for (char& c : text)
+    if (c == '\n') c = ';';
+  return text;
+}
+
+}  // namespace
+
+Result<Scene> readObj(const std::string& path, const ObjOptions& options) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return Error{path + ": no such OBJ file"};
+  tinyobj::ObjReaderConfig config;
+  config.triangulate = false;  // lambert triangulates (ear clipping) only what is not convex
+  config.vertex_color = false;
+  config.mtl_search_path = std::filesystem::path(path).parent_path().string();
+  tinyobj::ObjReader reader;
+  if (!reader.ParseFromFile(path, config)) return Error{path + ": " + oneLine(reader.Error())};
+  if (!reader.Warning().empty()) warning(path + ": " + oneLine(reader.Warning()));
+
+  Scene scene;
+  scene.name = std::filesystem::path(path).stem().string();
+  scene.metresPerUnit = options.metresPerUnit;
+  std::vector<Rgb> emission;
+  for (const tinyobj::material_t& m : reader.GetMaterials()) {
+    Rgb albedo{m.diffuse[0], m.diffuse[1], m.diffuse[2]};
+    Rgb emitted{m.emission[0], m.emission[1], m.emission[2]};
+    for (int c = 0; c < 3; ++c) {
+      if (!(albedo[c] >= 0)) return Error{path + ": material '" + m.name + "': Kd must not be negative"};
+      if (!(emitted[c] >= 0)) return Error{path + ": material '" + m.name + "': Ke must not be negative"};
+    }
+    if (albedo.maxComponent() >= 1) {
+      warning(path + ": material '" + m.name + "': Kd of 1 or more lowered to " + std::to_string(kMaxAlbedo).substr(0, 5) +
+              " (a surface cannot reflect all the light it receives)");
+      for (int c = 0; c < 3; ++c) albedo[c] = std::fmin(albedo[c], kMaxAlbedo);
+    }
+    if (!m.diffuse_texname.empty())
+      warning(path + ": material '" + m.name + "': map_Kd " + m.diffuse_texname + " is not read yet; its Kd is used");
+    scene.materials.push_back({m.name, albedo});
+    emission.push_back(emitted);
+  }
+  // Faces without a material (or naming one the MTL lacks) get a default grey, kept if used.
+  const int defaultMaterial = static_cast<int>(scene.materials.size());
+  scene.materials.push_back({"default", Rgb::gray(0.5)});
+  emission.push_back({});
+  bool usesDefault = false;
+
+  const tinyobj::attrib_t& attrib = reader.GetAttrib();
+  PolygonMesh mesh;
+  mesh.positions.resize(attrib.vertices.size() / 3);
+  for (std::size_t v = 0; v < mesh.positions.size(); ++v)
+    mesh.positions[v] = {attrib.vertices[3 * v], attrib.vertices[3 * v + 1], attrib.vertices[3 * v + 2]};
+  DroppedFaces dropped;
+  std::size_t numFaces = 0;
+  const auto& shapes = reader.GetShapes();
+  for (std::size_t s = 0; s < shapes.size(); ++s) {
+    const tinyobj::mesh_t& m = shapes[s].mesh;
+    mesh.name = shapes[s].name.empty() ? "object " + std::to_string(s + 1) : shapes[s].name;
+    mesh.faces.clear();
+    std::size_t index = 0;
+    for (std::size_t f = 0; f < m.num_face_vertices.size(); ++f) {
+      PolygonMesh::Face face;
+      for (unsigned k = 0; k < m.num_face_vertices[f]; ++k, ++index)
+        face.vertices.push_back(static_cast<std::uint32_t>(m.indices[index].vertex_index));
+      const int material = f < m.material_ids.size() ? m.material_ids[f] : -1;
+      face.material = material >= 0 && material < defaultMaterial ? material : defaultMaterial;
+      usesDefault |= face.material == defaultMaterial;
+      mesh.faces.push_back(std::move(face));
+    }
+    numFaces += mesh.faces.size();
+    dropped.add(addSmoothRegions(scene, mesh, emission, options.regions));
+  }
+  if (!usesDefault) scene.materials.pop_back();
+  if (numFaces == 0) return Error{path + ": no faces (lambert needs polygons: f lines)"};
+  if (dropped.total() > 0) warning(path + ": " + dropped.describe());
+  if (scene.surfaces.empty()) return Error{path + ": every face is degenerate (" + dropped.describe() + ")"};
+  scene.camera = cameraViewingScene(scene);
+  return scene;
+}
+
+}  // namespace lambert

@@ -1,0 +1,28 @@
+#pragma once
+// Wavefront OBJ with its MTL materials (tinyobjloader), as lambert surfaces. What is read:
+//   v, f (any polygon; non-convex ones are triangulated, degenerate ones dropped and counted),
+//   o / g (each object or group is a named set of smooth regions: scene/regions.h),
+//   usemtl with the MTL's Kd → albedo ρ and Ke → emitted radiance L_e (W/(m²·sr)).
+// What is not: vn and vt (lambert shades from its own mesh), map_Kd (a warning: the material's Kd
+// is used), curves and surfaces. Units: OBJ has none; metresPerUnit says what the numbers are
+// (metres unless told). A missing MTL is a warning and its materials a default grey. Albedo of 1
+// or more (many files say Kd 1 1 1) is lowered to 0.999 with a warning, since a surface that
+// reflects everything makes a closed room's radiosity infinite; negative Kd or Ke is an error.
+#include <string>
+
+#include "lambert/core/error.h"
+#include "lambert/scene/regions.h"
+#include "lambert/scene/scene.h"
+
+namespace lambert {
+
+struct ObjOptions {
+  double metresPerUnit = 1;
+  RegionOptions regions;
+};
+
+// The scene is named after the file, lit by its emissive materials, seen by cameraViewingScene.
+// Warnings (missing MTL, dropped faces, textures, clamped albedo) go through warning().
+Result<Scene> readObj(const std::string& path, const ObjOptions& options = {});
+
+}  // namespace lambert

@@ -1,0 +1,136 @@
+#include "lambert/scene/obj.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "lambert/core/warning.h"
+#include "lambert/scene/scene_file.h"
+#include "tests/support/files.h"
+
+namespace lambert {
+namespace {
+
+namespace fs = std::filesystem;
+
+void write(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
+
+struct Captured {
+  std::vector<std::string> warnings;
+  WarningSink previous;
+  Captured() : previous(setWarningSink([this](const std::string& m) { warnings.push_back(m); })) {}
+  ~Captured() { setWarningSink(previous); }
+  bool saw(const std::string& part) const {
+    for (const std::string& w : warnings)
+      if (testing::contains(w, part)) return true;
+    return false;
+  }
+};
+
+const char* kRoom = R"(mtllib room.mtl
+v 0 0 0
+v 2 0 0
+v 2 0 2
+v 0 0 2
+v 0.8 1.9 0.8
+v 1.2 1.9 0.8
+v 1.2 1.9 1.2
+v 0.8 1.9 1.2
+o floor
+usemtl wall
+f 1 4 3
+f 1 3 2
+g lamp
+usemtl lamp
+f 5 6 7 8
+)";
+
+TEST(ObjTest, GroupsMaterialsAndUnits) {
+  const fs::path dir = testing::scratchDirectory("obj", "room");
+  write(dir / "room.obj", kRoom);
+  write(dir / "room.mtl", "newmtl wall\nKd 0.7 0.6 0.5\nnewmtl lamp\nKd 1 1 1\nKe 5 4.5 4\n");
+  Captured captured;
+  Result<Scene> scene = readObj((dir / "room.obj").string(), ObjOptions{.metresPerUnit = 0.01, .regions = {}});
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  EXPECT_EQ(scene->name, "room");
+  EXPECT_EQ(scene->metresPerUnit, 0.01);
+  ASSERT_EQ(scene->surfaces.size(), 2u);
+  const Surface& floor = scene->surfaces[0];
+  EXPECT_EQ(floor.name, "floor");
+  EXPECT_EQ(floor.faces.size(), 2u);  // two triangles, one smooth region
+  EXPECT_EQ(floor.vertices.size(), 4u);
+  EXPECT_NEAR(surfaceArea(floor), 4, 1e-12);
+  EXPECT_GT(surfaceNormal(floor).y, 0.999);  // counter-clockwise seen from above: facing up
+  const Rgb kd = scene->materials[floor.material].albedo;  // tinyobjloader's parse is within an ulp
+  EXPECT_NEAR(kd.r, 0.7, 1e-15);
+  EXPECT_NEAR(kd.g, 0.6, 1e-15);
+  EXPECT_NEAR(kd.b, 0.5, 1e-15);
+  EXPECT_EQ(floor.emittedRadiance, Rgb{});
+  const Surface& lamp = scene->surfaces[1];
+  EXPECT_EQ(lamp.name, "lamp");
+  EXPECT_EQ(lamp.emittedRadiance, (Rgb{5, 4.5, 4}));
+  EXPECT_LT(surfaceNormal(lamp).y, -0.999);  // facing down into the room
+  EXPECT_EQ(scene->materials[lamp.material].albedo, Rgb::gray(0.999));  // Kd 1 lowered, with a warning
+  EXPECT_TRUE(captured.saw("material 'lamp': Kd of 1 or more lowered to 0.999")) << captured.warnings.size();
+  EXPECT_EQ(scene->camera.target, (Vec3{1, 0.95, 1}));
+}
+
+TEST(ObjTest, MissingMtlIsAWarningAndDefaultGrey) {
+  const fs::path dir = testing::scratchDirectory("obj", "no-mtl");
+  write(dir / "room.obj", kRoom);
+  Captured captured;
+  Result<Scene> scene = readObj((dir / "room.obj").string());
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  EXPECT_TRUE(captured.saw((dir / "room.obj").string() + ": ")) << (captured.warnings.empty() ? "" : captured.warnings[0]);
+  ASSERT_EQ(scene->materials.size(), 1u);
+  EXPECT_EQ(scene->materials[0].name, "default");
+  EXPECT_EQ(scene->materials[0].albedo, Rgb::gray(0.5));
+  ASSERT_EQ(scene->surfaces.size(), 2u);  // one material now, but two groups: two named regions
+  EXPECT_EQ(scene->surfaces[1].name, "lamp");
+  EXPECT_EQ(scene->surfaces[1].emittedRadiance, Rgb{});
+}
+
+TEST(ObjTest, BadFilesAreErrorsNamingTheFile) {
+  const fs::path dir = testing::scratchDirectory("obj", "bad");
+  Result<Scene> missing = readObj((dir / "nowhere.obj").string());
+  ASSERT_FALSE(missing.ok());
+  EXPECT_EQ(missing.error().message, (dir / "nowhere.obj").string() + ": no such OBJ file");
+
+  write(dir / "empty.obj", "# nothing\nv 0 0 0\n");
+  Result<Scene> empty = readObj((dir / "empty.obj").string());
+  ASSERT_FALSE(empty.ok());
+  EXPECT_TRUE(testing::contains(empty.error().message, "empty.obj: no faces")) << empty.error().message;
+
+  write(dir / "negative.obj", "mtllib negative.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl m\nf 1 2 3\n");
+  write(dir / "negative.mtl", "newmtl m\nKd 0.5 -0.2 0.5\n");
+  Result<Scene> negative = readObj((dir / "negative.obj").string());
+  ASSERT_FALSE(negative.ok());
+  EXPECT_TRUE(testing::contains(negative.error().message, "negative.obj: material 'm': Kd must not be negative")) << negative.error().message;
+
+  Captured captured;
+  write(dir / "degenerate.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\nf 1 1 3\n");
+  Result<Scene> degenerate = readObj((dir / "degenerate.obj").string());
+  ASSERT_TRUE(degenerate.ok()) << degenerate.error().message;
+  EXPECT_TRUE(captured.saw("degenerate.obj: 2 degenerate faces dropped: 1 with a repeated vertex, 1 with no area"));
+  EXPECT_EQ(degenerate->surfaces.size(), 1u);
+
+  write(dir / "allbad.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n");
+  Result<Scene> allBad = readObj((dir / "allbad.obj").string());
+  ASSERT_FALSE(allBad.ok());
+  EXPECT_TRUE(testing::contains(allBad.error().message, "every face is degenerate")) << allBad.error().message;
+}
+
+TEST(ObjTest, LoadSceneReadsObjWithAUnitAndRefusesUnitsElsewhere) {
+  const fs::path dir = testing::scratchDirectory("obj", "load");
+  write(dir / "room.obj", kRoom);
+  write(dir / "room.mtl", "newmtl wall\nKd 0.7 0.6 0.5\nnewmtl lamp\nKd 0.5 0.5 0.5\nKe 5 4.5 4\n");
+  Result<Scene> scene = loadScene((dir / "room.obj").string(), LoadOptions{.metresPerUnit = 0.001, .creaseAngleDegrees = 20});
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  EXPECT_EQ(scene->metresPerUnit, 0.001);
+  Result<Scene> builtin = loadScene("cornell", LoadOptions{.metresPerUnit = 0.01, .creaseAngleDegrees = 20});
+  ASSERT_FALSE(builtin.ok());
+  EXPECT_TRUE(testing::contains(builtin.error().message, "a unit is for OBJ files")) << builtin.error().message;
+}
+
+}  // namespace
+}  // namespace lambert
