@@ -426,6 +426,15 @@ TEST(CliTest, SceneFilesRenderAndBadOnesAreRefused) {
   EXPECT_NE(units.output.find("a unit is for OBJ files"), std::string::npos) << units.output;
   EXPECT_FALSE(fs::exists(dir / "never.png"));
 
+  // Blender's own glTF export renders as it is, with its three lights.
+  CommandResult glb = run("render --scene " + std::string(LAMBERT_SOURCE_DIR) + "/tests/data/blender_room.glb --patches 192 "
+                          "--width 32 --height 24 --json -o " + (dir / "blender.png").string());
+  ASSERT_EQ(glb.exitCode, 0) << glb.output;
+  nlohmann::json glbStats = nlohmann::json::parse(glb.output.substr(glb.output.find('{')));
+  EXPECT_EQ(glbStats["lights"], 3);
+  EXPECT_EQ(glbStats["lighting"], "hybrid");
+  EXPECT_TRUE(readPng((dir / "blender.png").string()).ok());
+
   CommandResult exported = run("scenes --export " + (dir / "scenes").string());
   ASSERT_EQ(exported.exitCode, 0) << exported.output;
   EXPECT_TRUE(fs::exists(dir / "scenes" / "cornell.json"));

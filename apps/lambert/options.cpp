@@ -105,8 +105,9 @@ void printStats(const Stats& stats, bool json, bool quiet, const std::string& he
 
 std::optional<Scene> findScene(const std::string& command, const MeshCommandOptions& o) {
   std::string extension = std::filesystem::path(o.scene).extension().string();
-  if (extension != ".obj" && extension != ".OBJ")
-    if (Status s = refuseGiven(o, {"--crease-angle"}, "it is for mesh files (.obj), and '" + o.scene + "' is not one"); !s) {
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (extension != ".obj" && extension != ".gltf" && extension != ".glb")
+    if (Status s = refuseGiven(o, {"--crease-angle"}, "it is for mesh files (.obj, .gltf, .glb), and '" + o.scene + "' is not one"); !s) {
       fail(command, s.error().message);
       return std::nullopt;
     }

@@ -9,8 +9,6 @@
 namespace lambert {
 namespace {
 
-constexpr double kMaxAlbedo = 0.999;
-
 // tinyobjloader's messages are lines; lambert's name the file once.
 std::string oneLine(std::string text) {
   while (!text.empty() && (text.back() == '\n' || text.back() == '\r')) text.pop_back();
@@ -43,11 +41,7 @@ Result<Scene> readObj(const std::string& path, const ObjOptions& options) {
       if (!(albedo[c] >= 0)) return Error{path + ": material '" + m.name + "': Kd must not be negative"};
       if (!(emitted[c] >= 0)) return Error{path + ": material '" + m.name + "': Ke must not be negative"};
     }
-    if (albedo.maxComponent() >= 1) {
-      warning(path + ": material '" + m.name + "': Kd of 1 or more lowered to " + std::to_string(kMaxAlbedo).substr(0, 5) +
-              " (a surface cannot reflect all the light it receives)");
-      for (int c = 0; c < 3; ++c) albedo[c] = std::fmin(albedo[c], kMaxAlbedo);
-    }
+    albedo = boundedAlbedo(albedo, path + ": material '" + m.name + "': Kd");
     if (!m.diffuse_texname.empty())
       warning(path + ": material '" + m.name + "': map_Kd " + m.diffuse_texname + " is not read yet; its Kd is used");
     scene.materials.push_back({m.name, albedo});

@@ -5,9 +5,9 @@
 //   usemtl with the MTL's Kd → albedo ρ and Ke → emitted radiance L_e (W/(m²·sr)).
 // What is not: vn and vt (lambert shades from its own mesh), map_Kd (a warning: the material's Kd
 // is used), curves and surfaces. Units: OBJ has none; metresPerUnit says what the numbers are
-// (metres unless told). A missing MTL is a warning and its materials a default grey. Albedo of 1
-// or more (many files say Kd 1 1 1) is lowered to 0.999 with a warning, since a surface that
-// reflects everything makes a closed room's radiosity infinite; negative Kd or Ke is an error.
+// (metres unless told). A missing MTL is a warning and its materials a default grey. Kd of 1 or
+// more (many files say Kd 1 1 1) is lowered to 0.999 with a warning (boundedAlbedo); negative Kd
+// or Ke is an error.
 #include <string>
 
 #include "lambert/core/error.h"

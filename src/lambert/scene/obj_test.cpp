@@ -71,7 +71,7 @@ TEST(ObjTest, GroupsMaterialsAndUnits) {
   EXPECT_EQ(lamp.emittedRadiance, (Rgb{5, 4.5, 4}));
   EXPECT_LT(surfaceNormal(lamp).y, -0.999);  // facing down into the room
   EXPECT_EQ(scene->materials[lamp.material].albedo, Rgb::gray(0.999));  // Kd 1 lowered, with a warning
-  EXPECT_TRUE(captured.saw("material 'lamp': Kd of 1 or more lowered to 0.999")) << captured.warnings.size();
+  EXPECT_TRUE(captured.saw("material 'lamp': Kd: albedo of 1 or more lowered to 0.999")) << captured.warnings.size();
   EXPECT_EQ(scene->camera.target, (Vec3{1, 0.95, 1}));
 }
 

@@ -3,8 +3,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 #include <unordered_map>
+
+#include "lambert/core/warning.h"
 
 namespace lambert {
 namespace {
@@ -76,6 +79,14 @@ std::string DroppedFaces::describe() const {
   return std::to_string(total()) + " degenerate face" + (total() == 1 ? "" : "s") + " dropped: " + kinds;
 }
 
+Rgb boundedAlbedo(Rgb albedo, const std::string& where) {
+  constexpr double kMaxAlbedo = 0.999;
+  if (albedo.maxComponent() < 1) return albedo;
+  warning(where + ": albedo of 1 or more lowered to 0.999 (a surface cannot reflect all the light it receives)");
+  for (int c = 0; c < 3; ++c) albedo[c] = std::fmin(albedo[c], kMaxAlbedo);
+  return albedo;
+}
+
 std::vector<std::array<std::uint32_t, 3>> triangulatePolygon(const std::vector<Vec3>& polygon, const Vec3& normal) {
   std::vector<std::array<std::uint32_t, 3>> triangles;
   const std::size_t n = polygon.size();
@@ -135,14 +146,38 @@ DroppedFaces addSmoothRegions(Scene& scene, const PolygonMesh& mesh, const std::
     int material;
     Vec3 normal;
   };
+  // Exporters split vertices where normals or UVs differ (Blender's glTF exporter does, for every
+  // flat-shaded face): vertices at exactly the same position are one vertex here, so faces
+  // meet again and the crease angle alone decides where shading is smooth.
+  std::vector<std::uint32_t> welded(mesh.positions.size());
+  {
+    std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> byHash;
+    for (std::uint32_t v = 0; v < mesh.positions.size(); ++v) {
+      const Vec3& p = mesh.positions[v];
+      std::uint64_t bits[3];
+      std::memcpy(bits, &p.x, 8);
+      std::memcpy(bits + 1, &p.y, 8);
+      std::memcpy(bits + 2, &p.z, 8);
+      const std::uint64_t hash = bits[0] * 0x9e3779b97f4a7c15ULL ^ (bits[1] + 0x632be59bd9b4e019ULL) * 0xbf58476d1ce4e5b9ULL ^ bits[2];
+      std::vector<std::uint32_t>& same = byHash[hash];
+      welded[v] = v;
+      for (std::uint32_t u : same)
+        if (mesh.positions[u] == p) {
+          welded[v] = u;
+          break;
+        }
+      if (welded[v] == v) same.push_back(v);
+    }
+  }
   std::vector<Piece> pieces;
   DroppedFaces dropped;
   for (const PolygonMesh::Face& face : mesh.faces) {
-    const std::vector<std::uint32_t>& ids = face.vertices;
-    if (std::any_of(ids.begin(), ids.end(), [&](std::uint32_t i) { return i >= mesh.positions.size(); })) {
+    if (std::any_of(face.vertices.begin(), face.vertices.end(), [&](std::uint32_t i) { return i >= mesh.positions.size(); })) {
       ++dropped.outOfRange;
       continue;
     }
+    std::vector<std::uint32_t> ids;
+    for (std::uint32_t i : face.vertices) ids.push_back(welded[i]);
     std::vector<Vec3> polygon;
     for (std::uint32_t i : ids) polygon.push_back(mesh.positions[i]);
     if (!std::all_of(polygon.begin(), polygon.end(), isFinite)) {

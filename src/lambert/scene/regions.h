@@ -2,6 +2,7 @@
 // From the polygon meshes that files hold (an OBJ group, a glTF primitive) to lambert's surfaces:
 // smooth regions of faces (scene/scene.h). Every loader goes through here, so that every format
 // gets the same rules:
+//   - vertices at exactly the same position are welded (exporters split them for normals and UVs);
 //   - degenerate faces (a non-finite coordinate, a repeated vertex, no area) are dropped and
 //     counted by kind;
 //   - a convex face is kept whole (the mesher fans it, which also splits a non-planar quad); a
@@ -45,6 +46,11 @@ struct DroppedFaces {
 // surfaces. Returns what was dropped.
 DroppedFaces addSmoothRegions(Scene& scene, const PolygonMesh& mesh, const std::vector<Rgb>& emittedRadiance,
                               const RegionOptions& options = {});
+
+// An albedo a file gives, made physical: one of 1 or more (many files say white) is lowered to
+// 0.999 with a warning naming `where`, since a surface that reflects everything makes a closed
+// room's radiosity infinite.
+Rgb boundedAlbedo(Rgb albedo, const std::string& where);
 
 // Ear clipping of a simple polygon (counter-clockwise about `normal`): triangles as index triples
 // into the polygon. A convex polygon gives its fan; collinear slivers are left out.

@@ -6,7 +6,6 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <regex>
 #include <set>
 #include <sstream>
 
@@ -14,6 +13,7 @@
 
 #include "lambert/core/atomic_file.h"
 #include "lambert/scene/builtin.h"
+#include "lambert/scene/gltf.h"
 #include "lambert/scene/obj.h"
 
 namespace lambert {
@@ -272,6 +272,34 @@ Scene readScene(const Json& document, const std::string& path) {
   return scene;
 }
 
+// dump(2) puts every number on a line of its own; a [x, y, z] reads better on one, for people
+// reading and editing the file. Lines: "[", three numbers ("…," twice), "]" or "],".
+std::string withTriplesOnOneLine(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  auto trimmed = [](const std::string& line) { return line.substr(line.find_first_not_of(' ')); };
+  auto isNumber = [](const std::string& t) {
+    return !t.empty() && t.find_first_not_of("0123456789+-.eE") == std::string::npos;
+  };
+  std::string out;
+  for (std::size_t k = 0; k < lines.size(); ++k) {
+    const std::string& line = lines[k];
+    if (k + 4 < lines.size() && !line.empty() && line.back() == '[') {
+      const std::string a = trimmed(lines[k + 1]), b = trimmed(lines[k + 2]), c = trimmed(lines[k + 3]), end = trimmed(lines[k + 4]);
+      if (a.back() == ',' && b.back() == ',' && isNumber(a.substr(0, a.size() - 1)) && isNumber(b.substr(0, b.size() - 1)) &&
+          isNumber(c) && (end == "]" || end == "],")) {
+        out += line + a + " " + b + " " + c + end + "\n";
+        k += 4;
+        continue;
+      }
+    }
+    out += line + "\n";
+  }
+  if (!out.empty()) out.pop_back();
+  return out;
+}
+
 OrderedJson triple(const Vec3& v) { return OrderedJson::array({v.x, v.y, v.z}); }
 OrderedJson triple(const Rgb& c) { return OrderedJson::array({c.r, c.g, c.b}); }
 
@@ -389,9 +417,7 @@ std::string sceneFileText(const Scene& scene) {
                    {"target", triple(scene.camera.target)},
                    {"up", triple(scene.camera.up)},
                    {"verticalFovDegrees", scene.camera.verticalFovDegrees}};
-  // Triples of numbers on one line each, for people reading and editing the file.
-  static const std::regex triple(R"(\[\s*([^\s,\[\]]+),\s*([^\s,\[\]]+),\s*([^\s,\[\]]+)\s*\])");
-  return std::regex_replace(doc.dump(2), triple, "[$1, $2, $3]") + "\n";
+  return withTriplesOnOneLine(doc.dump(2)) + "\n";
 }
 
 Status writeSceneFile(const std::string& path, const Scene& scene) {
@@ -407,6 +433,7 @@ Result<Scene> loadScene(const std::string& nameOrPath, const LoadOptions& option
     return Error{nameOrPath + ": a unit is for OBJ files, whose numbers have none; this scene states its own"};
   if (std::optional<Scene> builtin = builtinScene(nameOrPath)) return *builtin;
   if (extension == ".json") return readSceneFile(nameOrPath);
+  if (extension == ".gltf" || extension == ".glb") return readGltf(nameOrPath, {options.creaseAngleDegrees});
   if (obj) {
     ObjOptions obj;
     obj.metresPerUnit = options.metresPerUnit > 0 ? options.metresPerUnit : 1;
@@ -415,7 +442,7 @@ Result<Scene> loadScene(const std::string& nameOrPath, const LoadOptions& option
   }
   std::string names;
   for (const std::string& n : builtinSceneNames()) names += (names.empty() ? "" : ", ") + n;
-  return Error{"unknown scene '" + nameOrPath + "' (built-in scenes: " + names + "; or a scene file: .json, .obj)"};
+  return Error{"unknown scene '" + nameOrPath + "' (built-in scenes: " + names + "; or a scene file: .json, .obj, .gltf, .glb)"};
 }
 
 }  // namespace lambert

@@ -29,7 +29,8 @@ struct LoadOptions {
   double creaseAngleDegrees = 20;  // mesh files: neighbours whose normals differ more are not smoothed
 };
 
-// A built-in scene by name (scene/builtin.h), or a file by its extension (.json, .obj); anything
+// A built-in scene by name (scene/builtin.h), or a file by its extension (.json, .obj, .gltf,
+// .glb); anything
 // else is an error naming the choices. A unit for a file that states its own is an error.
 Result<Scene> loadScene(const std::string& nameOrPath, const LoadOptions& options = {});
 

@@ -1,0 +1,312 @@
+#include "lambert/scene/gltf.h"
+
+#include <tiny_gltf.h>
+
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+
+#include "lambert/core/warning.h"
+
+namespace lambert {
+namespace {
+
+// A column-major 4 × 4 affine transform, as glTF writes them.
+struct Transform {
+  std::array<double, 16> m{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+
+  Transform operator*(const Transform& o) const {
+    Transform r;
+    for (int col = 0; col < 4; ++col)
+      for (int row = 0; row < 4; ++row) {
+        double s = 0;
+        for (int k = 0; k < 4; ++k) s += m[k * 4 + row] * o.m[col * 4 + k];
+        r.m[col * 4 + row] = s;
+      }
+    return r;
+  }
+  Vec3 point(const Vec3& p) const {
+    return {m[0] * p.x + m[4] * p.y + m[8] * p.z + m[12], m[1] * p.x + m[5] * p.y + m[9] * p.z + m[13],
+            m[2] * p.x + m[6] * p.y + m[10] * p.z + m[14]};
+  }
+  Vec3 direction(const Vec3& d) const {
+    return {m[0] * d.x + m[4] * d.y + m[8] * d.z, m[1] * d.x + m[5] * d.y + m[9] * d.z, m[2] * d.x + m[6] * d.y + m[10] * d.z};
+  }
+  double determinant() const {
+    return m[0] * (m[5] * m[10] - m[9] * m[6]) - m[4] * (m[1] * m[10] - m[9] * m[2]) + m[8] * (m[1] * m[6] - m[5] * m[2]);
+  }
+};
+
+Transform localTransform(const tinygltf::Node& node) {
+  Transform t;
+  if (node.matrix.size() == 16) {
+    for (int k = 0; k < 16; ++k) t.m[k] = node.matrix[k];
+    return t;
+  }
+  Transform translate, rotate, scale;
+  if (node.translation.size() == 3)
+    for (int k = 0; k < 3; ++k) translate.m[12 + k] = node.translation[k];
+  if (node.rotation.size() == 4) {
+    const double x = node.rotation[0], y = node.rotation[1], z = node.rotation[2], w = node.rotation[3];
+    rotate.m = {1 - 2 * (y * y + z * z), 2 * (x * y + z * w),     2 * (x * z - y * w),     0,
+                2 * (x * y - z * w),     1 - 2 * (x * x + z * z), 2 * (y * z + x * w),     0,
+                2 * (x * z + y * w),     2 * (y * z - x * w),     1 - 2 * (x * x + y * y), 0,
+                0,                       0,                       0,                       1};
+  }
+  if (node.scale.size() == 3)
+    for (int k = 0; k < 3; ++k) scale.m[k * 5] = node.scale[k];
+  return translate * rotate * scale;
+}
+
+class Reader {
+ public:
+  Reader(const tinygltf::Model& model, const std::string& path, const RegionOptions& regions)
+      : model_(model), path_(path), regions_(regions) {}
+
+  Result<Scene> read() {
+    scene_.name = std::filesystem::path(path_).stem().string();
+    scene_.metresPerUnit = 1;
+    if (Status s = readMaterials(); !s) return s.error();
+    const int sceneIndex = model_.defaultScene >= 0 ? model_.defaultScene : 0;
+    if (model_.scenes.empty() || sceneIndex >= static_cast<int>(model_.scenes.size()))
+      return Error{path_ + ": no scene to read (the file has " + std::to_string(model_.scenes.size()) + ")"};
+    for (int root : model_.scenes[static_cast<std::size_t>(sceneIndex)].nodes)
+      if (Status s = visit(root, Transform{}, 0); !s) return s.error();
+    if (!usesDefault_) scene_.materials.pop_back();
+    if (dropped_.total() > 0) warning(path_ + ": " + dropped_.describe());
+    if (skippedPrimitives_ > 0)
+      warning(path_ + ": " + std::to_string(skippedPrimitives_) + " point or line primitives skipped (lambert solves surfaces)");
+    if (scene_.surfaces.empty()) return Error{path_ + ": no triangles in the default scene"};
+    if (!haveCamera_) scene_.camera = cameraViewingScene(scene_);
+    return scene_;
+  }
+
+ private:
+  Status readMaterials() {
+    int doubleSided = 0;
+    for (const tinygltf::Material& m : model_.materials) {
+      const auto& factor = m.pbrMetallicRoughness.baseColorFactor;
+      Rgb albedo = factor.size() >= 3 ? Rgb{factor[0], factor[1], factor[2]} : Rgb{1, 1, 1};
+      const int texture = m.pbrMetallicRoughness.baseColorTexture.index;
+      if (texture >= 0) {
+        Result<Rgb> mean = meanTextureColour(texture);
+        if (!mean) return mean.error();
+        albedo = albedo * *mean;
+        warning(path_ + ": material '" + m.name + "': its base colour texture enters as its mean colour " + "(per-patch texture lookup is not read yet)");
+      }
+      Rgb emitted = m.emissiveFactor.size() == 3 ? Rgb{m.emissiveFactor[0], m.emissiveFactor[1], m.emissiveFactor[2]} : Rgb{};
+      if (auto it = m.extensions.find("KHR_materials_emissive_strength"); it != m.extensions.end() && it->second.Has("emissiveStrength"))
+        emitted = emitted * it->second.Get("emissiveStrength").GetNumberAsDouble();
+      if (m.emissiveTexture.index >= 0)
+        warning(path_ + ": material '" + m.name + "': its emissive texture is not read yet; emissiveFactor is used");
+      for (int c = 0; c < 3; ++c)
+        if (!(albedo[c] >= 0) || !(emitted[c] >= 0))
+          return Error{path_ + ": material '" + m.name + "': base colour and emission must not be negative"};
+      doubleSided += m.doubleSided;
+      scene_.materials.push_back({m.name, boundedAlbedo(albedo, path_ + ": material '" + m.name + "'")});
+      emission_.push_back(emitted);
+    }
+    if (doubleSided > 0)
+      warning(path_ + ": " + std::to_string(doubleSided) + " double-sided material" + (doubleSided == 1 ? " is" : "s are") +
+              " solved one-sided (front faces only) for now");
+    defaultMaterial_ = static_cast<int>(scene_.materials.size());
+    scene_.materials.push_back({"default", Rgb::gray(0.5)});  // glTF's default is white: kept physical
+    emission_.push_back({});
+    return Ok{};
+  }
+
+  // The mean of a texture's texels, sRGB decoded to linear (glTF's base colour textures are sRGB).
+  Result<Rgb> meanTextureColour(int textureIndex) {
+    if (textureIndex >= static_cast<int>(model_.textures.size())) return Error{path_ + ": texture " + std::to_string(textureIndex) + " does not exist"};
+    const int source = model_.textures[static_cast<std::size_t>(textureIndex)].source;
+    if (source < 0 || source >= static_cast<int>(model_.images.size()))
+      return Error{path_ + ": texture " + std::to_string(textureIndex) + " has no image"};
+    const tinygltf::Image& image = model_.images[static_cast<std::size_t>(source)];
+    if (image.bits != 8 || image.component < 3 || image.image.size() < static_cast<std::size_t>(image.width) * image.height * image.component)
+      return Error{path_ + ": image '" + image.name + "' is not 8-bit RGB(A)"};
+    auto linear = [](double encoded) { return encoded <= 0.04045 ? encoded / 12.92 : std::pow((encoded + 0.055) / 1.055, 2.4); };
+    Rgb sum;
+    const std::size_t texels = static_cast<std::size_t>(image.width) * image.height;
+    for (std::size_t t = 0; t < texels; ++t)
+      for (int c = 0; c < 3; ++c) sum[c] += linear(image.image[t * image.component + c] / 255.0);
+    return texels > 0 ? sum / static_cast<double>(texels) : Rgb{1, 1, 1};
+  }
+
+  Status visit(int nodeIndex, const Transform& parent, int depth) {
+    if (nodeIndex < 0 || nodeIndex >= static_cast<int>(model_.nodes.size()))
+      return Error{path_ + ": node " + std::to_string(nodeIndex) + " does not exist"};
+    if (depth > 256) return Error{path_ + ": the node hierarchy is deeper than 256 (a cycle?)"};
+    const tinygltf::Node& node = model_.nodes[static_cast<std::size_t>(nodeIndex)];
+    const Transform world = parent * localTransform(node);
+    if (node.mesh >= 0)
+      if (Status s = readMesh(node, world); !s) return s;
+    if (node.camera >= 0 && !haveCamera_) readCamera(node, world);
+    if (auto it = node.extensions.find("KHR_lights_punctual"); it != node.extensions.end() && it->second.Has("light"))
+      if (Status s = readLight(it->second.Get("light").GetNumberAsInt(), node, world); !s) return s;
+    for (int child : node.children)
+      if (Status s = visit(child, world, depth + 1); !s) return s;
+    return Ok{};
+  }
+
+  // A typed view of an accessor's elements, bounds-checked against its buffer.
+  Result<std::vector<double>> readAccessor(int index, int components) {
+    if (index < 0 || index >= static_cast<int>(model_.accessors.size()))
+      return Error{path_ + ": accessor " + std::to_string(index) + " does not exist"};
+    const tinygltf::Accessor& a = model_.accessors[static_cast<std::size_t>(index)];
+    const std::string name = "accessor " + std::to_string(index);
+    if (a.bufferView < 0 || a.bufferView >= static_cast<int>(model_.bufferViews.size()))
+      return Error{path_ + ": " + name + " has no buffer view (sparse accessors are not read)"};
+    const tinygltf::BufferView& view = model_.bufferViews[static_cast<std::size_t>(a.bufferView)];
+    if (view.buffer < 0 || view.buffer >= static_cast<int>(model_.buffers.size())) return Error{path_ + ": " + name + ": no buffer"};
+    const std::vector<unsigned char>& data = model_.buffers[static_cast<std::size_t>(view.buffer)].data;
+    const int componentSize = tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(a.componentType));
+    if (componentSize <= 0) return Error{path_ + ": " + name + ": unknown component type " + std::to_string(a.componentType)};
+    const std::size_t elementSize = static_cast<std::size_t>(componentSize) * components;
+    const std::size_t stride = view.byteStride ? view.byteStride : elementSize;
+    const std::size_t start = view.byteOffset + a.byteOffset;
+    if (a.count > 0 && (stride < elementSize || start + (a.count - 1) * stride + elementSize > view.byteOffset + view.byteLength ||
+                        view.byteOffset + view.byteLength > data.size()))
+      return Error{path_ + ": " + name + " reaches past the end of its buffer"};
+    std::vector<double> values(a.count * components);
+    for (std::size_t e = 0; e < a.count; ++e)
+      for (int c = 0; c < components; ++c) {
+        const unsigned char* p = data.data() + start + e * stride + static_cast<std::size_t>(c) * componentSize;
+        double v = 0;
+        switch (a.componentType) {
+          case TINYGLTF_COMPONENT_TYPE_FLOAT: { float f; std::memcpy(&f, p, 4); v = f; break; }
+          case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { std::uint32_t u; std::memcpy(&u, p, 4); v = u; break; }
+          case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { std::uint16_t u; std::memcpy(&u, p, 2); v = u; break; }
+          case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: v = *p; break;
+          default: return Error{path_ + ": " + name + ": component type " + std::to_string(a.componentType) + " is not read here"};
+        }
+        values[e * components + c] = v;
+      }
+    return values;
+  }
+
+  Status readMesh(const tinygltf::Node& node, const Transform& world) {
+    const tinygltf::Mesh& mesh = model_.meshes.at(static_cast<std::size_t>(node.mesh));
+    const bool mirrored = world.determinant() < 0;
+    for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
+      const tinygltf::Primitive& primitive = mesh.primitives[p];
+      const int mode = primitive.mode < 0 ? TINYGLTF_MODE_TRIANGLES : primitive.mode;
+      if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+        ++skippedPrimitives_;
+        continue;
+      }
+      auto position = primitive.attributes.find("POSITION");
+      if (position == primitive.attributes.end()) return Error{path_ + ": mesh '" + mesh.name + "' has a primitive without POSITION"};
+      if (model_.accessors.at(static_cast<std::size_t>(position->second)).componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
+        return Error{path_ + ": mesh '" + mesh.name + "': quantised positions (KHR_mesh_quantization) are not read"};
+      Result<std::vector<double>> xyz = readAccessor(position->second, 3);
+      if (!xyz) return xyz.error();
+      PolygonMesh polygons;
+      // (Appended piecewise: GCC 12 warns falsely, -Wrestrict, about "literal" + std::string.)
+      polygons.name = !node.name.empty() ? node.name : !mesh.name.empty() ? mesh.name : std::string("mesh ").append(std::to_string(node.mesh));
+      if (mesh.primitives.size() > 1) polygons.name.append(" ").append(std::to_string(p + 1));
+      for (std::size_t v = 0; v < xyz->size() / 3; ++v)
+        polygons.positions.push_back(world.point({(*xyz)[3 * v], (*xyz)[3 * v + 1], (*xyz)[3 * v + 2]}));
+      std::vector<std::uint32_t> indices;
+      if (primitive.indices >= 0) {
+        Result<std::vector<double>> read = readAccessor(primitive.indices, 1);
+        if (!read) return read.error();
+        for (double i : *read) indices.push_back(static_cast<std::uint32_t>(i));
+      } else {
+        for (std::uint32_t i = 0; i < polygons.positions.size(); ++i) indices.push_back(i);
+      }
+      int material = primitive.material;
+      if (material < 0 || material >= defaultMaterial_) {
+        material = defaultMaterial_;
+        usesDefault_ = true;
+      }
+      auto addTriangle = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+        polygons.faces.push_back({mirrored ? std::vector<std::uint32_t>{a, c, b} : std::vector<std::uint32_t>{a, b, c}, material});
+      };
+      if (mode == TINYGLTF_MODE_TRIANGLES)
+        for (std::size_t t = 0; t + 2 < indices.size(); t += 3) addTriangle(indices[t], indices[t + 1], indices[t + 2]);
+      else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP)
+        for (std::size_t t = 0; t + 2 < indices.size(); ++t)
+          t % 2 ? addTriangle(indices[t + 1], indices[t], indices[t + 2]) : addTriangle(indices[t], indices[t + 1], indices[t + 2]);
+      else
+        for (std::size_t t = 1; t + 1 < indices.size(); ++t) addTriangle(indices[0], indices[t], indices[t + 1]);
+      dropped_.add(addSmoothRegions(scene_, polygons, emission_, regions_));
+    }
+    return Ok{};
+  }
+
+  void readCamera(const tinygltf::Node& node, const Transform& world) {
+    const tinygltf::Camera& camera = model_.cameras.at(static_cast<std::size_t>(node.camera));
+    if (camera.type != "perspective") return;
+    haveCamera_ = true;
+    scene_.camera.eye = world.point({0, 0, 0});
+    scene_.camera.target = scene_.camera.eye + normalize(world.direction({0, 0, -1}));
+    scene_.camera.up = normalize(world.direction({0, 1, 0}));
+    scene_.camera.verticalFovDegrees = camera.perspective.yfov * 180 / kPi;
+  }
+
+  Status readLight(int index, const tinygltf::Node& node, const Transform& world) {
+    if (index < 0 || index >= static_cast<int>(model_.lights.size()))
+      return Error{path_ + ": node '" + node.name + "' refers to light " + std::to_string(index) + ", which does not exist"};
+    const tinygltf::Light& l = model_.lights[static_cast<std::size_t>(index)];
+    const Rgb colour = l.color.size() == 3 ? Rgb{l.color[0], l.color[1], l.color[2]} : Rgb{1, 1, 1};
+    if (!(l.intensity >= 0)) return Error{path_ + ": light '" + l.name + "': negative intensity"};
+    Light light;
+    light.name = !l.name.empty() ? l.name : node.name;
+    light.position = world.point({0, 0, 0});
+    light.direction = normalize(world.direction({0, 0, -1}));  // lights shine along their local −z
+    const Rgb radiometric = colour * (l.intensity / kLumensPerWatt);
+    if (l.type == "point") {
+      light.kind = LightKind::Point;
+      light.intensity = radiometric;
+    } else if (l.type == "spot") {
+      light.kind = LightKind::Spot;
+      light.intensity = radiometric;
+      light.coneAngleDegrees = l.spot.outerConeAngle * 180 / kPi;
+      light.falloffDegrees = std::fmax(0.0, (l.spot.outerConeAngle - l.spot.innerConeAngle) * 180 / kPi);
+    } else if (l.type == "directional") {
+      light.kind = LightKind::Directional;
+      light.irradiance = radiometric;
+    } else {
+      return Error{path_ + ": light '" + l.name + "': unknown type '" + l.type + "' (KHR_lights_punctual: point, spot, directional)"};
+    }
+    scene_.lights.push_back(light);
+    return Ok{};
+  }
+
+  const tinygltf::Model& model_;
+  std::string path_;
+  RegionOptions regions_;
+  Scene scene_;
+  std::vector<Rgb> emission_;
+  int defaultMaterial_ = 0;
+  bool usesDefault_ = false;
+  bool haveCamera_ = false;
+  DroppedFaces dropped_;
+  int skippedPrimitives_ = 0;
+};
+
+}  // namespace
+
+Result<Scene> readGltf(const std::string& path, const RegionOptions& regions) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return Error{path + ": no such glTF file"};
+  tinygltf::TinyGLTF loader;
+  tinygltf::Model model;
+  std::string error, warn;
+  std::string extension = std::filesystem::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const bool ok = extension == ".glb" ? loader.LoadBinaryFromFile(&model, &error, &warn, path)
+                                      : loader.LoadASCIIFromFile(&model, &error, &warn, path);
+  auto line = [](std::string text) {
+    while (!text.empty() && (text.back() == '\n' || text.back() == '\r')) text.pop_back();
+    for (char& c : text)
+      if (c == '\n') c = ';';
+    return text;
+  };
+  if (!warn.empty()) warning(path + ": " + line(warn));
+  if (!ok) return Error{path + ": " + (error.empty() ? std::string("not a glTF file") : line(error))};
+  return Reader(model, path, regions).read();
+}
+
+}  // namespace lambert

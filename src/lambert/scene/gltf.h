@@ -1,0 +1,28 @@
+#pragma once
+// glTF 2.0, .gltf and .glb (tinygltf), as lambert surfaces and lights. What is read:
+//   the default scene's node hierarchy with its transforms (matrix or TRS; a mirroring transform
+//   flips the winding back), triangle primitives (TRIANGLES, STRIP, FAN; indexed or not), each a
+//   set of smooth regions (scene/regions.h);
+//   materials: baseColorFactor × baseColorTexture → albedo ρ (the texture, sRGB decoded to linear,
+//   enters as its mean colour for now: a warning says so), emissiveFactor ×
+//   KHR_materials_emissive_strength → emitted radiance L_e in W/(m²·sr);
+//   KHR_lights_punctual point, spot and directional lights, photometric → radiometric at
+//   683 lm/W: I [W/sr] = intensity [cd] / 683 × colour, E⊥ [W/m²] = intensity [lx] / 683 × colour;
+//   a spot's outerConeAngle is lambert's cone, outer − inner its falloff;
+//   the first perspective camera (yfov).
+// Units: metres, as glTF requires. doubleSided materials are solved one-sided (front faces), with
+// a warning; points and lines are skipped with a warning. Files exported by Blender load as they are.
+#include <string>
+
+#include "lambert/core/error.h"
+#include "lambert/scene/regions.h"
+#include "lambert/scene/scene.h"
+
+namespace lambert {
+
+// Candela → W/sr and lux → W/m²: the luminous efficacy glTF and Blender convert with.
+inline constexpr double kLumensPerWatt = 683;
+
+Result<Scene> readGltf(const std::string& path, const RegionOptions& regions = {});
+
+}  // namespace lambert

@@ -1,0 +1,150 @@
+// The glTF loader against a file Blender's own exporter wrote (tests/data/blender_room.glb, from
+// shared/samples; its README lists what was set in Blender), and against broken files.
+#include "lambert/scene/gltf.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "lambert/core/warning.h"
+#include "lambert/scene/scene_file.h"
+#include "tests/support/files.h"
+
+namespace lambert {
+namespace {
+
+const std::string kBlenderRoom = std::string(LAMBERT_SOURCE_DIR) + "/tests/data/blender_room.glb";
+
+const Light& lightNamed(const Scene& scene, const std::string& name) {
+  for (const Light& light : scene.lights)
+    if (light.name == name) return light;
+  ADD_FAILURE() << "no light " << name;
+  return scene.lights.front();
+}
+
+double areaOfMaterial(const Scene& scene, const std::string& material) {
+  double area = 0;
+  for (const Surface& s : scene.surfaces)
+    if (scene.materials[s.material].name == material) area += surfaceArea(s);
+  return area;
+}
+
+void expectNear(const Rgb& value, const Rgb& expected, double tolerance) {
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(value[c], expected[c], tolerance) << "channel " << c;
+}
+
+TEST(GltfTest, BlenderExportLoadsWithItsLightsMaterialsAndCamera) {
+  std::vector<std::string> warnings;
+  WarningSink previous = setWarningSink([&](const std::string& m) { warnings.push_back(m); });
+  Result<Scene> scene = loadScene(kBlenderRoom);
+  setWarningSink(previous);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  EXPECT_EQ(scene->name, "blender_room");
+  EXPECT_EQ(scene->metresPerUnit, 1);  // glTF is in metres
+
+  // Photometric to radiometric at 683 lm/W: Blender's 100 W point light is 100 / 4π W/sr.
+  ASSERT_EQ(scene->lights.size(), 3u);
+  const Light& point = lightNamed(*scene, "point");
+  EXPECT_EQ(point.kind, LightKind::Point);
+  expectNear(point.intensity, Rgb{1, 0.95, 0.9} * (100 / (4 * kPi)), 1e-4);
+  EXPECT_NEAR(length(point.position - Vec3{-1.2, 2, 0.5}), 0, 1e-6);
+  const Light& spot = lightNamed(*scene, "spot");
+  EXPECT_EQ(spot.kind, LightKind::Spot);
+  expectNear(spot.intensity, Rgb{0.8, 0.9, 1} * (200 / (4 * kPi)), 1e-4);
+  EXPECT_NEAR(spot.coneAngleDegrees, 22.5, 1e-5);  // Blender's 45° spot size is the full angle
+  EXPECT_NEAR(spot.falloffDegrees, 4.5, 1e-5);     // blend 0.2: inner cone 18°
+  EXPECT_LT(spot.direction.y, -0.5);               // pointing down into the room
+  const Light& sun = lightNamed(*scene, "sun");
+  EXPECT_EQ(sun.kind, LightKind::Directional);
+  expectNear(sun.irradiance, Rgb{1, 1, 0.95} * 3.0, 1e-6);  // 2049 lx / 683
+  EXPECT_NEAR(length(sun.direction), 1, 1e-12);
+  EXPECT_LT(sun.direction.y, 0);
+
+  // Materials: factors, the checker's mean (its texels are 0.8 and 0.2 sRGB-encoded, 204 and 51,
+  // in equal numbers: decoded, 0.6038 and 0.0331), emission × strength.
+  auto decode = [](double v) { return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4); };
+  const double checkerMean = (decode(204 / 255.0) + decode(51 / 255.0)) / 2;
+  double panelPower = 0;
+  for (const Surface& s : scene->surfaces) {
+    const Material& m = scene->materials[s.material];
+    if (m.name == "wall") expectNear(m.albedo, Rgb::gray(0.7), 1e-6);
+    if (m.name == "red") expectNear(m.albedo, Rgb{0.6, 0.08, 0.06}, 1e-6);
+    if (m.name == "floor") expectNear(m.albedo, Rgb::gray(checkerMean), 1e-3);
+    if (m.name == "panel") {
+      expectNear(s.emittedRadiance, Rgb{5, 4.5, 4}, 1e-5);
+      panelPower += surfaceArea(s) * kPi * s.emittedRadiance.r;
+      EXPECT_LT(surfaceNormal(s).y, -0.999);  // the panel faces down
+    } else {
+      EXPECT_EQ(s.emittedRadiance, Rgb{});
+    }
+  }
+  // Geometry through the node transforms: a 4 × 3 m floor, a 0.6 × 0.4 m panel.
+  EXPECT_NEAR(areaOfMaterial(*scene, "floor"), 12, 1e-5);
+  EXPECT_NEAR(panelPower, 0.24 * kPi * 5, 1e-5);
+  // The sphere's split vertices are welded: 24 × 12 faces 15° apart are smooth regions.
+  int sphereRegions = 0;
+  std::size_t sphereFaces = 0;
+  for (const Surface& s : scene->surfaces)
+    if (s.name.rfind("sphere", 0) == 0) {
+      ++sphereRegions;
+      sphereFaces += s.faces.size();
+    }
+  EXPECT_GE(sphereFaces, 24u * 10u);
+  EXPECT_LE(sphereRegions, 3);
+
+  EXPECT_NEAR(length(scene->camera.eye - Vec3{0, 1.6, 5.5}), 0, 1e-6);
+  EXPECT_NEAR(scene->camera.verticalFovDegrees, 0.6939551846210171 * 180 / kPi, 1e-9);
+  EXPECT_LT(scene->camera.target.z, scene->camera.eye.z);  // looking into the room (−z)
+
+  bool toldDoubleSided = false, toldTexture = false;
+  for (const std::string& w : warnings) {
+    toldDoubleSided |= testing::contains(w, "double-sided materials are solved one-sided");
+    toldTexture |= testing::contains(w, "material 'floor': its base colour texture enters as its mean colour");
+  }
+  EXPECT_TRUE(toldDoubleSided);
+  EXPECT_TRUE(toldTexture);
+}
+
+TEST(GltfTest, BrokenFilesAreErrorsNamingTheFile) {
+  const std::filesystem::path dir = testing::scratchDirectory("gltf", "bad");
+  Result<Scene> missing = readGltf((dir / "nowhere.glb").string());
+  ASSERT_FALSE(missing.ok());
+  EXPECT_EQ(missing.error().message, (dir / "nowhere.glb").string() + ": no such glTF file");
+
+  // A truncated .glb: the first 1,000 bytes of Blender's file.
+  std::ifstream in(kBlenderRoom, std::ios::binary);
+  std::vector<char> bytes(1000);
+  in.read(bytes.data(), 1000);
+  testing::writeBytes(dir / "truncated.glb", bytes);
+  Result<Scene> truncated = readGltf((dir / "truncated.glb").string());
+  ASSERT_FALSE(truncated.ok());
+  EXPECT_TRUE(testing::contains(truncated.error().message, (dir / "truncated.glb").string() + ": ")) << truncated.error().message;
+
+  // An accessor that claims more vertices than its buffer holds.
+  std::ofstream(dir / "overrun.gltf") << R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+    "nodes": [{"mesh": 0}], "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+    "buffers": [{"byteLength": 36, "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}],
+    "bufferViews": [{"buffer": 0, "byteLength": 36}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 1000, "type": "VEC3", "min": [0,0,0], "max": [1,1,0]}]})";
+  Result<Scene> overrun = readGltf((dir / "overrun.gltf").string());
+  ASSERT_FALSE(overrun.ok());
+  EXPECT_TRUE(testing::contains(overrun.error().message, "overrun.gltf: ")) << overrun.error().message;
+
+  // The same file with the right count: one triangle, a default grey material, a default camera.
+  std::ofstream(dir / "triangle.gltf") << R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+    "nodes": [{"mesh": 0, "scale": [-1, 1, 1]}], "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+    "buffers": [{"byteLength": 36, "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}],
+    "bufferViews": [{"buffer": 0, "byteLength": 36}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0,0,0], "max": [1,1,0]}]})";
+  Result<Scene> triangle = readGltf((dir / "triangle.gltf").string());
+  ASSERT_TRUE(triangle.ok()) << triangle.error().message;
+  ASSERT_EQ(triangle->surfaces.size(), 1u);
+  EXPECT_NEAR(surfaceArea(triangle->surfaces[0]), 0.5, 1e-12);
+  // Mirrored by the node's scale, the winding is flipped back: the front still faces +z.
+  EXPECT_GT(surfaceNormal(triangle->surfaces[0]).z, 0.999);
+  EXPECT_EQ(triangle->materials[triangle->surfaces[0].material].name, "default");
+}
+
+}  // namespace
+}  // namespace lambert
