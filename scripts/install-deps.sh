@@ -8,7 +8,7 @@ exec 1>&2
 packages=(
   build-essential cmake pkg-config
   libembree-dev libtbb-dev libeigen3-dev
-  libcli11-dev nlohmann-json3-dev libstb-dev libtinyobjloader-dev libtinygltf-dev
+  libcli11-dev nlohmann-json3-dev libstb-dev libtinyobjloader-dev libtinygltf-dev libtinyexr-dev
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 

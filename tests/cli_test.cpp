@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "lambert/io/exr.h"
 #include "lambert/io/png.h"
 #include "lambert/io/vertices.h"
 #include "lambert/render/camera.h"
@@ -434,6 +435,21 @@ TEST(CliTest, SceneFilesRenderAndBadOnesAreRefused) {
   EXPECT_EQ(glbStats["lights"], 3);
   EXPECT_EQ(glbStats["lighting"], "hybrid");
   EXPECT_TRUE(readPng((dir / "blender.png").string()).ok());
+
+  // EXR: linear float radiance, no exposure; other extensions are refused before any work.
+  CommandResult exr = run("render --patches 64 --width 24 --height 16 -q -o " + (dir / "linear.exr").string());
+  ASSERT_EQ(exr.exitCode, 0) << exr.output;
+  Result<Image> radiance = readExr((dir / "linear.exr").string());
+  ASSERT_TRUE(radiance.ok()) << radiance.error().message;
+  EXPECT_EQ(radiance->width, 24);
+  CommandResult exposed = run("render --patches 64 --exposure 1 -o " + (dir / "exposed.exr").string());
+  EXPECT_EQ(exposed.exitCode, 2);
+  EXPECT_NE(exposed.output.find("--exposure has no effect: an EXR holds linear radiance"), std::string::npos) << exposed.output;
+  CommandResult jpeg = run("render --patches 64 -o " + (dir / "image.jpg").string());
+  EXPECT_EQ(jpeg.exitCode, 2);
+  EXPECT_NE(jpeg.output.find("images are .png (tone mapped, 8-bit sRGB) or .exr"), std::string::npos) << jpeg.output;
+  EXPECT_FALSE(fs::exists(dir / "exposed.exr"));
+  EXPECT_FALSE(fs::exists(dir / "image.jpg"));
 
   CommandResult exported = run("scenes --export " + (dir / "scenes").string());
   ASSERT_EQ(exported.exitCode, 0) << exported.output;

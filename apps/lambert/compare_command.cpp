@@ -7,11 +7,9 @@
 
 #include "commands.h"
 #include "lambert/core/timer.h"
-#include "lambert/io/png.h"
 #include "lambert/io/vertices.h"
 #include "lambert/reference/compare.h"
 #include "lambert/reference/reference.h"
-#include "lambert/render/tonemap.h"
 #include "options.h"
 
 namespace lambert::cli {
@@ -79,6 +77,9 @@ int runCompare(const CompareCommandOptions& o) {
   if (!scene) return 2;
   if (Status ok = checkSources(o); !ok) return fail("compare", ok.error().message);
   if (Status ok = checkImageOptions(*scene, o.image); !ok) return fail("compare", ok.error().message);
+  for (const std::string& path : {o.radiosityImage, o.referenceImage})
+    if (!path.empty())
+      if (Status ok = checkImagePath(path, o.image); !ok) return fail("compare", ok.error().message);
   Stats stats;
 
   // The radiosity side: a vertex file, or a solve.
@@ -134,7 +135,7 @@ int runCompare(const CompareCommandOptions& o) {
     addError(stats, "image", "image", radianceError(mine.pixels, truth.pixels));
     for (auto [path, image] : {std::pair{o.radiosityImage, &mine}, std::pair{o.referenceImage, &truth}}) {
       if (path.empty()) continue;
-      Status written = writePng(path, image->width, image->height, toSrgb8(*image, o.image.exposure));
+      Status written = writeImageFile(path, *image, o.image.exposure);
       if (!written) {
         std::fprintf(stderr, "lambert compare: %s\n", written.error().message.c_str());
         return 1;
@@ -162,8 +163,8 @@ std::function<int()> addCompareCommand(CLI::App& app) {
                   "Leave out vertices this close to an emitter, scene units (default 5% of the scene's diagonal)");
   cmd->add_option("--radiosity-vertices", options->radiosityVertices, "Take the radiosity side from this vertex file (from `solve`)");
   cmd->add_option("--reference-vertices", options->referenceVertices, "Take the reference side from this vertex file (from `reference`)");
-  cmd->add_option("--radiosity-image", options->radiosityImage, "Also write the radiosity image compared (PNG)");
-  cmd->add_option("--reference-image", options->referenceImage, "Also write the reference image compared (PNG)");
+  cmd->add_option("--radiosity-image", options->radiosityImage, "Also write the radiosity image compared (.png or .exr)");
+  cmd->add_option("--reference-image", options->referenceImage, "Also write the reference image compared (.png or .exr)");
   cmd->add_flag("--no-image", options->noImage, "Compare vertices only");
   return [options] { return runCompare(*options); };
 }

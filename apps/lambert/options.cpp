@@ -1,11 +1,15 @@
 #include "options.h"
 
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <cstdlib>
 #include <map>
 
+#include "lambert/io/exr.h"
+#include "lambert/io/png.h"
 #include "lambert/mesh/mesh.h"
+#include "lambert/render/tonemap.h"
 #include "lambert/scene/scene_file.h"
 
 namespace lambert::cli {
@@ -131,6 +135,28 @@ std::string defaultCacheDirectory() {
 }
 
 }  // namespace
+
+namespace {
+
+std::string lowerExtension(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return extension;
+}
+
+}  // namespace
+
+Status checkImagePath(const std::string& path, const GivenOptions& given) {
+  const std::string extension = lowerExtension(path);
+  if (extension == ".exr") return refuseGiven(given, {"--exposure"}, "an EXR holds linear radiance, with no tone mapping");
+  if (extension != ".png") return Error{path + ": images are .png (tone mapped, 8-bit sRGB) or .exr (linear float radiance)"};
+  return Ok{};
+}
+
+Status writeImageFile(const std::string& path, const Image& image, double exposureStops) {
+  if (lowerExtension(path) == ".exr") return writeExr(path, image);
+  return writePng(path, image.width, image.height, toSrgb8(image, exposureStops));
+}
 
 int fail(const std::string& command, const std::string& message) {
   std::fprintf(stderr, "lambert %s: %s\n", command.c_str(), message.c_str());

@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 
 #include "lambert/core/error.h"
+#include "lambert/core/image.h"
 #include "lambert/core/stats.h"
 #include "lambert/engine/radiosity.h"
 #include "lambert/render/solution_image.h"
@@ -79,6 +80,12 @@ Status checkImageOptions(const Scene& scene, const ImageCommandOptions& options)
 // The engine for a scene and options: errors (refused options, impossible combinations) are
 // printed as "lambert <command>: <why>" and give nothing.
 std::unique_ptr<Radiosity> makeEngine(const std::string& command, const Scene& scene, const SolveCommandOptions& options);
+
+// Images are written by their extension: .png (tone mapped: exposure, sRGB, 8 bits) or .exr
+// (linear float radiance, as rendered). checkImagePath refuses other extensions, and --exposure
+// with an EXR (it holds radiance, not a display image), before any work is done.
+Status checkImagePath(const std::string& path, const GivenOptions& given);
+Status writeImageFile(const std::string& path, const Image& image, double exposureStops);
 
 // Prints a command's figures: JSON with --json, else the headline (if any) and a table, unless
 // --quiet.

@@ -7,10 +7,8 @@
 
 #include "commands.h"
 #include "lambert/core/timer.h"
-#include "lambert/io/png.h"
 #include "lambert/io/vertices.h"
 #include "lambert/reference/reference.h"
-#include "lambert/render/tonemap.h"
 #include "options.h"
 
 namespace lambert::cli {
@@ -35,6 +33,8 @@ int runReference(const ReferenceCommandOptions& o) {
   if (o.exportVertices.empty())
     if (Status s = refuseGiven(o.mesh, {"--patches", "--max-edge", "--vertex-samples"}, "they choose the vertices, and no --export-vertices is asked for"); !s)
       return fail("reference", s.error().message);
+  if (!o.output.empty())
+    if (Status s = checkImagePath(o.output, o.mesh); !s) return fail("reference", s.error().message);
   if (o.output.empty())
     if (Status s = refuseGiven(o.mesh, {"--spp", "--width", "--height", "--exposure"}, "they shape the image, and no -o IMAGE.png is asked for"); !s)
       return fail("reference", s.error().message);
@@ -64,7 +64,7 @@ int runReference(const ReferenceCommandOptions& o) {
   if (!o.output.empty()) {
     Timer timer;
     Image image = renderer.render(o.width, o.height);
-    Status written = writePng(o.output, image.width, image.height, toSrgb8(image, o.exposure));
+    Status written = writeImageFile(o.output, image, o.exposure);
     if (!written) {
       std::fprintf(stderr, "lambert reference: %s\n", written.error().message.c_str());
       return 1;
@@ -99,7 +99,7 @@ std::function<int()> addReferenceCommand(CLI::App& app) {
   cmd->add_option("--width", options->width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
   cmd->add_option("--height", options->height, "Image height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
   cmd->add_option("--exposure", options->exposure, "Exposure in stops")->capture_default_str();
-  cmd->add_option("-o,--output", options->output, "Image to write (PNG)");
+  cmd->add_option("-o,--output", options->output, "Image to write: .png or .exr (linear float radiance)");
   cmd->add_option("--export-vertices", options->exportVertices,
                   "Write outgoing radiance at every vertex of the mesh --patches/--max-edge builds (.csv or .ply)");
   cmd->add_flag("--json", options->json, "Print the stats as JSON");

@@ -5,8 +5,6 @@
 
 #include "commands.h"
 #include "lambert/core/timer.h"
-#include "lambert/io/png.h"
-#include "lambert/render/tonemap.h"
 #include "options.h"
 
 namespace lambert::cli {
@@ -23,6 +21,7 @@ int runRender(const RenderCommandOptions& o) {
   std::optional<Scene> scene = findScene("render", o.solve);
   if (!scene) return 2;
   if (Status ok = checkImageOptions(*scene, o.image); !ok) return fail("render", ok.error().message);
+  if (Status ok = checkImagePath(o.output, o.image); !ok) return fail("render", ok.error().message);
   std::unique_ptr<Radiosity> engine = makeEngine("render", *scene, o.solve);
   if (!engine) return 2;
   if (Result<SolveCallReport> solved = engine->solve(); !solved) return fail("render", solved.error().message);
@@ -32,10 +31,9 @@ int runRender(const RenderCommandOptions& o) {
 
   Timer renderTimer;
   Image image = renderSolution(engine->solution(), o.image.image);
-  std::vector<std::uint8_t> pixels = toSrgb8(image, o.image.exposure);
   double renderSeconds = renderTimer.seconds();
 
-  Status written = writePng(o.output, image.width, image.height, pixels);
+  Status written = writeImageFile(o.output, image, o.image.exposure);
   if (!written) {
     std::fprintf(stderr, "lambert render: %s\n", written.error().message.c_str());
     return 1;
@@ -59,7 +57,7 @@ std::function<int()> addRenderCommand(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("render", "Solve a scene's radiosity and render it to a PNG");
   addSolveOptions(*cmd, options->solve);
   addImageOptions(*cmd, options->image);
-  cmd->add_option("-o,--output", options->output, "Output PNG path")->capture_default_str();
+  cmd->add_option("-o,--output", options->output, "Output image: .png (tone mapped) or .exr (linear float radiance)")->capture_default_str();
   return [options] { return runRender(*options); };
 }
 
