@@ -456,6 +456,26 @@ TEST(CliTest, SceneFilesRenderAndBadOnesAreRefused) {
   EXPECT_TRUE(fs::exists(dir / "scenes" / "cornell.json"));
 }
 
+// `lambert info` tells what a scene holds and what a dense solve of it would take.
+TEST(CliTest, InfoDescribesTheSceneAndTheSolveItWouldNeed) {
+  CommandResult info = run("info --scene cornell --patches 3000 --json");
+  ASSERT_EQ(info.exitCode, 0) << info.output;
+  nlohmann::json stats = nlohmann::json::parse(info.output);
+  EXPECT_EQ(stats["surfaces"], 16);
+  EXPECT_EQ(stats["faces"], 16);
+  EXPECT_EQ(stats["emitting_surfaces"], 1);
+  EXPECT_EQ(stats["lights"], 0);
+  EXPECT_EQ(stats["metres_per_unit"], 0.001);
+  // The light: 130 × 105 mm of L_e = (17, 12, 4) W/(m² sr), emitting π·L_e·A.
+  EXPECT_NEAR(stats["emitted_watts"].get<double>(), 0.130 * 0.105 * kPi * (17 + 12 + 4), 1e-9);
+  const double patches = stats["patches"].get<double>();
+  EXPECT_GE(patches, 3000);
+  EXPECT_NEAR(stats["formfactor_matrix_mib"].get<double>(), patches * patches * 4 / (1024.0 * 1024.0), 1e-9);
+  CommandResult bad = run("info --scene nowhere.obj");
+  EXPECT_EQ(bad.exitCode, 2);
+  EXPECT_NE(bad.output.find("nowhere.obj: no such OBJ file"), std::string::npos) << bad.output;
+}
+
 TEST(CliTest, HelpListsTheOptions) {
   CommandResult help = run("render --help");
   EXPECT_EQ(help.exitCode, 0);

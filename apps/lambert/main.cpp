@@ -10,7 +10,8 @@ int main(int argc, char** argv) {
   using AddCommand = std::function<int()> (*)(CLI::App&);
   std::vector<std::pair<CLI::App*, std::function<int()>>> commands;
   for (AddCommand add : {lambert::cli::addRenderCommand, lambert::cli::addSolveCommand, lambert::cli::addAnimateCommand,
-                         lambert::cli::addReferenceCommand, lambert::cli::addCompareCommand, lambert::cli::addScenesCommand}) {
+                         lambert::cli::addReferenceCommand, lambert::cli::addCompareCommand, lambert::cli::addScenesCommand,
+                         lambert::cli::addInfoCommand}) {
     std::function<int()> run = add(app);
     commands.emplace_back(app.get_subcommands({}).back(), std::move(run));
   }

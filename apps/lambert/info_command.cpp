@@ -1,0 +1,89 @@
+// `lambert info SCENE`: what a scene holds and what solving it would take, before solving it:
+// surfaces (smooth regions), faces, materials, lights, bounds and unit, area, emitted power, and
+// the patch count and dense form-factor memory that --patches / --max-edge would give.
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <string>
+
+#include "commands.h"
+#include "lambert/engine/radiosity.h"
+#include "options.h"
+
+namespace lambert::cli {
+namespace {
+
+struct InfoCommandOptions {
+  MeshCommandOptions mesh;
+  bool json = false;
+};
+
+// MemAvailable from /proc/meminfo, in bytes; 0 when unknown.
+double availableMemoryBytes() {
+  std::ifstream in("/proc/meminfo");
+  std::string key;
+  double kib = 0;
+  std::string unit;
+  while (in >> key >> kib >> unit)
+    if (key == "MemAvailable:") return kib * 1024;
+  return 0;
+}
+
+int runInfo(const InfoCommandOptions& o) {
+  std::optional<Scene> scene = findScene("info", o.mesh);
+  if (!scene) return 2;
+  Stats stats;
+  stats.add("scene", "scene", scene->name);
+  std::size_t faces = 0;
+  double area = 0, emittedWatts = 0;
+  Vec3 lo{INFINITY, INFINITY, INFINITY}, hi = -lo;
+  const double m2 = scene->metresPerUnit * scene->metresPerUnit;
+  for (const Surface& s : scene->surfaces) {
+    faces += surfaceFaces(s).size();
+    const double a = surfaceArea(s);
+    area += a;
+    emittedWatts += a * m2 * kPi * s.emittedRadiance.sum();
+    for (const Vec3& v : s.vertices) {
+      lo = componentMin(lo, v);
+      hi = componentMax(hi, v);
+    }
+  }
+  int emitters = 0;
+  for (const Surface& s : scene->surfaces) emitters += s.emittedRadiance.maxComponent() > 0;
+  stats.add("surfaces", "surfaces (smooth regions)", static_cast<std::int64_t>(scene->surfaces.size()));
+  stats.add("faces", "faces", static_cast<std::int64_t>(faces));
+  stats.add("materials", "materials", static_cast<std::int64_t>(scene->materials.size()));
+  stats.add("emitting_surfaces", "emitting surfaces", static_cast<std::int64_t>(emitters));
+  stats.add("lights", "point, spot and directional lights", static_cast<std::int64_t>(scene->lights.size()));
+  stats.add("metres_per_unit", "metres per scene unit", scene->metresPerUnit, "m");
+  char bounds[160];
+  std::snprintf(bounds, sizeof bounds, "(%g, %g, %g) to (%g, %g, %g)", lo.x, lo.y, lo.z, hi.x, hi.y, hi.z);
+  stats.add("bounds", "bounds (scene units)", std::string(bounds));
+  stats.add("area_m2", "surface area", area * m2, "m2");
+  stats.add("emitted_watts", "power emitted by surfaces (RGB summed)", emittedWatts, "W");
+
+  const Mesh mesh = uniformMesh(*scene, {o.mesh.patches, o.mesh.maxEdge});
+  const double n = static_cast<double>(mesh.numPatches());
+  const double matrixBytes = n * n * sizeof(float);
+  stats.add("patches", o.mesh.maxEdge > 0 ? "patches at --max-edge" : "patches at --patches", static_cast<std::int64_t>(mesh.numPatches()));
+  stats.add("formfactor_matrix_mib", "dense form-factor matrix", matrixBytes / (1024.0 * 1024.0), "MiB");
+  if (const double available = availableMemoryBytes(); available > 0)
+    stats.add("fits_in_memory", "fits in available memory", std::string(matrixBytes < 0.8 * available ? "yes" : "no"));
+  if (scene->lights.empty() && emitters == 0)
+    std::fprintf(stderr, "lambert info: note: scene '%s' has no light and no emitting surface: it solves to black\n", scene->name.c_str());
+  printStats(stats, o.json, false);
+  return 0;
+}
+
+}  // namespace
+
+std::function<int()> addInfoCommand(CLI::App& app) {
+  auto options = std::make_shared<InfoCommandOptions>();
+  CLI::App* cmd = app.add_subcommand("info", "What a scene holds, and the patches and memory a dense solve would take");
+  addMeshOptions(*cmd, options->mesh);
+  cmd->add_flag("--json", options->json, "Print as JSON");
+  return [options] { return runInfo(*options); };
+}
+
+}  // namespace lambert::cli
