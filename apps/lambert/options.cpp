@@ -1,11 +1,10 @@
 #include "options.h"
 
-#include <cctype>
 #include <cstdio>
-#include <filesystem>
 #include <cstdlib>
 #include <map>
 
+#include "lambert/core/text.h"
 #include "lambert/io/exr.h"
 #include "lambert/io/png.h"
 #include "lambert/mesh/mesh.h"
@@ -108,9 +107,7 @@ void printStats(const Stats& stats, bool json, bool quiet, const std::string& he
 }
 
 std::optional<Scene> findScene(const std::string& command, const MeshCommandOptions& o) {
-  std::string extension = std::filesystem::path(o.scene).extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (extension != ".obj" && extension != ".gltf" && extension != ".glb")
+  if (!isMeshFile(o.scene))
     if (Status s = refuseGiven(o, {"--crease-angle"}, "it is for mesh files (.obj, .gltf, .glb), and '" + o.scene + "' is not one"); !s) {
       fail(command, s.error().message);
       return std::nullopt;
@@ -136,25 +133,15 @@ std::string defaultCacheDirectory() {
 
 }  // namespace
 
-namespace {
-
-std::string lowerExtension(const std::string& path) {
-  std::string extension = std::filesystem::path(path).extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return extension;
-}
-
-}  // namespace
-
 Status checkImagePath(const std::string& path, const GivenOptions& given) {
-  const std::string extension = lowerExtension(path);
+  const std::string extension = lowercaseExtension(path);
   if (extension == ".exr") return refuseGiven(given, {"--exposure"}, "an EXR holds linear radiance, with no tone mapping");
   if (extension != ".png") return Error{path + ": images are .png (tone mapped, 8-bit sRGB) or .exr (linear float radiance)"};
   return Ok{};
 }
 
 Status writeImageFile(const std::string& path, const Image& image, double exposureStops) {
-  if (lowerExtension(path) == ".exr") return writeExr(path, image);
+  if (lowercaseExtension(path) == ".exr") return writeExr(path, image);
   return writePng(path, image.width, image.height, toSrgb8(image, exposureStops));
 }
 

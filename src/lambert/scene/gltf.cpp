@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 
+#include "lambert/core/text.h"
 #include "lambert/core/warning.h"
 
 namespace lambert {
@@ -294,18 +295,10 @@ Result<Scene> readGltf(const std::string& path, const RegionOptions& regions) {
   tinygltf::TinyGLTF loader;
   tinygltf::Model model;
   std::string error, warn;
-  std::string extension = std::filesystem::path(path).extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  const bool ok = extension == ".glb" ? loader.LoadBinaryFromFile(&model, &error, &warn, path)
+  const bool ok = lowercaseExtension(path) == ".glb" ? loader.LoadBinaryFromFile(&model, &error, &warn, path)
                                       : loader.LoadASCIIFromFile(&model, &error, &warn, path);
-  auto line = [](std::string text) {
-    while (!text.empty() && (text.back() == '\n' || text.back() == '\r')) text.pop_back();
-    for (char& c : text)
-      if (c == '\n') c = ';';
-    return text;
-  };
-  if (!warn.empty()) warning(path + ": " + line(warn));
-  if (!ok) return Error{path + ": " + (error.empty() ? std::string("not a glTF file") : line(error))};
+  if (!warn.empty()) warning(path + ": " + singleLine(warn));
+  if (!ok) return Error{path + ": " + (error.empty() ? std::string("not a glTF file") : singleLine(error))};
   return Reader(model, path, regions).read();
 }
 

@@ -4,20 +4,10 @@
 
 #include <filesystem>
 
+#include "lambert/core/text.h"
 #include "lambert/core/warning.h"
 
 namespace lambert {
-namespace {
-
-// tinyobjloader's messages are lines; lambert's name the file once.
-std::string oneLine(std::string text) {
-  while (!text.empty() && (text.back() == '\n' || text.back() == '\r')) text.pop_back();
-  for (char& c : text)
-    if (c == '\n') c = ';';
-  return text;
-}
-
-}  // namespace
 
 Result<Scene> readObj(const std::string& path, const ObjOptions& options) {
   std::error_code ec;
@@ -27,8 +17,8 @@ Result<Scene> readObj(const std::string& path, const ObjOptions& options) {
   config.vertex_color = false;
   config.mtl_search_path = std::filesystem::path(path).parent_path().string();
   tinyobj::ObjReader reader;
-  if (!reader.ParseFromFile(path, config)) return Error{path + ": " + oneLine(reader.Error())};
-  if (!reader.Warning().empty()) warning(path + ": " + oneLine(reader.Warning()));
+  if (!reader.ParseFromFile(path, config)) return Error{path + ": " + singleLine(reader.Error())};
+  if (!reader.Warning().empty()) warning(path + ": " + singleLine(reader.Warning()));
 
   Scene scene;
   scene.name = std::filesystem::path(path).stem().string();

@@ -1,7 +1,6 @@
 #include "lambert/scene/scene_file.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -12,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "lambert/core/atomic_file.h"
+#include "lambert/core/text.h"
 #include "lambert/scene/builtin.h"
 #include "lambert/scene/gltf.h"
 #include "lambert/scene/obj.h"
@@ -425,9 +425,13 @@ Status writeSceneFile(const std::string& path, const Scene& scene) {
   return writeFileAtomically(path, std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
 }
 
+bool isMeshFile(const std::string& path) {
+  const std::string extension = lowercaseExtension(path);
+  return extension == ".obj" || extension == ".gltf" || extension == ".glb";
+}
+
 Result<Scene> loadScene(const std::string& nameOrPath, const LoadOptions& options) {
-  std::string extension = std::filesystem::path(nameOrPath).extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string extension = lowercaseExtension(nameOrPath);
   const bool obj = extension == ".obj";
   if (options.metresPerUnit > 0 && !obj)
     return Error{nameOrPath + ": a unit is for OBJ files, whose numbers have none; this scene states its own"};

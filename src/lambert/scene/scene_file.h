@@ -23,6 +23,9 @@ std::string sceneFileText(const Scene& scene);
 // Writes sceneFileText atomically (a temporary file renamed over path).
 Status writeSceneFile(const std::string& path, const Scene& scene);
 
+// Whether a path names a mesh file (.obj, .gltf, .glb), whose faces become smooth regions.
+bool isMeshFile(const std::string& path);
+
 // How to read files that do not say everything themselves.
 struct LoadOptions {
   double metresPerUnit = 0;        // OBJ: the unit of its numbers (0: metres); others state theirs
