@@ -29,15 +29,19 @@ double extent(const std::vector<Vec3>& v) {
   return length(hi - lo);
 }
 
-// Convex about `normal`: every turn the same way, and once around (a pentagram turns one way too).
+// Convex about `normal`, seen along it (so a slightly non-planar quad counts): every turn the
+// same way, and once around (a pentagram turns one way too).
 bool isConvex(const std::vector<Vec3>& v, const Vec3& normal, double size) {
+  Vec3 tangent, bitangent;
+  orthonormalBasis(normal, tangent, bitangent);
   double turning = 0;
   for (std::size_t k = 0; k < v.size(); ++k) {
     const Vec3 a = v[k], b = v[(k + 1) % v.size()], c = v[(k + 2) % v.size()];
-    const Vec3 in = b - a, out = c - b;
-    const double sine = dot(cross(in, out), normal);
+    const double inX = dot(b - a, tangent), inY = dot(b - a, bitangent);
+    const double outX = dot(c - b, tangent), outY = dot(c - b, bitangent);
+    const double sine = inX * outY - inY * outX;
     if (sine < -1e-12 * size * size) return false;
-    turning += std::atan2(sine, dot(in, out));
+    turning += std::atan2(sine, inX * outX + inY * outY);
   }
   return std::fabs(turning - 2 * kPi) < 1e-6;
 }

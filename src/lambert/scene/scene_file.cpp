@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -212,6 +213,78 @@ Camera readCamera(const Json& value, const std::string& pointer) {
   return camera;
 }
 
+// A mesh transform: scale, then rotations about x, y and z (degrees), then translation.
+struct MeshTransform {
+  Vec3 scale{1, 1, 1}, rotateDegrees, translate;
+
+  Vec3 direction(Vec3 d) const {
+    d = {d.x * scale.x, d.y * scale.y, d.z * scale.z};
+    const double rx = rotateDegrees.x * kPi / 180, ry = rotateDegrees.y * kPi / 180, rz = rotateDegrees.z * kPi / 180;
+    d = {d.x, d.y * std::cos(rx) - d.z * std::sin(rx), d.y * std::sin(rx) + d.z * std::cos(rx)};
+    d = {d.x * std::cos(ry) + d.z * std::sin(ry), d.y, -d.x * std::sin(ry) + d.z * std::cos(ry)};
+    return {d.x * std::cos(rz) - d.y * std::sin(rz), d.x * std::sin(rz) + d.y * std::cos(rz), d.z};
+  }
+  Vec3 point(const Vec3& p) const { return direction(p) + translate; }
+  bool mirrors() const { return scale.x * scale.y * scale.z < 0; }
+};
+
+// A mesh file (OBJ, glTF) by a path relative to the scene file, in the scene's units: OBJ
+// numbers are taken to be in them, glTF's metres are converted. Its surfaces, materials and
+// lights are added, transformed; its camera is kept for a scene file that has none.
+void addMesh(Scene& scene, const Json& value, const std::string& pointer, const std::string& scenePath,
+             std::optional<Camera>& camera) {
+  ObjectReader r(value, pointer);
+  const std::string relative = r.string("path", "");
+  if (relative.empty()) throw FieldError{pointer, "missing required field \"path\""};
+  if (!isMeshFile(relative)) throw FieldError{r.pointerOf("path"), "\"" + relative + "\" is not a mesh file (.obj, .gltf, .glb)"};
+  MeshTransform t;
+  if (r.has("transform")) {
+    ObjectReader tr(r.require("transform"), r.pointerOf("transform"));
+    if (tr.has("scale") && tr.find("scale")->is_number()) {
+      const double s = tr.number("scale", 1, -1e30, 1e30);
+      t.scale = {s, s, s};
+    } else {
+      t.scale = tr.vector("scale", {1, 1, 1});
+    }
+    if (t.scale.x * t.scale.y * t.scale.z == 0) throw FieldError{tr.pointerOf("scale"), "a scale of zero flattens the mesh"};
+    t.rotateDegrees = tr.vector("rotateDegrees", {});
+    t.translate = tr.vector("translate", {});
+    tr.finish("scale, rotateDegrees, translate");
+  }
+  LoadOptions load;
+  load.creaseAngleDegrees = r.number("creaseAngleDegrees", 20, 0, 180);
+  r.finish("path, transform, creaseAngleDegrees");
+  const bool obj = lowercaseExtension(relative) == ".obj";
+  if (obj) load.metresPerUnit = scene.metresPerUnit;
+  const std::string file = (std::filesystem::path(scenePath).parent_path() / relative).string();
+  Result<Scene> mesh = loadScene(file, load);
+  if (!mesh) throw FieldError{r.pointerOf("path"), mesh.error().message};
+  const double toSceneUnits = mesh->metresPerUnit / scene.metresPerUnit;
+
+  const int firstMaterial = static_cast<int>(scene.materials.size());
+  scene.materials.insert(scene.materials.end(), mesh->materials.begin(), mesh->materials.end());
+  for (Surface surface : mesh->surfaces) {
+    for (Vec3& v : surface.vertices) v = t.point(v * toSceneUnits);
+    if (t.mirrors() && surface.faces.empty()) std::reverse(surface.vertices.begin(), surface.vertices.end());
+    if (t.mirrors())
+      for (auto& face : surface.faces) std::reverse(face.begin(), face.end());
+    surface.material += firstMaterial;
+    scene.surfaces.push_back(std::move(surface));
+  }
+  for (Light light : mesh->lights) {
+    light.position = t.point(light.position * toSceneUnits);
+    light.direction = normalize(t.direction(light.direction));
+    scene.lights.push_back(light);
+  }
+  if (!camera && lowercaseExtension(relative) != ".obj") {  // OBJ has no camera: its default is not one to keep
+    Camera c = mesh->camera;
+    c.eye = t.point(c.eye * toSceneUnits);
+    c.target = t.point(c.target * toSceneUnits);
+    c.up = normalize(t.direction(c.up));
+    camera = c;
+  }
+}
+
 Scene readScene(const Json& document, const std::string& path) {
   ObjectReader r(document, "");
   if (r.has("version")) {
@@ -263,12 +336,15 @@ Scene readScene(const Json& document, const std::string& path) {
     sr.finish("name, material, vertices");
     scene.surfaces.push_back(std::move(surface));
   }
-  if (scene.surfaces.empty()) throw FieldError{"/surfaces", "the scene has no surfaces"};
-
   const Json& lights = r.array("lights");
   for (std::size_t l = 0; l < lights.size(); ++l) scene.lights.push_back(readLight(lights[l], "/lights/" + std::to_string(l)));
-  scene.camera = r.has("camera") ? readCamera(r.require("camera"), "/camera") : cameraViewingScene(scene);
-  r.finish("version, name, unit, metresPerUnit, materials, surfaces, lights, camera");
+
+  std::optional<Camera> meshCamera;
+  const Json& meshes = r.array("meshes");
+  for (std::size_t m = 0; m < meshes.size(); ++m) addMesh(scene, meshes[m], "/meshes/" + std::to_string(m), path, meshCamera);
+  if (scene.surfaces.empty()) throw FieldError{"/surfaces", "the scene has no surfaces (give \"surfaces\" or \"meshes\")"};
+  scene.camera = r.has("camera") ? readCamera(r.require("camera"), "/camera") : meshCamera ? *meshCamera : cameraViewingScene(scene);
+  r.finish("version, name, unit, metresPerUnit, materials, surfaces, meshes, lights, camera");
   return scene;
 }
 

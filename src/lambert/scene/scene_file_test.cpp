@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 
+#include "lambert/engine/radiosity.h"
 #include "lambert/scene/builtin.h"
 #include "tests/support/files.h"
 
@@ -42,6 +44,87 @@ TEST(SceneFileTest, TheShippedCornellBoxIsTheBuiltInOne) {
     Result<Scene> read = loadScene(path);
     ASSERT_TRUE(read.ok()) << read.error().message;
     expectSameScene(*read, *builtinScene(name));
+  }
+}
+
+// The same box as OBJ + MTL, placed by a scene file that gives the unit and the camera: the same
+// surfaces, and the same solution at every vertex.
+TEST(SceneFileTest, TheShippedCornellObjIsTheBuiltInBox) {
+  Result<Scene> fromObj = loadScene(std::string(LAMBERT_SOURCE_DIR) + "/scenes/cornell/cornell-obj.json");
+  ASSERT_TRUE(fromObj.ok()) << fromObj.error().message;
+  const Scene builtin = cornellBox();
+  ASSERT_EQ(fromObj->surfaces.size(), builtin.surfaces.size());
+  for (std::size_t s = 0; s < builtin.surfaces.size(); ++s) {
+    ASSERT_EQ(fromObj->surfaces[s].vertices.size(), builtin.surfaces[s].vertices.size()) << builtin.surfaces[s].name;
+    for (std::size_t v = 0; v < builtin.surfaces[s].vertices.size(); ++v)
+      EXPECT_LT(length(fromObj->surfaces[s].vertices[v] - builtin.surfaces[s].vertices[v]), 1e-9);
+    EXPECT_EQ(fromObj->surfaces[s].emittedRadiance, builtin.surfaces[s].emittedRadiance);
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(fromObj->materials[fromObj->surfaces[s].material].albedo[c], builtin.materials[builtin.surfaces[s].material].albedo[c], 1e-15);
+  }
+  EXPECT_EQ(fromObj->metresPerUnit, 0.001);
+  EXPECT_EQ(fromObj->camera.eye, builtin.camera.eye);
+
+  RadiosityOptions options;
+  options.uniform.targetPatches = 300;
+  options.formFactors.showProgress = false;
+  std::vector<Rgb> radiance[2];
+  const Scene* scenes[2] = {&builtin, &*fromObj};
+  for (int k = 0; k < 2; ++k) {
+    auto engine = Radiosity::create(*scenes[k], options);
+    ASSERT_TRUE(engine.ok());
+    ASSERT_TRUE((*engine)->solve().ok());
+    radiance[k] = (*engine)->solution().vertexRadiance();
+  }
+  ASSERT_EQ(radiance[0].size(), radiance[1].size());
+  for (std::size_t v = 0; v < radiance[0].size(); ++v)
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(radiance[1][v][c], radiance[0][v][c], 1e-3 * radiance[0][v][c] + 1e-12) << v;
+}
+
+TEST(SceneFileTest, MeshesArePlacedInTheScenesUnits) {
+  const std::filesystem::path dir = testing::scratchDirectory("scene-file", "meshes");
+  std::ofstream(dir / "tri.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  auto read = [&](const std::string& meshes, const std::string& unit = "m") {
+    std::ofstream(dir / "scene.json") << "{\"unit\": \"" + unit + "\", \"meshes\": [" + meshes + "]}";
+    return loadScene((dir / "scene.json").string());
+  };
+  // Scaled by 2, turned 90° about y, moved: (1, 0, 0) → (2, 0, 0) → (0, 0, −2) → (10, 0, −2).
+  Result<Scene> placed = read(R"({"path": "tri.obj", "transform": {"scale": 2, "rotateDegrees": [0, 90, 0], "translate": [10, 0, 0]}})");
+  ASSERT_TRUE(placed.ok()) << placed.error().message;
+  ASSERT_EQ(placed->surfaces.size(), 1u);
+  EXPECT_LT(length(placed->surfaces[0].vertices[1] - Vec3{10, 0, -2}), 1e-12);
+  EXPECT_NEAR(surfaceArea(placed->surfaces[0]), 2, 1e-12);
+  // A mirroring scale keeps the front in front: mirrored across x the triangle still faces +z;
+  // mirrored across its own plane its front is the mirror image of +z.
+  Result<Scene> mirrored = read(R"({"path": "tri.obj", "transform": {"scale": [-1, 1, 1]}})");
+  ASSERT_TRUE(mirrored.ok());
+  EXPECT_GT(surfaceNormal(mirrored->surfaces[0]).z, 0.999);
+  Result<Scene> flipped = read(R"({"path": "tri.obj", "transform": {"scale": [1, 1, -1]}})");
+  ASSERT_TRUE(flipped.ok());
+  EXPECT_LT(surfaceNormal(flipped->surfaces[0]).z, -0.999);
+  Result<Scene> upright = read(R"({"path": "tri.obj"})");
+  EXPECT_GT(surfaceNormal(upright->surfaces[0]).z, 0.999);
+  // glTF is in metres: in a millimetre scene its floor is 4000 × 3000, its camera comes along.
+  std::filesystem::copy_file(std::string(LAMBERT_SOURCE_DIR) + "/tests/data/blender_room.glb", dir / "room.glb");
+  Result<Scene> room = read(R"({"path": "room.glb"})", "mm");
+  ASSERT_TRUE(room.ok()) << room.error().message;
+  double floorArea = 0;
+  for (const Surface& s : room->surfaces)
+    if (room->materials[s.material].name == "floor") floorArea += surfaceArea(s);
+  EXPECT_NEAR(floorArea, 12e6, 1);
+  EXPECT_NEAR(length(room->camera.eye - Vec3{0, 1600, 5500}), 0, 1e-3);
+  EXPECT_EQ(room->lights.size(), 3u);
+  EXPECT_NEAR(room->lights[0].position.y, 2000, 1e-3);
+
+  for (const auto& [meshes, message] : std::vector<std::pair<std::string, std::string>>{
+           {R"({"transform": {}})", "/meshes/0: missing required field \"path\""},
+           {R"({"path": "scene.json"})", "/meshes/0/path: \"scene.json\" is not a mesh file"},
+           {R"({"path": "gone.obj"})", "/meshes/0/path: " + (dir / "gone.obj").string() + ": no such OBJ file"},
+           {R"({"path": "tri.obj", "transform": {"scale": 0}})", "/meshes/0/transform/scale: a scale of zero"},
+           {R"({"path": "tri.obj", "offset": 1})", "/meshes/0/offset: unknown field"}}) {
+    Result<Scene> bad = read(meshes);
+    ASSERT_FALSE(bad.ok()) << meshes;
+    EXPECT_TRUE(testing::contains(bad.error().message, message)) << bad.error().message;
   }
 }
 
