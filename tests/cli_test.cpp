@@ -451,6 +451,19 @@ TEST(CliTest, SceneFilesRenderAndBadOnesAreRefused) {
   EXPECT_FALSE(fs::exists(dir / "exposed.exr"));
   EXPECT_FALSE(fs::exists(dir / "image.jpg"));
 
+  // The solution as binary glTF, which lambert (and Blender) read back.
+  CommandResult glbOut = run("solve --scene cornell-spots --patches 192 --export " + (dir / "spots.glb").string() + " --bake radiance -q");
+  ASSERT_EQ(glbOut.exitCode, 0) << glbOut.output;
+  CommandResult reread = run("info --scene " + (dir / "spots.glb").string() + " --json");
+  ASSERT_EQ(reread.exitCode, 0) << reread.output;
+  EXPECT_GT(nlohmann::json::parse(reread.output.substr(reread.output.find('{')))["faces"].get<int>(), 192);
+  CommandResult bakeAlone = run("solve --patches 64 --bake radiance");
+  EXPECT_EQ(bakeAlone.exitCode, 2);
+  EXPECT_NE(bakeAlone.output.find("--bake has no effect"), std::string::npos) << bakeAlone.output;
+  CommandResult textGltf = run("render --export " + (dir / "scene.gltf").string() + common + (dir / "never.png").string());
+  EXPECT_EQ(textGltf.exitCode, 2);
+  EXPECT_NE(textGltf.output.find("give a .glb path"), std::string::npos) << textGltf.output;
+
   CommandResult exported = run("scenes --export " + (dir / "scenes").string());
   ASSERT_EQ(exported.exitCode, 0) << exported.output;
   EXPECT_TRUE(fs::exists(dir / "scenes" / "cornell.json"));

@@ -84,6 +84,26 @@ void addSolveOptions(CLI::App& cmd, SolveCommandOptions& o) {
   cmd.add_flag("-q,--quiet", o.quiet, "Print nothing on success");
 }
 
+void addExportOptions(CLI::App& cmd, ExportCommandOptions& o) {
+  o.command = &cmd;
+  cmd.add_option("--export", o.glb, "Also write the solved scene as binary glTF (.glb) with the light baked into COLOR_0");
+  cmd.add_option("--bake", o.bake,
+                 "What COLOR_0 of --export holds: irradiance (H/pi, under the base colour) or radiance (final, over white)")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, GltfBake>{{"irradiance", GltfBake::Irradiance}, {"radiance", GltfBake::Radiance}}))
+      ->default_str("irradiance");
+}
+
+Status checkExportOptions(const ExportCommandOptions& o) {
+  if (o.glb.empty()) return refuseGiven(o, {"--bake"}, "it says what --export bakes, and no --export FILE.glb is asked for");
+  if (lowercaseExtension(o.glb) != ".glb") return Error{o.glb + ": --export writes binary glTF: give a .glb path"};
+  return Ok{};
+}
+
+Status exportSolution(const ExportCommandOptions& o, const SolutionView& solution, double exposureStops) {
+  if (o.glb.empty()) return Ok{};
+  return writeGlb(o.glb, solution, {o.bake, exposureStops});
+}
+
 void addImageOptions(CLI::App& cmd, ImageCommandOptions& o) {
   o.command = &cmd;
   cmd.add_option("--width", o.image.width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();

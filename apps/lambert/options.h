@@ -12,6 +12,7 @@
 #include "lambert/core/image.h"
 #include "lambert/core/stats.h"
 #include "lambert/engine/radiosity.h"
+#include "lambert/io/gltf_export.h"
 #include "lambert/render/solution_image.h"
 #include "lambert/scene/scene.h"
 
@@ -60,7 +61,18 @@ struct ImageCommandOptions : GivenOptions {
   double exposure = 0;
 };
 
+// --export FILE.glb and --bake: the solved scene for Blender and engines (io/gltf_export.h).
+struct ExportCommandOptions : GivenOptions {
+  std::string glb;
+  GltfBake bake = GltfBake::Irradiance;
+};
+
 void addMeshOptions(CLI::App& command, MeshCommandOptions& options);
+void addExportOptions(CLI::App& command, ExportCommandOptions& options);
+// Refuses a path that is not .glb, and --bake without --export.
+Status checkExportOptions(const ExportCommandOptions& options);
+// Writes the .glb when one is asked for (Ok otherwise); COLOR_0 scaled by 2^exposureStops.
+Status exportSolution(const ExportCommandOptions& options, const SolutionView& solution, double exposureStops);
 void addSolveOptions(CLI::App& command, SolveCommandOptions& options);
 void addImageOptions(CLI::App& command, ImageCommandOptions& options);
 

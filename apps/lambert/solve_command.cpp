@@ -15,6 +15,8 @@ namespace {
 
 struct SolveOnlyOptions {
   SolveCommandOptions solve;
+  ExportCommandOptions exported;
+  double exposure = 0;  // of the --export's COLOR_0
   std::string exportVertices;
 };
 
@@ -22,6 +24,10 @@ int runSolve(const SolveOnlyOptions& o) {
   Timer total;
   std::optional<Scene> scene = findScene("solve", o.solve);
   if (!scene) return 2;
+  if (Status ok = checkExportOptions(o.exported); !ok) return fail("solve", ok.error().message);
+  if (o.exported.glb.empty())
+    if (Status ok = refuseGiven(o.exported, {"--exposure"}, "it scales --export's COLOR_0, and no --export is asked for"); !ok)
+      return fail("solve", ok.error().message);
   std::unique_ptr<Radiosity> engine = makeEngine("solve", *scene, o.solve);
   if (!engine) return 2;
   if (Result<SolveCallReport> solved = engine->solve(); !solved) return fail("solve", solved.error().message);
@@ -35,6 +41,11 @@ int runSolve(const SolveOnlyOptions& o) {
     }
     stats.add("vertices_file", "vertices written to", o.exportVertices);
   }
+  if (Status exported = exportSolution(o.exported, engine->solution(), o.exposure); !exported) {
+    std::fprintf(stderr, "lambert solve: %s\n", exported.error().message.c_str());
+    return 1;
+  }
+  if (!o.exported.glb.empty()) stats.add("export", "glTF written to", o.exported.glb);
   stats.add("total_seconds", "total time", total.seconds(), "s");
   printStats(stats, o.solve.json, o.solve.quiet);
   return 0;
@@ -46,6 +57,8 @@ std::function<int()> addSolveCommand(CLI::App& app) {
   auto options = std::make_shared<SolveOnlyOptions>();
   CLI::App* cmd = app.add_subcommand("solve", "Solve a scene's radiosity; export per-vertex radiance (CSV or PLY)");
   addSolveOptions(*cmd, options->solve);
+  addExportOptions(*cmd, options->exported);
+  cmd->add_option("--exposure", options->exposure, "Exposure in stops of --export's COLOR_0")->capture_default_str();
   cmd->add_option("--export-vertices", options->exportVertices,
                   "Write every mesh vertex: position, normal, outgoing radiance L = B/pi (.csv or .ply)");
   return [options] { return runSolve(*options); };
