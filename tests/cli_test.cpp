@@ -424,7 +424,7 @@ TEST(CliTest, SceneFilesRenderAndBadOnesAreRefused) {
   EXPECT_NE(crease.output.find("--crease-angle has no effect"), std::string::npos) << crease.output;
   CommandResult units = run("render --scene " + file + " --units cm" + common + (dir / "never.png").string());
   EXPECT_EQ(units.exitCode, 2);
-  EXPECT_NE(units.output.find("a unit is for OBJ files"), std::string::npos) << units.output;
+  EXPECT_NE(units.output.find("a unit is for OBJ and PLY files"), std::string::npos) << units.output;
   EXPECT_FALSE(fs::exists(dir / "never.png"));
 
   // Blender's own glTF export renders as it is, with its three lights.

@@ -23,7 +23,7 @@ void addMeshOptions(CLI::App& cmd, MeshCommandOptions& o) {
       ->check(CLI::Range(1e-9, 1e12))
       ->excludes(patches);
   cmd.add_option("--seed", o.seed, "Random seed")->capture_default_str();
-  cmd.add_option("--units", o.metresPerUnit, "Unit of an OBJ file's numbers: m, cm, mm, in or ft (default m)")
+  cmd.add_option("--units", o.metresPerUnit, "Unit of an OBJ or PLY file's numbers: m, cm, mm, in or ft (default m)")
       ->transform(CLI::CheckedTransformer(std::map<std::string, double>{{"m", 1}, {"cm", 0.01}, {"mm", 0.001}, {"in", 0.0254}, {"ft", 0.3048}}));
   cmd.add_option("--crease-angle", o.creaseAngleDegrees,
                  "Mesh files: neighbouring faces whose normals differ by more are not smoothed (degrees)")
@@ -128,7 +128,7 @@ void printStats(const Stats& stats, bool json, bool quiet, const std::string& he
 
 std::optional<Scene> findScene(const std::string& command, const MeshCommandOptions& o) {
   if (!isMeshFile(o.scene))
-    if (Status s = refuseGiven(o, {"--crease-angle"}, "it is for mesh files (.obj, .gltf, .glb), and '" + o.scene + "' is not one"); !s) {
+    if (Status s = refuseGiven(o, {"--crease-angle"}, "it is for mesh files (.obj, .ply, .gltf, .glb), and '" + o.scene + "' is not one"); !s) {
       fail(command, s.error().message);
       return std::nullopt;
     }

@@ -129,7 +129,7 @@ TEST(ObjTest, LoadSceneReadsObjWithAUnitAndRefusesUnitsElsewhere) {
   EXPECT_EQ(scene->metresPerUnit, 0.001);
   Result<Scene> builtin = loadScene("cornell", LoadOptions{.metresPerUnit = 0.01, .creaseAngleDegrees = 20});
   ASSERT_FALSE(builtin.ok());
-  EXPECT_TRUE(testing::contains(builtin.error().message, "a unit is for OBJ files")) << builtin.error().message;
+  EXPECT_TRUE(testing::contains(builtin.error().message, "a unit is for OBJ and PLY files")) << builtin.error().message;
 }
 
 }  // namespace

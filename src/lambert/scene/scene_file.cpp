@@ -16,6 +16,7 @@
 #include "lambert/scene/builtin.h"
 #include "lambert/scene/gltf.h"
 #include "lambert/scene/obj.h"
+#include "lambert/scene/ply.h"
 
 namespace lambert {
 namespace {
@@ -236,7 +237,7 @@ void addMesh(Scene& scene, const Json& value, const std::string& pointer, const 
   ObjectReader r(value, pointer);
   const std::string relative = r.string("path", "");
   if (relative.empty()) throw FieldError{pointer, "missing required field \"path\""};
-  if (!isMeshFile(relative)) throw FieldError{r.pointerOf("path"), "\"" + relative + "\" is not a mesh file (.obj, .gltf, .glb)"};
+  if (!isMeshFile(relative)) throw FieldError{r.pointerOf("path"), "\"" + relative + "\" is not a mesh file (.obj, .ply, .gltf, .glb)"};
   MeshTransform t;
   if (r.has("transform")) {
     ObjectReader tr(r.require("transform"), r.pointerOf("transform"));
@@ -254,8 +255,8 @@ void addMesh(Scene& scene, const Json& value, const std::string& pointer, const 
   LoadOptions load;
   load.creaseAngleDegrees = r.number("creaseAngleDegrees", 20, 0, 180);
   r.finish("path, transform, creaseAngleDegrees");
-  const bool obj = lowercaseExtension(relative) == ".obj";
-  if (obj) load.metresPerUnit = scene.metresPerUnit;
+  const bool gltf = lowercaseExtension(relative) == ".gltf" || lowercaseExtension(relative) == ".glb";
+  if (!gltf) load.metresPerUnit = scene.metresPerUnit;  // OBJ and PLY numbers are in the scene's unit
   const std::string file = (std::filesystem::path(scenePath).parent_path() / relative).string();
   Result<Scene> mesh = loadScene(file, load);
   if (!mesh) throw FieldError{r.pointerOf("path"), mesh.error().message};
@@ -276,7 +277,7 @@ void addMesh(Scene& scene, const Json& value, const std::string& pointer, const 
     light.direction = normalize(t.direction(light.direction));
     scene.lights.push_back(light);
   }
-  if (!camera && lowercaseExtension(relative) != ".obj") {  // OBJ has no camera: its default is not one to keep
+  if (!camera && gltf) {  // only glTF has a camera: the others' default is not one to keep
     Camera c = mesh->camera;
     c.eye = t.point(c.eye * toSceneUnits);
     c.target = t.point(c.target * toSceneUnits);
@@ -503,18 +504,20 @@ Status writeSceneFile(const std::string& path, const Scene& scene) {
 
 bool isMeshFile(const std::string& path) {
   const std::string extension = lowercaseExtension(path);
-  return extension == ".obj" || extension == ".gltf" || extension == ".glb";
+  return extension == ".obj" || extension == ".ply" || extension == ".gltf" || extension == ".glb";
 }
 
 Result<Scene> loadScene(const std::string& nameOrPath, const LoadOptions& options) {
   const std::string extension = lowercaseExtension(nameOrPath);
-  const bool obj = extension == ".obj";
-  if (options.metresPerUnit > 0 && !obj)
-    return Error{nameOrPath + ": a unit is for OBJ files, whose numbers have none; this scene states its own"};
+  const bool unitless = extension == ".obj" || extension == ".ply";
+  if (options.metresPerUnit > 0 && !unitless)
+    return Error{nameOrPath + ": a unit is for OBJ and PLY files, whose numbers have none; this scene states its own"};
   if (std::optional<Scene> builtin = builtinScene(nameOrPath)) return *builtin;
   if (extension == ".json") return readSceneFile(nameOrPath);
   if (extension == ".gltf" || extension == ".glb") return readGltf(nameOrPath, {options.creaseAngleDegrees});
-  if (obj) {
+  if (extension == ".ply")
+    return readPly(nameOrPath, options.metresPerUnit > 0 ? options.metresPerUnit : 1, {options.creaseAngleDegrees});
+  if (extension == ".obj") {
     ObjOptions obj;
     obj.metresPerUnit = options.metresPerUnit > 0 ? options.metresPerUnit : 1;
     obj.regions.creaseAngleDegrees = options.creaseAngleDegrees;
@@ -522,7 +525,7 @@ Result<Scene> loadScene(const std::string& nameOrPath, const LoadOptions& option
   }
   std::string names;
   for (const std::string& n : builtinSceneNames()) names += (names.empty() ? "" : ", ") + n;
-  return Error{"unknown scene '" + nameOrPath + "' (built-in scenes: " + names + "; or a scene file: .json, .obj, .gltf, .glb)"};
+  return Error{"unknown scene '" + nameOrPath + "' (built-in scenes: " + names + "; or a scene file: .json, .obj, .ply, .gltf, .glb)"};
 }
 
 }  // namespace lambert

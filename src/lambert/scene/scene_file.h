@@ -23,17 +23,17 @@ std::string sceneFileText(const Scene& scene);
 // Writes sceneFileText atomically (a temporary file renamed over path).
 Status writeSceneFile(const std::string& path, const Scene& scene);
 
-// Whether a path names a mesh file (.obj, .gltf, .glb), whose faces become smooth regions.
+// Whether a path names a mesh file (.obj, .ply, .gltf, .glb), whose faces become smooth regions.
 bool isMeshFile(const std::string& path);
 
 // How to read files that do not say everything themselves.
 struct LoadOptions {
-  double metresPerUnit = 0;        // OBJ: the unit of its numbers (0: metres); others state theirs
+  double metresPerUnit = 0;        // OBJ, PLY: the unit of their numbers (0: metres); others state theirs
   double creaseAngleDegrees = 20;  // mesh files: neighbours whose normals differ more are not smoothed
 };
 
-// A built-in scene by name (scene/builtin.h), or a file by its extension (.json, .obj, .gltf,
-// .glb); anything
+// A built-in scene by name (scene/builtin.h), or a file by its extension (.json, .obj, .ply,
+// .gltf, .glb); anything
 // else is an error naming the choices. A unit for a file that states its own is an error.
 Result<Scene> loadScene(const std::string& nameOrPath, const LoadOptions& options = {});
 
