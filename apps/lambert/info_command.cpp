@@ -37,18 +37,14 @@ int runInfo(const InfoCommandOptions& o) {
   stats.add("scene", "scene", scene->name);
   std::size_t faces = 0;
   double area = 0, emittedWatts = 0;
-  Vec3 lo{INFINITY, INFINITY, INFINITY}, hi = -lo;
   const double m2 = scene->metresPerUnit * scene->metresPerUnit;
   for (const Surface& s : scene->surfaces) {
     faces += surfaceFaces(s).size();
     const double a = surfaceArea(s);
     area += a;
     emittedWatts += a * m2 * kPi * s.emittedRadiance.sum();
-    for (const Vec3& v : s.vertices) {
-      lo = componentMin(lo, v);
-      hi = componentMax(hi, v);
-    }
   }
+  const auto [lo, hi] = sceneBounds(*scene);
   int emitters = 0;
   for (const Surface& s : scene->surfaces) emitters += s.emittedRadiance.maxComponent() > 0;
   stats.add("surfaces", "surfaces (smooth regions)", static_cast<std::int64_t>(scene->surfaces.size()));

@@ -104,13 +104,8 @@ Mesh subdivideScene(const Scene& scene, double maxEdgeLength) {
 }
 
 double sceneDiagonal(const Scene& scene) {
-  Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
-  for (const Surface& s : scene.surfaces)
-    for (const Vec3& v : s.vertices) {
-      lo = componentMin(lo, v);
-      hi = componentMax(hi, v);
-    }
-  return length(hi - lo);
+  const Bounds bounds = sceneBounds(scene);
+  return length(bounds.hi - bounds.lo);
 }
 
 double edgeLengthForPatchCount(const Scene& scene, std::size_t targetPatches) {

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 
+#include "lambert/core/srgb.h"
 #include "lambert/core/text.h"
 #include "lambert/core/warning.h"
 
@@ -126,11 +127,10 @@ class Reader {
     const tinygltf::Image& image = model_.images[static_cast<std::size_t>(source)];
     if (image.bits != 8 || image.component < 3 || image.image.size() < static_cast<std::size_t>(image.width) * image.height * image.component)
       return Error{path_ + ": image '" + image.name + "' is not 8-bit RGB(A)"};
-    auto linear = [](double encoded) { return encoded <= 0.04045 ? encoded / 12.92 : std::pow((encoded + 0.055) / 1.055, 2.4); };
     Rgb sum;
     const std::size_t texels = static_cast<std::size_t>(image.width) * image.height;
     for (std::size_t t = 0; t < texels; ++t)
-      for (int c = 0; c < 3; ++c) sum[c] += linear(image.image[t * image.component + c] / 255.0);
+      for (int c = 0; c < 3; ++c) sum[c] += srgbDecode(image.image[t * image.component + c] / 255.0);
     return texels > 0 ? sum / static_cast<double>(texels) : Rgb{1, 1, 1};
   }
 

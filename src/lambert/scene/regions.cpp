@@ -14,38 +14,6 @@ namespace {
 
 bool isFinite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
-Vec3 newellVector(const std::vector<Vec3>& v) {
-  Vec3 n;
-  for (std::size_t k = 0; k < v.size(); ++k) n += cross(v[k], v[(k + 1) % v.size()]);
-  return n;
-}
-
-double extent(const std::vector<Vec3>& v) {
-  Vec3 lo = v[0], hi = v[0];
-  for (const Vec3& p : v) {
-    lo = componentMin(lo, p);
-    hi = componentMax(hi, p);
-  }
-  return length(hi - lo);
-}
-
-// Convex about `normal`, seen along it (so a slightly non-planar quad counts): every turn the
-// same way, and once around (a pentagram turns one way too).
-bool isConvex(const std::vector<Vec3>& v, const Vec3& normal, double size) {
-  Vec3 tangent, bitangent;
-  orthonormalBasis(normal, tangent, bitangent);
-  double turning = 0;
-  for (std::size_t k = 0; k < v.size(); ++k) {
-    const Vec3 a = v[k], b = v[(k + 1) % v.size()], c = v[(k + 2) % v.size()];
-    const double inX = dot(b - a, tangent), inY = dot(b - a, bitangent);
-    const double outX = dot(c - b, tangent), outY = dot(c - b, bitangent);
-    const double sine = inX * outY - inY * outX;
-    if (sine < -1e-12 * size * size) return false;
-    turning += std::atan2(sine, inX * outX + inY * outY);
-  }
-  return std::fabs(turning - 2 * kPi) < 1e-6;
-}
-
 struct UnionFind {
   std::vector<std::uint32_t> parent;
   explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
@@ -106,7 +74,7 @@ std::vector<std::array<std::uint32_t, 3>> triangulatePolygon(const std::vector<V
   auto area2 = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
     return (p[b].x - p[a].x) * (p[c].y - p[a].y) - (p[c].x - p[a].x) * (p[b].y - p[a].y);
   };
-  const double scale = extent(polygon);
+  const double scale = polygonExtent(polygon);
   const double tiny = 1e-14 * scale * scale;
   std::vector<std::uint32_t> left(n);
   std::iota(left.begin(), left.end(), 0u);
@@ -195,20 +163,20 @@ DroppedFaces addSmoothRegions(Scene& scene, const PolygonMesh& mesh, const std::
       ++dropped.repeatedVertex;
       continue;
     }
-    const Vec3 n = newellVector(polygon);
-    const double size = polygon.size() >= 3 ? extent(polygon) : 0;
+    const Vec3 n = polygonAreaVector(polygon);
+    const double size = polygon.size() >= 3 ? polygonExtent(polygon) : 0;
     if (polygon.size() < 3 || !(length(n) > 1e-12 * size * size)) {
       ++dropped.noArea;
       continue;
     }
     const Vec3 normal = normalize(n);
-    if (isConvex(polygon, normal, size)) {
+    if (firstConcaveCorner(polygon, normal) == polygon.size()) {
       pieces.push_back({ids, face.material, normal});
       continue;
     }
     for (const auto& t : triangulatePolygon(polygon, normal)) {
       std::vector<Vec3> corners = {polygon[t[0]], polygon[t[1]], polygon[t[2]]};
-      pieces.push_back({{ids[t[0]], ids[t[1]], ids[t[2]]}, face.material, normalize(newellVector(corners))});
+      pieces.push_back({{ids[t[0]], ids[t[1]], ids[t[2]]}, face.material, normalize(polygonAreaVector(corners))});
     }
   }
 

@@ -18,10 +18,7 @@ std::vector<Vec3> facePositions(const Surface& surface, const std::vector<std::u
   return positions;
 }
 
-namespace {
-
-// Newell's vector: twice the polygon's area along its normal.
-Vec3 newell(const std::vector<Vec3>& v) {
+Vec3 polygonAreaVector(const std::vector<Vec3>& v) {
   Vec3 n;
   for (std::size_t i = 0; i < v.size(); ++i) {
     const Vec3& a = v[i];
@@ -31,13 +28,36 @@ Vec3 newell(const std::vector<Vec3>& v) {
   return n;
 }
 
-}  // namespace
+Vec3 polygonNormal(const std::vector<Vec3>& polygon) { return normalize(polygonAreaVector(polygon)); }
 
-Vec3 polygonNormal(const std::vector<Vec3>& polygon) { return normalize(newell(polygon)); }
+double polygonExtent(const std::vector<Vec3>& v) {
+  Vec3 lo = v[0], hi = v[0];
+  for (const Vec3& p : v) {
+    lo = componentMin(lo, p);
+    hi = componentMax(hi, p);
+  }
+  return length(hi - lo);
+}
+
+std::size_t firstConcaveCorner(const std::vector<Vec3>& v, const Vec3& normal) {
+  Vec3 tangent, bitangent;
+  orthonormalBasis(normal, tangent, bitangent);
+  const double size = polygonExtent(v);
+  double turning = 0;
+  for (std::size_t k = 0; k < v.size(); ++k) {
+    const Vec3 a = v[k], b = v[(k + 1) % v.size()], c = v[(k + 2) % v.size()];
+    const double inX = dot(b - a, tangent), inY = dot(b - a, bitangent);
+    const double outX = dot(c - b, tangent), outY = dot(c - b, bitangent);
+    const double sine = inX * outY - inY * outX;
+    if (sine < -1e-12 * size * size) return (k + 1) % v.size();
+    turning += std::atan2(sine, inX * outX + inY * outY);
+  }
+  return std::fabs(turning - 2 * kPi) < 1e-6 ? v.size() : 0;
+}
 
 Vec3 surfaceNormal(const Surface& surface) {
   Vec3 n;
-  for (const auto& face : surfaceFaces(surface)) n += newell(facePositions(surface, face));
+  for (const auto& face : surfaceFaces(surface)) n += polygonAreaVector(facePositions(surface, face));
   return normalize(n);
 }
 
@@ -50,13 +70,18 @@ double surfaceArea(const Surface& surface) {
   return area;
 }
 
-Camera cameraViewingScene(const Scene& scene) {
-  Vec3 lo{INFINITY, INFINITY, INFINITY}, hi = -lo;
+Bounds sceneBounds(const Scene& scene) {
+  Bounds b{{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
   for (const Surface& s : scene.surfaces)
     for (const Vec3& p : s.vertices) {
-      lo = componentMin(lo, p);
-      hi = componentMax(hi, p);
+      b.lo = componentMin(b.lo, p);
+      b.hi = componentMax(b.hi, p);
     }
+  return b;
+}
+
+Camera cameraViewingScene(const Scene& scene) {
+  const auto [lo, hi] = sceneBounds(scene);
   Camera camera;
   const Vec3 centre = (lo + hi) * 0.5;
   camera.target = centre;

@@ -76,9 +76,23 @@ std::vector<Vec3> facePositions(const Surface& surface, const std::vector<std::u
 // Unit normal of a polygon by Newell's method (robust for slightly non-planar ones); of a
 // surface, its area-weighted mean over the faces.
 Vec3 polygonNormal(const std::vector<Vec3>& polygon);
+// Newell's vector: the normal times twice the area (robust for non-planar polygons too).
+Vec3 polygonAreaVector(const std::vector<Vec3>& polygon);
+// The diagonal of a polygon's bounding box: the scale its tolerances are taken from.
+double polygonExtent(const std::vector<Vec3>& polygon);
+// The first corner (index) at which the polygon, seen along `normal`, turns the wrong way, or
+// polygon.size() when it is convex: every turn the same way, and once around (a pentagram turns
+// one way too; it gives 0).
+std::size_t firstConcaveCorner(const std::vector<Vec3>& polygon, const Vec3& normal);
 Vec3 surfaceNormal(const Surface& surface);
 // Area of a surface in scene units², as the sum of its faces' fan triangles.
 double surfaceArea(const Surface& surface);
+
+// The axis-aligned bounding box of every surface vertex, scene units.
+struct Bounds {
+  Vec3 lo, hi;
+};
+Bounds sceneBounds(const Scene& scene);
 
 // A camera that sees the whole scene, for files that have none: from in front (−z) of its
 // bounding box, 1.5 diagonals away, looking at its centre, 40° vertical field of view.

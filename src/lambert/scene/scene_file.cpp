@@ -143,22 +143,11 @@ double metresPerUnitOf(const std::string& unit, const std::string& pointer) {
 // Cornell box's red wall is 1.6 mm off plane).
 void checkPolygon(const std::vector<Vec3>& v, const std::string& pointer) {
   if (v.size() < 3) throw FieldError{pointer, "a polygon needs at least 3 vertices, found " + std::to_string(v.size())};
-  Vec3 lo = v[0], hi = v[0];
-  for (const Vec3& p : v) {
-    lo = {std::fmin(lo.x, p.x), std::fmin(lo.y, p.y), std::fmin(lo.z, p.z)};
-    hi = {std::fmax(hi.x, p.x), std::fmax(hi.y, p.y), std::fmax(hi.z, p.z)};
-  }
-  const double size = length(hi - lo);
-  Vec3 areaVector;  // Newell's normal: twice the area along the polygon's normal
-  for (std::size_t k = 0; k < v.size(); ++k) areaVector += cross(v[k], v[(k + 1) % v.size()]);
-  const double twiceArea = length(areaVector);
-  if (!(twiceArea > 1e-12 * size * size)) throw FieldError{pointer, "the polygon has no area (its vertices are collinear or repeated)"};
-  const Vec3 normal = areaVector / twiceArea;
-  for (std::size_t k = 0; k < v.size(); ++k) {
-    const Vec3 a = v[k], b = v[(k + 1) % v.size()], c = v[(k + 2) % v.size()];
-    if (dot(cross(b - a, c - b), normal) < -1e-12 * size * size)
-      throw FieldError{pointer + "/" + std::to_string((k + 1) % v.size()), "the polygon is not convex at this vertex"};
-  }
+  const double size = polygonExtent(v);
+  const Vec3 areaVector = polygonAreaVector(v);
+  if (!(length(areaVector) > 1e-12 * size * size)) throw FieldError{pointer, "the polygon has no area (its vertices are collinear or repeated)"};
+  if (std::size_t corner = firstConcaveCorner(v, normalize(areaVector)); corner < v.size())
+    throw FieldError{pointer + "/" + std::to_string(corner), "the polygon is not convex at this vertex"};
 }
 
 Light readLight(const Json& value, const std::string& pointer) {
