@@ -1,6 +1,44 @@
 #include "lambert/light/emission.h"
 
+#include <array>
+#include <cmath>
+
+#include "lambert/scene/texture.h"
+
 namespace lambert {
+namespace {
+
+// Barycentric coordinates of q (projected into the triangle's plane) in triangle (a, b, c).
+std::array<double, 3> barycentric(const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 e0 = b - a, e1 = c - a, d = q - a;
+  const double d00 = dot(e0, e0), d01 = dot(e0, e1), d11 = dot(e1, e1), d20 = dot(d, e0), d21 = dot(d, e1);
+  const double denominator = d00 * d11 - d01 * d01;
+  if (!(denominator > 0)) return {1, 0, 0};
+  const double beta = (d11 * d20 - d01 * d21) / denominator, gamma = (d00 * d21 - d01 * d20) / denominator;
+  return {1 - beta - gamma, beta, gamma};
+}
+
+// The texture coordinates of a patch's corners, from the fan triangle of its face that holds the
+// patch (the mesher splits faces along their fans, so one triangle holds each patch whole).
+std::array<Uv, 4> patchUvs(const Surface& surface, const std::vector<std::uint32_t>& face, const std::vector<Uv>& faceUvs,
+                           const PatchCorners& corners, const Vec3& centroid) {
+  std::size_t best = 1;
+  double bestInside = -INFINITY;
+  for (std::size_t k = 1; k + 1 < face.size(); ++k) {
+    auto w = barycentric(centroid, surface.vertices[face[0]], surface.vertices[face[k]], surface.vertices[face[k + 1]]);
+    const double inside = std::fmin(w[0], std::fmin(w[1], w[2]));
+    if (inside > bestInside) bestInside = inside, best = k;
+  }
+  std::array<Uv, 4> uvs{};
+  for (std::size_t c = 0; c < corners.size(); ++c) {
+    auto w = barycentric(corners[c], surface.vertices[face[0]], surface.vertices[face[best]], surface.vertices[face[best + 1]]);
+    uvs[c] = {w[0] * faceUvs[0].u + w[1] * faceUvs[best].u + w[2] * faceUvs[best + 1].u,
+              w[0] * faceUvs[0].v + w[1] * faceUvs[best].v + w[2] * faceUvs[best + 1].v};
+  }
+  return uvs;
+}
+
+}  // namespace
 
 std::vector<Rgb> emittedRadiosity(const Scene& scene, const Mesh& mesh) {
   std::vector<Rgb> emitted(mesh.numPatches());
@@ -11,8 +49,18 @@ std::vector<Rgb> emittedRadiosity(const Scene& scene, const Mesh& mesh) {
 
 std::vector<Rgb> patchAlbedo(const Scene& scene, const Mesh& mesh) {
   std::vector<Rgb> albedo(mesh.numPatches());
-  for (std::size_t i = 0; i < mesh.numPatches(); ++i)
-    albedo[i] = scene.materials[scene.surfaces[mesh.patches[i].surface].material].albedo;
+  std::vector<std::vector<std::vector<std::uint32_t>>> faces(scene.surfaces.size());  // filled when textured
+  for (std::size_t i = 0; i < mesh.numPatches(); ++i) {
+    const Patch& patch = mesh.patches[i];
+    const Surface& surface = scene.surfaces[patch.surface];
+    const Material& material = scene.materials[static_cast<std::size_t>(surface.material)];
+    albedo[i] = material.albedo;
+    if (!material.texture || surface.faceUvs.empty()) continue;
+    if (faces[patch.surface].empty()) faces[patch.surface] = surfaceFaces(surface);
+    const PatchCorners corners = mesh.corners(i);
+    const auto uvs = patchUvs(surface, faces[patch.surface][patch.face], surface.faceUvs[patch.face], corners, patch.centroid);
+    albedo[i] = albedo[i] * meanTextureOver(*material.texture, corners, std::span<const Uv>(uvs.data(), corners.size()));
+  }
   return albedo;
 }
 

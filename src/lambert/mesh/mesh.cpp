@@ -21,6 +21,8 @@ class SurfaceSubdivider {
     return static_cast<std::uint32_t>(mesh_.positions.size() - 1);
   }
 
+  void setFace(std::uint32_t face) { face_ = face; }
+
   void split(std::uint32_t a, std::uint32_t b, std::uint32_t c) {
     const Vec3 pa = mesh_.positions[a], pb = mesh_.positions[b], pc = mesh_.positions[c];
     double ab = lengthSquared(pb - pa), bc = lengthSquared(pc - pb), ca = lengthSquared(pa - pc);
@@ -52,10 +54,12 @@ class SurfaceSubdivider {
   void emit(std::uint32_t a, std::uint32_t b, std::uint32_t c) {
     const std::uint32_t corners[3] = {a, b, c};
     mesh_.patches.push_back(makePatch(mesh_.positions, corners, surface_));
+    mesh_.patches.back().face = face_;
   }
 
   Mesh& mesh_;
   std::uint32_t surface_;
+  std::uint32_t face_ = 0;
   double maxEdgeSquared_;
   std::unordered_map<std::uint64_t, std::uint32_t> midpoints_;
 };
@@ -95,8 +99,11 @@ Mesh subdivideScene(const Scene& scene, double maxEdgeLength) {
     SurfaceSubdivider subdivider(mesh, s, maxEdgeLength);
     const auto first = static_cast<std::uint32_t>(mesh.positions.size());
     for (const Vec3& v : surface.vertices) subdivider.addVertex(v);
-    for (const std::vector<std::uint32_t>& face : surfaceFaces(surface)) {
+    const auto faces = surfaceFaces(surface);
+    for (std::uint32_t f = 0; f < faces.size(); ++f) {
+      const std::vector<std::uint32_t>& face = faces[f];
       LAMBERT_CHECK(face.size() >= 3);
+      subdivider.setFace(f);
       for (std::size_t i = 1; i + 1 < face.size(); ++i) subdivider.split(first + face[0], first + face[i], first + face[i + 1]);
     }
   }

@@ -30,6 +30,7 @@ struct Patch {
   std::array<std::uint32_t, 4> vertices{};  // indices into Mesh::positions, counter-clockwise
   std::uint32_t numCorners = 3;             // 3 (triangle) or 4 (quad)
   std::uint32_t surface = 0;                // index into Scene::surfaces
+  std::uint32_t face = 0;                   // index into the surface's faces (uniform meshing)
   Vec3 normal;                            // unit, front side
   Vec3 centroid;
   double area = 0;                        // scene units²

@@ -90,3 +90,19 @@ Camera cameraViewingScene(const Scene& scene) {
 }
 
 }  // namespace lambert
+
+namespace lambert {
+
+Rgb Texture::sample(double u, double v) const {
+  if (width <= 0 || height <= 0) return Rgb::gray(1);
+  // Pixel centres sit at (i + ½)/width; wrap both neighbours so the filter repeats across edges.
+  const double x = u * width - 0.5, y = v * height - 0.5;
+  const double fx = std::floor(x), fy = std::floor(y);
+  const double ax = x - fx, ay = y - fy;
+  auto wrap = [](double i, int n) { return static_cast<int>(((static_cast<long long>(i) % n) + n) % n); };
+  const int x0 = wrap(fx, width), x1 = wrap(fx + 1, width), y0 = wrap(fy, height), y1 = wrap(fy + 1, height);
+  auto at = [this](int px, int py) { return pixels[static_cast<std::size_t>(py) * width + px]; };
+  return (at(x0, y0) * (1 - ax) + at(x1, y0) * ax) * (1 - ay) + (at(x0, y1) * (1 - ax) + at(x1, y1) * ax) * ay;
+}
+
+}  // namespace lambert

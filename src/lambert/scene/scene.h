@@ -2,6 +2,7 @@
 // A scene as plain data: what is there, what it is made of, what emits, and where the eye is.
 // Geometry is in scene units (metresPerUnit converts them to metres, for power in watts).
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -10,9 +11,29 @@
 
 namespace lambert {
 
+// An albedo texture, decoded to linear RGB (sRGB files are decoded on load). Texture coordinate
+// (0, 0) is the first pixel of the first row, (1, 1) the far corner of the last, as in glTF;
+// coordinates outside [0, 1] repeat.
+struct Texture {
+  std::string path;  // where it was read from, for messages and export
+  int width = 0, height = 0;
+  std::vector<Rgb> pixels;  // row by row, linear reflectance factors in [0, 1]
+  // The bilinearly filtered value at (u, v), repeating.
+  Rgb sample(double u, double v) const;
+};
+
 struct Material {
   std::string name;
-  Rgb albedo;  // diffuse reflectance ρ per channel, dimensionless, in [0, 1)
+  Rgb albedo;  // diffuse reflectance ρ per channel, dimensionless, in [0, 1); times the texture
+  // Faces of a two-sided material are solved as two surfaces back to back, each with its own
+  // radiosity (Surface::twin); one-sided faces have a black, opaque back.
+  bool twoSided = false;
+  std::shared_ptr<const Texture> texture = nullptr;  // ρ = albedo × texture(u, v), averaged per patch
+};
+
+struct Uv {
+  double u = 0, v = 0;
+  bool operator==(const Uv&) const = default;
 };
 
 // A surface is one smooth region: one or more convex polygons (faces) over shared vertices, all of
@@ -29,6 +50,12 @@ struct Surface {
   // Each face's vertex indices; empty: the one polygon of all the vertices in order (the
   // built-in scenes, and a scene file's inline polygons).
   std::vector<std::vector<std::uint32_t>> faces = {};
+  // Texture coordinates per face corner, parallel to surfaceFaces(); empty when untextured.
+  // (Per corner, not per vertex: a UV seam runs through a smooth region without splitting it.)
+  std::vector<std::vector<Uv>> faceUvs = {};
+  // The surface lying back to back on this one (its faces reversed) when its material is
+  // two-sided, else -1. A ray or a camera that meets the back of either meets the other's front.
+  int twin = -1;
 };
 
 // A light without area (seed 003): its light enters the radiosity solution as the direct
