@@ -85,6 +85,7 @@ void Hemicube::row(const Mesh& mesh, std::size_t i, Scratch& scratch, float* row
       std::size_t count = clipAbovePlane(std::span<const Vec3>(view, corners.size()), {0, 0, nearPlane}, {0, 0, 1}, clipped);
       if (count < 3) continue;
       const bool front = dot(mesh.patches[j].normal, eye - corners[0]) > 0;
+      if (!front && mesh.patches[j].twinned) continue;  // the twin lying on it is seen instead
       // Project: pixel coordinates px = (u/w + 1)/pixel, py = (v/w − vMin)/pixel.
       const double pixelsPerUnit = r / 2.0;
       double px[5], py[5], invW[5];

@@ -24,6 +24,7 @@ class BruteForceRayCaster final : public RayCaster {
     for (std::size_t i = 0; i < mesh_.numPatches(); ++i) {
       if (auto t = hitPatch(shrinking, i)) {
         bool front = dot(ray.direction, mesh_.patches[i].normal) < 0;
+        if (!front && mesh_.patches[i].twinned) continue;  // its twin, lying on it, is the hit
         nearest = RayHit{*t, static_cast<std::uint32_t>(i), front};
         shrinking.tMax = *t;
       }

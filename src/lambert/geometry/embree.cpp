@@ -14,6 +14,27 @@ void reportEmbreeError(void*, RTCError code, const char* message) {
   std::fprintf(stderr, "embree error %d: %s\n", static_cast<int>(code), message ? message : "");
 }
 
+// Per-patch data the intersection filter reads.
+struct PatchSides {
+  std::vector<Vec3> normals;   // per patch: the front side
+  std::vector<char> twinned;   // per patch: Patch::twinned
+};
+
+// A ray that meets the back of a twinned patch passes through it: the twin lying on it, facing
+// the ray, is the hit (the two are coincident, so which one Embree finds first is arbitrary).
+// Occlusion needs no filter: a two-sided face blocks from both sides either way.
+void skipTwinnedBacks(const RTCFilterFunctionNArguments* args) {
+  const auto* sides = static_cast<const PatchSides*>(args->geometryUserPtr);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    const unsigned patch = RTCHitN_primID(args->hit, args->N, i);
+    if (!sides->twinned[patch]) continue;
+    const Vec3 direction{RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
+                         RTCRayN_dir_z(args->ray, args->N, i)};
+    if (dot(direction, sides->normals[patch]) >= 0) args->valid[i] = 0;
+  }
+}
+
 RTCRay toRtcRay(const Ray& ray) {
   RTCRay r;
   r.org_x = static_cast<float>(ray.origin.x);
@@ -36,8 +57,14 @@ class EmbreeRayCaster final : public RayCaster {
   // Embree copies the geometry into its own buffers; the caster keeps only the normals it needs to
   // tell a hit's side, so it holds no reference to a mesh that could move away.
   explicit EmbreeRayCaster(const Mesh& mesh) {
-    normals_.reserve(mesh.numPatches());
-    for (const Patch& patch : mesh.patches) normals_.push_back(patch.normal);
+    sides_.normals.reserve(mesh.numPatches());
+    sides_.twinned.reserve(mesh.numPatches());
+    bool anyTwinned = false;
+    for (const Patch& patch : mesh.patches) {
+      sides_.normals.push_back(patch.normal);
+      sides_.twinned.push_back(patch.twinned);
+      anyTwinned |= patch.twinned;
+    }
     device_ = rtcNewDevice(nullptr);
     if (!device_) {
       std::fprintf(stderr, "embree: cannot create a device (error %d)\n", static_cast<int>(rtcGetDeviceError(nullptr)));
@@ -63,6 +90,10 @@ class EmbreeRayCaster final : public RayCaster {
     for (std::size_t i = 0; i < mesh.numPatches(); ++i) {
       const Patch& patch = mesh.patches[i];
       for (std::uint32_t k = 0; k < 4; ++k) indices[4 * i + k] = patch.vertices[std::min(k, patch.numCorners - 1)];
+    }
+    if (anyTwinned) {
+      rtcSetGeometryUserData(geometry, &sides_);
+      rtcSetGeometryIntersectFilterFunction(geometry, skipTwinnedBacks);
     }
     rtcCommitGeometry(geometry);
     rtcAttachGeometry(scene_, geometry);
@@ -110,12 +141,12 @@ class EmbreeRayCaster final : public RayCaster {
     rtcIntersect1(scene_, &context, &rayHit);
     if (rayHit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
     std::uint32_t patch = rayHit.hit.primID;
-    bool front = dot(ray.direction, normals_[patch]) < 0;
+    bool front = dot(ray.direction, sides_.normals[patch]) < 0;
     return RayHit{rayHit.ray.tfar, patch, front};
   }
 
  private:
-  std::vector<Vec3> normals_;  // per patch: the front side
+  PatchSides sides_;
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
 };

@@ -12,8 +12,8 @@ namespace {
 // either side of the edge, so the result has no T-junctions.
 class SurfaceSubdivider {
  public:
-  SurfaceSubdivider(Mesh& mesh, std::uint32_t surface, double maxEdgeLength)
-      : mesh_(mesh), surface_(surface), maxEdgeSquared_(maxEdgeLength * maxEdgeLength) {}
+  SurfaceSubdivider(Mesh& mesh, std::uint32_t surface, bool twinned, double maxEdgeLength)
+      : mesh_(mesh), surface_(surface), twinned_(twinned), maxEdgeSquared_(maxEdgeLength * maxEdgeLength) {}
 
   std::uint32_t addVertex(const Vec3& p) {
     mesh_.positions.push_back(p);
@@ -55,10 +55,12 @@ class SurfaceSubdivider {
     const std::uint32_t corners[3] = {a, b, c};
     mesh_.patches.push_back(makePatch(mesh_.positions, corners, surface_));
     mesh_.patches.back().face = face_;
+    mesh_.patches.back().twinned = twinned_;
   }
 
   Mesh& mesh_;
   std::uint32_t surface_;
+  bool twinned_;
   std::uint32_t face_ = 0;
   double maxEdgeSquared_;
   std::unordered_map<std::uint64_t, std::uint32_t> midpoints_;
@@ -96,7 +98,7 @@ Mesh subdivideScene(const Scene& scene, double maxEdgeLength) {
     LAMBERT_CHECK(surface.vertices.size() >= 3);
     // One subdivider for all the surface's faces: an edge two faces share is split at the same
     // midpoint vertex for both, so the region's mesh is conforming across it.
-    SurfaceSubdivider subdivider(mesh, s, maxEdgeLength);
+    SurfaceSubdivider subdivider(mesh, s, surface.twin >= 0, maxEdgeLength);
     const auto first = static_cast<std::uint32_t>(mesh.positions.size());
     for (const Vec3& v : surface.vertices) subdivider.addVertex(v);
     const auto faces = surfaceFaces(surface);

@@ -31,6 +31,9 @@ struct Patch {
   std::uint32_t numCorners = 3;             // 3 (triangle) or 4 (quad)
   std::uint32_t surface = 0;                // index into Scene::surfaces
   std::uint32_t face = 0;                   // index into the surface's faces (uniform meshing)
+  // Its surface has a twin lying back to back (Surface::twin): a ray or a camera that meets this
+  // patch's back meets the twin's front there instead, so the back is never what is seen.
+  bool twinned = false;
   Vec3 normal;                            // unit, front side
   Vec3 centroid;
   double area = 0;                        // scene units²

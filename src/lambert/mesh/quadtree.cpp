@@ -33,6 +33,7 @@ Result<AdaptiveMesh> AdaptiveMesh::build(const Scene& scene, const QuadtreeOptio
                    " vertices in " + std::to_string(surfaceFaces(surface).size()) + " faces; adaptive meshing needs quads"};
     SurfaceGrid grid;
     for (int k = 0; k < 4; ++k) grid.corners[k] = surface.vertices[k];
+    grid.twinned = surface.twin >= 0;
     const auto& c = grid.corners;
     double alongU = std::fmax(length(c[1] - c[0]), length(c[2] - c[3]));
     double alongV = std::fmax(length(c[3] - c[0]), length(c[2] - c[1]));
@@ -60,6 +61,7 @@ Result<AdaptiveMesh> AdaptiveMesh::build(const Scene& scene, const QuadtreeOptio
         };
         const std::uint32_t quad[4] = {at(a, b), at(a + 1, b), at(a + 1, b + 1), at(a, b + 1)};
         mesh.fineMesh_.patches.push_back(makePatch(mesh.fineMesh_.positions, quad, s));
+        mesh.fineMesh_.patches.back().twinned = grid.twinned;
       }
     mesh.grids_.push_back(std::move(grid));
   }
@@ -109,6 +111,7 @@ std::uint32_t AdaptiveMesh::createNode(std::uint32_t surface, int level, std::ui
   const std::uint32_t quad[4] = {nodeVertex(surface, a, b), nodeVertex(surface, a + s, b), nodeVertex(surface, a + s, b + s),
                                  nodeVertex(surface, a, b + s)};
   nodeMesh_.patches.push_back(makePatch(nodeMesh_.positions, quad, surface));
+  nodeMesh_.patches.back().twinned = grids_[surface].twinned;
   nodes_.push_back(node);
   return static_cast<std::uint32_t>(nodes_.size() - 1);
 }

@@ -87,6 +87,7 @@ class AdaptiveMesh {
     std::uint32_t fineColumns = 1, fineRows = 1;  // finest-level cells
     std::size_t firstFineVertex = 0;              // offset of this surface's grid in fineMesh_
     std::vector<std::int32_t> nodeVertex;         // grid point → nodeMesh_ vertex, −1 until used
+    bool twinned = false;                         // the surface has a back-to-back twin
   };
 
   Vec3 gridPoint(const SurfaceGrid& grid, std::uint32_t a, std::uint32_t b) const;

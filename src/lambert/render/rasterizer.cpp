@@ -304,6 +304,7 @@ Image render(const Camera& camera, const Mesh& mesh, const std::vector<Rgb>& rad
       std::span<const std::uint32_t> indices = mesh.cornerIndices(i);
       // The back of a surface is opaque and black, so it hides what is behind it.
       bool front = dot(cross(corners[1] - corners[0], corners[2] - corners[0]), pinhole.eye - corners[0]) > 0;
+      if (!front && mesh.patches[i].twinned) continue;  // its twin's front is drawn in its place
       bool constant = !front || !perVertex;
       std::uint32_t patch = front ? static_cast<std::uint32_t>(i) : kNoPatch;
       // A convex patch is a fan of triangles around its first corner.

@@ -6,10 +6,11 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <map>
 
-#include "lambert/core/srgb.h"
 #include "lambert/core/text.h"
 #include "lambert/core/warning.h"
+#include "lambert/scene/texture.h"
 
 namespace lambert {
 namespace {
@@ -86,17 +87,19 @@ class Reader {
 
  private:
   Status readMaterials() {
-    int doubleSided = 0;
     for (const tinygltf::Material& m : model_.materials) {
       const auto& factor = m.pbrMetallicRoughness.baseColorFactor;
       Rgb albedo = factor.size() >= 3 ? Rgb{factor[0], factor[1], factor[2]} : Rgb{1, 1, 1};
-      const int texture = m.pbrMetallicRoughness.baseColorTexture.index;
-      if (texture >= 0) {
-        Result<Rgb> mean = meanTextureColour(texture);
-        if (!mean) return mean.error();
-        albedo = albedo * *mean;
-        warning(path_ + ": material '" + m.name + "': its base colour texture enters as its mean colour " + "(per-patch texture lookup is not read yet)");
+      Material material{m.name, {}, m.doubleSided};
+      const tinygltf::TextureInfo& base = m.pbrMetallicRoughness.baseColorTexture;
+      if (base.index >= 0) {
+        Result<std::shared_ptr<const Texture>> texture = baseColourTexture(base.index);
+        if (!texture) return texture.error();
+        material.texture = *texture;
+        if (base.extensions.count("KHR_texture_transform"))
+          warning(path_ + ": material '" + m.name + "': KHR_texture_transform is not read; the texture is placed by its UVs as they are");
       }
+      texCoordSet_.push_back(base.texCoord);
       Rgb emitted = m.emissiveFactor.size() == 3 ? Rgb{m.emissiveFactor[0], m.emissiveFactor[1], m.emissiveFactor[2]} : Rgb{};
       if (auto it = m.extensions.find("KHR_materials_emissive_strength"); it != m.extensions.end() && it->second.Has("emissiveStrength"))
         emitted = emitted * it->second.Get("emissiveStrength").GetNumberAsDouble();
@@ -105,33 +108,39 @@ class Reader {
       for (int c = 0; c < 3; ++c)
         if (!(albedo[c] >= 0) || !(emitted[c] >= 0))
           return Error{path_ + ": material '" + m.name + "': base colour and emission must not be negative"};
-      doubleSided += m.doubleSided;
-      scene_.materials.push_back({m.name, boundedAlbedo(albedo, path_ + ": material '" + m.name + "'")});
+      const std::string where = path_ + ": material '" + m.name + "'";
+      material.albedo = material.texture ? boundedAlbedo(albedo, *material.texture, where) : boundedAlbedo(albedo, where);
+      scene_.materials.push_back(std::move(material));
       emission_.push_back(emitted);
     }
-    if (doubleSided > 0)
-      warning(path_ + ": " + std::to_string(doubleSided) + " double-sided material" + (doubleSided == 1 ? " is" : "s are") +
-              " solved one-sided (front faces only) for now");
     defaultMaterial_ = static_cast<int>(scene_.materials.size());
     scene_.materials.push_back({"default", Rgb::gray(0.5)});  // glTF's default is white: kept physical
     emission_.push_back({});
+    texCoordSet_.push_back(0);
     return Ok{};
   }
 
-  // The mean of a texture's texels, sRGB decoded to linear (glTF's base colour textures are sRGB).
-  Result<Rgb> meanTextureColour(int textureIndex) {
+  // A base colour texture, sRGB decoded to linear (glTF's base colour textures are sRGB); one
+  // Texture per image, however many materials use it.
+  Result<std::shared_ptr<const Texture>> baseColourTexture(int textureIndex) {
     if (textureIndex >= static_cast<int>(model_.textures.size())) return Error{path_ + ": texture " + std::to_string(textureIndex) + " does not exist"};
-    const int source = model_.textures[static_cast<std::size_t>(textureIndex)].source;
+    const tinygltf::Texture& texture = model_.textures[static_cast<std::size_t>(textureIndex)];
+    const int source = texture.source;
     if (source < 0 || source >= static_cast<int>(model_.images.size()))
       return Error{path_ + ": texture " + std::to_string(textureIndex) + " has no image"};
+    if (texture.sampler >= 0 && texture.sampler < static_cast<int>(model_.samplers.size())) {
+      const tinygltf::Sampler& sampler = model_.samplers[static_cast<std::size_t>(texture.sampler)];
+      if (sampler.wrapS != TINYGLTF_TEXTURE_WRAP_REPEAT || sampler.wrapT != TINYGLTF_TEXTURE_WRAP_REPEAT)
+        warning(path_ + ": texture " + std::to_string(textureIndex) + ": lambert repeats textures; its clamp or mirror wrap mode is not read");
+    }
+    if (auto it = textures_.find(source); it != textures_.end()) return it->second;
     const tinygltf::Image& image = model_.images[static_cast<std::size_t>(source)];
-    if (image.bits != 8 || image.component < 3 || image.image.size() < static_cast<std::size_t>(image.width) * image.height * image.component)
-      return Error{path_ + ": image '" + image.name + "' is not 8-bit RGB(A)"};
-    Rgb sum;
-    const std::size_t texels = static_cast<std::size_t>(image.width) * image.height;
-    for (std::size_t t = 0; t < texels; ++t)
-      for (int c = 0; c < 3; ++c) sum[c] += srgbDecode(image.image[t * image.component + c] / 255.0);
-    return texels > 0 ? sum / static_cast<double>(texels) : Rgb{1, 1, 1};
+    const std::string name = image.uri.empty() ? "image " + std::to_string(source) : image.uri;
+    if (image.bits != 8) return Error{path_ + ": " + name + ": only 8-bit images are read as albedo textures"};
+    Result<std::shared_ptr<const Texture>> read =
+        textureFromSrgb8(image.image, image.width, image.height, image.component, path_ + ": " + name);
+    if (read) textures_[source] = *read;
+    return read;
   }
 
   Status visit(int nodeIndex, const Transform& parent, int depth) {
@@ -221,8 +230,17 @@ class Reader {
         material = defaultMaterial_;
         usesDefault_ = true;
       }
+      std::vector<Uv> uvs;
+      if (scene_.materials[static_cast<std::size_t>(material)].texture) {
+        Result<std::vector<Uv>> read = readUvs(primitive, texCoordSet_[static_cast<std::size_t>(material)], polygons.positions.size(), mesh.name);
+        if (!read) return read.error();
+        uvs = std::move(*read);
+      }
       auto addTriangle = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-        polygons.faces.push_back({mirrored ? std::vector<std::uint32_t>{a, c, b} : std::vector<std::uint32_t>{a, b, c}, material});
+        if (mirrored) std::swap(b, c);
+        PolygonMesh::Face face{{a, b, c}, material};
+        if (!uvs.empty() && a < uvs.size() && b < uvs.size() && c < uvs.size()) face.uvs = {uvs[a], uvs[b], uvs[c]};
+        polygons.faces.push_back(std::move(face));
       };
       if (mode == TINYGLTF_MODE_TRIANGLES)
         for (std::size_t t = 0; t + 2 < indices.size(); t += 3) addTriangle(indices[t], indices[t + 1], indices[t + 2]);
@@ -234,6 +252,27 @@ class Reader {
       dropped_.add(addSmoothRegions(scene_, polygons, emission_, regions_));
     }
     return Ok{};
+  }
+
+  // TEXCOORD_<set> of a primitive: floats, or normalised unsigned bytes or shorts.
+  Result<std::vector<Uv>> readUvs(const tinygltf::Primitive& primitive, int set, std::size_t vertices, const std::string& meshName) {
+    const std::string attribute = "TEXCOORD_" + std::to_string(set);
+    auto found = primitive.attributes.find(attribute);
+    if (found == primitive.attributes.end())
+      return Error{path_ + ": mesh '" + meshName + "': its material has a base colour texture but the primitive has no " + attribute};
+    Result<std::vector<double>> read = readAccessor(found->second, 2);
+    if (!read) return read.error();
+    const tinygltf::Accessor& accessor = model_.accessors[static_cast<std::size_t>(found->second)];
+    double scale = 1;
+    if (accessor.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) scale = 1 / 255.0;
+    if (accessor.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) scale = 1 / 65535.0;
+    if (accessor.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT && !accessor.normalized)
+      return Error{path_ + ": mesh '" + meshName + "': " + attribute + " must be floats or normalised integers"};
+    if (read->size() / 2 != vertices)
+      return Error{path_ + ": mesh '" + meshName + "': " + attribute + " has " + std::to_string(read->size() / 2) + " elements, POSITION " + std::to_string(vertices)};
+    std::vector<Uv> uvs(vertices);
+    for (std::size_t v = 0; v < vertices; ++v) uvs[v] = {(*read)[2 * v] * scale, (*read)[2 * v + 1] * scale};
+    return uvs;
   }
 
   void readCamera(const tinygltf::Node& node, const Transform& world) {
@@ -280,6 +319,8 @@ class Reader {
   RegionOptions regions_;
   Scene scene_;
   std::vector<Rgb> emission_;
+  std::vector<int> texCoordSet_;  // per material: the TEXCOORD set its base colour texture reads
+  std::map<int, std::shared_ptr<const Texture>> textures_;  // by image
   int defaultMaterial_ = 0;
   bool usesDefault_ = false;
   bool haveCamera_ = false;

@@ -117,6 +117,7 @@ DroppedFaces addSmoothRegions(Scene& scene, const PolygonMesh& mesh, const std::
     std::vector<std::uint32_t> vertices;  // into mesh.positions
     int material;
     Vec3 normal;
+    std::vector<Uv> uvs;  // per corner, or empty
   };
   // Exporters split vertices where normals or UVs differ (Blender's glTF exporter does, for every
   // flat-shaded face): vertices at exactly the same position are one vertex here, so faces
@@ -171,12 +172,14 @@ DroppedFaces addSmoothRegions(Scene& scene, const PolygonMesh& mesh, const std::
     }
     const Vec3 normal = normalize(n);
     if (firstConcaveCorner(polygon, normal) == polygon.size()) {
-      pieces.push_back({ids, face.material, normal});
+      pieces.push_back({ids, face.material, normal, face.uvs});
       continue;
     }
     for (const auto& t : triangulatePolygon(polygon, normal)) {
       std::vector<Vec3> corners = {polygon[t[0]], polygon[t[1]], polygon[t[2]]};
-      pieces.push_back({{ids[t[0]], ids[t[1]], ids[t[2]]}, face.material, normalize(polygonAreaVector(corners))});
+      std::vector<Uv> uvs;
+      if (!face.uvs.empty()) uvs = {face.uvs[t[0]], face.uvs[t[1]], face.uvs[t[2]]};
+      pieces.push_back({{ids[t[0]], ids[t[1]], ids[t[2]]}, face.material, normalize(polygonAreaVector(corners)), std::move(uvs)});
     }
   }
 
@@ -221,6 +224,13 @@ DroppedFaces addSmoothRegions(Scene& scene, const PolygonMesh& mesh, const std::
       auto [it, inserted] = remap[r].try_emplace(v, static_cast<std::uint32_t>(surface.vertices.size()));
       if (inserted) surface.vertices.push_back(mesh.positions[v]);
       face.push_back(it->second);
+    }
+    if (!pieces[p].uvs.empty()) {  // UVs for every face of the surface once one has them
+      surface.faceUvs.resize(surface.faces.size());
+      for (std::size_t f = 0; f < surface.faces.size(); ++f) surface.faceUvs[f].resize(surface.faces[f].size());
+      surface.faceUvs.push_back(pieces[p].uvs);
+    } else if (!surface.faceUvs.empty()) {
+      surface.faceUvs.emplace_back(face.size());
     }
     surface.faces.push_back(std::move(face));
   }

@@ -1,5 +1,6 @@
 #include "lambert/scene/scene.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace lambert {
@@ -92,6 +93,27 @@ Camera cameraViewingScene(const Scene& scene) {
 }  // namespace lambert
 
 namespace lambert {
+
+void addTwins(Scene& scene) {
+  const std::size_t count = scene.surfaces.size();
+  for (std::size_t s = 0; s < count; ++s) {
+    if (scene.surfaces[s].twin >= 0 || !scene.materials[static_cast<std::size_t>(scene.surfaces[s].material)].twoSided) continue;
+    Surface back = scene.surfaces[s];
+    back.name += " (back)";
+    back.faces = surfaceFaces(back);
+    for (auto& face : back.faces) std::reverse(face.begin() + 1, face.end());
+    for (auto& uvs : back.faceUvs) std::reverse(uvs.begin() + 1, uvs.end());
+    if (scene.surfaces[s].faces.empty()) {  // keep a lone polygon a lone polygon (the quad-tree meshes those)
+      std::vector<Vec3> reversed{back.vertices.front()};
+      reversed.insert(reversed.end(), back.vertices.rbegin(), back.vertices.rend() - 1);
+      back.vertices = std::move(reversed);
+      back.faces.clear();
+    }
+    back.twin = static_cast<int>(s);
+    scene.surfaces[s].twin = static_cast<int>(scene.surfaces.size());
+    scene.surfaces.push_back(std::move(back));
+  }
+}
 
 Rgb Texture::sample(double u, double v) const {
   if (width <= 0 || height <= 0) return Rgb::gray(1);

@@ -18,6 +18,7 @@ struct Texture {
   std::string path;  // where it was read from, for messages and export
   int width = 0, height = 0;
   std::vector<Rgb> pixels;  // row by row, linear reflectance factors in [0, 1]
+  double peak = 0;          // the largest channel of any pixel
   // The bilinearly filtered value at (u, v), repeating.
   Rgb sample(double u, double v) const;
 };
@@ -114,6 +115,11 @@ std::size_t firstConcaveCorner(const std::vector<Vec3>& polygon, const Vec3& nor
 Vec3 surfaceNormal(const Surface& surface);
 // Area of a surface in scene units², as the sum of its faces' fan triangles.
 double surfaceArea(const Surface& surface);
+
+// Gives every surface of a two-sided material that has no twin yet its twin: a copy with every
+// face reversed (first corner kept, so both are fanned into the same triangles), named
+// "<name> (back)", appended to scene.surfaces. Every loader calls this last.
+void addTwins(Scene& scene);
 
 // The axis-aligned bounding box of every surface vertex, scene units.
 struct Bounds {

@@ -17,6 +17,7 @@
 #include "lambert/scene/gltf.h"
 #include "lambert/scene/obj.h"
 #include "lambert/scene/ply.h"
+#include "lambert/scene/texture.h"
 
 namespace lambert {
 namespace {
@@ -109,6 +110,13 @@ class ObjectReader {
     if (!value) return fallback;
     Vec3 v = checkedTriple(*value, pointerOf(key), 0, high, highOpen);
     return {v.x, v.y, v.z};
+  }
+
+  bool boolean(const std::string& key, bool fallback) {
+    const Json* value = find(key);
+    if (!value) return fallback;
+    if (!value->is_boolean()) throw FieldError{pointerOf(key), "expected true or false, found " + typeName(*value)};
+    return value->get<bool>();
   }
 
   const Json& array(const std::string& key) {
@@ -243,7 +251,8 @@ void addMesh(Scene& scene, const Json& value, const std::string& pointer, const 
   }
   LoadOptions load;
   load.creaseAngleDegrees = r.number("creaseAngleDegrees", 20, 0, 180);
-  r.finish("path, transform, creaseAngleDegrees");
+  if (r.has("twoSided")) load.twoSided = r.boolean("twoSided", false);
+  r.finish("path, transform, creaseAngleDegrees, twoSided");
   const bool gltf = lowercaseExtension(relative) == ".gltf" || lowercaseExtension(relative) == ".glb";
   if (!gltf) load.metresPerUnit = scene.metresPerUnit;  // OBJ and PLY numbers are in the scene's unit
   const std::string file = (std::filesystem::path(scenePath).parent_path() / relative).string();
@@ -253,12 +262,18 @@ void addMesh(Scene& scene, const Json& value, const std::string& pointer, const 
 
   const int firstMaterial = static_cast<int>(scene.materials.size());
   scene.materials.insert(scene.materials.end(), mesh->materials.begin(), mesh->materials.end());
+  const int firstSurface = static_cast<int>(scene.surfaces.size());
   for (Surface surface : mesh->surfaces) {
     for (Vec3& v : surface.vertices) v = t.point(v * toSceneUnits);
-    if (t.mirrors() && surface.faces.empty()) std::reverse(surface.vertices.begin(), surface.vertices.end());
-    if (t.mirrors())
-      for (auto& face : surface.faces) std::reverse(face.begin(), face.end());
+    // A mirror turns every face over; reversing all but the first corner keeps the fan (and so a
+    // twin pair's triangles) the same.
+    if (t.mirrors() && surface.faces.empty()) std::reverse(surface.vertices.begin() + 1, surface.vertices.end());
+    if (t.mirrors()) {
+      for (auto& face : surface.faces) std::reverse(face.begin() + 1, face.end());
+      for (auto& uvs : surface.faceUvs) std::reverse(uvs.begin() + 1, uvs.end());
+    }
     surface.material += firstMaterial;
+    if (surface.twin >= 0) surface.twin += firstSurface;
     scene.surfaces.push_back(std::move(surface));
   }
   for (Light light : mesh->lights) {
@@ -298,9 +313,17 @@ Scene readScene(const Json& document, const std::string& path) {
     material.name = mr.string("name", "");
     if (material.name.empty()) throw FieldError{pointer, "missing required field \"name\" (surfaces refer to materials by name)"};
     if (materialIndex.count(material.name)) throw FieldError{pointer + "/name", "a second material named \"" + material.name + "\""};
-    material.albedo = mr.colour("albedo", Rgb::gray(0.5), 1, true);
+    material.albedo = mr.colour("albedo", Rgb::gray(0.5), 1, !mr.has("texture"));
     const Rgb emission = mr.colour("emittedRadiance", {}, 1e30, false);
-    mr.finish("name, albedo, emittedRadiance");
+    material.twoSided = mr.boolean("twoSided", false);
+    if (const std::string texture = mr.string("texture", ""); !texture.empty()) {
+      Result<std::shared_ptr<const Texture>> read = readTexture((std::filesystem::path(path).parent_path() / texture).string());
+      if (!read) throw FieldError{pointer + "/texture", read.error().message};
+      material.texture = *read;
+      if (material.albedo.maxComponent() * material.texture->peak >= 1)
+        throw FieldError{pointer + "/albedo", "albedo × the texture's brightest texel must stay below 1"};
+    }
+    mr.finish("name, albedo, emittedRadiance, twoSided, texture");
     materialIndex[material.name] = static_cast<int>(scene.materials.size());
     scene.materials.push_back(material);
     materialEmission.push_back(emission);
@@ -323,7 +346,22 @@ Scene readScene(const Json& document, const std::string& path) {
     for (std::size_t k = 0; k < vertices.size(); ++k)
       surface.vertices.push_back(ObjectReader::checkedTriple(vertices[k], pointer + "/vertices/" + std::to_string(k), -1e30, 1e30));
     checkPolygon(surface.vertices, pointer + "/vertices");
-    sr.finish("name, material, vertices");
+    const Json& uvs = sr.array("uvs");
+    if (!uvs.empty() || scene.materials[static_cast<std::size_t>(surface.material)].texture) {
+      if (uvs.size() != surface.vertices.size())
+        throw FieldError{pointer + "/uvs", uvs.empty() ? "its material has a texture: give texture coordinates [u, v] per vertex"
+                                                       : "expected one [u, v] per vertex (" + std::to_string(surface.vertices.size()) +
+                                                             "), found " + std::to_string(uvs.size())};
+      std::vector<Uv> corners;
+      for (std::size_t k = 0; k < uvs.size(); ++k) {
+        const std::string at = pointer + "/uvs/" + std::to_string(k);
+        if (!uvs[k].is_array() || uvs[k].size() != 2) throw FieldError{at, "expected [u, v], found " + typeName(uvs[k])};
+        corners.push_back({ObjectReader::checkedNumber(uvs[k][0], at + "/0", -1e9, 1e9, false, false),
+                           ObjectReader::checkedNumber(uvs[k][1], at + "/1", -1e9, 1e9, false, false)});
+      }
+      surface.faceUvs = {std::move(corners)};
+    }
+    sr.finish("name, material, vertices, uvs");
     scene.surfaces.push_back(std::move(surface));
   }
   const Json& lights = r.array("lights");
@@ -439,13 +477,18 @@ std::string sceneFileText(const Scene& scene) {
     for (int copy = 2; std::find(names.begin(), names.end(), name) != names.end(); ++copy)
       name = scene.materials[static_cast<std::size_t>(index)].name + " " + std::to_string(copy);
     names.push_back(name);
-    OrderedJson m{{"name", name}, {"albedo", triple(scene.materials[static_cast<std::size_t>(index)].albedo)}};
+    const Material& material = scene.materials[static_cast<std::size_t>(index)];
+    LAMBERT_CHECK(!material.texture);  // a texture file is not written back
+    OrderedJson m{{"name", name}, {"albedo", triple(material.albedo)}};
     if (emission.maxComponent() > 0) m["emittedRadiance"] = triple(emission);
+    if (material.twoSided) m["twoSided"] = true;
     materials.push_back(std::move(m));
   }
   doc["materials"] = std::move(materials);
   OrderedJson surfaces = OrderedJson::array();
   for (std::size_t s = 0; s < scene.surfaces.size(); ++s) {
+    LAMBERT_CHECK(scene.surfaces[s].faces.empty());  // inline surfaces are single polygons
+    if (scene.surfaces[s].twin >= 0 && static_cast<std::size_t>(scene.surfaces[s].twin) < s) continue;  // made again on reading
     OrderedJson vertices = OrderedJson::array();
     for (const Vec3& v : scene.surfaces[s].vertices) vertices.push_back(triple(v));
     surfaces.push_back({{"name", scene.surfaces[s].name}, {"material", names[kindOf[s]]}, {"vertices", std::move(vertices)}});
@@ -502,15 +545,22 @@ Result<Scene> loadScene(const std::string& nameOrPath, const LoadOptions& option
   if (options.metresPerUnit > 0 && !unitless)
     return Error{nameOrPath + ": a unit is for OBJ and PLY files, whose numbers have none; this scene states its own"};
   if (std::optional<Scene> builtin = builtinScene(nameOrPath)) return *builtin;
-  if (extension == ".json") return readSceneFile(nameOrPath);
-  if (extension == ".gltf" || extension == ".glb") return readGltf(nameOrPath, {options.creaseAngleDegrees});
+  auto withTwins = [&options](Result<Scene> scene) {
+    if (!scene) return scene;
+    if (options.twoSided)
+      for (Material& material : scene->materials) material.twoSided = *options.twoSided;
+    addTwins(*scene);
+    return scene;
+  };
+  if (extension == ".json") return withTwins(readSceneFile(nameOrPath));
+  if (extension == ".gltf" || extension == ".glb") return withTwins(readGltf(nameOrPath, {options.creaseAngleDegrees}));
   if (extension == ".ply")
-    return readPly(nameOrPath, options.metresPerUnit > 0 ? options.metresPerUnit : 1, {options.creaseAngleDegrees});
+    return withTwins(readPly(nameOrPath, options.metresPerUnit > 0 ? options.metresPerUnit : 1, {options.creaseAngleDegrees}));
   if (extension == ".obj") {
     ObjOptions obj;
     obj.metresPerUnit = options.metresPerUnit > 0 ? options.metresPerUnit : 1;
     obj.regions.creaseAngleDegrees = options.creaseAngleDegrees;
-    return readObj(nameOrPath, obj);
+    return withTwins(readObj(nameOrPath, obj));
   }
   std::string names;
   for (const std::string& n : builtinSceneNames()) names += (names.empty() ? "" : ", ") + n;

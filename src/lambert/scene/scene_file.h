@@ -4,6 +4,7 @@
 // as pbrt's and Mitsuba's are: an unknown field, a wrong type or a value out of range is an
 // error naming the file, the JSON path (/lights/2/coneAngleDegrees) and what is allowed; a
 // syntax error names the file, line and column. Nothing is thrown out of these functions.
+#include <optional>
 #include <string>
 
 #include "lambert/core/error.h"
@@ -30,6 +31,8 @@ bool isMeshFile(const std::string& path);
 struct LoadOptions {
   double metresPerUnit = 0;        // OBJ, PLY: the unit of their numbers (0: metres); others state theirs
   double creaseAngleDegrees = 20;  // mesh files: neighbours whose normals differ more are not smoothed
+  // Mesh files: every material two-sided (true) or one-sided (false), whatever the file says.
+  std::optional<bool> twoSided = std::nullopt;
 };
 
 // A built-in scene by name (scene/builtin.h), or a file by its extension (.json, .obj, .ply,

@@ -111,7 +111,7 @@ TEST(SceneFileTest, MeshesArePlacedInTheScenesUnits) {
   double floorArea = 0;
   for (const Surface& s : room->surfaces)
     if (room->materials[s.material].name == "floor") floorArea += surfaceArea(s);
-  EXPECT_NEAR(floorArea, 12e6, 1);
+  EXPECT_NEAR(floorArea, 2 * 12e6, 1);  // two-sided: the floor and its twin
   EXPECT_NEAR(length(room->camera.eye - Vec3{0, 1600, 5500}), 0, 1e-3);
   EXPECT_EQ(room->lights.size(), 3u);
   EXPECT_NEAR(room->lights[0].position.y, 2000, 1e-3);

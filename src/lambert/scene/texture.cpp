@@ -2,6 +2,7 @@
 
 #include <stb_image.h>
 
+#include <algorithm>
 #include <array>
 #include <filesystem>
 
@@ -26,6 +27,7 @@ Result<std::shared_ptr<const Texture>> textureFromSrgb8(std::span<const std::uin
   for (std::size_t i = 0; i < texture->pixels.size(); ++i) {
     const std::uint8_t* p = pixels.data() + i * static_cast<std::size_t>(channels);
     texture->pixels[i] = grey ? Rgb::gray(linear[p[0]]) : Rgb{linear[p[0]], linear[p[1]], linear[p[2]]};
+    texture->peak = std::max(texture->peak, texture->pixels[i].maxComponent());
   }
   return std::shared_ptr<const Texture>(std::move(texture));
 }
@@ -39,6 +41,11 @@ Result<std::shared_ptr<const Texture>> readTexture(const std::string& path) {
   auto texture = textureFromSrgb8({data, static_cast<std::size_t>(width) * height * channels}, width, height, channels, path);
   stbi_image_free(data);
   return texture;
+}
+
+Rgb boundedAlbedo(Rgb factor, const Texture& texture, const std::string& where) {
+  if (!(texture.peak > 0)) return factor;
+  return boundedAlbedo(factor * texture.peak, where) * (1 / texture.peak);
 }
 
 Rgb meanTextureOver(const Texture& texture, std::span<const Vec3> corners, std::span<const Uv> uvs) {

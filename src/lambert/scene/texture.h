@@ -8,6 +8,7 @@
 #include <string>
 
 #include "lambert/core/error.h"
+#include "lambert/scene/regions.h"
 #include "lambert/scene/scene.h"
 
 namespace lambert {
@@ -19,6 +20,11 @@ Result<std::shared_ptr<const Texture>> readTexture(const std::string& path);
 // alpha, RGB or RGBA (alpha is ignored: lambert's surfaces are opaque).
 Result<std::shared_ptr<const Texture>> textureFromSrgb8(std::span<const std::uint8_t> pixels, int width, int height,
                                                        int channels, const std::string& path);
+
+// A factor made physical for a texture it multiplies: lowered (with boundedAlbedo's warning) so that
+// factor × the brightest texel stays below 1. (A white factor over a texture that never reaches
+// white is left as it is.)
+Rgb boundedAlbedo(Rgb factor, const Texture& texture, const std::string& where);
 
 // The mean of the texture over a patch: bilinear samples at 16 stratified points of each fan
 // triangle of `corners`, whose texture coordinates are `uvs`, weighted by area.
