@@ -1,0 +1,495 @@
+#include "lambert/scene/mgf.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <functional>
+
+#include "lambert/core/warning.h"
+#include "tests/support/files.h"
+
+namespace lambert {
+namespace {
+
+namespace fs = std::filesystem;
+
+void write(const fs::path& path, const std::string& text) {
+  fs::create_directories(path.parent_path());
+  std::ofstream(path) << text;
+}
+
+struct Captured {
+  std::vector<std::string> warnings;
+  WarningSink previous;
+  Captured() : previous(setWarningSink([this](const std::string& m) { warnings.push_back(m); })) {}
+  ~Captured() { setWarningSink(previous); }
+  int count(const std::string& part) const {
+    int n = 0;
+    for (const std::string& w : warnings) n += testing::contains(w, part);
+    return n;
+  }
+};
+
+// MGF is z-up, lambert y-up: (x, y, z) → (x, z, −y).
+Vec3 fromMgf(const Vec3& p) { return {p.x, p.z, -p.y}; }
+
+Result<Scene> readText(const std::string& test, const std::string& text, const MgfOptions& options = {}) {
+  const fs::path dir = testing::scratchDirectory("mgf", test);
+  write(dir / "t.mgf", text);
+  return readMgf((dir / "t.mgf").string(), options);
+}
+
+bool hasVertex(const Scene& scene, const Vec3& p, double tolerance = 1e-9) {
+  for (const Surface& s : scene.surfaces)
+    for (const Vec3& v : s.vertices)
+      if (length(v - p) < tolerance) return true;
+  return false;
+}
+
+double totalArea(const Scene& scene) {
+  double area = 0;
+  for (const Surface& s : scene.surfaces) area += surfaceArea(s);
+  return area;
+}
+
+// Calls check(centroid, area vector) for every face of the scene.
+void forEachFace(const Scene& scene, const std::function<void(const Vec3&, const Vec3&)>& check) {
+  for (const Surface& s : scene.surfaces)
+    for (const auto& face : surfaceFaces(s)) {
+      const std::vector<Vec3> corners = facePositions(s, face);
+      Vec3 centroid;
+      for (const Vec3& c : corners) centroid += c;
+      check(centroid / static_cast<double>(corners.size()), polygonAreaVector(corners));
+    }
+}
+
+const Surface& surfaceNamed(const Scene& scene, const std::string& name) {
+  for (const Surface& s : scene.surfaces)
+    if (s.name == name) return s;
+  ADD_FAILURE() << "no surface " << name;
+  return scene.surfaces.at(0);
+}
+
+void expectRgbNear(const Rgb& actual, const Rgb& expected, double tolerance) {
+  EXPECT_NEAR(actual.r, expected.r, tolerance);
+  EXPECT_NEAR(actual.g, expected.g, tolerance);
+  EXPECT_NEAR(actual.b, expected.b, tolerance);
+}
+
+// Photometric emittance (lm/m²) → lambert's L_e (W/(m²·sr)) for a white emitter: ÷ π ÷ 683 lm/W.
+constexpr double kLeOfOneLux = 1 / (kPi * 683);
+
+TEST(MgfTest, FacesMaterialsSidesUnitsAndAxes) {
+  Captured captured;
+  Result<Scene> scene = readText("faces", R"(# a floor and a lamp, z up
+m floor =
+	c
+		cxy .3333333333 .3333333333
+	rd .5
+	sides 1
+v a =
+	p 0 0 0
+v b =
+	p 2 0 0
+v c = a
+	p 2 2 0
+v d =
+	p 0 2 \
+	  0
+o room
+	f a b c d
+	o lamp
+		m lamp =
+			ed 1000
+			rd .2
+		v l1 =
+			p .5 .5 2
+		v l2 =
+			p .5 1.5 2
+		v l3 =
+			p 1.5 1.5 2
+		v l4 =
+			p 1.5 .5 2
+		f l1 l2 l3 l4
+	o
+o
+)");
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  EXPECT_EQ(scene->name, "t");
+  EXPECT_EQ(scene->metresPerUnit, 1);  // MGF is in metres
+  ASSERT_EQ(scene->surfaces.size(), 2u);
+  const Surface& floor = surfaceNamed(*scene, "room");
+  EXPECT_NEAR(surfaceArea(floor), 4, 1e-12);
+  EXPECT_GT(surfaceNormal(floor).y, 0.999);  // MGF's +z (counter-clockwise from above) is lambert's +y
+  EXPECT_TRUE(hasVertex(*scene, fromMgf({2, 2, 0})));
+  EXPECT_TRUE(hasVertex(*scene, {2, 0, -2}));
+  const Material& floorMaterial = scene->materials[floor.material];
+  EXPECT_EQ(floorMaterial.name, "floor");
+  expectRgbNear(floorMaterial.albedo, Rgb::gray(0.5), 1e-9);
+  EXPECT_FALSE(floorMaterial.twoSided);  // sides 1
+  EXPECT_EQ(floor.emittedRadiance, Rgb{});
+
+  const Surface& lamp = surfaceNamed(*scene, "room/lamp");
+  EXPECT_LT(surfaceNormal(lamp).y, -0.999);  // clockwise from above: facing down
+  const Material& lampMaterial = scene->materials[lamp.material];
+  EXPECT_TRUE(lampMaterial.twoSided);  // MGF's default is 2 sides
+  expectRgbNear(lampMaterial.albedo, Rgb::gray(0.2), 1e-9);
+  expectRgbNear(lamp.emittedRadiance, Rgb::gray(1000 * kLeOfOneLux), 1e-9);
+  EXPECT_NEAR(lamp.emittedRadiance.r, 0.466047, 1e-6);  // 1000 / (π · 683)
+  EXPECT_TRUE(captured.warnings.empty()) << captured.warnings[0];
+}
+
+TEST(MgfTest, DefaultMaterialIsBlackAndTwoSidedAndBareMResetsIt) {
+  Result<Scene> scene = readText("default-material", R"(v a =
+	p 0 0 0
+v b =
+	p 1 0 0
+v c =
+	p 0 1 0
+f a b c
+m
+	rd .3
+	sides 1
+xf -t 5 0 0
+f a b c
+xf
+)");
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_EQ(scene->surfaces.size(), 2u);
+  const Material& first = scene->materials[scene->surfaces[0].material];
+  const Material& second = scene->materials[scene->surfaces[1].material];
+  EXPECT_EQ(first.albedo, Rgb{});  // MGF's default rd is 0
+  EXPECT_TRUE(first.twoSided);
+  expectRgbNear(second.albedo, Rgb::gray(0.3), 1e-9);
+  EXPECT_FALSE(second.twoSided);
+}
+
+const char* kTriangle = R"(v a =
+	p 0 0 0
+v b =
+	p 1 0 0
+v c =
+	p 0 1 0
+)";
+
+TEST(MgfTest, TransformsActInOrderAndNestInnerFirst) {
+  Result<Scene> scene = readText("xf", std::string(kTriangle) + R"(xf -t 10 0 0
+	xf -s 2
+		f a b c
+	xf
+xf
+xf -rz 90 -t 0 0 3
+	f a b c
+xf
+xf -t 0 0 7 -mz
+	f a b c
+xf
+)");
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  // Inner -s 2 first, then the outer -t 10: (1, 0, 0) → (12, 0, 0).
+  EXPECT_TRUE(hasVertex(*scene, fromMgf({12, 0, 0})));
+  EXPECT_TRUE(hasVertex(*scene, fromMgf({10, 2, 0})));
+  // -rz 90 (counter-clockwise looking down z) then the translation: (1, 0, 0) → (0, 1, 3).
+  EXPECT_TRUE(hasVertex(*scene, fromMgf({0, 1, 3}), 1e-12));
+  EXPECT_TRUE(hasVertex(*scene, fromMgf({-1, 0, 3}), 1e-12));
+  // -t then -mz: z = −7, and the mirror turns the face over (its normal now −z: lambert −y).
+  EXPECT_TRUE(hasVertex(*scene, fromMgf({1, 0, -7})));
+  ASSERT_EQ(scene->surfaces.size(), 3u);
+  EXPECT_GT(surfaceNormal(scene->surfaces[0]).y, 0.999);
+  EXPECT_LT(surfaceNormal(scene->surfaces[2]).y, -0.999);
+}
+
+TEST(MgfTest, ArraysRepeatTheEnclosedEntitiesCumulatively) {
+  Result<Scene> scene = readText("array", std::string(kTriangle) + R"(xf -t 1 0 0 -a 3 -t 0 2 0 -a 2 -t 0 0 5
+	f a b c
+xf
+xf -i 3 -t 1 0 0
+	f a b c
+xf
+)");
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  EXPECT_EQ(scene->surfaces.size(), 7u);  // 3 × 2 instances, and one more
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 2; ++j) {
+      EXPECT_TRUE(hasVertex(*scene, fromMgf({1, 2.0 * i, 5.0 * j}))) << i << " " << j;
+      EXPECT_TRUE(hasVertex(*scene, fromMgf({2, 2.0 * i, 5.0 * j}))) << i << " " << j;
+    }
+  EXPECT_FALSE(hasVertex(*scene, fromMgf({1, 6, 0})));  // no fourth instance
+  EXPECT_TRUE(hasVertex(*scene, fromMgf({3, 0, 0})));   // -i 3: three steps at once
+  EXPECT_NEAR(totalArea(*scene), 7 * 0.5, 1e-12);
+}
+
+TEST(MgfTest, IncludesAreRelativeToTheIncludingFileAndTakeATransform) {
+  const fs::path dir = testing::scratchDirectory("mgf", "include");
+  write(dir / "top.mgf", "i parts/room.mgf -t 5 0 0\ni parts/room.mgf -a 2 -t 0 10 0\n");
+  write(dir / "parts" / "room.mgf", "m white =\n\trd .5\ni tile.mgf\n");
+  write(dir / "parts" / "tile.mgf", std::string(kTriangle) + "f a b c\n");
+  Result<Scene> scene = readMgf((dir / "top.mgf").string());
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  EXPECT_EQ(scene->surfaces.size(), 3u);
+  EXPECT_TRUE(hasVertex(*scene, fromMgf({6, 0, 0})));
+  EXPECT_TRUE(hasVertex(*scene, fromMgf({1, 0, 0})));
+  EXPECT_TRUE(hasVertex(*scene, fromMgf({1, 10, 0})));
+  EXPECT_TRUE(hasVertex(*scene, fromMgf({0, 11, 0})));
+  EXPECT_EQ(scene->materials[scene->surfaces[0].material].name, "white");
+}
+
+// Every face's normal points away from (outward) or toward (inward) the primitive's inside,
+// given by the point of its core nearest the face's centroid.
+int countFacing(const Scene& scene, const std::function<Vec3(const Vec3&)>& corePoint, bool outward) {
+  int wrong = 0;
+  forEachFace(scene, [&](const Vec3& centroid, const Vec3& area) {
+    const double d = dot(area, centroid - corePoint(centroid));
+    wrong += outward ? d <= 0 : d >= 0;
+  });
+  return wrong;
+}
+
+struct Primitive {
+  std::string name, text;
+  double exactArea;
+  std::function<Vec3(const Vec3&)> core;  // in lambert coordinates
+};
+
+TEST(MgfTest, CurvedPrimitivesAreaAndOrientation) {
+  const MgfOptions options{.divisions = 64, .regions = {}};
+  const std::string vertices = R"(v o =
+	p 0 0 0
+	n 0 0 1
+v top =
+	p 0 0 2
+v p0 =
+	p 0 0 0
+v p1 =
+	p 0 1 0
+v p2 =
+	p 1 1 0
+v p3 =
+	p 1 0 0
+)";
+  // The z axis of MGF is lambert's y axis: the core of an axial primitive is its nearest point
+  // on that axis, of the torus the nearest point on its core circle (radius 1.5 in y = 0).
+  auto axis = [](const Vec3& p) { return Vec3{0, p.y, 0}; };
+  auto torusCore = [](const Vec3& p) { return 1.5 * normalize(Vec3{p.x, 0, p.z}); };
+  const std::vector<Primitive> primitives = {
+      {"sphere", "sph o 1.5", 4 * kPi * 1.5 * 1.5, [](const Vec3&) { return Vec3{}; }},
+      {"cylinder", "cyl o 0.5 top", 2 * kPi * 0.5 * 2, axis},
+      {"cone", "cone o 1 top 0.5", kPi * (1 + 0.5) * std::sqrt(0.25 + 4), axis},
+      {"apex", "cone o 1 top 0", kPi * 1 * std::sqrt(1 + 4), axis},
+      {"torus", "torus o 1 2", 4 * kPi * kPi * 1.5 * 0.5, torusCore},
+      {"prism", "prism p0 p1 p2 p3 1", 6, [](const Vec3&) { return fromMgf({0.5, 0.5, 0.5}); }},
+  };
+  for (const Primitive& p : primitives) {
+    SCOPED_TRACE(p.name);
+    Result<Scene> out = readText(p.name, vertices + p.text + "\n", options);
+    ASSERT_TRUE(out.ok()) << out.error().message;
+    EXPECT_NEAR(totalArea(*out), p.exactArea, 0.01 * p.exactArea);  // inscribed: within 1% at 64
+    EXPECT_LT(totalArea(*out), p.exactArea + 1e-9);
+    EXPECT_EQ(countFacing(*out, p.core, true), 0);
+    // A negative radius (a negative prism length) turns every face inward.
+    std::string inward = p.text;
+    if (p.name == "sphere") inward = "sph o -1.5";
+    if (p.name == "cylinder") inward = "cyl o -0.5 top";
+    if (p.name == "cone") inward = "cone o -1 top -0.5";
+    if (p.name == "apex") inward = "cone o -1 top 0";
+    if (p.name == "torus") inward = "torus o -1 -2";
+    if (p.name == "prism") {  // extruded toward the face's front (−z), so its inside moves there
+      Result<Scene> in = readText(p.name + "-in", vertices + "prism p0 p1 p2 p3 -1\n", options);
+      ASSERT_TRUE(in.ok()) << in.error().message;
+      EXPECT_EQ(countFacing(*in, [](const Vec3&) { return fromMgf({0.5, 0.5, -0.5}); }, false), 0);
+      continue;
+    }
+    Result<Scene> in = readText(p.name + "-in", vertices + inward + "\n", options);
+    ASSERT_TRUE(in.ok()) << in.error().message;
+    EXPECT_NEAR(totalArea(*in), p.exactArea, 0.01 * p.exactArea);
+    EXPECT_EQ(countFacing(*in, p.core, false), 0);
+  }
+}
+
+TEST(MgfTest, RingFacesAlongItsVertexNormal) {
+  const MgfOptions options{.divisions = 64, .regions = {}};
+  Result<Scene> scene = readText("ring", R"(v up =
+	p 0 0 0
+	n 0 0 1
+v down =
+	p 0 0 1
+	n 0 0 -1
+o annulus
+	ring up 1 2
+o
+o disc
+	ring down 0 1
+o
+)", options);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  const Surface& annulus = surfaceNamed(*scene, "annulus");
+  const Surface& disc = surfaceNamed(*scene, "disc");
+  EXPECT_NEAR(surfaceArea(annulus), kPi * (4 - 1), 0.01 * kPi * 3);
+  EXPECT_NEAR(surfaceArea(disc), kPi, 0.01 * kPi);
+  EXPECT_GT(surfaceNormal(annulus).y, 0.999);
+  EXPECT_LT(surfaceNormal(disc).y, -0.999);
+}
+
+// The albedo of a one-triangle scene with the given colour lines and rd.
+Rgb albedoOf(const std::string& test, const std::string& colour, double rd) {
+  Result<Scene> scene = readText(test, std::string(kTriangle) + "m x =\n" + colour + "\n\trd " + std::to_string(rd) + "\nf a b c\n");
+  EXPECT_TRUE(scene.ok()) << scene.error().message;
+  if (!scene.ok()) return {};
+  return scene->materials[scene->surfaces.at(0).material].albedo;
+}
+
+TEST(MgfTest, CxyToRgb) {
+  // MGF's white is equal-energy, (1/3, 1/3): it is RGB (1, 1, 1), and rd its grey.
+  expectRgbNear(albedoOf("white", "\tc\n\t\tcxy 0.333333333333 0.333333333333", 0.8), Rgb::gray(0.8), 1e-9);
+  expectRgbNear(albedoOf("default-colour", "", 0.8), Rgb::gray(0.8), 1e-12);
+  // Rec. 709's red primary: only the red channel, its luminance 0.2126·R equal to rd.
+  expectRgbNear(albedoOf("red", "\tc\n\t\tcxy 0.64 0.33", 0.2), {0.2 / 0.2126, 0, 0}, 2e-3);
+  // Rec. 709's green primary, by hand: luminance 0.7152·G = rd.
+  expectRgbNear(albedoOf("green", "\tc\n\t\tcxy 0.30 0.60", 0.5), {0, 0.5 / 0.7152, 0}, 3e-3);
+}
+
+TEST(MgfTest, SpectraBlackBodiesAndMixtures) {
+  // A flat spectrum over the visible range is (nearly) equal-energy white.
+  const Rgb flat = albedoOf("flat", "\tc\n\t\tcspec 380 780 1 1 1 1 1", 0.5);
+  expectRgbNear(flat, Rgb::gray(0.5), 0.01);
+  // A black body is the chromaticity of the Planckian locus at its temperature: against the
+  // cubic-spline fit of Kim et al. (2002), independent of the spectral integration; within the
+  // colour matching functions' fit error.
+  expectRgbNear(albedoOf("cct6504", "\tc\n\t\tcct 6504", 0.5), albedoOf("xy6504", "\tc\n\t\tcxy 0.31343 0.32360", 0.5), 0.006);
+  expectRgbNear(albedoOf("cct3000", "\tc\n\t\tcct 3000", 0.2), albedoOf("xy3000", "\tc\n\t\tcxy 0.43658 0.40417", 0.2), 0.004);
+  // 6504 K is near D65 (x, y) = (0.3127, 0.3290), which in lambert's E-white RGB is 1/(E's
+  // Rec. 709 RGB) per channel: E = XYZ (1, 1, 1) → (1.20478, 0.94830, 0.90884); at luminance rd.
+  const Rgb d65{1 / 1.2047843, 1 / 0.9483008, 1 / 0.9088427};
+  const Rgb cct = albedoOf("cct", "\tc\n\t\tcct 6504", 0.5);
+  expectRgbNear(cct, 0.5 * d65 / d65.luminance(), 0.03);
+  EXPECT_GT(cct.b, cct.r);  // bluer than MGF's white
+  // 5455 K is the black body nearest equal-energy white (a little greener).
+  expectRgbNear(albedoOf("cct5455", "\tc\n\t\tcct 5455", 0.5), Rgb::gray(0.5), 0.04);
+  // cmix weights are luminances: equal parts of (0.64, 0.33) and (0.15, 0.06) are the colour of
+  // the XYZ sum at unit luminance each: X = 0.64/0.33 + 0.15/0.06, Y = 2, Z = 0.03/0.33 + 0.79/0.06.
+  const double X = 0.64 / 0.33 + 0.15 / 0.06, Y = 2, Z = 0.03 / 0.33 + 0.79 / 0.06;
+  const std::string mixed = "\tc\n\t\tcxy " + std::to_string(X / (X + Y + Z)) + " " + std::to_string(Y / (X + Y + Z));
+  const Rgb byHand = albedoOf("mix-by-hand", mixed, 0.05);
+  const Rgb mix = albedoOf("mix", "c r =\n\tcxy 0.64 0.33\nc b =\n\tcxy 0.15 0.06\nc\n\tcmix 1 r 1 b", 0.05);
+  expectRgbNear(mix, byHand, 1e-5);
+}
+
+TEST(MgfTest, EmissionIsLumensPerSquareMetreOverPiAnd683) {
+  Result<Scene> scene = readText("ed", std::string(kTriangle) + R"(m warm =
+	c
+		cct 3000
+	ed 87712
+f a b c
+)");
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  const Rgb le = scene->surfaces.at(0).emittedRadiance;
+  EXPECT_NEAR(le.luminance(), 87712 * kLeOfOneLux, 1e-9 * 87712);  // the colour keeps its luminance
+  EXPECT_GT(le.r, le.g);
+  EXPECT_GT(le.g, le.b);  // 3000 K is orange
+}
+
+TEST(MgfTest, IgnoredAndUnknownEntitiesWarnOncePerKind) {
+  Captured captured;
+  Result<Scene> scene = readText("ignored", std::string(kTriangle) + R"(m glass =
+	rs .1 .02
+	rs .2 .02
+	td .3
+	ir 1.5 0
+	ts .8 0
+foo 1 2
+foo 3
+fh a b c
+f a b c
+)");
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  EXPECT_EQ(captured.count("rs (specular reflectance) is ignored"), 1);
+  EXPECT_EQ(captured.count("t.mgf:8: rs"), 1);  // names the first one's file and line
+  EXPECT_EQ(captured.count("td (diffuse transmittance)"), 1);
+  EXPECT_EQ(captured.count("ir (index of refraction)"), 1);
+  EXPECT_EQ(captured.count("ts (specular transmittance)"), 1);
+  EXPECT_EQ(captured.count("t.mgf:13: unknown entity 'foo'"), 1);
+  EXPECT_EQ(captured.count("unknown entity"), 1);
+  EXPECT_EQ(captured.count("t.mgf:15: fh (face with holes) is not supported"), 1);
+  EXPECT_EQ(captured.warnings.size(), 6u);
+}
+
+struct BadInput {
+  std::string name, text, message;
+};
+
+TEST(MgfTest, BadInputIsAnErrorWithFileAndLine) {
+  const std::vector<BadInput> cases = {
+      {"unknown-vertex", "v a =\n\tp 0 0 0\nf a b c\n", "t.mgf:3: f: undefined vertex 'b'"},
+      {"argument-count", "v a =\n\tp 0 0 0\nsph a\n", "t.mgf:3: sph takes 2 arguments, not 1"},
+      {"argument-type", "m x =\n\trd half\n", "t.mgf:2: rd: expected a number, got 'half'"},
+      {"non-finite", "v a =\n\tp 1e999 0 0\n", "t.mgf:2: p: '1e999' is not a finite number"},
+      {"nan", "v a =\n\tp nan 0 0\n", "t.mgf:2: p: 'nan' is not a finite number"},
+      {"negative-rd", "m x =\n\trd -0.1\n", "t.mgf:2: rd -0.1: a reflectance must be between 0 and 1"},
+      {"negative-ed", "m x =\n\ted -5\n", "t.mgf:2: ed -5: an emittance must not be negative"},
+      {"undefined-material", "m nope\n", "t.mgf:1: m: undefined material 'nope'"},
+      {"undefined-colour", "c\n\tcmix 1 nope\n", "t.mgf:2: cmix: undefined colour 'nope'"},
+      {"sides", "m x =\n\tsides 3\n", "t.mgf:2: sides 3: must be 1 or 2"},
+      {"unended-xf", "xf -t 1 0 0\n# nothing\nxf -s 2\nxf\n", "t.mgf:4: unbalanced xf: 1 transformation is not ended"},
+      {"extra-xf-end", "xf\n", "t.mgf:1: unbalanced xf"},
+      {"unended-array", "xf -a 2 -t 1 0 0\n", "t.mgf:1: unbalanced xf: an array"},
+      {"bad-xf-flag", "xf -q 1\nxf\n", "t.mgf:1: xf: unknown transformation argument '-q'"},
+      {"missing-include", "\n\ni nothere.mgf\n", "t.mgf:3: cannot open include 'nothere.mgf'"},
+      {"escaping-include", "i ../outside.mgf\n", "t.mgf:1: include '../outside.mgf' is outside the top file's folder"},
+      {"cycle", "i t.mgf\n", "t.mgf:1: include cycle: 't.mgf' is already being read"},
+      {"ring-without-normal", "v c =\n\tp 0 0 0\nring c 0 1\n", "t.mgf:3: ring: the centre vertex 'c' has no normal"},
+      {"cone-signs", "v a =\n\tp 0 0 0\nv b =\n\tp 0 0 1\ncone a 1 b -1\n", "t.mgf:5: cone: the radii must not have different signs"},
+      {"no-faces", "v a =\n\tp 0 0 0\n", "t.mgf: no faces"},
+  };
+  for (const BadInput& c : cases) {
+    SCOPED_TRACE(c.name);
+    const fs::path dir = testing::scratchDirectory("mgf-bad", c.name);
+    write(dir / "top" / "t.mgf", c.text);
+    write(dir / "outside.mgf", std::string(kTriangle) + "f a b c\n");
+    Result<Scene> scene = readMgf((dir / "top" / "t.mgf").string());
+    ASSERT_FALSE(scene.ok());
+    EXPECT_TRUE(testing::contains(scene.error().message, c.message)) << scene.error().message;
+  }
+}
+
+TEST(MgfTest, IncludeCyclesAndDepthAreErrorsInTheIncludedFile) {
+  const fs::path dir = testing::scratchDirectory("mgf", "cycle");
+  write(dir / "a.mgf", "i sub/b.mgf\n");
+  write(dir / "sub" / "b.mgf", "# b\ni ../a.mgf\n");
+  Result<Scene> cycle = readMgf((dir / "a.mgf").string());
+  ASSERT_FALSE(cycle.ok());
+  EXPECT_TRUE(testing::contains(cycle.error().message, "b.mgf:2: include cycle: '../a.mgf'")) << cycle.error().message;
+
+  // 40 files, each including the next: deeper than 32.
+  auto deepName = [](int i) {
+    std::string name = "d";
+    name += std::to_string(i);
+    name += ".mgf";
+    return name;
+  };
+  for (int i = 0; i < 40; ++i) write(dir / deepName(i), std::string("i ") + deepName(i + 1) + "\n");
+  write(dir / "d40.mgf", std::string(kTriangle) + "f a b c\n");
+  Result<Scene> deep = readMgf((dir / "d0.mgf").string());
+  ASSERT_FALSE(deep.ok());
+  EXPECT_TRUE(testing::contains(deep.error().message, "d32.mgf:1: includes nested deeper than 32 levels")) << deep.error().message;
+}
+
+TEST(MgfTest, ShippedFloorScene) {
+  Captured captured;
+  Result<Scene> scene = readMgf(std::string(LAMBERT_SOURCE_DIR) + "/scenes/floor/floor.mgf");
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  EXPECT_TRUE(captured.warnings.empty()) << captured.warnings.front();
+  std::size_t faces = 0, emitters = 0;
+  for (const Surface& s : scene->surfaces) {
+    faces += surfaceFaces(s).size();
+    emitters += s.emittedRadiance.maxComponent() > 0;
+  }
+  EXPECT_GT(faces, 100u);
+  EXPECT_LT(faces, 2000u);
+  EXPECT_GE(emitters, 4u);
+  const Bounds bounds = sceneBounds(*scene);
+  EXPECT_GT(bounds.hi.y - bounds.lo.y, 5.0);  // two storeys, y up
+}
+
+}  // namespace
+}  // namespace lambert
