@@ -29,6 +29,9 @@ void addMeshOptions(CLI::App& cmd, MeshCommandOptions& o) {
                  "Mesh files: neighbouring faces whose normals differ by more are not smoothed (degrees)")
       ->check(CLI::Range(0.0, 180.0))
       ->capture_default_str();
+  cmd.add_option("--mgf-divisions", o.mgfDivisions, "MGF files: segments per full circle of sph, cyl, cone, ring and torus")
+      ->check(CLI::Range(3, 1024))
+      ->capture_default_str();
 }
 
 void addSolveOptions(CLI::App& cmd, SolveCommandOptions& o) {
@@ -128,13 +131,19 @@ void printStats(const Stats& stats, bool json, bool quiet, const std::string& he
 
 std::optional<Scene> findScene(const std::string& command, const MeshCommandOptions& o) {
   if (!isMeshFile(o.scene))
-    if (Status s = refuseGiven(o, {"--crease-angle"}, "it is for mesh files (.obj, .ply, .gltf, .glb), and '" + o.scene + "' is not one"); !s) {
+    if (Status s = refuseGiven(o, {"--crease-angle"}, "it is for mesh files (.obj, .ply, .gltf, .glb, .mgf), and '" + o.scene + "' is not one"); !s) {
+      fail(command, s.error().message);
+      return std::nullopt;
+    }
+  if (lowercaseExtension(o.scene) != ".mgf")
+    if (Status s = refuseGiven(o, {"--mgf-divisions"}, "it is for MGF files, and '" + o.scene + "' is not one (a scene file's meshes entry takes \"mgfDivisions\")"); !s) {
       fail(command, s.error().message);
       return std::nullopt;
     }
   LoadOptions load;
   load.metresPerUnit = o.metresPerUnit;
   load.creaseAngleDegrees = o.creaseAngleDegrees;
+  load.mgfDivisions = o.mgfDivisions;
   Result<Scene> scene = loadScene(o.scene, load);
   if (!scene) {
     fail(command, scene.error().message);

@@ -32,6 +32,7 @@ struct MeshCommandOptions : GivenOptions {
   std::uint64_t seed = 1;
   double metresPerUnit = 0;       // --units for OBJ files; 0: metres
   double creaseAngleDegrees = 20; // --crease-angle for mesh files
+  int mgfDivisions = 16;          // --mgf-divisions for MGF files
 };
 
 struct SolveCommandOptions : MeshCommandOptions {

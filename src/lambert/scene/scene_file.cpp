@@ -15,6 +15,7 @@
 #include "lambert/core/text.h"
 #include "lambert/scene/builtin.h"
 #include "lambert/scene/gltf.h"
+#include "lambert/scene/mgf.h"
 #include "lambert/scene/obj.h"
 #include "lambert/scene/ply.h"
 #include "lambert/scene/texture.h"
@@ -226,15 +227,15 @@ struct MeshTransform {
   bool mirrors() const { return scale.x * scale.y * scale.z < 0; }
 };
 
-// A mesh file (OBJ, glTF) by a path relative to the scene file, in the scene's units: OBJ
-// numbers are taken to be in them, glTF's metres are converted. Its surfaces, materials and
+// A mesh file (OBJ, PLY, glTF, MGF) by a path relative to the scene file, in the scene's units:
+// OBJ and PLY numbers are taken to be in them, glTF's and MGF's metres are converted. Its surfaces, materials and
 // lights are added, transformed; its camera is kept for a scene file that has none.
 void addMesh(Scene& scene, const Json& value, const std::string& pointer, const std::string& scenePath,
              std::optional<Camera>& camera) {
   ObjectReader r(value, pointer);
   const std::string relative = r.string("path", "");
   if (relative.empty()) throw FieldError{pointer, "missing required field \"path\""};
-  if (!isMeshFile(relative)) throw FieldError{r.pointerOf("path"), "\"" + relative + "\" is not a mesh file (.obj, .ply, .gltf, .glb)"};
+  if (!isMeshFile(relative)) throw FieldError{r.pointerOf("path"), "\"" + relative + "\" is not a mesh file (.obj, .ply, .gltf, .glb, .mgf)"};
   MeshTransform t;
   if (r.has("transform")) {
     ObjectReader tr(r.require("transform"), r.pointerOf("transform"));
@@ -252,9 +253,14 @@ void addMesh(Scene& scene, const Json& value, const std::string& pointer, const 
   LoadOptions load;
   load.creaseAngleDegrees = r.number("creaseAngleDegrees", 20, 0, 180);
   if (r.has("twoSided")) load.twoSided = r.boolean("twoSided", false);
-  r.finish("path, transform, creaseAngleDegrees, twoSided");
+  if (r.has("mgfDivisions")) {
+    if (lowercaseExtension(relative) != ".mgf") throw FieldError{r.pointerOf("mgfDivisions"), "only for .mgf files"};
+    load.mgfDivisions = static_cast<int>(r.number("mgfDivisions", 16, 3, 1024));
+  }
+  r.finish("path, transform, creaseAngleDegrees, twoSided, mgfDivisions");
   const bool gltf = lowercaseExtension(relative) == ".gltf" || lowercaseExtension(relative) == ".glb";
-  if (!gltf) load.metresPerUnit = scene.metresPerUnit;  // OBJ and PLY numbers are in the scene's unit
+  const std::string extension = lowercaseExtension(relative);
+  if (extension == ".obj" || extension == ".ply") load.metresPerUnit = scene.metresPerUnit;  // their numbers are in the scene's unit
   const std::string file = (std::filesystem::path(scenePath).parent_path() / relative).string();
   Result<Scene> mesh = loadScene(file, load);
   if (!mesh) throw FieldError{r.pointerOf("path"), mesh.error().message};
@@ -536,7 +542,7 @@ Status writeSceneFile(const std::string& path, const Scene& scene) {
 
 bool isMeshFile(const std::string& path) {
   const std::string extension = lowercaseExtension(path);
-  return extension == ".obj" || extension == ".ply" || extension == ".gltf" || extension == ".glb";
+  return extension == ".obj" || extension == ".ply" || extension == ".gltf" || extension == ".glb" || extension == ".mgf";
 }
 
 Result<Scene> loadScene(const std::string& nameOrPath, const LoadOptions& options) {
@@ -554,6 +560,7 @@ Result<Scene> loadScene(const std::string& nameOrPath, const LoadOptions& option
   };
   if (extension == ".json") return withTwins(readSceneFile(nameOrPath));
   if (extension == ".gltf" || extension == ".glb") return withTwins(readGltf(nameOrPath, {options.creaseAngleDegrees}));
+  if (extension == ".mgf") return withTwins(readMgf(nameOrPath, {options.mgfDivisions, {options.creaseAngleDegrees}}));
   if (extension == ".ply")
     return withTwins(readPly(nameOrPath, options.metresPerUnit > 0 ? options.metresPerUnit : 1, {options.creaseAngleDegrees}));
   if (extension == ".obj") {
@@ -564,7 +571,7 @@ Result<Scene> loadScene(const std::string& nameOrPath, const LoadOptions& option
   }
   std::string names;
   for (const std::string& n : builtinSceneNames()) names += (names.empty() ? "" : ", ") + n;
-  return Error{"unknown scene '" + nameOrPath + "' (built-in scenes: " + names + "; or a scene file: .json, .obj, .ply, .gltf, .glb)"};
+  return Error{"unknown scene '" + nameOrPath + "' (built-in scenes: " + names + "; or a scene file: .json, .obj, .ply, .gltf, .glb, .mgf)"};
 }
 
 }  // namespace lambert

@@ -24,7 +24,7 @@ std::string sceneFileText(const Scene& scene);
 // Writes sceneFileText atomically (a temporary file renamed over path).
 Status writeSceneFile(const std::string& path, const Scene& scene);
 
-// Whether a path names a mesh file (.obj, .ply, .gltf, .glb), whose faces become smooth regions.
+// Whether a path names a mesh file (.obj, .ply, .gltf, .glb, .mgf), whose faces become smooth regions.
 bool isMeshFile(const std::string& path);
 
 // How to read files that do not say everything themselves.
@@ -33,6 +33,7 @@ struct LoadOptions {
   double creaseAngleDegrees = 20;  // mesh files: neighbours whose normals differ more are not smoothed
   // Mesh files: every material two-sided (true) or one-sided (false), whatever the file says.
   std::optional<bool> twoSided = std::nullopt;
+  int mgfDivisions = 16;  // MGF: segments per full circle of its curved primitives
 };
 
 // A built-in scene by name (scene/builtin.h), or a file by its extension (.json, .obj, .ply,
