@@ -16,17 +16,20 @@ void appendBytes(void* context, void* data, int size) {
 
 }  // namespace
 
+Result<std::vector<std::uint8_t>> encodePng(int width, int height, const std::vector<std::uint8_t>& rgb8) {
+  if (width <= 0 || height <= 0 || rgb8.size() != static_cast<std::size_t>(width) * height * 3)
+    return Error{"image is " + std::to_string(width) + "x" + std::to_string(height) + " but has " + std::to_string(rgb8.size()) +
+                 " bytes of RGB"};
+  std::vector<std::uint8_t> encoded;
+  if (!stbi_write_png_to_func(appendBytes, &encoded, width, height, 3, rgb8.data(), width * 3)) return Error{"PNG encoding failed"};
+  return encoded;
+}
+
 Status writePng(const std::string& path, int width, int height, const std::vector<std::uint8_t>& rgb8) {
   if (path.empty()) return Error{"writePng: empty path"};
-  if (width <= 0 || height <= 0 || rgb8.size() != static_cast<std::size_t>(width) * height * 3)
-    return Error{path + ": image is " + std::to_string(width) + "x" + std::to_string(height) +
-                 " but has " + std::to_string(rgb8.size()) + " bytes of RGB"};
-
-  std::vector<std::uint8_t> encoded;
-  if (!stbi_write_png_to_func(appendBytes, &encoded, width, height, 3, rgb8.data(), width * 3))
-    return Error{path + ": PNG encoding failed"};
-
-  return writeFileAtomically(path, encoded);
+  Result<std::vector<std::uint8_t>> encoded = encodePng(width, height, rgb8);
+  if (!encoded) return Error{path + ": " + encoded.error().message};
+  return writeFileAtomically(path, *encoded);
 }
 
 Result<PngImage> readPng(const std::string& path) {

@@ -14,6 +14,9 @@ namespace lambert {
 // the error names path.
 Status writePng(const std::string& path, int width, int height, const std::vector<std::uint8_t>& rgb8);
 
+// The PNG encoding of 8-bit RGB, in memory (for images inside other files: .glb).
+Result<std::vector<std::uint8_t>> encodePng(int width, int height, const std::vector<std::uint8_t>& rgb8);
+
 struct PngImage {
   int width = 0, height = 0;
   std::vector<std::uint8_t> rgb8;  // interleaved RGB, row-major, top row first

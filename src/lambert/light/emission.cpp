@@ -18,18 +18,33 @@ std::array<double, 3> barycentric(const Vec3& q, const Vec3& a, const Vec3& b, c
   return {1 - beta - gamma, beta, gamma};
 }
 
-// The texture coordinates of a patch's corners, from the fan triangle of its face that holds the
-// patch (the mesher splits faces along their fans, so one triangle holds each patch whole).
-std::array<Uv, 4> patchUvs(const Surface& surface, const std::vector<std::uint32_t>& face, const std::vector<Uv>& faceUvs,
-                           const PatchCorners& corners, const Vec3& centroid) {
+// The surface's face `index` (its one polygon when it lists no faces), without copying the rest.
+std::vector<std::uint32_t> faceOf(const Surface& surface, std::uint32_t index) {
+  if (!surface.faces.empty()) return surface.faces[index];
+  std::vector<std::uint32_t> all(surface.vertices.size());
+  for (std::uint32_t k = 0; k < all.size(); ++k) all[k] = k;
+  return all;
+}
+
+}  // namespace
+
+std::array<Uv, 4> patchCornerUvs(const Scene& scene, const Mesh& mesh, std::size_t patch) {
+  const Patch& p = mesh.patches[patch];
+  const Surface& surface = scene.surfaces[p.surface];
+  std::array<Uv, 4> uvs{};
+  if (surface.faceUvs.empty()) return uvs;
+  const std::vector<std::uint32_t> face = faceOf(surface, p.face);
+  const std::vector<Uv>& faceUvs = surface.faceUvs[p.face];
+  // The fan triangle of the face that holds the patch: the mesher splits faces along their fans,
+  // so one holds each patch whole; the centroid is the point least likely to sit on its edge.
   std::size_t best = 1;
   double bestInside = -INFINITY;
   for (std::size_t k = 1; k + 1 < face.size(); ++k) {
-    auto w = barycentric(centroid, surface.vertices[face[0]], surface.vertices[face[k]], surface.vertices[face[k + 1]]);
+    auto w = barycentric(p.centroid, surface.vertices[face[0]], surface.vertices[face[k]], surface.vertices[face[k + 1]]);
     const double inside = std::fmin(w[0], std::fmin(w[1], w[2]));
     if (inside > bestInside) bestInside = inside, best = k;
   }
-  std::array<Uv, 4> uvs{};
+  const PatchCorners corners = mesh.corners(patch);
   for (std::size_t c = 0; c < corners.size(); ++c) {
     auto w = barycentric(corners[c], surface.vertices[face[0]], surface.vertices[face[best]], surface.vertices[face[best + 1]]);
     uvs[c] = {w[0] * faceUvs[0].u + w[1] * faceUvs[best].u + w[2] * faceUvs[best + 1].u,
@@ -37,8 +52,6 @@ std::array<Uv, 4> patchUvs(const Surface& surface, const std::vector<std::uint32
   }
   return uvs;
 }
-
-}  // namespace
 
 std::vector<Rgb> emittedRadiosity(const Scene& scene, const Mesh& mesh) {
   std::vector<Rgb> emitted(mesh.numPatches());
@@ -49,16 +62,13 @@ std::vector<Rgb> emittedRadiosity(const Scene& scene, const Mesh& mesh) {
 
 std::vector<Rgb> patchAlbedo(const Scene& scene, const Mesh& mesh) {
   std::vector<Rgb> albedo(mesh.numPatches());
-  std::vector<std::vector<std::vector<std::uint32_t>>> faces(scene.surfaces.size());  // filled when textured
   for (std::size_t i = 0; i < mesh.numPatches(); ++i) {
-    const Patch& patch = mesh.patches[i];
-    const Surface& surface = scene.surfaces[patch.surface];
+    const Surface& surface = scene.surfaces[mesh.patches[i].surface];
     const Material& material = scene.materials[static_cast<std::size_t>(surface.material)];
     albedo[i] = material.albedo;
     if (!material.texture || surface.faceUvs.empty()) continue;
-    if (faces[patch.surface].empty()) faces[patch.surface] = surfaceFaces(surface);
     const PatchCorners corners = mesh.corners(i);
-    const auto uvs = patchUvs(surface, faces[patch.surface][patch.face], surface.faceUvs[patch.face], corners, patch.centroid);
+    const std::array<Uv, 4> uvs = patchCornerUvs(scene, mesh, i);
     albedo[i] = albedo[i] * meanTextureOver(*material.texture, corners, std::span<const Uv>(uvs.data(), corners.size()));
   }
   return albedo;

@@ -1,6 +1,7 @@
 #pragma once
 // What each patch emits and reflects before any light moves: emitted radiosity E = π·L_e of
 // emissive surfaces, and the albedo ρ of each patch's material.
+#include <array>
 #include <vector>
 
 #include "lambert/core/rgb.h"
@@ -11,7 +12,10 @@ namespace lambert {
 
 // E_i in W/m² for every patch.
 std::vector<Rgb> emittedRadiosity(const Scene& scene, const Mesh& mesh);
-// ρ_i for every patch.
+// ρ_i for every patch: the material's albedo, times its texture's mean over the patch.
 std::vector<Rgb> patchAlbedo(const Scene& scene, const Mesh& mesh);
+// The texture coordinates of a patch's corners, interpolated from its face's (zero when its
+// surface has none).
+std::array<Uv, 4> patchCornerUvs(const Scene& scene, const Mesh& mesh, std::size_t patch);
 
 }  // namespace lambert
