@@ -57,8 +57,12 @@ int runAnimate(const AnimateCommandOptions& o) {
   std::optional<Scene> scene = findScene("animate", o.solve);
   if (!scene) return 2;
   if (Status ok = checkImageOptions(*scene, o.image); !ok) return fail("animate", ok.error().message);
+  // The budget suits the solver (which the scene file may choose) before anything is computed.
+  Result<RadiosityOptions> chosen = radiosityOptions(*scene, o.solve);
+  if (!chosen) return fail("animate", chosen.error().message);
+  const SolverKind solver = chosen->solver;
   const SolveBudget budget{o.shotsPerFrame, o.sweepsPerFrame, o.frameMilliseconds};
-  if (Status ok = checkSolveBudget(o.solve.solver, budget); !ok) return fail("animate", ok.error().message);
+  if (Status ok = checkSolveBudget(solver, budget); !ok) return fail("animate", ok.error().message);
   if (scene->lights.empty())
     std::fprintf(stderr, "lambert animate: note: scene '%s' has no point, spot or directional lights; every frame is the same\n",
                  scene->name.c_str());
@@ -107,7 +111,7 @@ int runAnimate(const AnimateCommandOptions& o) {
   // totals over all frames; the per-frame figures follow.
   Stats stats = engine->stats();
   stats.add("frames", "frames", static_cast<std::int64_t>(o.frames));
-  stats.add("iterations_all_frames", o.solve.solver == SolverKind::Shooting ? "shots (all frames)" : "iterations (all frames)",
+  stats.add("iterations_all_frames", solver == SolverKind::Shooting ? "shots (all frames)" : "iterations (all frames)",
             static_cast<std::int64_t>(iterations));
   if (o.solve.adaptive) {
     stats.add("active_cells_mean", "active cells per frame (mean)", elements.mean);
@@ -118,7 +122,7 @@ int runAnimate(const AnimateCommandOptions& o) {
   stats.add("solve_ms_max", "radiosity update per frame (max)", 1e3 * solve.max, "ms");
   stats.add("light_updates_per_second", "light updates per second (inject + update)",
             inject.mean + solve.mean > 0 ? 1 / (inject.mean + solve.mean) : 0.0, "/s");
-  if (o.solve.solver == SolverKind::Shooting)
+  if (solver == SolverKind::Shooting)
     stats.add("unshot_fraction_max", "unshot power left in a frame (max)", unshot.max);
   stats.add("render_ms_mean", "render + PNG per frame (mean)", 1e3 * render.mean, "ms");
   stats.add("frame_ms_mean", "whole frame (mean)", 1e3 * frameTime.mean, "ms");

@@ -117,7 +117,7 @@ int runCompare(const CompareCommandOptions& o) {
     if (!loaded) return 2;
     reference = std::move(*loaded);
   } else {
-    const Mesh mesh = engine ? engine->solution().vertexMesh() : uniformMesh(*scene, {o.solve.patches, o.solve.maxEdge});
+    const Mesh mesh = engine ? engine->solution().vertexMesh() : uniformMesh(*scene, uniformMeshOptions(*scene, o.solve));
     reference = vertexSamples(mesh, tracer().vertexRadiance(mesh));
   }
   stats.add("reference_seconds", "reference time", referenceTimer.seconds(), "s");

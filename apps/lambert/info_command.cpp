@@ -59,7 +59,7 @@ int runInfo(const InfoCommandOptions& o) {
   stats.add("area_m2", "surface area", area * m2, "m2");
   stats.add("emitted_watts", "power emitted by surfaces (RGB summed)", emittedWatts, "W");
 
-  const Mesh mesh = uniformMesh(*scene, {o.mesh.patches, o.mesh.maxEdge});
+  const Mesh mesh = uniformMesh(*scene, uniformMeshOptions(*scene, o.mesh));
   const double n = static_cast<double>(mesh.numPatches());
   const double matrixBytes = n * n * sizeof(float);
   stats.add("patches", o.mesh.maxEdge > 0 ? "patches at --max-edge" : "patches at --patches", static_cast<std::int64_t>(mesh.numPatches()));

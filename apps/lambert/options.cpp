@@ -12,6 +12,21 @@
 #include "lambert/scene/scene_file.h"
 
 namespace lambert::cli {
+namespace {
+
+const std::map<std::string, SolverKind>& solverNames() {
+  static const std::map<std::string, SolverKind> names{
+      {"direct", SolverKind::Direct}, {"gs", SolverKind::GaussSeidel}, {"jacobi", SolverKind::Jacobi}, {"shoot", SolverKind::Shooting}};
+  return names;
+}
+
+}  // namespace
+
+UniformMeshOptions uniformMeshOptions(const Scene& scene, const MeshCommandOptions& o) {
+  if (o.given("--patches") || o.given("--max-edge") || (scene.defaults.patches == 0 && scene.defaults.maxEdgeLength == 0))
+    return {o.patches, o.maxEdge};
+  return {scene.defaults.patches > 0 ? scene.defaults.patches : o.patches, scene.defaults.maxEdgeLength};
+}
 
 void addMeshOptions(CLI::App& cmd, MeshCommandOptions& o) {
   o.command = &cmd;
@@ -55,10 +70,7 @@ void addSolveOptions(CLI::App& cmd, SolveCommandOptions& o) {
       ->check(CLI::Range(1, 4096))
       ->capture_default_str();
   cmd.add_option("--solver", o.solver, "Solver: direct, gs (Gauss-Seidel), jacobi or shoot (progressive)")
-      ->transform(CLI::CheckedTransformer(std::map<std::string, SolverKind>{{"direct", SolverKind::Direct},
-                                                                            {"gs", SolverKind::GaussSeidel},
-                                                                            {"jacobi", SolverKind::Jacobi},
-                                                                            {"shoot", SolverKind::Shooting}}))
+      ->transform(CLI::CheckedTransformer(solverNames()))
       ->default_str("gs");
   cmd.add_option("--tolerance", o.tolerance, "Relative stopping tolerance of iterative solvers")
       ->check(CLI::Range(1e-15, 1.0))
@@ -200,6 +212,9 @@ Result<RadiosityOptions> radiosityOptions(const Scene& scene, const SolveCommand
     std::initializer_list<const char*> options;
     std::string why;
   };
+  // The scene file's defaults, where the command line does not say.
+  const SolverKind solver = !o.given("--solver") && !scene.defaults.solver.empty() ? solverNames().at(scene.defaults.solver) : o.solver;
+  const double tolerance = !o.given("--tolerance") && scene.defaults.tolerance > 0 ? scene.defaults.tolerance : o.tolerance;
   const bool mc = o.formFactor == FormFactorMethod::AreaMonteCarlo;
   const std::string method = formFactorMethodName(o.formFactor);
   const Rule rules[] = {
@@ -208,7 +223,7 @@ Result<RadiosityOptions> radiosityOptions(const Scene& scene, const SolveCommand
       {!mc, {"--samples"}, "sample pairs are for --formfactor mc, not " + method},
       {o.formFactor != FormFactorMethod::Hemicube, {"--hemicube-resolution"}, "it is for --formfactor hemicube, not " + method},
       {o.formFactor != FormFactorMethod::HemisphereRays, {"--hemisphere-rays"}, "it is for --formfactor hemisphere, not " + method},
-      {o.solver == SolverKind::Direct, {"--tolerance", "--max-iterations"}, "the direct solver is exact; they are for gs, jacobi and shoot"},
+      {solver == SolverKind::Direct, {"--tolerance", "--max-iterations"}, "the direct solver is exact; they are for gs, jacobi and shoot"},
       {o.noCache, {"--cache-dir"}, "--no-cache turns the cache off"},
       {scene.lights.empty(), {"--light-samples"}, "scene '" + scene.name + "' has no point, spot or directional lights"},
   };
@@ -218,8 +233,7 @@ Result<RadiosityOptions> radiosityOptions(const Scene& scene, const SolveCommand
 
   RadiosityOptions r;
   r.meshing = o.adaptive ? MeshStrategy::Adaptive : MeshStrategy::Uniform;
-  r.uniform.targetPatches = o.patches;
-  r.uniform.maxEdgeLength = o.maxEdge;
+  r.uniform = uniformMeshOptions(scene, o);
   r.adaptive.quadtree.baseEdgeLength = o.baseEdge;
   r.adaptive.quadtree.maxLevel = o.maxLevel;
   r.adaptive.gradientThreshold = o.gradientThreshold;
@@ -233,8 +247,8 @@ Result<RadiosityOptions> radiosityOptions(const Scene& scene, const SolveCommand
   r.normalizeRows = o.normalizeRows;
   r.directLight.samplesPerPatch = o.lightSamples;
   r.directLight.seed = o.seed;
-  r.solver = o.solver;
-  r.tolerance = o.tolerance;
+  r.solver = solver;
+  r.tolerance = tolerance;
   r.maxIterations = o.maxIterations;
   r.cacheDirectory = o.noCache ? "" : (o.cacheDir.empty() ? defaultCacheDirectory() : o.cacheDir);
   return r;

@@ -104,6 +104,9 @@ Status writeImageFile(const std::string& path, const Image& image, double exposu
 // --quiet.
 void printStats(const Stats& stats, bool json, bool quiet, const std::string& headline = "");
 
+// The uniform mesh --patches / --max-edge ask for, or else the scene file's defaults.
+UniformMeshOptions uniformMeshOptions(const Scene& scene, const MeshCommandOptions& o);
+
 // The built-in scene or scene file that --scene names, read with --units and --crease-angle;
 // else nothing, with the reason on stderr.
 std::optional<Scene> findScene(const std::string& command, const MeshCommandOptions& options);

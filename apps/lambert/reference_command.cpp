@@ -49,7 +49,7 @@ int runReference(const ReferenceCommandOptions& o) {
   stats.add("scene", "scene", scene->name);
   if (!o.exportVertices.empty()) {
     Timer timer;
-    Mesh mesh = uniformMesh(*scene, {o.mesh.patches, o.mesh.maxEdge});
+    Mesh mesh = uniformMesh(*scene, uniformMeshOptions(*scene, o.mesh));
     std::vector<Rgb> radiance = renderer.vertexRadiance(mesh);
     Status written = writeVertices(o.exportVertices, vertexSamples(mesh, radiance));
     if (!written) {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <map>
 
 #include "lambert/core/text.h"
@@ -333,10 +334,16 @@ class Reader {
 Result<Scene> readGltf(const std::string& path, const RegionOptions& regions) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) return Error{path + ": no such glTF file"};
+  const bool binary = lowercaseExtension(path) == ".glb";
+  if (binary) {  // say what the file is not, before tinygltf's byte-level complaints
+    char magic[4] = {};
+    std::ifstream(path, std::ios::binary).read(magic, 4);
+    if (std::string(magic, 4) != "glTF") return Error{path + ": not a binary glTF file (a .glb starts with 'glTF')"};
+  }
   tinygltf::TinyGLTF loader;
   tinygltf::Model model;
   std::string error, warn;
-  const bool ok = lowercaseExtension(path) == ".glb" ? loader.LoadBinaryFromFile(&model, &error, &warn, path)
+  const bool ok = binary ? loader.LoadBinaryFromFile(&model, &error, &warn, path)
                                       : loader.LoadASCIIFromFile(&model, &error, &warn, path);
   if (!warn.empty()) warning(path + ": " + singleLine(warn));
   if (!ok) return Error{path + ": " + (error.empty() ? std::string("not a glTF file") : singleLine(error))};

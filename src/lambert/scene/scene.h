@@ -88,6 +88,14 @@ struct Camera {
   double verticalFovDegrees = 40;
 };
 
+// What a scene file suggests for solving it, taken where the command line does not say.
+struct SolveDefaults {
+  std::size_t patches = 0;     // uniform mesh: target patch count; 0: the program's default
+  double maxEdgeLength = 0;    // uniform mesh: longest patch edge in scene units (instead of patches)
+  std::string solver;          // "direct", "gs", "jacobi" or "shoot"; empty: the program's default
+  double tolerance = 0;        // iterative solvers' relative tolerance; 0: the program's default
+};
+
 struct Scene {
   std::string name;
   std::vector<Material> materials;
@@ -95,6 +103,7 @@ struct Scene {
   std::vector<Light> lights;
   Camera camera;
   double metresPerUnit = 1;  // 0.001 for a scene in millimetres
+  SolveDefaults defaults;
 };
 
 // The surface's faces as vertex-index lists (the single polygon when Surface::faces is empty).

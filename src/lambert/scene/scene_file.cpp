@@ -296,6 +296,22 @@ void addMesh(Scene& scene, const Json& value, const std::string& pointer, const 
   }
 }
 
+SolveDefaults readDefaults(const Json& value, const std::string& pointer) {
+  ObjectReader r(value, pointer);
+  SolveDefaults d;
+  if (r.has("patches") && r.has("maxEdge")) throw FieldError{pointer + "/maxEdge", "give either \"patches\" or \"maxEdge\", not both"};
+  const double patches = r.number("patches", 0, 1, 200000);
+  if (patches != std::floor(patches)) throw FieldError{pointer + "/patches", "expected a whole number of patches"};
+  d.patches = static_cast<std::size_t>(patches);
+  d.maxEdgeLength = r.number("maxEdge", 0, 0, 1e12, true);
+  d.solver = r.string("solver", "");
+  if (!d.solver.empty() && d.solver != "direct" && d.solver != "gs" && d.solver != "jacobi" && d.solver != "shoot")
+    throw FieldError{pointer + "/solver", "\"" + d.solver + "\" is not a solver (allowed: direct, gs, jacobi, shoot)"};
+  d.tolerance = r.number("tolerance", 0, 0, 1, true, true);
+  r.finish("patches, maxEdge, solver, tolerance");
+  return d;
+}
+
 Scene readScene(const Json& document, const std::string& path) {
   ObjectReader r(document, "");
   if (r.has("version")) {
@@ -378,7 +394,8 @@ Scene readScene(const Json& document, const std::string& path) {
   for (std::size_t m = 0; m < meshes.size(); ++m) addMesh(scene, meshes[m], "/meshes/" + std::to_string(m), path, meshCamera);
   if (scene.surfaces.empty()) throw FieldError{"/surfaces", "the scene has no surfaces (give \"surfaces\" or \"meshes\")"};
   scene.camera = r.has("camera") ? readCamera(r.require("camera"), "/camera") : meshCamera ? *meshCamera : cameraViewingScene(scene);
-  r.finish("version, name, unit, metresPerUnit, materials, surfaces, meshes, lights, camera");
+  if (r.has("defaults")) scene.defaults = readDefaults(r.require("defaults"), "/defaults");
+  r.finish("version, name, unit, metresPerUnit, materials, surfaces, meshes, lights, camera, defaults");
   return scene;
 }
 
@@ -532,6 +549,13 @@ std::string sceneFileText(const Scene& scene) {
                    {"target", triple(scene.camera.target)},
                    {"up", triple(scene.camera.up)},
                    {"verticalFovDegrees", scene.camera.verticalFovDegrees}};
+  const SolveDefaults& d = scene.defaults;
+  OrderedJson defaults = OrderedJson::object();
+  if (d.patches > 0) defaults["patches"] = d.patches;
+  if (d.maxEdgeLength > 0) defaults["maxEdge"] = d.maxEdgeLength;
+  if (!d.solver.empty()) defaults["solver"] = d.solver;
+  if (d.tolerance > 0) defaults["tolerance"] = d.tolerance;
+  if (!defaults.empty()) doc["defaults"] = std::move(defaults);
   return withTriplesOnOneLine(doc.dump(2)) + "\n";
 }
 

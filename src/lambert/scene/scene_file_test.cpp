@@ -156,6 +156,36 @@ TEST(SceneFileTest, UnitsDefaultsAndNames) {
 }
 
 // Every error names the file and the JSON path (or line and column) and what is allowed.
+// Two-sided materials get their twins when loaded, are written once, and read back the same;
+// the defaults survive the round trip.
+TEST(SceneFileTest, TwoSidedMaterialsAndDefaultsRoundTrip) {
+  const std::filesystem::path dir = testing::scratchDirectory("scene-file", "two-sided");
+  std::ofstream(dir / "panel.json") << R"({"version": 1,
+    "materials": [{"name": "card", "albedo": [0.4, 0.5, 0.6], "twoSided": true}],
+    "surfaces": [{"material": "card", "vertices": [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]}],
+    "defaults": {"maxEdge": 0.25, "solver": "jacobi", "tolerance": 1e-5}})";
+  Result<Scene> scene = loadScene((dir / "panel.json").string());
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_EQ(scene->surfaces.size(), 2u);
+  EXPECT_EQ(scene->surfaces[0].twin, 1);
+  EXPECT_NEAR(surfaceNormal(scene->surfaces[1]).z, -1, 1e-12);
+  EXPECT_EQ(scene->defaults.maxEdgeLength, 0.25);
+  EXPECT_EQ(scene->defaults.solver, "jacobi");
+  EXPECT_EQ(scene->defaults.tolerance, 1e-5);
+  const std::string text = sceneFileText(*scene);
+  ASSERT_TRUE(writeSceneFile((dir / "again.json").string(), *scene).ok());
+  Result<Scene> again = loadScene((dir / "again.json").string());
+  ASSERT_TRUE(again.ok()) << again.error().message;
+  EXPECT_EQ(sceneFileText(*again), text);
+  EXPECT_EQ(again->surfaces.size(), 2u);  // the twin is made again, not written
+  // A meshes entry can turn a file's sides either way.
+  std::ofstream(dir / "tri.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  std::ofstream(dir / "sides.json") << R"({"meshes": [{"path": "tri.obj", "twoSided": true}]})";
+  Result<Scene> sides = loadScene((dir / "sides.json").string());
+  ASSERT_TRUE(sides.ok()) << sides.error().message;
+  EXPECT_EQ(sides->surfaces.size(), 2u);
+}
+
 TEST(SceneFileTest, BadFilesAreRefusedNamingThePathAndTheRule) {
   const std::string material = R"("materials": [{"name": "m"}])";
   const std::string surface = R"("surfaces": [{"material": "m", "vertices": [[0,0,0], [1,0,0], [0,1,0]]}])";
@@ -186,6 +216,14 @@ TEST(SceneFileTest, BadFilesAreRefusedNamingThePathAndTheRule) {
       {"{\"version\": 2, " + base + "}", "/version: version 2 is not supported"},
       {"{" + base + R"(, "camera": {"eye": [0,0,0], "target": [0,0,0]}})", "/camera/target: the target must differ from the eye"},
       {"[1, 2]", "bad.json: /: expected an object, found an array"},
+      {R"({"materials": [{"name": "m", "twoSided": 1}], )" + surface + "}", "/materials/0/twoSided: expected true or false, found a number"},
+      {"{" + material + R"(, "surfaces": [{"material": "m", "vertices": [[0,0,0], [1,0,0], [0,1,0]], "uvs": [[0,0], [1,0]]}]})",
+       "/surfaces/0/uvs: expected one [u, v] per vertex (3), found 2"},
+      {"{" + base + R"(, "defaults": {"solver": "lu"}})", "/defaults/solver: \"lu\" is not a solver (allowed: direct, gs, jacobi, shoot)"},
+      {"{" + base + R"(, "defaults": {"patches": 10.5}})", "/defaults/patches: expected a whole number of patches"},
+      {"{" + base + R"(, "defaults": {"patches": 10, "maxEdge": 1}})", "/defaults/maxEdge: give either \"patches\" or \"maxEdge\", not both"},
+      {"{" + base + R"(, "defaults": {"tolerance": 2}})", "/defaults/tolerance: 2 is out of range: allowed (0, 1)"},
+      {"{" + base + R"(, "defaults": {"adaptive": true}})", "/defaults/adaptive: unknown field (allowed here: patches, maxEdge, solver, tolerance)"},
       {"{\n  \"name\": \"x\",\n  \"surfaces\": [,]\n}", "bad.json:3:16: not valid JSON"},
   };
   for (const auto& [text, message] : cases) {
