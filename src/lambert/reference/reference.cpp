@@ -72,7 +72,9 @@ ReferenceRenderer::ReferenceRenderer(const Scene& scene, const Mesh& geometry, R
   epsilon_ = rayEpsilon(*geometry_);
   for (const Surface& surface : scene_.surfaces) {
     LAMBERT_CHECK(surface.material >= 0 && static_cast<std::size_t>(surface.material) < scene_.materials.size());
-    albedo_.push_back(scene_.materials[static_cast<std::size_t>(surface.material)].albedo);
+    // A texture enters as its mean: the tracer does not look textures up per point.
+    const Material& material = scene_.materials[static_cast<std::size_t>(surface.material)];
+    albedo_.push_back(material.texture ? material.albedo * material.texture->mean : material.albedo);
     emitted_.push_back(surface.emittedRadiance);
   }
   for (std::uint32_t i = 0; i < geometry_->numPatches(); ++i) {

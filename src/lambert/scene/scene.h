@@ -19,6 +19,7 @@ struct Texture {
   int width = 0, height = 0;
   std::vector<Rgb> pixels;  // row by row, linear reflectance factors in [0, 1]
   double peak = 0;          // the largest channel of any pixel
+  Rgb mean;                 // the mean pixel
   // The bilinearly filtered value at (u, v), repeating.
   Rgb sample(double u, double v) const;
 };

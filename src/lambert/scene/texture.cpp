@@ -28,7 +28,9 @@ Result<std::shared_ptr<const Texture>> textureFromSrgb8(std::span<const std::uin
     const std::uint8_t* p = pixels.data() + i * static_cast<std::size_t>(channels);
     texture->pixels[i] = grey ? Rgb::gray(linear[p[0]]) : Rgb{linear[p[0]], linear[p[1]], linear[p[2]]};
     texture->peak = std::max(texture->peak, texture->pixels[i].maxComponent());
+    texture->mean += texture->pixels[i];
   }
+  texture->mean = texture->mean * (1.0 / static_cast<double>(texture->pixels.size()));
   return std::shared_ptr<const Texture>(std::move(texture));
 }
 
