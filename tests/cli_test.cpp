@@ -472,7 +472,7 @@ TEST(CliTest, SceneFilesRenderAndBadOnesAreRefused) {
 // The shipped scenes render lit, through every loader (scene files over OBJ and MGF, glTF).
 TEST(CliTest, ShippedScenesRenderLit) {
   fs::path dir = outputDir("shipped");
-  for (const std::string scene : {"cornell/cornell-obj.json", "floor/floor.json", "floor/floor.mgf"}) {
+  for (const std::string scene : {"cornell/cornell-obj.json", "floor/floor.json", "floor/floor.mgf", "room/room.gltf"}) {
     const fs::path png = dir / (fs::path(scene).stem().string() + fs::path(scene).extension().string().substr(1) + ".png");
     CommandResult r = run("render --scene " + std::string(LAMBERT_SOURCE_DIR) + "/scenes/" + scene +
                           " --patches 600 --width 48 --height 48 --json -o " + png.string());
