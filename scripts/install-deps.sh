@@ -12,6 +12,15 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 
+# The Khronos glTF-Validator (npm, not Debian) checks the .glb export in the tests; optional: the
+# test says it is skipped where there is no npm or no registry.
+tools="$(cd "$(dirname "$0")/.." && pwd)/.tools"
+if command -v npm >/dev/null 2>&1 && [ ! -f "$tools/node_modules/gltf-validator/package.json" ]; then
+  echo "install-deps: installing the Khronos glTF-Validator (npm gltf-validator@2.0.0-dev.3.10) into .tools/"
+  npm install --silent --no-audit --no-fund --prefix "$tools" gltf-validator@2.0.0-dev.3.10 >/dev/null 2>&1 ||
+    echo "install-deps: note: no glTF-Validator (npm failed); its test will be skipped"
+fi
+
 missing=()
 for p in "${packages[@]}"; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q '^install ok installed$'; then

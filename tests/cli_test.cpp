@@ -28,13 +28,19 @@ struct CommandResult {
   std::string output;  // stdout and stderr together
 };
 
+CommandResult shell(const std::string& commandLine);
+
 CommandResult run(const std::string& arguments) {
   // Tests never touch the user's cache: every run that does not choose one gets no cache.
   const bool choosesCache = arguments.find("--cache-dir") != std::string::npos || arguments.find("--no-cache") != std::string::npos ||
                             arguments.find("--radiosity-vertices") != std::string::npos;  // compare solves nothing then
   const bool solves = arguments.rfind("render", 0) == 0 || arguments.rfind("animate", 0) == 0 ||
                       arguments.rfind("solve", 0) == 0 || arguments.rfind("compare", 0) == 0;
-  std::string command = std::string(LAMBERT_CLI_PATH) + " " + arguments + (solves && !choosesCache ? " --no-cache" : "") + " 2>&1";
+  return shell(std::string(LAMBERT_CLI_PATH) + " " + arguments + (solves && !choosesCache ? " --no-cache" : ""));
+}
+
+CommandResult shell(const std::string& commandLine) {
+  const std::string command = commandLine + " 2>&1";
   CommandResult result;
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) return result;
@@ -487,6 +493,27 @@ TEST(CliTest, ShippedScenesRenderLit) {
       EXPECT_GT(sum / image->rgb8.size(), 20) << scene << " is dark";
     }
   }
+}
+
+// The Khronos glTF-Validator (installed by scripts/install-deps.sh from npm where npm is) finds no
+// error, warning or note in the exports of a built-in, Blender's and the textured room.
+TEST(CliTest, ExportsPassTheKhronosGltfValidator) {
+  const std::string validator = std::string(LAMBERT_SOURCE_DIR) + "/.tools/node_modules/gltf-validator";
+  if (std::system("node --version > /dev/null 2>&1") != 0) GTEST_SKIP() << "no node.js here to run the glTF-Validator";
+  if (!fs::exists(validator + "/package.json")) GTEST_SKIP() << "no glTF-Validator in .tools/ (npm was not reachable when install-deps ran)";
+  fs::path dir = outputDir("validator");
+  std::string files;
+  for (const auto& [scene, options] : std::vector<std::pair<std::string, std::string>>{
+           {"cornell-spots", "--bake radiance"},
+           {std::string(LAMBERT_SOURCE_DIR) + "/tests/data/blender_room.glb", ""},
+           {std::string(LAMBERT_SOURCE_DIR) + "/scenes/room/room.gltf", "--exposure -1"}}) {
+    const fs::path glb = dir / (fs::path(scene).stem().string() + ".glb");
+    CommandResult r = run("solve --scene " + scene + " --patches 400 -q " + options + " --export " + glb.string());
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    files += " " + glb.string();
+  }
+  CommandResult report = shell("node " + std::string(LAMBERT_SOURCE_DIR) + "/tests/validate-glb.js " + validator + files);
+  EXPECT_EQ(report.exitCode, 0) << report.output;
 }
 
 // A scene file's defaults choose the mesh and the solver where the command line does not.

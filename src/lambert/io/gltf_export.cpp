@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <map>
@@ -12,6 +13,7 @@
 
 #include "lambert/core/atomic_file.h"
 #include "lambert/core/srgb.h"
+#include "lambert/core/warning.h"
 #include "lambert/io/png.h"
 #include "lambert/light/emission.h"
 
@@ -95,7 +97,10 @@ tinygltf::Node cameraNode(tinygltf::Model& model, const Scene& scene) {
   camera.name = "camera";
   camera.perspective.yfov = scene.camera.verticalFovDegrees * kPi / 180;
   camera.perspective.aspectRatio = 1;
-  camera.perspective.znear = 0.01;
+  const Bounds bounds = sceneBounds(scene);
+  const double diagonal = length(bounds.hi - bounds.lo) * scene.metresPerUnit;
+  camera.perspective.znear = 1e-3 * diagonal;
+  camera.perspective.zfar = 10 * diagonal + length(scene.camera.eye - bounds.lo) * scene.metresPerUnit;
   model.cameras.push_back(camera);
   // Rotation from the camera's basis (right, up, back) as a quaternion.
   const Vec3 back = normalize(scene.camera.eye - scene.camera.target);
@@ -156,6 +161,7 @@ Status writeGlb(const std::string& path, const SolutionView& solution, const Glt
   out.name = scene.name;
 
   std::map<const Texture*, int> textureIndex;
+  std::size_t clipped = 0, values = 0;
   // One primitive per (material, emitting) pair, each with its own vertices.
   std::map<std::pair<int, bool>, std::vector<std::uint32_t>> groups;
   for (std::uint32_t p = 0; p < mesh.numPatches(); ++p) {
@@ -199,7 +205,11 @@ Status writeGlb(const std::string& path, const SolutionView& solution, const Glt
         const Rgb c = (radiance ? vertexRadiance[v] : vertexIrradiance[v] / kPi) * scale;
         for (double x : {p.x, p.y, p.z}) position.push_back(static_cast<float>(x));
         for (double x : {n.x, n.y, n.z}) normal.push_back(static_cast<float>(x));
-        for (double x : {c.r, c.g, c.b}) colour.push_back(static_cast<float>(x));
+        // glTF colours are in [0, 1]: brighter light is clipped (and counted), _RADIANCE keeps it.
+        for (double x : {c.r, c.g, c.b}) {
+          clipped += x > 1;
+          colour.push_back(static_cast<float>(std::fmin(x, 1.0)));
+        }
         for (double x : {vertexRadiance[v].r, vertexRadiance[v].g, vertexRadiance[v].b}) linear.push_back(static_cast<float>(x));
       }
       return it->second;
@@ -217,6 +227,7 @@ Status writeGlb(const std::string& path, const SolutionView& solution, const Glt
     primitive.attributes["POSITION"] = addVec3(model, position, true);
     primitive.attributes["NORMAL"] = addVec3(model, normal, false);
     primitive.attributes["COLOR_0"] = addVec3(model, colour, false);
+    values += colour.size();
     primitive.attributes["_RADIANCE"] = addVec3(model, linear, false);
     if (textured) primitive.attributes["TEXCOORD_0"] = addVec2(model, texcoord);
     tinygltf::Accessor index;
@@ -239,6 +250,12 @@ Status writeGlb(const std::string& path, const SolutionView& solution, const Glt
   model.scenes.push_back(root);
   model.defaultScene = 0;
 
+  if (clipped > 0) {
+    char share[32];
+    std::snprintf(share, sizeof share, "%.3g%%", 100.0 * static_cast<double>(clipped) / static_cast<double>(values));
+    warning(path + ": " + share + " of the COLOR_0 values were above 1 and are clipped (glTF colours are in [0, 1]); " +
+            "a lower --exposure keeps them, and _RADIANCE holds the unclipped radiance");
+  }
   std::ostringstream stream;
   tinygltf::TinyGLTF writer;
   if (!writer.WriteGltfSceneToStream(&model, stream, false, true)) return Error{path + ": cannot encode glTF"};

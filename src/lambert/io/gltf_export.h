@@ -9,7 +9,9 @@
 //     stay sharp over smooth light.
 //   Radiance bake: COLOR_0 = L × 2^exposure, the final radiance, over a white base colour.
 //   Emitting surfaces always carry their radiance L (emission included) over white.
-// Every primitive also has _RADIANCE, the unscaled linear radiance L = B/π in W/(m²·sr).
+// COLOR_0 is clipped to [0, 1], as glTF requires, with a warning that counts the clipped values.
+// Every primitive also has _RADIANCE, the unscaled linear radiance L = B/π in W/(m²·sr), and
+// the file holds the scene's camera; lights are not written (their light is in COLOR_0).
 #include <string>
 
 #include "lambert/core/error.h"

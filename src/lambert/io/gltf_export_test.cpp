@@ -85,8 +85,10 @@ TEST(GltfExportTest, BaseColourTimesColourIsTheSolvedRadiance) {
         for (int c = 0; c < 3; ++c) {
           EXPECT_GE(position[3 * v + c], positions.minValues[c]);
           EXPECT_LE(position[3 * v + c], positions.maxValues[c]);
-          // base × COLOR_0 = L × 2^exposure, to float precision.
-          const double expected = radiance[3 * v + c] * std::exp2(exposure);
+          // base × COLOR_0 = L × 2^exposure, to float precision, where COLOR_0 (in [0, 1], as
+          // glTF requires) is not clipped; the exposure here clips the light's brightest parts.
+          EXPECT_LE(colour[3 * v + c], 1.0f);
+          const double expected = std::fmin(radiance[3 * v + c] * std::exp2(exposure), base[c]);
           EXPECT_NEAR(base[c] * colour[3 * v + c], expected, 1e-5 * expected + 1e-9) << material.name << " vertex " << v;
         }
         EXPECT_NEAR(std::hypot(normal[3 * v], normal[3 * v + 1], normal[3 * v + 2]), 1, 1e-5);
