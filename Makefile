@@ -27,7 +27,7 @@ run: build
 test: build
 	@cd $(BUILD_DIR) && ctest --output-on-failure -j$(JOBS)
 
-# Benchmarks: one JSON document on stdout, {"pipeline": …, "dynamic": …}, each part also in
+# Benchmarks: one JSON document on stdout, {"pipeline": …, "dynamic": …, "load": …}, each part also in
 # out/bench/; the micro-benchmarks' table goes to stderr and their JSON to out/bench/micro.json.
 bench: build
 	@mkdir -p out/bench
@@ -35,7 +35,9 @@ bench: build
 	  --benchmark_out=out/bench/micro.json >&2
 	@$(BUILD_DIR)/bin/pipeline_bench > out/bench/pipeline.json
 	@$(BUILD_DIR)/bin/dynamic_bench > out/bench/dynamic.json
-	@printf '{"pipeline": ' && cat out/bench/pipeline.json && printf ', "dynamic": ' && cat out/bench/dynamic.json && printf '}\n'
+	@$(BUILD_DIR)/bin/load_bench --scenes scenes > out/bench/load.json
+	@printf '{"pipeline": ' && cat out/bench/pipeline.json && printf ', "dynamic": ' && cat out/bench/dynamic.json && \
+	  printf ', "load": ' && cat out/bench/load.json && printf '}\n'
 
 # The test suite under AddressSanitizer and UndefinedBehaviorSanitizer.
 sanitize: deps

@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstring>
 #include <numeric>
-#include <unordered_map>
 
 #include "lambert/core/warning.h"
 
@@ -124,34 +123,39 @@ DroppedFaces addSmoothRegions(Scene& scene, const PolygonMesh& mesh, const std::
   // meet again and the crease angle alone decides where shading is smooth.
   std::vector<std::uint32_t> welded(mesh.positions.size());
   {
-    std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> byHash;
-    for (std::uint32_t v = 0; v < mesh.positions.size(); ++v) {
-      const Vec3& p = mesh.positions[v];
-      std::uint64_t bits[3];
-      std::memcpy(bits, &p.x, 8);
-      std::memcpy(bits + 1, &p.y, 8);
-      std::memcpy(bits + 2, &p.z, 8);
-      const std::uint64_t hash = bits[0] * 0x9e3779b97f4a7c15ULL ^ (bits[1] + 0x632be59bd9b4e019ULL) * 0xbf58476d1ce4e5b9ULL ^ bits[2];
-      std::vector<std::uint32_t>& same = byHash[hash];
-      welded[v] = v;
-      for (std::uint32_t u : same)
-        if (mesh.positions[u] == p) {
-          welded[v] = u;
-          break;
-        }
-      if (welded[v] == v) same.push_back(v);
+    // Vertices sorted by their coordinates' bits (ties by index): equal positions are adjacent,
+    // and each takes the lowest index among them. Bits, so 0 and −0 stay apart; ==, so a NaN
+    // never welds.
+    auto bits = [&](std::uint32_t v) {
+      std::array<std::uint64_t, 3> b;
+      std::memcpy(b.data(), &mesh.positions[v].x, 8);
+      std::memcpy(b.data() + 1, &mesh.positions[v].y, 8);
+      std::memcpy(b.data() + 2, &mesh.positions[v].z, 8);
+      return b;
+    };
+    std::vector<std::pair<std::array<std::uint64_t, 3>, std::uint32_t>> sorted(mesh.positions.size());
+    for (std::uint32_t v = 0; v < mesh.positions.size(); ++v) sorted[v] = {bits(v), v};
+    std::sort(sorted.begin(), sorted.end());
+    for (std::size_t k = 0; k < sorted.size(); ++k) {
+      const std::uint32_t v = sorted[k].second;
+      const bool sameAsPrevious = k > 0 && sorted[k - 1].first == sorted[k].first;
+      const std::uint32_t first = sameAsPrevious ? welded[sorted[k - 1].second] : v;
+      welded[v] = mesh.positions[first] == mesh.positions[v] ? first : v;
     }
   }
   std::vector<Piece> pieces;
+  pieces.reserve(mesh.faces.size());
   DroppedFaces dropped;
+  std::vector<std::uint32_t> ids;  // one face's welded vertices and their positions, reused
+  std::vector<Vec3> polygon;
   for (const PolygonMesh::Face& face : mesh.faces) {
     if (std::any_of(face.vertices.begin(), face.vertices.end(), [&](std::uint32_t i) { return i >= mesh.positions.size(); })) {
       ++dropped.outOfRange;
       continue;
     }
-    std::vector<std::uint32_t> ids;
+    ids.clear();
     for (std::uint32_t i : face.vertices) ids.push_back(welded[i]);
-    std::vector<Vec3> polygon;
+    polygon.clear();
     for (std::uint32_t i : ids) polygon.push_back(mesh.positions[i]);
     if (!std::all_of(polygon.begin(), polygon.end(), isFinite)) {
       ++dropped.nonFinite;
@@ -185,54 +189,78 @@ DroppedFaces addSmoothRegions(Scene& scene, const PolygonMesh& mesh, const std::
 
   // 2. Pieces that share an edge, of one material, within the crease angle, are one region.
   UnionFind regions(pieces.size());
-  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> edgePieces;
+  // Every (edge, piece) pair, sorted: the pieces around one edge are adjacent, in piece order.
+  // (A sorted array rather than a hash map of vectors: no allocation per edge.)
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> edgePieces;
+  {
+    std::size_t corners = 0;
+    for (const Piece& piece : pieces) corners += piece.vertices.size();
+    edgePieces.reserve(corners);
+  }
   for (std::uint32_t p = 0; p < pieces.size(); ++p) {
     const auto& v = pieces[p].vertices;
     for (std::size_t k = 0; k < v.size(); ++k) {
       const std::uint32_t a = v[k], b = v[(k + 1) % v.size()];
-      edgePieces[(static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b)].push_back(p);
+      edgePieces.emplace_back((static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b), p);
     }
   }
+  std::sort(edgePieces.begin(), edgePieces.end());
   const double cosCrease = std::cos(options.creaseAngleDegrees * kPi / 180) - 1e-12;
-  for (const auto& [edge, around] : edgePieces)
-    for (std::size_t i = 0; i < around.size(); ++i)
-      for (std::size_t j = i + 1; j < around.size(); ++j) {
-        const Piece &a = pieces[around[i]], &b = pieces[around[j]];
-        if (a.material == b.material && dot(a.normal, b.normal) >= cosCrease) regions.unite(around[i], around[j]);
+  for (std::size_t first = 0, last = 0; first < edgePieces.size(); first = last) {
+    while (last < edgePieces.size() && edgePieces[last].first == edgePieces[first].first) ++last;
+    for (std::size_t i = first; i < last; ++i)
+      for (std::size_t j = i + 1; j < last; ++j) {
+        const Piece &a = pieces[edgePieces[i].second], &b = pieces[edgePieces[j].second];
+        if (a.material == b.material && dot(a.normal, b.normal) >= cosCrease) regions.unite(edgePieces[i].second, edgePieces[j].second);
       }
+  }
 
   // 3. One surface per region, in the order of each region's first piece, with its own vertices.
-  std::vector<std::uint32_t> roots;
-  std::unordered_map<std::uint32_t, std::size_t> surfaceOf;
+  constexpr std::uint32_t kNone = UINT32_MAX;
+  std::vector<std::uint32_t> surfaceOfRoot(pieces.size(), kNone), surfaceOfPiece(pieces.size());
+  std::uint32_t regionCount = 0;
   for (std::uint32_t p = 0; p < pieces.size(); ++p) {
-    const std::uint32_t root = regions.find(p);
-    if (surfaceOf.try_emplace(root, roots.size()).second) roots.push_back(root);
+    std::uint32_t& r = surfaceOfRoot[regions.find(p)];
+    if (r == kNone) r = regionCount++;
+    surfaceOfPiece[p] = r;
+  }
+  // The pieces grouped by region, each group in piece order (a counting sort), so that one
+  // region's vertices are numbered with one pass and a stamp array instead of a map per region.
+  std::vector<std::uint32_t> groupStart(regionCount + 1, 0), byRegion(pieces.size());
+  for (std::uint32_t r : surfaceOfPiece) ++groupStart[r + 1];
+  for (std::uint32_t r = 0; r < regionCount; ++r) groupStart[r + 1] += groupStart[r];
+  {
+    std::vector<std::uint32_t> next(groupStart.begin(), groupStart.end() - 1);
+    for (std::uint32_t p = 0; p < pieces.size(); ++p) byRegion[next[surfaceOfPiece[p]]++] = p;
   }
   const std::size_t firstSurface = scene.surfaces.size();
-  scene.surfaces.resize(firstSurface + roots.size());
-  std::vector<std::unordered_map<std::uint32_t, std::uint32_t>> remap(roots.size());
-  for (std::uint32_t p = 0; p < pieces.size(); ++p) {
-    const std::size_t r = surfaceOf[regions.find(p)];
+  scene.surfaces.resize(firstSurface + regionCount);
+  std::vector<std::uint32_t> stamp(mesh.positions.size(), kNone), local(mesh.positions.size());
+  for (std::uint32_t r = 0; r < regionCount; ++r) {
     Surface& surface = scene.surfaces[firstSurface + r];
-    if (surface.faces.empty()) {
-      surface.name = roots.size() == 1 ? mesh.name : mesh.name + " " + std::to_string(r + 1);
-      surface.material = pieces[p].material;
-      surface.emittedRadiance = emittedRadiance[static_cast<std::size_t>(pieces[p].material)];
+    const Piece& first = pieces[byRegion[groupStart[r]]];
+    surface.name = regionCount == 1 ? mesh.name : mesh.name + " " + std::to_string(r + 1);
+    surface.material = first.material;
+    surface.emittedRadiance = emittedRadiance[static_cast<std::size_t>(first.material)];
+    surface.faces.reserve(groupStart[r + 1] - groupStart[r]);
+    for (std::uint32_t k = groupStart[r]; k < groupStart[r + 1]; ++k) {
+      Piece& piece = pieces[byRegion[k]];
+      for (std::uint32_t& v : piece.vertices) {
+        if (stamp[v] != r) {
+          stamp[v] = r;
+          local[v] = static_cast<std::uint32_t>(surface.vertices.size());
+          surface.vertices.push_back(mesh.positions[v]);
+        }
+        v = local[v];  // the piece is not needed after this: its vertex list becomes the face
+      }
+      // UVs for every face of the surface once one has them (zero for faces without).
+      if (!piece.uvs.empty() && surface.faceUvs.empty()) {
+        surface.faceUvs.resize(surface.faces.size());
+        for (std::size_t f = 0; f < surface.faces.size(); ++f) surface.faceUvs[f].resize(surface.faces[f].size());
+      }
+      if (!surface.faceUvs.empty()) surface.faceUvs.push_back(piece.uvs.empty() ? std::vector<Uv>(piece.vertices.size()) : std::move(piece.uvs));
+      surface.faces.push_back(std::move(piece.vertices));
     }
-    std::vector<std::uint32_t> face;
-    for (std::uint32_t v : pieces[p].vertices) {
-      auto [it, inserted] = remap[r].try_emplace(v, static_cast<std::uint32_t>(surface.vertices.size()));
-      if (inserted) surface.vertices.push_back(mesh.positions[v]);
-      face.push_back(it->second);
-    }
-    if (!pieces[p].uvs.empty()) {  // UVs for every face of the surface once one has them
-      surface.faceUvs.resize(surface.faces.size());
-      for (std::size_t f = 0; f < surface.faces.size(); ++f) surface.faceUvs[f].resize(surface.faces[f].size());
-      surface.faceUvs.push_back(pieces[p].uvs);
-    } else if (!surface.faceUvs.empty()) {
-      surface.faceUvs.emplace_back(face.size());
-    }
-    surface.faces.push_back(std::move(face));
   }
   return dropped;
 }
