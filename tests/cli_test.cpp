@@ -516,6 +516,26 @@ TEST(CliTest, ExportsPassTheKhronosGltfValidator) {
   EXPECT_EQ(report.exitCode, 0) << report.output;
 }
 
+// `lambert generate building` writes a scene file over an OBJ that renders lit from inside.
+TEST(CliTest, GeneratedBuildingsRenderLit) {
+  fs::path dir = outputDir("generate");
+  CommandResult made = run("generate building --rooms 3 --face-size 1 -o " + (dir / "office.json").string());
+  ASSERT_EQ(made.exitCode, 0) << made.output;
+  EXPECT_NE(made.output.find("3 rooms"), std::string::npos) << made.output;
+  EXPECT_TRUE(fs::exists(dir / "office.obj") && fs::exists(dir / "office.mtl"));
+  CommandResult r = run("render --scene " + (dir / "office.json").string() + " --patches 800 --width 48 --height 48 --json -o " +
+                        (dir / "office.png").string());
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  Result<PngImage> image = readPng((dir / "office.png").string());
+  ASSERT_TRUE(image.ok());
+  double sum = 0;
+  for (std::uint8_t v : image->rgb8) sum += v;
+  EXPECT_GT(sum / image->rgb8.size(), 40);  // the camera is inside the first office, its lamp on
+  CommandResult wrong = run("generate building --rooms 2 -o " + (dir / "office.obj").string());
+  EXPECT_EQ(wrong.exitCode, 2);
+  EXPECT_NE(wrong.output.find("give a .json path"), std::string::npos) << wrong.output;
+}
+
 // A scene file's defaults choose the mesh and the solver where the command line does not.
 TEST(CliTest, SceneFileDefaultsApplyUnlessTheCommandLineSays) {
   fs::path dir = outputDir("defaults");

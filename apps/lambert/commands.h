@@ -16,6 +16,7 @@ std::function<int()> addReferenceCommand(CLI::App& app);
 std::function<int()> addCompareCommand(CLI::App& app);
 std::function<int()> addScenesCommand(CLI::App& app);
 std::function<int()> addInfoCommand(CLI::App& app);
+std::function<int()> addGenerateCommand(CLI::App& app);
 
 // Path-tracer options shared by `reference` and `compare`.
 void addReferenceOptions(CLI::App& command, ReferenceOptions& options);

@@ -2,8 +2,12 @@
 
 #include <tiny_obj_loader.h>
 
+#include <algorithm>
+#include <cstdio>
 #include <filesystem>
+#include <span>
 
+#include "lambert/core/atomic_file.h"
 #include "lambert/core/text.h"
 #include "lambert/core/warning.h"
 #include "lambert/scene/texture.h"
@@ -51,9 +55,22 @@ Result<Scene> readObj(const std::string& path, const ObjOptions& options) {
 
   const tinyobj::attrib_t& attrib = reader.GetAttrib();
   PolygonMesh mesh;
-  mesh.positions.resize(attrib.vertices.size() / 3);
-  for (std::size_t v = 0; v < mesh.positions.size(); ++v)
-    mesh.positions[v] = {attrib.vertices[3 * v], attrib.vertices[3 * v + 1], attrib.vertices[3 * v + 2]};
+  // Each object gets only the vertices its faces use (OBJ numbers them file-wide), so that a
+  // file of many objects costs each object its own size, not the whole file's.
+  const std::size_t fileVertices = attrib.vertices.size() / 3;
+  constexpr std::uint32_t kUnused = UINT32_MAX;
+  std::vector<std::uint32_t> localOf(fileVertices, kUnused), used;
+  auto localVertex = [&](int global) -> std::uint32_t {
+    if (global < 0 || static_cast<std::size_t>(global) >= fileVertices) return kUnused;  // dropped as out of range
+    std::uint32_t& local = localOf[static_cast<std::size_t>(global)];
+    if (local == kUnused) {
+      local = static_cast<std::uint32_t>(mesh.positions.size());
+      used.push_back(static_cast<std::uint32_t>(global));
+      const std::size_t g = static_cast<std::size_t>(global);
+      mesh.positions.push_back({attrib.vertices[3 * g], attrib.vertices[3 * g + 1], attrib.vertices[3 * g + 2]});
+    }
+    return local;
+  };
   DroppedFaces dropped;
   std::size_t numFaces = 0, facesWithoutVt = 0;
   const auto& shapes = reader.GetShapes();
@@ -61,6 +78,9 @@ Result<Scene> readObj(const std::string& path, const ObjOptions& options) {
     const tinyobj::mesh_t& m = shapes[s].mesh;
     mesh.name = shapes[s].name.empty() ? "object " + std::to_string(s + 1) : shapes[s].name;
     mesh.faces.clear();
+    mesh.positions.clear();
+    for (std::uint32_t global : used) localOf[global] = kUnused;
+    used.clear();
     std::size_t index = 0;
     for (std::size_t f = 0; f < m.num_face_vertices.size(); ++f) {
       PolygonMesh::Face face;
@@ -69,7 +89,7 @@ Result<Scene> readObj(const std::string& path, const ObjOptions& options) {
       const bool textured = scene.materials[static_cast<std::size_t>(face.material)].texture != nullptr;
       bool missingVt = false;
       for (unsigned k = 0; k < m.num_face_vertices[f]; ++k, ++index) {
-        face.vertices.push_back(static_cast<std::uint32_t>(m.indices[index].vertex_index));
+        face.vertices.push_back(localVertex(m.indices[index].vertex_index));
         if (!textured) continue;
         // OBJ's v runs up from the image's bottom row; lambert's (glTF's) down from its top row.
         const int vt = m.indices[index].texcoord_index;
@@ -95,6 +115,64 @@ Result<Scene> readObj(const std::string& path, const ObjOptions& options) {
   if (scene.surfaces.empty()) return Error{path + ": every face is degenerate (" + dropped.describe() + ")"};
   scene.camera = cameraViewingScene(scene);
   return scene;
+}
+
+Status writeObj(const std::string& path, const Scene& scene) {
+  const std::filesystem::path objPath(path);
+  const std::filesystem::path mtlPath = std::filesystem::path(path).replace_extension(".mtl");
+  // One material per (material, emission) pair, as the MTL carries the emission.
+  std::vector<std::pair<int, Rgb>> kinds;
+  std::vector<std::size_t> kindOf;
+  for (const Surface& s : scene.surfaces) {
+    const std::pair<int, Rgb> kind{s.material, s.emittedRadiance};
+    auto it = std::find(kinds.begin(), kinds.end(), kind);
+    kindOf.push_back(static_cast<std::size_t>(it - kinds.begin()));
+    if (it == kinds.end()) kinds.push_back(kind);
+  }
+  auto token = [](std::string name) {  // OBJ names are one token
+    for (char& c : name)
+      if (c == ' ' || c == '\t') c = '_';
+    return name.empty() ? std::string("unnamed") : name;
+  };
+  std::string mtl = "# written by lambert\n";
+  char line[160];
+  for (std::size_t k = 0; k < kinds.size(); ++k) {
+    const Material& m = scene.materials[static_cast<std::size_t>(kinds[k].first)];
+    LAMBERT_CHECK(!m.texture);  // a texture file is not written
+    std::snprintf(line, sizeof line, "newmtl %s_%zu\nKd %.17g %.17g %.17g\n", token(m.name).c_str(), k, m.albedo.r, m.albedo.g, m.albedo.b);
+    mtl += line;
+    if (kinds[k].second.maxComponent() > 0) {
+      std::snprintf(line, sizeof line, "Ke %.17g %.17g %.17g\n", kinds[k].second.r, kinds[k].second.g, kinds[k].second.b);
+      mtl += line;
+    }
+  }
+  std::string obj = "# written by lambert: " + scene.name + ", metres per unit " + std::to_string(scene.metresPerUnit) + "\nmtllib " +
+                    mtlPath.filename().string() + "\n";
+  std::size_t base = 1;
+  for (std::size_t s = 0; s < scene.surfaces.size(); ++s) {
+    const Surface& surface = scene.surfaces[s];
+    if (surface.twin >= 0 && static_cast<std::size_t>(surface.twin) < s) continue;  // the loader makes twins again
+    obj += "o " + token(surface.name) + "\nusemtl " + token(scene.materials[static_cast<std::size_t>(surface.material)].name) + "_" +
+           std::to_string(kindOf[s]) + "\n";
+    for (const Vec3& v : surface.vertices) {
+      std::snprintf(line, sizeof line, "v %.17g %.17g %.17g\n", v.x, v.y, v.z);
+      obj += line;
+    }
+    for (const auto& face : surfaceFaces(surface)) {
+      obj += "f";
+      for (std::uint32_t i : face) {
+        obj += ' ';
+        obj += std::to_string(base + i);
+      }
+      obj += "\n";
+    }
+    base += surface.vertices.size();
+  }
+  auto bytes = [](const std::string& text) {
+    return std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(text.data()), text.size());
+  };
+  if (Status written = writeFileAtomically(mtlPath.string(), bytes(mtl)); !written) return written;
+  return writeFileAtomically(path, bytes(obj));
 }
 
 }  // namespace lambert

@@ -27,4 +27,10 @@ struct ObjOptions {
 // Warnings (missing MTL, dropped faces, textures, clamped albedo) go through warning().
 Result<Scene> readObj(const std::string& path, const ObjOptions& options = {});
 
+// Writes the scene's surfaces as OBJ (one `o` per surface, its faces over its own vertices) with
+// an MTL beside it (NAME.mtl: Kd, and Ke where a surface emits), both atomically, numbers in
+// their shortest round-trip form. Two-sided surfaces are written once (OBJ has no sidedness: a
+// scene file's "twoSided" restores it); textured materials are refused (a bug in the caller).
+Status writeObj(const std::string& path, const Scene& scene);
+
 }  // namespace lambert
