@@ -117,8 +117,13 @@ void addTwins(Scene& scene) {
 
 Rgb Texture::sample(double u, double v) const {
   if (width <= 0 || height <= 0) return Rgb::gray(1);
-  // Pixel centres sit at (i + ½)/width; wrap both neighbours so the filter repeats across edges.
-  const double x = u * width - 0.5, y = v * height - 0.5;
+  // Repeat first (a non-finite coordinate from a broken file reads the first texel), then pixel
+  // centres sit at (i + ½)/width; both neighbours wrap, so the filter repeats across edges.
+  auto repeat = [](double t) {
+    const double f = t - std::floor(t);
+    return std::isfinite(f) ? f : 0.0;
+  };
+  const double x = repeat(u) * width - 0.5, y = repeat(v) * height - 0.5;
   const double fx = std::floor(x), fy = std::floor(y);
   const double ax = x - fx, ay = y - fy;
   auto wrap = [](double i, int n) { return static_cast<int>(((static_cast<long long>(i) % n) + n) % n); };

@@ -69,5 +69,19 @@ TEST(SceneTest, BuiltinLookupByName) {
   for (const std::string& name : builtinSceneNames()) EXPECT_TRUE(builtinScene(name).has_value()) << name;
 }
 
+// Bilinear, repeating, and safe on coordinates a broken file gives.
+TEST(TextureTest, SamplesBilinearlyAndRepeats) {
+  Texture t;
+  t.width = 2;
+  t.height = 1;
+  t.pixels = {Rgb::gray(0.2), Rgb::gray(0.6)};
+  EXPECT_NEAR(t.sample(0.25, 0.5).r, 0.2, 1e-12);  // the first pixel's centre
+  EXPECT_NEAR(t.sample(0.75, 0.5).r, 0.6, 1e-12);
+  EXPECT_NEAR(t.sample(0.5, 0.5).r, 0.4, 1e-12);   // halfway between the centres
+  EXPECT_NEAR(t.sample(0.0, 0.5).r, 0.4, 1e-12);   // the edge blends with the far side: it repeats
+  EXPECT_NEAR(t.sample(3.25, -7.5).r, 0.2, 1e-12);
+  EXPECT_NEAR(t.sample(NAN, INFINITY).r, 0.4, 1e-12);  // read as (0, 0)
+}
+
 }  // namespace
 }  // namespace lambert
