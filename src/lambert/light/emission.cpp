@@ -18,14 +18,6 @@ std::array<double, 3> barycentric(const Vec3& q, const Vec3& a, const Vec3& b, c
   return {1 - beta - gamma, beta, gamma};
 }
 
-// The surface's face `index` (its one polygon when it lists no faces), without copying the rest.
-std::vector<std::uint32_t> faceOf(const Surface& surface, std::uint32_t index) {
-  if (!surface.faces.empty()) return surface.faces[index];
-  std::vector<std::uint32_t> all(surface.vertices.size());
-  for (std::uint32_t k = 0; k < all.size(); ++k) all[k] = k;
-  return all;
-}
-
 }  // namespace
 
 std::array<Uv, 4> patchCornerUvs(const Scene& scene, const Mesh& mesh, std::size_t patch) {
@@ -33,7 +25,7 @@ std::array<Uv, 4> patchCornerUvs(const Scene& scene, const Mesh& mesh, std::size
   const Surface& surface = scene.surfaces[p.surface];
   std::array<Uv, 4> uvs{};
   if (surface.faceUvs.empty()) return uvs;
-  const std::vector<std::uint32_t> face = faceOf(surface, p.face);
+  const std::vector<std::uint32_t> face = surfaceFace(surface, p.face);
   const std::vector<Uv>& faceUvs = surface.faceUvs[p.face];
   // The fan triangle of the face that holds the patch: the mesher splits faces along their fans,
   // so one holds each patch whole; the centroid is the point least likely to sit on its edge.

@@ -7,9 +7,14 @@ namespace lambert {
 
 std::vector<std::vector<std::uint32_t>> surfaceFaces(const Surface& surface) {
   if (!surface.faces.empty()) return surface.faces;
+  return {surfaceFace(surface, 0)};
+}
+
+std::vector<std::uint32_t> surfaceFace(const Surface& surface, std::size_t index) {
+  if (!surface.faces.empty()) return surface.faces[index];
   std::vector<std::uint32_t> all(surface.vertices.size());
   for (std::uint32_t k = 0; k < all.size(); ++k) all[k] = k;
-  return {all};
+  return all;
 }
 
 std::vector<Vec3> facePositions(const Surface& surface, const std::vector<std::uint32_t>& face) {

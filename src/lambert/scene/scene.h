@@ -109,6 +109,8 @@ struct Scene {
 
 // The surface's faces as vertex-index lists (the single polygon when Surface::faces is empty).
 std::vector<std::vector<std::uint32_t>> surfaceFaces(const Surface& surface);
+// One of them, without building the rest.
+std::vector<std::uint32_t> surfaceFace(const Surface& surface, std::size_t index);
 // The corner positions of one face.
 std::vector<Vec3> facePositions(const Surface& surface, const std::vector<std::uint32_t>& face);
 // Unit normal of a polygon by Newell's method (robust for slightly non-planar ones); of a
