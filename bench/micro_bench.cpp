@@ -23,7 +23,6 @@
 #include "lambert/mesh/mesh.h"
 #include "lambert/render/rasterizer.h"
 #include "lambert/scene/builtin.h"
-#include "lambert/solve/gather_row.h"
 #include "lambert/light/emission.h"
 #include "lambert/solve/problem.h"
 #include "lambert/solve/solver.h"
@@ -49,7 +48,7 @@ struct CornellFixture {
     caster = makeEmbreeRayCaster(mesh);
     FormFactorOptions ffOptions;
     ffOptions.showProgress = false;
-    auto F = std::make_shared<FormFactorMatrix>(computeFormFactors(mesh, *caster, ffOptions));
+    auto F = std::make_shared<DenseTransport>(std::make_shared<FormFactorMatrix>(computeFormFactors(mesh, *caster, ffOptions)));
     problem = makeRadiosityProblem(mesh, emittedRadiosity(scene, mesh), patchAlbedo(scene, mesh), F);
     makeSolver(SolverKind::GaussSeidel)->solve(problem, radiosity);
     makeRays();
@@ -165,16 +164,16 @@ void BM_GaussSeidelSolveOneSweep(benchmark::State& state) {
 }
 BENCHMARK(BM_GaussSeidelSolveOneSweep)->Unit(benchmark::kMicrosecond);
 
-// The sweep alone, with the solver's own inner loop (gatherRow), no residual: the lower bound of
+// The sweep alone, the solver's own (Transport::sweep in place), no residual: the lower bound of
 // the call above.
 void BM_GaussSeidelSweepOnly(benchmark::State& state) {
   const CornellFixture& f = cornell();
-  const FormFactorMatrix& F = *f.problem.formFactors;
+  const Transport& transport = *f.problem.transport;
   std::vector<Rgb> radiosity = f.problem.emitted;
   const std::size_t n = f.problem.size();
   for (auto _ : state) {
-    for (std::size_t i = 0; i < n; ++i)
-      radiosity[i] = f.problem.emitted[i] + f.problem.albedo[i] * gatherRow(F, i, radiosity);
+    const SweepChange step = transport.sweep(f.problem.emitted, f.problem.albedo, radiosity, /*inPlace=*/true);
+    benchmark::DoNotOptimize(step);
     benchmark::DoNotOptimize(radiosity.data());
     benchmark::ClobberMemory();
   }

@@ -224,7 +224,7 @@ bool AdaptiveMeshing::refine(const std::vector<Light>& lights, std::vector<Rgb>&
   report.adaptSeconds += adaptTimer.seconds();
 
   const std::vector<std::uint32_t>& active = mesh_.activeNodes();
-  const bool changed = active != lastActive_ || !formFactors_;
+  const bool changed = active != lastActive_ || !transport_;
   if (changed) {
     Timer ffTimer;
     const std::uint64_t estimatedBefore = table_->pairsEstimated(), reusedBefore = table_->pairsReused(),
@@ -234,7 +234,7 @@ bool AdaptiveMeshing::refine(const std::vector<Light>& lights, std::vector<Rgb>&
     report.pairsEstimated += table_->pairsEstimated() - estimatedBefore;
     report.pairsReused += table_->pairsReused() - reusedBefore;
     report.pairsLoaded += table_->pairsLoaded() - loadedBefore;
-    formFactors_ = std::move(F);
+    transport_ = std::make_shared<DenseTransport>(std::move(F));
     activeMesh_ = mesh_.activeMesh();
     lastActive_ = active;
     report.formFactorSeconds += ffTimer.seconds();

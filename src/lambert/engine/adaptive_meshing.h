@@ -43,7 +43,7 @@ class AdaptiveMeshing final : public Meshing {
 
   const Mesh& elements() const override { return activeMesh_; }
   const RayCaster& caster() const override { return *caster_; }
-  std::shared_ptr<const FormFactorMatrix> formFactors() const override { return formFactors_; }
+  std::shared_ptr<const Transport> transport() const override { return transport_; }
   bool refine(const std::vector<Light>& lights, std::vector<Rgb>& radiosity, SolveCallReport& report) override;
   const Mesh& vertexMesh() const override { return mesh_.fineMesh(); }
   std::vector<Rgb> vertexValues(const std::vector<Rgb>& perElement) const override;
@@ -86,7 +86,7 @@ class AdaptiveMeshing final : public Meshing {
   std::vector<Rgb> nodeRadiosity_;  // last known B per node id, to warm-start from
   std::vector<std::uint32_t> lastActive_;
   Mesh activeMesh_;
-  std::shared_ptr<const FormFactorMatrix> formFactors_;
+  std::shared_ptr<const Transport> transport_;  // a DenseTransport over activeMesh_
 };
 
 }  // namespace lambert

@@ -197,7 +197,7 @@ TEST(AdaptiveTest, RowNormalisationAndItsEffectOnEnergy) {
     std::unique_ptr<Radiosity> normalisedEngine = solvedEngine(scene, options, {});
     const SolutionView& plain = plainEngine->solution();
     const SolutionView& normalised = normalisedEngine->solution();
-    const FormFactorMatrix& F = *normalised.problem().formFactors;
+    const FormFactorMatrix& F = *normalised.problem().transport->matrix();
     for (Eigen::Index i = 0; i < F.rows(); ++i) EXPECT_NEAR(F.row(i).cast<double>().sum(), 1, 1e-5);
 
     double plainPower = 0, normalisedPower = 0;

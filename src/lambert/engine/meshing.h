@@ -1,13 +1,14 @@
 #pragma once
 // The mesh strategies inside the engine (engine/radiosity.h): each owns the elements B is solved
-// on, a ray caster over the scene's geometry, and the form factors between its elements, and
+// on, a ray caster over the scene's geometry, and the transport between its elements, and
 // turns per-element values into continuous per-vertex values. The engine does the rest (lights,
 // emission, solving) the same way for every strategy.
 //
 //   UniformMeshing   seed 000's longest-edge bisection; the dense matrix is computed (or read
-//                    from the .lff cache) once, with any form-factor method.
+//                    from the .lff cache) once, with any form-factor method (a DenseTransport).
 //   AdaptiveMeshing  seed 003's quad-tree; refine() follows the lights every solve, F is
-//                    assembled from the master table (.lft cache). Pair-wise methods only.
+//                    assembled from the master table (.lft cache), a DenseTransport.
+//                    Pair-wise methods only.
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -15,10 +16,10 @@
 
 #include "lambert/core/error.h"
 #include "lambert/core/stats.h"
-#include "lambert/formfactor/matrix.h"
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/mesh/mesh.h"
 #include "lambert/scene/scene.h"
+#include "lambert/solve/transport.h"
 
 namespace lambert {
 
@@ -31,11 +32,11 @@ class Meshing {
 
   virtual const Mesh& elements() const = 0;
   virtual const RayCaster& caster() const = 0;
-  virtual std::shared_ptr<const FormFactorMatrix> formFactors() const = 0;  // of elements()
+  virtual std::shared_ptr<const Transport> transport() const = 0;  // between elements()
 
   // Adapts the elements to the lights and to the last solution (B per current element; empty
   // before the first solve). Returns whether the elements changed; then elements() and
-  // formFactors() describe the new ones and radiosity holds a warm start for them. Adds what it
+  // transport() describe the new ones and radiosity holds a warm start for them. Adds what it
   // did (cells split and merged, pairs estimated, times) to report.
   virtual bool refine(const std::vector<Light>& lights, std::vector<Rgb>& radiosity, SolveCallReport& report) = 0;
 

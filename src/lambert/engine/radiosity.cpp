@@ -59,7 +59,7 @@ Status Radiosity::saveCache() { return meshing_->saveCache(); }
 void Radiosity::rebuildProblem() {
   const Mesh& elements = meshing_->elements();
   surfaceEmitted_ = emittedRadiosity(scene_, elements);
-  problem_ = makeRadiosityProblem(elements, surfaceEmitted_, patchAlbedo(scene_, elements), meshing_->formFactors());
+  problem_ = makeRadiosityProblem(elements, surfaceEmitted_, patchAlbedo(scene_, elements), meshing_->transport());
   injection_->reset();
   shooter_.reset();
   injected_.assign(elements.numPatches(), Rgb{});

@@ -41,7 +41,7 @@ UniformMeshing::UniformMeshing(const Scene& scene, const RadiosityOptions& optio
   CachedFormFactors cached = cachedFormFactors(mesh_, *caster_, ff, options.cacheDirectory, &ffStats);
   auto F = std::make_shared<FormFactorMatrix>(std::move(cached.matrix));
   if (options.normalizeRows) normalizeRows(*F);
-  formFactors_ = std::move(F);
+  transport_ = std::make_shared<DenseTransport>(std::move(F));
   stats_.add("formfactor_method", "form-factor method", formFactorMethodName(ff.method));
   stats_.add("formfactor_cache", "form-factor cache",
              options.cacheDirectory.empty() ? std::string("off") : (cached.fromCache ? "loaded " : "saved ") + cached.path);

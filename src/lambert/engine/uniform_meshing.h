@@ -13,7 +13,7 @@ class UniformMeshing final : public Meshing {
 
   const Mesh& elements() const override { return mesh_; }
   const RayCaster& caster() const override { return *caster_; }
-  std::shared_ptr<const FormFactorMatrix> formFactors() const override { return formFactors_; }
+  std::shared_ptr<const Transport> transport() const override { return transport_; }
   bool refine(const std::vector<Light>&, std::vector<Rgb>&, SolveCallReport&) override { return false; }
   const Mesh& vertexMesh() const override { return mesh_; }
   std::vector<Rgb> vertexValues(const std::vector<Rgb>& perElement) const override;
@@ -23,7 +23,7 @@ class UniformMeshing final : public Meshing {
  private:
   Mesh mesh_;
   std::unique_ptr<RayCaster> caster_;
-  std::shared_ptr<const FormFactorMatrix> formFactors_;
+  std::shared_ptr<const Transport> transport_;  // a DenseTransport
   Stats stats_;
 };
 

@@ -197,7 +197,7 @@ TEST(LightTest, InjectedPointLightMatchesATinyEmissiveSphere) {
   auto caster = makeEmbreeRayCaster(mesh);
   FormFactorOptions ffOptions;
   ffOptions.showProgress = false;
-  auto F = std::make_shared<FormFactorMatrix>(computeFormFactors(mesh, *caster, ffOptions));
+  auto F = std::make_shared<DenseTransport>(std::make_shared<FormFactorMatrix>(computeFormFactors(mesh, *caster, ffOptions)));
   double sphereArea = 0;
   for (std::size_t s = 6; s < withSphere.surfaces.size(); ++s) sphereArea += surfaceArea(withSphere.surfaces[s]);
 

@@ -1,7 +1,9 @@
 // Direct solution of (I − diag(ρ_c) F) B_c = E_c by LU with partial pivoting, one factorisation
 // per channel: O(n³), exact up to rounding, the reference the iterative solvers are checked with.
+// Needs the dense matrix: a transport without one (hierarchical) is a failed check.
 #include <Eigen/LU>
 
+#include "lambert/core/error.h"
 #include "lambert/core/timer.h"
 #include "lambert/solve/concrete_solvers.h"
 
@@ -10,7 +12,8 @@ namespace lambert {
 SolveReport DirectSolver::solve(const RadiosityProblem& problem, std::vector<Rgb>& radiosity) const {
   Timer timer;
   const auto n = static_cast<Eigen::Index>(problem.size());
-  const Eigen::MatrixXd F = problem.formFactors->cast<double>();
+  LAMBERT_CHECK(problem.transport && problem.transport->matrix());
+  const Eigen::MatrixXd F = problem.transport->matrix()->cast<double>();
   radiosity.assign(problem.size(), Rgb{});
   for (int c = 0; c < 3; ++c) {
     Eigen::VectorXd albedo(n), emitted(n);

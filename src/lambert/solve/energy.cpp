@@ -5,7 +5,7 @@
 namespace lambert {
 
 EnergyBalance energyBalance(const RadiosityProblem& problem, const std::vector<Rgb>& radiosity, double metresPerUnit) {
-  const FormFactorMatrix& F = *problem.formFactors;
+  const FormFactorMatrix& F = *problem.transport->matrix();
   const double squareMetres = metresPerUnit * metresPerUnit;
   EnergyBalance balance;
   for (std::size_t i = 0; i < problem.size(); ++i) {

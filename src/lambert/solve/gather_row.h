@@ -1,6 +1,6 @@
 #pragma once
-// Shared inner loop of the gathering solvers and the residual: H_i = Σ_j F_ij B_j, the
-// irradiance-like sum of what patch i receives (W/m²).
+// DenseTransport's inner loop (solve/transport.cpp): H_i = Σ_j F_ij B_j, the irradiance-like sum
+// of what patch i receives (W/m²), over one row of the dense matrix.
 #include <vector>
 
 #include "lambert/core/rgb.h"

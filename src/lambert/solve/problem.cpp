@@ -5,11 +5,11 @@
 namespace lambert {
 
 RadiosityProblem makeRadiosityProblem(const Mesh& mesh, std::vector<Rgb> emitted, std::vector<Rgb> albedo,
-                                      std::shared_ptr<const FormFactorMatrix> formFactors) {
+                                      std::shared_ptr<const Transport> transport) {
   LAMBERT_CHECK(emitted.size() == mesh.numPatches() && albedo.size() == mesh.numPatches());
-  LAMBERT_CHECK(!formFactors || static_cast<std::size_t>(formFactors->rows()) == mesh.numPatches());
+  LAMBERT_CHECK(!transport || transport->size() == mesh.numPatches());
   RadiosityProblem problem;
-  problem.formFactors = std::move(formFactors);
+  problem.transport = std::move(transport);
   problem.emitted = std::move(emitted);
   problem.albedo = std::move(albedo);
   problem.area.resize(mesh.numPatches());

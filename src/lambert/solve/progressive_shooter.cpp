@@ -4,9 +4,7 @@
 #include <cmath>
 
 #include "lambert/core/error.h"
-#include "lambert/core/parallel.h"
 #include "lambert/core/timer.h"
-#include "lambert/solve/gather_row.h"
 
 namespace lambert {
 namespace {
@@ -16,16 +14,19 @@ double absoluteSum(const Rgb& c) { return std::fabs(c.r) + std::fabs(c.g) + std:
 }  // namespace
 
 ProgressiveShooter::ProgressiveShooter(const RadiosityProblem& problem)
-    : problem_(problem), radiosity_(problem.emitted), unshot_(problem.emitted) {}
+    : problem_(problem), radiosity_(problem.emitted), unshot_(problem.emitted) {
+  LAMBERT_CHECK(problem_.transport && problem_.transport->matrix());
+}
 
 void ProgressiveShooter::warmStart(const std::vector<Rgb>& radiosity) {
   LAMBERT_CHECK(radiosity.size() == problem_.size());
-  const FormFactorMatrix& F = *problem_.formFactors;
   radiosity_ = radiosity;
-  parallelFor(0, problem_.size(), [&](std::size_t i) {
-    unshot_[i] = problem_.emitted[i] + problem_.albedo[i] * gatherRow(F, i, radiosity_) - radiosity_[i];
-  }, 16);
-  for (std::size_t i = 0; i < problem_.size(); ++i) radiosity_[i] += unshot_[i];
+  std::vector<Rgb> irradiance;
+  problem_.transport->gather(radiosity_, irradiance);
+  for (std::size_t i = 0; i < problem_.size(); ++i) {
+    unshot_[i] = problem_.emitted[i] + problem_.albedo[i] * irradiance[i] - radiosity_[i];
+    radiosity_[i] += unshot_[i];
+  }
 }
 
 void ProgressiveShooter::setEmitted(const std::vector<Rgb>& emitted) {
@@ -40,7 +41,7 @@ void ProgressiveShooter::setEmitted(const std::vector<Rgb>& emitted) {
 
 long long ProgressiveShooter::shoot(long long maxShots, double tolerance) {
   const std::size_t n = problem_.size();
-  const FormFactorMatrix& F = *problem_.formFactors;
+  const FormFactorMatrix& F = *problem_.transport->matrix();
   long long shots = 0;
   while (shots < maxShots) {
     // The brightest shooter, and the totals the stopping test compares.

@@ -7,6 +7,8 @@
 // When emission changes (a light moved), the difference is added to B and to ΔB and shot like any
 // other power, negative where light went away (Chen 1990, "Incremental Radiosity"): a frame costs
 // the shots its change needs, not a new solve.
+// It reads rows of the dense matrix, so the problem's transport must have one
+// (Transport::matrix(), a DenseTransport); one without is a failed check at construction.
 #include <vector>
 
 #include "lambert/solve/solver.h"
@@ -15,7 +17,7 @@ namespace lambert {
 
 class ProgressiveShooter {
  public:
-  // Starts from B = ΔB = E.
+  // Starts from B = ΔB = E. problem.transport->matrix() must not be null.
   explicit ProgressiveShooter(const RadiosityProblem& problem);
 
   // Starts from a guess B₀ instead: its residual r₀ = E + ρFB₀ − B₀ (one gather over F) is added

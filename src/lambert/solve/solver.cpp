@@ -2,8 +2,8 @@
 
 #include <cmath>
 
+#include "lambert/core/error.h"
 #include "lambert/core/parallel.h"
-#include "lambert/solve/gather_row.h"
 #include "lambert/solve/concrete_solvers.h"
 
 namespace lambert {
@@ -30,9 +30,12 @@ std::unique_ptr<Solver> makeSolver(SolverKind kind, SolveOptions options) {
 
 double relativeResidual(const RadiosityProblem& problem, const std::vector<Rgb>& radiosity) {
   const std::size_t n = problem.size();
+  LAMBERT_CHECK(problem.transport && radiosity.size() == n);
+  std::vector<Rgb> irradiance;
+  problem.transport->gather(radiosity, irradiance);
   std::vector<double> rowResidual(n), rowMagnitude(n);
   parallelFor(0, n, [&](std::size_t i) {
-    Rgb r = problem.emitted[i] + problem.albedo[i] * gatherRow(*problem.formFactors, i, radiosity) - radiosity[i];
+    Rgb r = problem.emitted[i] + problem.albedo[i] * irradiance[i] - radiosity[i];
     rowResidual[i] = std::fmax(std::fabs(r.r), std::fmax(std::fabs(r.g), std::fabs(r.b)));
     const Rgb& b = radiosity[i];
     rowMagnitude[i] = std::fmax(std::fabs(b.r), std::fmax(std::fabs(b.g), std::fabs(b.b)));

@@ -7,24 +7,24 @@
 #include <vector>
 
 #include "lambert/core/rgb.h"
-#include "lambert/formfactor/matrix.h"
+#include "lambert/solve/transport.h"
 
 namespace lambert {
 
 struct RadiosityProblem {
-  std::shared_ptr<const FormFactorMatrix> formFactors;  // F_ij
-  std::vector<Rgb> emitted;                       // E_i, W/m²
-  std::vector<Rgb> albedo;                        // ρ_i
-  std::vector<double> area;                       // A_i, scene units²
+  std::shared_ptr<const Transport> transport;  // F: B ↦ H = FB
+  std::vector<Rgb> emitted;                    // E_i, W/m²
+  std::vector<Rgb> albedo;                     // ρ_i
+  std::vector<double> area;                    // A_i, scene units²
 
   std::size_t size() const { return emitted.size(); }
 };
 
 enum class SolverKind {
-  Direct,       // Eigen LU of (I − ρF): seed 001's "Gaussian elimination"
-  GaussSeidel,  // in-place gathering sweeps (seed 000)
-  Jacobi,       // gathering sweeps from the previous iterate, rows in parallel
-  Shooting,     // progressive refinement (Cohen, Chen, Wallace & Greenberg 1988; seed 001)
+  Direct,       // Eigen LU of (I − ρF): seed 001's "Gaussian elimination"; dense transport only
+  GaussSeidel,  // in-place gathering sweeps (seed 000); any transport
+  Jacobi,       // gathering sweeps from the previous iterate, rows in parallel; any transport
+  Shooting,     // progressive refinement (Cohen, Chen, Wallace & Greenberg 1988; seed 001); dense only
 };
 
 std::string solverName(SolverKind kind);
@@ -59,9 +59,13 @@ class Solver {
   virtual SolveReport solve(const RadiosityProblem& problem, std::vector<Rgb>& radiosity) const = 0;
 };
 
+// Gauss–Seidel and Jacobi read the problem's transport only through Transport::sweep, so they
+// solve any kind. Direct and Shooting need the dense matrix (Transport::matrix()): handed a
+// problem whose transport has none, their solve() stops with a failed LAMBERT_CHECK, so callers
+// (the engine) must refuse those combinations before solving.
 std::unique_ptr<Solver> makeSolver(SolverKind kind, SolveOptions options = {});
 
-// max_i,c |E + ρFB − B| / max_i,c |B|.
+// max_i,c |E + ρFB − B| / max_i,c |B|, with FB from one Transport::gather.
 double relativeResidual(const RadiosityProblem& problem, const std::vector<Rgb>& radiosity);
 
 // Cohen et al. 1988's ambient radiosity for display during shooting: the unshot power spread

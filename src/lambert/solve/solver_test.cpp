@@ -26,7 +26,7 @@ Solved setUp(const Scene& scene, double maxEdge) {
   auto caster = makeEmbreeRayCaster(s.mesh);
   FormFactorOptions options;
   options.showProgress = false;
-  auto F = std::make_shared<FormFactorMatrix>(computeFormFactors(s.mesh, *caster, options));
+  auto F = std::make_shared<DenseTransport>(std::make_shared<FormFactorMatrix>(computeFormFactors(s.mesh, *caster, options)));
   s.problem = makeRadiosityProblem(s.mesh, emittedRadiosity(scene, s.mesh), patchAlbedo(scene, s.mesh), F);
   return s;
 }
