@@ -283,10 +283,15 @@ TEST(CliTest, NormalisedRowsKeepLightInAndAddEnergy) {
   CommandResult result = run("render --patches 192 --normalize-rows --width 32 --height 32 --json -o " + (dir / "n.png").string());
   ASSERT_EQ(result.exitCode, 0) << result.output;
   nlohmann::json stats = nlohmann::json::parse(result.output);
-  EXPECT_NEAR(stats["escaped_watts"].get<double>(), 0, 1e-6);
+  const double emitted = stats["emitted_watts"].get<double>(), absorbed = stats["absorbed_watts"].get<double>(),
+               escaped = stats["escaped_watts"].get<double>();
   // Normalised rows break reciprocity: the light that should leave the open front is kept in the
   // room, and the surfaces absorb more than was emitted.
-  EXPECT_GT(stats["absorbed_watts"].get<double>(), 1.01 * stats["emitted_watts"].get<double>());
+  EXPECT_GT(absorbed, 1.01 * emitted);
+  // Escaped power is what leaves the surfaces minus what arrives, so here it is negative: the
+  // power the normalised F makes (measured −2% of the emitted). The books still close.
+  EXPECT_LT(escaped, -0.01 * emitted);
+  EXPECT_NEAR(absorbed + escaped, emitted, 1e-6 * emitted);
 }
 
 TEST(CliTest, SolveReferenceAndCompareMeasureTheSameVertices) {

@@ -1,21 +1,24 @@
 #include "lambert/solve/energy.h"
 
-#include "lambert/solve/gather_row.h"
+#include "lambert/core/error.h"
 
 namespace lambert {
 
 EnergyBalance energyBalance(const RadiosityProblem& problem, const std::vector<Rgb>& radiosity, double metresPerUnit) {
-  const FormFactorMatrix& F = *problem.transport->matrix();
+  LAMBERT_CHECK(problem.transport && radiosity.size() == problem.size());
+  std::vector<Rgb> irradiance;
+  problem.transport->gather(radiosity, irradiance);
   const double squareMetres = metresPerUnit * metresPerUnit;
   EnergyBalance balance;
+  double leaving = 0, arriving = 0;
   for (std::size_t i = 0; i < problem.size(); ++i) {
-    double area = problem.area[i] * squareMetres;
-    Rgb received = gatherRow(F, i, radiosity);
-    double rowSum = F.row(static_cast<Eigen::Index>(i)).cast<double>().sum();
+    const double area = problem.area[i] * squareMetres;
     balance.emittedWatts += area * problem.emitted[i].sum();
-    balance.absorbedWatts += area * ((Rgb::gray(1) - problem.albedo[i]) * received).sum();
-    balance.escapedWatts += area * radiosity[i].sum() * (1 - rowSum);
+    balance.absorbedWatts += area * ((Rgb::gray(1) - problem.albedo[i]) * irradiance[i]).sum();
+    leaving += area * radiosity[i].sum();
+    arriving += area * irradiance[i].sum();
   }
+  balance.escapedWatts = leaving - arriving;
   return balance;
 }
 

@@ -5,6 +5,8 @@
 #include <vector>
 
 #include "lambert/core/rng.h"
+#include "lambert/solve/energy.h"
+#include "lambert/solve/solver.h"
 #include "lambert/solve/transport.h"
 
 namespace lambert {
@@ -99,6 +101,47 @@ TEST(TransportTest, ParallelRowsMatchASerialProduct) {
       EXPECT_NEAR(jacobi[i][c], emitted[i][c] + albedo[i][c] * h[i], 1e-12) << "row " << i;
     }
   }
+}
+
+// Two patches, A_0 = 1 and A_1 = 2 scene units² at 0.5 m a unit (0.25 and 0.5 m²), seeing each
+// other reciprocally (A_0 F_01 = A_1 F_10) and nothing else: rows sum to ½ and ¼, the rest escapes.
+RadiosityProblem twoPatches(float f01, float f10) {
+  auto F = std::make_shared<FormFactorMatrix>(2, 2);
+  *F << 0.0f, f01,  //
+      f10, 0.0f;
+  RadiosityProblem problem;
+  problem.transport = std::make_shared<DenseTransport>(F);
+  problem.emitted = {{31, 62, 0}, {0, 0, 0}};
+  problem.albedo = {Rgb::gray(0.5), Rgb::gray(0.5)};
+  problem.area = {1, 2};
+  return problem;
+}
+
+TEST(TransportTest, EnergyBalanceOfTwoPatches) {
+  RadiosityProblem problem = twoPatches(0.5f, 0.25f);
+  // B_0 = E_0 + ½·½·B_1, B_1 = ½·¼·B_0, so B_0 = E_0 · 32/31 and B_1 = B_0 / 8.
+  const std::vector<Rgb> radiosity{{32, 64, 0}, {4, 8, 0}};
+  ASSERT_LT(relativeResidual(problem, radiosity), 1e-15);  // it is the solution
+  EnergyBalance balance = energyBalance(problem, radiosity, 0.5);
+  // H_0 = ½ B_1 = (2, 4, 0), H_1 = ¼ B_0 = (8, 16, 0).
+  EXPECT_DOUBLE_EQ(balance.emittedWatts, 0.25 * (31 + 62));                            // 23.25
+  EXPECT_DOUBLE_EQ(balance.absorbedWatts, 0.25 * 0.5 * (2 + 4) + 0.5 * 0.5 * (8 + 16));  // 6.75
+  // Leaving Σ A B = 0.25·96 + 0.5·12 = 30, arriving Σ A H = 0.25·6 + 0.5·24 = 13.5; the same as
+  // Σ A_i B_i (1 − Σ_j F_ij) = 0.25·96·½ + 0.5·12·¾ since F is reciprocal.
+  EXPECT_DOUBLE_EQ(balance.escapedWatts, 30 - 13.5);  // 16.5
+  EXPECT_DOUBLE_EQ(balance.absorbedWatts + balance.escapedWatts, balance.emittedWatts);
+}
+
+// Rows normalised to one break reciprocity (A_0 F_01 = 1 ≠ A_1 F_10 = 2): the large patch
+// receives more than the small one sends. No row sum says so; leaving minus arriving does.
+TEST(TransportTest, EnergyBalanceShowsPowerANonReciprocalMatrixMakes) {
+  RadiosityProblem problem = twoPatches(1.0f, 1.0f);
+  const std::vector<Rgb> radiosity{Rgb::gray(2), Rgb::gray(1)};  // any B, not a solution
+  EnergyBalance balance = energyBalance(problem, radiosity, 0.5);
+  // H_0 = B_1 = 1, H_1 = B_0 = 2 (each channel). Leaving 0.25·6 + 0.5·3 = 3, arriving
+  // 0.25·3 + 0.5·6 = 3.75.
+  EXPECT_DOUBLE_EQ(balance.escapedWatts, 3 - 3.75);
+  EXPECT_DOUBLE_EQ(balance.absorbedWatts, 0.25 * 0.5 * 3 + 0.5 * 0.5 * 6);
 }
 
 }  // namespace
