@@ -1,7 +1,11 @@
 #pragma once
 // What every benchmark reports about where and how it ran, so its JSON can be compared with
 // another run's (or explained by the load on a shared machine).
+#include <sys/resource.h>
 #include <time.h>
+#include <unistd.h>
+
+#include <algorithm>
 
 #include <cmath>
 #include <ctime>
@@ -70,6 +74,22 @@ inline std::string loadAverage() {
   std::string one, five, fifteen;
   in >> one >> five >> fifteen;
   return one.empty() ? "unknown" : one + " " + five + " " + fifteen;
+}
+
+// The resident set now, from /proc/self/statm (pages).
+inline double currentRssMib() {
+  std::ifstream statm("/proc/self/statm");
+  std::size_t size = 0, resident = 0;
+  statm >> size >> resident;
+  return roundDigits(static_cast<double>(resident) * static_cast<double>(sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0), 1);
+}
+
+// The process's peak resident set so far: getrusage's ru_maxrss (KiB on Linux), or the resident
+// set now where that is higher (the kernel updates its high-water mark lazily, so it can trail).
+inline double peakRssMib() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return std::max(roundDigits(static_cast<double>(usage.ru_maxrss) / 1024.0, 1), currentRssMib());
 }
 
 }  // namespace lambert::bench

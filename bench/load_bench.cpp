@@ -69,22 +69,6 @@ Options parseOptions(int argc, char** argv) {
   return options;
 }
 
-// The resident set now, from /proc/self/statm (pages).
-double currentRssMib() {
-  std::ifstream statm("/proc/self/statm");
-  std::size_t size = 0, resident = 0;
-  statm >> size >> resident;
-  return roundDigits(static_cast<double>(resident) * static_cast<double>(sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0), 1);
-}
-
-// The process's peak resident set so far: getrusage's ru_maxrss (KiB on Linux), or the resident
-// set now where that is higher (the kernel updates its high-water mark lazily, so it can trail).
-double peakRssMib() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return std::max(roundDigits(static_cast<double>(usage.ru_maxrss) / 1024.0, 1), currentRssMib());
-}
-
 // ---------------------------------------------------------------------------------------------
 // The generated file: a rolling terrain, a grid of unit squares split into two triangles each,
 // rows grouped into bands; each band is a primitive of its own (its own vertices, indexed with

@@ -82,6 +82,23 @@ void addSolveOptions(CLI::App& cmd, SolveCommandOptions& o) {
   cmd.add_flag("--no-cache", o.noCache, "Neither read nor write the form-factor cache");
   cmd.add_flag("--normalize-rows", o.normalizeRows,
                "Divide each row of F by its sum (seed 003): hides estimation error, adds energy where light should escape");
+  cmd.add_option("--method", o.method,
+                 "hierarchical (element trees under clusters, linked by the BF oracle) or flat (a mesh with a dense form-factor matrix)")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, MeshStrategy>{{"flat", MeshStrategy::Uniform},
+                                                                             {"hierarchical", MeshStrategy::Hierarchical}}))
+      ->default_str("flat");
+  cmd.add_option("--link-error", o.linkError, "Hierarchical: the share of the scene's power one link may carry unrefined")
+      ->check(CLI::Range(1e-12, 1.0))
+      ->capture_default_str();
+  cmd.add_option("--min-area", o.minElementArea, "Hierarchical: smallest element area, scene units² (default: scene area × 1e-5)")
+      ->check(CLI::Range(1e-30, 1e30));
+  cmd.add_option("--visibility-rays", o.visibilityRays, "Hierarchical: rays per link estimating its visibility")
+      ->check(CLI::Range(1, 255))
+      ->capture_default_str();
+  cmd.add_flag("--no-clusters", o.noClusters, "Hierarchical: start from every pair of faces (HSA'91, O(n²) links) instead of clusters");
+  cmd.add_option("--refine-passes", o.refinePasses, "Hierarchical: refine-then-solve passes of the first solve")
+      ->check(CLI::Range(1, 20))
+      ->capture_default_str();
   cmd.add_flag("--adaptive", o.adaptive, "Adaptive quad-tree mesh refined at spot and shadow edges (seed 003)");
   cmd.add_option("--base-edge", o.baseEdge, "Adaptive: longest edge of the coarsest cells, scene units (default: diagonal / 6)")
       ->check(CLI::Range(1e-9, 1e12));
@@ -195,7 +212,8 @@ const std::initializer_list<const char*>& solveOnlyOptions() {
   static const std::initializer_list<const char*> options = {
       "--formfactor", "--samples", "--hemicube-resolution", "--hemisphere-rays", "--light-samples", "--solver",
       "--tolerance", "--max-iterations", "--cache-dir", "--no-cache", "--normalize-rows", "--adaptive", "--base-edge",
-      "--max-level", "--gradient-threshold", "--adapt-passes"};
+      "--max-level", "--gradient-threshold", "--adapt-passes", "--method", "--link-error", "--min-area", "--visibility-rays",
+      "--no-clusters", "--refine-passes"};
   return options;
 }
 
@@ -217,7 +235,13 @@ Result<RadiosityOptions> radiosityOptions(const Scene& scene, const SolveCommand
   const double tolerance = !o.given("--tolerance") && scene.defaults.tolerance > 0 ? scene.defaults.tolerance : o.tolerance;
   const bool mc = o.formFactor == FormFactorMethod::AreaMonteCarlo;
   const std::string method = formFactorMethodName(o.formFactor);
+  const bool hierarchical = o.method == MeshStrategy::Hierarchical;
   const Rule rules[] = {
+      {hierarchical, {"--patches", "--max-edge", "--adaptive", "--formfactor", "--samples", "--hemicube-resolution", "--hemisphere-rays",
+                      "--normalize-rows", "--cache-dir"},
+       "it is for --method flat; the hierarchical method sizes its elements by --link-error and --min-area and caches no links"},
+      {!hierarchical, {"--link-error", "--min-area", "--visibility-rays", "--no-clusters", "--refine-passes"},
+       "it applies to --method hierarchical only"},
       {o.adaptive, {"--patches", "--max-edge"}, "they size the uniform mesh; --adaptive cells are sized by --base-edge and --max-level"},
       {!o.adaptive, {"--base-edge", "--max-level", "--gradient-threshold", "--adapt-passes"}, "it applies to --adaptive meshing only"},
       {!mc, {"--samples"}, "sample pairs are for --formfactor mc, not " + method},
@@ -232,7 +256,14 @@ Result<RadiosityOptions> radiosityOptions(const Scene& scene, const SolveCommand
       if (Status refused = refuseGiven(o, rule.options, rule.why); !refused) return refused.error();
 
   RadiosityOptions r;
-  r.meshing = o.adaptive ? MeshStrategy::Adaptive : MeshStrategy::Uniform;
+  r.meshing = hierarchical ? MeshStrategy::Hierarchical : o.adaptive ? MeshStrategy::Adaptive : MeshStrategy::Uniform;
+  r.hierarchical.links.linkError = o.linkError;
+  r.hierarchical.links.minElementArea = o.minElementArea;
+  r.hierarchical.links.visibilityRays = o.visibilityRays;
+  r.hierarchical.links.clusters = !o.noClusters;
+  r.hierarchical.links.seed = o.seed;
+  r.hierarchical.links.showProgress = !o.quiet && !o.json;
+  r.hierarchical.refinePasses = o.refinePasses;
   r.uniform = uniformMeshOptions(scene, o);
   r.adaptive.quadtree.baseEdgeLength = o.baseEdge;
   r.adaptive.quadtree.maxLevel = o.maxLevel;
@@ -250,7 +281,7 @@ Result<RadiosityOptions> radiosityOptions(const Scene& scene, const SolveCommand
   r.solver = solver;
   r.tolerance = tolerance;
   r.maxIterations = o.maxIterations;
-  r.cacheDirectory = o.noCache ? "" : (o.cacheDir.empty() ? defaultCacheDirectory() : o.cacheDir);
+  r.cacheDirectory = o.noCache || hierarchical ? "" : (o.cacheDir.empty() ? defaultCacheDirectory() : o.cacheDir);
   return r;
 }
 

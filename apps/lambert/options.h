@@ -47,7 +47,14 @@ struct SolveCommandOptions : MeshCommandOptions {
   std::string cacheDir;  // empty: the default, $XDG_CACHE_HOME/lambert or ~/.cache/lambert
   bool noCache = false;
   bool normalizeRows = false;
-  // Adaptive quad-tree meshing (seed 003) instead of uniform bisection.
+  // Hierarchical radiosity with clustering, or the flat methods (uniform or adaptive mesh, dense F).
+  MeshStrategy method = MeshStrategy::Uniform;  // Uniform: --method flat
+  double linkError = 2e-4;
+  double minElementArea = 0;  // scene units²; 0: the scene's area × 1e-5
+  int visibilityRays = 8;
+  bool noClusters = false;
+  int refinePasses = 2;
+  // Adaptive quad-tree meshing (seed 003) instead of uniform bisection (flat only).
   bool adaptive = false;
   double baseEdge = 0;  // scene units; 0: a sixth of the scene's diagonal
   int maxLevel = 3;

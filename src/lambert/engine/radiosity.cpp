@@ -5,6 +5,7 @@
 
 #include "lambert/core/timer.h"
 #include "lambert/engine/adaptive_meshing.h"
+#include "lambert/engine/hierarchical_meshing.h"
 #include "lambert/engine/uniform_meshing.h"
 #include "lambert/light/emission.h"
 #include "lambert/light/injection.h"
@@ -21,6 +22,18 @@ Result<std::unique_ptr<Meshing>> makeMeshing(const Scene& scene, const Radiosity
       Result<std::unique_ptr<AdaptiveMeshing>> adaptive = AdaptiveMeshing::create(scene, options);
       if (!adaptive) return adaptive.error();
       return std::unique_ptr<Meshing>(std::move(*adaptive));
+    }
+    case MeshStrategy::Hierarchical: {
+      if (options.solver == SolverKind::Direct || options.solver == SolverKind::Shooting)
+        return Error{"the hierarchical method gathers over its links: use the gs or jacobi solver, not '" +
+                     solverName(options.solver) + "'"};
+      if (options.normalizeRows) return Error{"row normalisation is for the flat methods' form-factor matrix"};
+      const LinkOptions& links = options.hierarchical.links;
+      if (!(links.linkError > 0) || !(links.minElementArea >= 0) || links.visibilityRays < 1 || links.visibilityRays > 255 ||
+          options.hierarchical.refinePasses < 1)
+        return Error{"the hierarchical method needs a positive link error, a minimum element area of at least 0, "
+                     "1 to 255 visibility rays per link and at least one refinement pass"};
+      return std::unique_ptr<Meshing>(std::make_unique<HierarchicalMeshing>(scene, options));
     }
   }
   return Error{"unknown mesh strategy"};
@@ -90,7 +103,11 @@ Status checkSolveBudget(SolverKind kind, const SolveBudget& budget) {
 Result<SolveCallReport> Radiosity::solve(const SolveBudget& budget) {
   if (Status ok = checkSolveBudget(options_.solver, budget); !ok) return ok.error();
   SolveCallReport report;
-  const int passes = options_.meshing == MeshStrategy::Adaptive ? options_.adaptive.passesPerSolve : 1;
+  // Adaptive meshing refines every solve; the hierarchy refines in the first one only, then
+  // later solves (lights moved) re-solve over the same links.
+  const int passes = options_.meshing == MeshStrategy::Adaptive                  ? options_.adaptive.passesPerSolve
+                     : options_.meshing == MeshStrategy::Hierarchical && solves_ == 0 ? options_.hierarchical.refinePasses
+                                                                                   : 1;
   for (int pass = 0; pass < passes; ++pass) {
     if (meshing_->refine(lights_, radiosity_, report)) {
       solved_ = true;  // radiosity_ now holds the refinement's warm start

@@ -19,6 +19,7 @@
 #include "lambert/core/stats.h"
 #include "lambert/engine/solution.h"
 #include "lambert/formfactor/form_factors.h"
+#include "lambert/formfactor/links.h"
 #include "lambert/light/lights.h"
 #include "lambert/mesh/quadtree.h"
 #include "lambert/scene/scene.h"
@@ -33,6 +34,9 @@ class ProgressiveShooter;
 enum class MeshStrategy {
   Uniform,   // longest-edge bisection to a patch count or edge length (seed 000), computed once
   Adaptive,  // quad-tree cells split at spot, shadow and radiosity edges (seed 003), every solve
+  // Element trees under clusters, linked by the BF oracle (Hanrahan, Salzman & Aupperle 1991;
+  // Smits, Arvo & Greenberg 1994): near-linear in the number of faces
+  Hierarchical,
 };
 
 struct UniformMeshOptions {
@@ -52,11 +56,18 @@ struct AdaptiveMeshOptions {
   int passesPerSolve = 1;
 };
 
+struct HierarchicalOptions {
+  LinkOptions links;         // link error, minimum element area, visibility rays, clustering
+  int refinePasses = 2;      // refine-then-solve cycles in the first solve()
+  bool refineAtLights = true;  // split elements at spot-cone and shadow edges first
+};
+
 struct RadiosityOptions {
   MeshStrategy meshing = MeshStrategy::Uniform;
   UniformMeshOptions uniform;    // read only with MeshStrategy::Uniform
   AdaptiveMeshOptions adaptive;  // read only with MeshStrategy::Adaptive
-  FormFactorOptions formFactors;
+  HierarchicalOptions hierarchical;  // read only with MeshStrategy::Hierarchical
+  FormFactorOptions formFactors;     // uniform and adaptive meshing
   bool normalizeRows = false;    // seed 003's row normalisation (formfactor/table.h): adds energy
   DirectLightOptions directLight;
   SolverKind solver = SolverKind::GaussSeidel;

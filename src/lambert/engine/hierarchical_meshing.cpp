@@ -1,0 +1,216 @@
+#include "lambert/engine/hierarchical_meshing.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "lambert/core/parallel.h"
+#include "lambert/core/timer.h"
+#include "lambert/geometry/coverage.h"
+#include "lambert/light/emission.h"
+#include "lambert/light/lights.h"
+
+namespace lambert {
+namespace {
+
+std::vector<double> largestChannel(const std::vector<Rgb>& values) {
+  std::vector<double> out(values.size());
+  for (std::size_t i = 0; i < values.size(); ++i) out[i] = std::fmax(0.0, values[i].maxComponent());
+  return out;
+}
+
+}  // namespace
+
+HierarchicalMeshing::HierarchicalMeshing(const Scene& scene, const RadiosityOptions& options)
+    : scene_(scene), options_(options.hierarchical), hierarchy_(scene) {
+  leaves_ = hierarchy_.leaves(scene_);
+  buildSeconds_ = created_.seconds();
+  Timer bvh;
+  caster_ = makeEmbreeRayCaster(leaves_.mesh);
+  epsilon_ = rayEpsilon(leaves_.mesh);
+  bvhSeconds_ = bvh.seconds();
+  measureOpenFractions(leaves_.mesh, *caster_);
+  // Until the first refinement, the leaves (the faces) exchange nothing.
+  auto none = std::make_shared<Links>();
+  none->start.assign(hierarchy_.nodes().size() + 1, 0);
+  links_ = none;
+  transport_ = std::make_shared<HierarchicalTransport>(hierarchy_, links_);
+}
+
+// Splits leaves, breadth first, while the direct light of some light varies across one by more
+// than the threshold allows (ρ · (E_max − E_min) · A over its centre and corners, drawn a tenth
+// of the way in): a spot's cone edge or a shadow edge crosses it.
+void HierarchicalMeshing::splitAtLightEdges(const std::vector<Light>& lights, double threshold, SolveCallReport& report) {
+  Timer timer;
+  const double minArea = minimumElementArea(hierarchy_, options_.links);
+  const std::vector<Rgb> albedo = patchAlbedo(scene_, leaves_.mesh);
+  std::vector<std::uint32_t> frontier = hierarchy_.leafNodes();
+  std::vector<double> frontierAlbedo(frontier.size());
+  for (std::size_t i = 0; i < frontier.size(); ++i) frontierAlbedo[i] = albedo[i].maxComponent();
+  std::vector<std::uint32_t> next;
+  std::vector<double> nextAlbedo;
+  while (!frontier.empty()) {
+    std::vector<char> split(frontier.size(), 0);
+    parallelFor(0, frontier.size(), [&](std::size_t i) {
+      const HierarchyNode& e = hierarchy_.node(frontier[i]);
+      if (e.area * 0.25 < minArea) return;
+      Vec3 points[5] = {e.centre};
+      for (std::size_t k = 0; k < e.numCorners; ++k) points[k + 1] = lerp(e.corners[k], e.centre, 0.1);
+      for (const Light& light : lights) {
+        double lo = INFINITY, hi = 0;
+        for (std::size_t k = 0; k <= e.numCorners; ++k) {
+          double value = irradiance(light, points[k], e.normal, *caster_, epsilon_, scene_.metresPerUnit).maxComponent();
+          lo = std::fmin(lo, value);
+          hi = std::fmax(hi, value);
+        }
+        if (frontierAlbedo[i] * (hi - lo) * e.area > threshold) {
+          split[i] = 1;
+          return;
+        }
+      }
+    }, 16);
+    for (std::size_t i = 0; i < frontier.size(); ++i) lightRays_ += (hierarchy_.node(frontier[i]).numCorners + 1u) * lights.size();
+    next.clear();
+    nextAlbedo.clear();
+    for (std::size_t i = 0; i < frontier.size(); ++i) {
+      if (!split[i]) continue;
+      hierarchy_.split(frontier[i]);
+      ++lightSplits_;
+      ++report.refined;
+      for (std::uint32_t child : hierarchy_.children(frontier[i])) {
+        next.push_back(child);
+        nextAlbedo.push_back(frontierAlbedo[i]);
+      }
+    }
+    frontier.swap(next);
+    frontierAlbedo.swap(nextAlbedo);
+  }
+  hierarchy_.numberLeaves();
+  rebuildLeaves();
+  lightSeconds_ += timer.seconds();
+  report.adaptSeconds += timer.seconds();
+}
+
+void HierarchicalMeshing::rebuildLeaves() {
+  Timer timer;
+  leaves_ = hierarchy_.leaves(scene_);
+  measureOpenFractions(leaves_.mesh, *caster_);
+  leafSeconds_ += timer.seconds();
+}
+
+bool HierarchicalMeshing::refine(const std::vector<Light>& lights, std::vector<Rgb>& radiosity, SolveCallReport& report) {
+  if (passesDone_ >= options_.refinePasses) return false;
+  // Which node each current leaf is, to hand the new leaves their ancestor's radiosity.
+  std::vector<std::uint32_t> oldLeafOfNode(hierarchy_.nodes().size(), kNoNode);
+  for (std::size_t l = 0; l < hierarchy_.leafNodes().size(); ++l) oldLeafOfNode[hierarchy_.leafNodes()[l]] = static_cast<std::uint32_t>(l);
+  std::vector<Rgb> old = radiosity;
+
+  std::vector<Rgb> estimate = radiosity;
+  if (passesDone_ == 0) {
+    // Nothing solved yet: the surfaces' emission and the lights' direct light at the centres.
+    std::vector<Rgb> emitted = emittedRadiosity(scene_, leaves_.mesh);
+    std::vector<Rgb> albedo = patchAlbedo(scene_, leaves_.mesh);
+    double power = 0;
+    std::vector<Rgb> direct(leaves_.mesh.numPatches());
+    parallelFor(0, direct.size(), [&](std::size_t i) {
+      const Patch& p = leaves_.mesh.patches[i];
+      for (const Light& light : lights) direct[i] += albedo[i] * irradiance(light, p.centroid, p.normal, *caster_, epsilon_, scene_.metresPerUnit);
+    }, 64);
+    for (std::size_t i = 0; i < direct.size(); ++i) power += (emitted[i] + direct[i]).maxComponent() * leaves_.mesh.patches[i].area;
+    if (options_.refineAtLights && !lights.empty()) splitAtLightEdges(lights, options_.links.linkError * power, report);
+    // Again on the leaves the lights made.
+    emitted = emittedRadiosity(scene_, leaves_.mesh);
+    albedo = patchAlbedo(scene_, leaves_.mesh);
+    estimate.assign(leaves_.mesh.numPatches(), Rgb{});
+    parallelFor(0, estimate.size(), [&](std::size_t i) {
+      const Patch& p = leaves_.mesh.patches[i];
+      estimate[i] = emitted[i];
+      for (const Light& light : lights) estimate[i] += albedo[i] * irradiance(light, p.centroid, p.normal, *caster_, epsilon_, scene_.metresPerUnit);
+    }, 64);
+    // Every surface that reflects will be lit by the bounces too: add what each would reflect of
+    // the first light spread evenly and reflected to convergence (Cohen et al. 1988's ambient
+    // term), so that links from surfaces lit only indirectly are refined, and not dropped as
+    // carrying nothing, in this first pass.
+    Rgb firstPower, reflectedArea;
+    double totalArea = 0;
+    for (std::size_t i = 0; i < estimate.size(); ++i) {
+      const double a = leaves_.mesh.patches[i].area;
+      firstPower += estimate[i] * a;
+      reflectedArea += albedo[i] * a;
+      totalArea += a;
+    }
+    Rgb ambient;
+    for (int c = 0; c < 3; ++c) ambient[c] = firstPower[c] / totalArea / std::fmax(1e-3, 1 - reflectedArea[c] / totalArea);
+    for (std::size_t i = 0; i < estimate.size(); ++i) estimate[i] += albedo[i] * ambient;
+    old.clear();
+    oldLeafOfNode.assign(hierarchy_.nodes().size(), kNoNode);
+  }
+
+  const std::vector<Rgb> albedo = patchAlbedo(scene_, leaves_.mesh);
+  RefinementReport pass;
+  LinkOptions linkOptions = options_.links;
+  links_ = std::make_shared<Links>(refineLinks(hierarchy_, *caster_, epsilon_, passesDone_ > 0 ? links_.get() : nullptr,
+                                               largestChannel(estimate), largestChannel(albedo), linkOptions, pass));
+  refinement_.initialLinks += pass.initialLinks;
+  refinement_.estimated += pass.estimated;
+  refinement_.rays += pass.rays;
+  refinement_.elementsSplit += pass.elementsSplit;
+  refinement_.clusterLinks = pass.clusterLinks;
+  refinement_.seconds += pass.seconds;
+  report.refined += static_cast<int>(pass.elementsSplit);
+  report.pairsEstimated += pass.estimated;
+  report.formFactorSeconds += pass.seconds;
+
+  rebuildLeaves();
+  transport_ = std::make_shared<HierarchicalTransport>(hierarchy_, links_);
+  // Warm start: each leaf from the nearest ancestor that was a leaf before (B stays as solved).
+  radiosity.assign(hierarchy_.leafNodes().size(), Rgb{});
+  if (!old.empty()) {
+    oldLeafOfNode.resize(hierarchy_.nodes().size(), kNoNode);
+    for (std::size_t l = 0; l < radiosity.size(); ++l) {
+      std::uint32_t n = hierarchy_.leafNodes()[l];
+      while (n != kNoNode && oldLeafOfNode[n] == kNoNode) n = hierarchy_.node(n).parent;
+      if (n != kNoNode) radiosity[l] = old[oldLeafOfNode[n]];
+    }
+  }
+  ++passesDone_;
+  return true;
+}
+
+std::vector<Rgb> HierarchicalMeshing::vertexValues(const std::vector<Rgb>& perElement) const {
+  return leafVertexValues(leaves_, perElement);
+}
+
+void HierarchicalMeshing::addStats(Stats& stats) const {
+  const auto count = [](auto n) { return static_cast<std::int64_t>(n); };
+  stats.add("mesh", "mesh", std::string(options_.links.clusters ? "hierarchical, clustered" : "hierarchical, unclustered"));
+  stats.add("faces", "input faces", count(hierarchy_.numFaces()));
+  stats.add("clusters", "clusters", count(hierarchy_.numClusters()));
+  stats.add("elements", "elements", count(hierarchy_.numElements()));
+  stats.add("patches", "leaf elements", count(leaves_.mesh.numPatches()));
+  stats.add("vertices", "vertices", count(leaves_.mesh.numVertices()));
+  stats.add("hanging_vertices", "T-junction vertices (constrained)", count(leaves_.hanging.size()));
+  stats.add("link_error", "link error", options_.links.linkError);
+  stats.add("min_element_area", "minimum element area", minimumElementArea(hierarchy_, options_.links), "scene units²");
+  stats.add("refine_passes", "refinement passes", count(passesDone_));
+  stats.add("links", "links", count(links_->size()));
+  stats.add("cluster_links", "links with a cluster end", count(refinement_.clusterLinks));
+  stats.add("initial_links", "initial links", count(refinement_.initialLinks));
+  stats.add("links_estimated", "links estimated", count(refinement_.estimated));
+  stats.add("visibility_rays", "visibility rays", count(refinement_.rays));
+  stats.add("light_splits", "elements split at light edges", count(lightSplits_));
+  stats.add("light_edge_rays", "light-edge shadow rays", count(lightRays_));
+  const double linkBytes = static_cast<double>(links_->bytes());
+  const double nodeBytes = static_cast<double>(hierarchy_.bytes());
+  stats.add("link_bytes", "link memory", linkBytes / (1024.0 * 1024.0), "MiB");
+  stats.add("bytes_per_link", "bytes per link", links_->size() ? linkBytes / static_cast<double>(links_->size()) : 0.0, "B");
+  stats.add("node_bytes", "hierarchy memory", nodeBytes / (1024.0 * 1024.0), "MiB");
+  stats.add("bytes_per_element", "bytes per node", nodeBytes / static_cast<double>(hierarchy_.nodes().size()), "B");
+  stats.add("hierarchy_seconds", "hierarchy build time", buildSeconds_, "s");
+  stats.add("bvh_seconds", "BVH build time", bvhSeconds_, "s");
+  stats.add("light_edge_seconds", "light-edge refinement time", lightSeconds_, "s");
+  stats.add("link_seconds", "link refinement time", refinement_.seconds, "s");
+  stats.add("leaf_mesh_seconds", "leaf mesh time", leafSeconds_, "s");
+  stats.add("formfactor_seconds", "form-factor time", refinement_.seconds + lightSeconds_, "s");
+}
+
+}  // namespace lambert

@@ -1,0 +1,60 @@
+#pragma once
+// Hierarchical radiosity with clustering inside the engine (mesh/element_hierarchy.h,
+// formfactor/links.h, solve/hierarchical.h). The first solve() runs refinePasses
+// refine-then-solve cycles (Hanrahan, Salzman & Aupperle 1991, §5):
+//   1. (first pass) elements are split where a light's direct irradiance varies across them by
+//      more than the link error allows: at a spot's cone edge and at shadow edges;
+//   2. links are refined by the BF oracle from the root cluster down, with the radiosity known so
+//      far (emission and direct light at first, then the last solution), each later pass
+//      refining the existing links further where their sources turned out brighter;
+//   3. new leaves start from their parent's radiosity.
+// Later solve() calls (lights moved) re-inject the lights on the existing leaves and re-solve
+// warm over the existing links, without refining: the dynamic-light path.
+#include <memory>
+#include <vector>
+
+#include "lambert/core/timer.h"
+#include "lambert/engine/meshing.h"
+#include "lambert/engine/radiosity.h"
+#include "lambert/formfactor/links.h"
+#include "lambert/mesh/element_hierarchy.h"
+#include "lambert/solve/hierarchical.h"
+
+namespace lambert {
+
+class HierarchicalMeshing final : public Meshing {
+ public:
+  HierarchicalMeshing(const Scene& scene, const RadiosityOptions& options);
+
+  const Mesh& elements() const override { return leaves_.mesh; }
+  const RayCaster& caster() const override { return *caster_; }
+  std::shared_ptr<const Transport> transport() const override { return transport_; }
+  bool refine(const std::vector<Light>& lights, std::vector<Rgb>& radiosity, SolveCallReport& report) override;
+  const Mesh& vertexMesh() const override { return leaves_.mesh; }
+  std::vector<Rgb> vertexValues(const std::vector<Rgb>& perElement) const override;
+  void addStats(Stats& stats) const override;
+  Status saveCache() override { return Ok{}; }  // links are not cached
+
+  const ElementHierarchy& hierarchy() const { return hierarchy_; }
+  const Links& links() const { return *links_; }
+
+ private:
+  void splitAtLightEdges(const std::vector<Light>& lights, double threshold, SolveCallReport& report);
+  void rebuildLeaves();
+
+  const Scene& scene_;  // the engine's, which owns this strategy
+  HierarchicalOptions options_;
+  Timer created_;  // started before the hierarchy is built
+  ElementHierarchy hierarchy_;
+  ElementHierarchy::LeafMesh leaves_;
+  std::unique_ptr<RayCaster> caster_;  // over the faces: elements only split them
+  double epsilon_ = 0;
+  std::shared_ptr<const Links> links_;
+  std::shared_ptr<const HierarchicalTransport> transport_;
+  int passesDone_ = 0;
+  RefinementReport refinement_;
+  std::uint64_t lightSplits_ = 0, lightRays_ = 0;
+  double buildSeconds_ = 0, bvhSeconds_ = 0, lightSeconds_ = 0, leafSeconds_ = 0;
+};
+
+}  // namespace lambert

@@ -1,0 +1,251 @@
+// Hierarchical radiosity with clustering through the engine (engine/hierarchical_meshing.h):
+// closed forms (furnace, Howell's two-patch factors), energy balance, refinement behaviour,
+// agreement with the flat method, clustering's link counts and crack-free vertex values.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "lambert/engine/hierarchical_meshing.h"
+#include "lambert/engine/radiosity.h"
+#include "lambert/solve/energy.h"
+#include "tests/support/scenes.h"
+
+namespace lambert {
+namespace {
+
+using testing::closedCornellBox;
+using testing::closedCube;
+using testing::relativeError;
+using testing::sceneOf;
+
+RadiosityOptions hierarchicalOptions(double linkError, SolverKind solver = SolverKind::GaussSeidel) {
+  RadiosityOptions options;
+  options.meshing = MeshStrategy::Hierarchical;
+  options.hierarchical.links.linkError = linkError;
+  options.solver = solver;
+  options.tolerance = 1e-6;
+  options.maxIterations = 10000;
+  options.formFactors.showProgress = false;
+  return options;
+}
+
+std::unique_ptr<Radiosity> solvedEngine(const Scene& scene, const RadiosityOptions& options) {
+  auto engine = Radiosity::create(scene, options);
+  EXPECT_TRUE(engine.ok()) << engine.error().message;
+  if (!engine.ok()) return nullptr;
+  auto report = (*engine)->solve();
+  EXPECT_TRUE(report.ok()) << report.error().message;
+  EXPECT_TRUE(report.ok() && report->converged);
+  return std::move(*engine);
+}
+
+// Area-weighted mean of B over the elements of one surface.
+Rgb surfaceMean(const SolutionView& view, std::uint32_t surface) {
+  Rgb sum;
+  double area = 0;
+  for (std::size_t i = 0; i < view.mesh().numPatches(); ++i) {
+    const Patch& p = view.mesh().patches[i];
+    if (p.surface != surface) continue;
+    sum += view.radiosity()[i] * p.area;
+    area += p.area;
+  }
+  return sum / area;
+}
+
+// A square's faces as an n×n grid of quads (one surface), counter-clockwise seen from `normal`.
+Surface gridSurface(std::string name, Vec3 origin, Vec3 u, Vec3 v, int n, Rgb emittedRadiance = {}) {
+  Surface s;
+  s.name = std::move(name);
+  s.emittedRadiance = emittedRadiance;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) s.vertices.push_back(origin + u * (double(i) / n) + v * (double(j) / n));
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      auto at = [&](int a, int b) { return static_cast<std::uint32_t>(b * (n + 1) + a); };
+      s.faces.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  return s;
+}
+
+// A closed unit box whose walls are n×n grids facing inward; the floor's centre emits.
+Scene gridBox(int n) {
+  Scene scene = sceneOf({gridSurface("floor", {0, 0, 0}, {0, 0, 1}, {1, 0, 0}, n),
+                         gridSurface("ceiling", {0, 1, 0}, {1, 0, 0}, {0, 0, 1}, n),
+                         gridSurface("x0", {0, 0, 0}, {0, 1, 0}, {0, 0, 1}, n),
+                         gridSurface("x1", {1, 0, 0}, {0, 0, 1}, {0, 1, 0}, n),
+                         gridSurface("z0", {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, n),
+                         gridSurface("z1", {0, 0, 1}, {0, 1, 0}, {1, 0, 0}, n),
+                         gridSurface("lamp", {0.4, 0.999, 0.4}, {0, 0, 0.2}, {0.2, 0, 0}, 2, Rgb::gray(1))});
+  return scene;
+}
+
+TEST(HierarchicalTest, FurnaceIsUniformAtEmissionOverOneMinusAlbedo) {
+  // Every face emits E = π and reflects ρ = 0.5 of what it receives: B = E / (1 − ρ) everywhere.
+  const Scene scene = closedCube(1, Rgb::gray(1), Rgb::gray(0.5));
+  auto engine = solvedEngine(scene, hierarchicalOptions(1e-3));
+  ASSERT_TRUE(engine);
+  const SolutionView& view = engine->solution();
+  const double expected = kPi / (1 - 0.5);
+  EXPECT_GT(view.mesh().numPatches(), 6u);  // the links split the faces
+  for (std::size_t i = 0; i < view.mesh().numPatches(); ++i)
+    ASSERT_LT(relativeError(view.radiosity()[i].g, expected), 0.01) << "element " << i;
+}
+
+TEST(HierarchicalTest, HowellTwoPatchFactorsThroughTheSolver) {
+  // Square a emits E = π (L_e = 1), both reflect ρ = 0.5; with F = F_ab = F_ba (equal areas):
+  // B_b = ρ F B_a and B_a = E + ρ F B_b, so B_b = ρ F E / (1 − ρ² F²).
+  struct Case {
+    Scene scene;
+    double formFactor;
+  };
+  Case cases[] = {{testing::parallelSquares(), 0.19982}, {testing::perpendicularSquares(), 0.20004}};
+  for (Case& c : cases) {
+    c.scene.surfaces[0].emittedRadiance = Rgb::gray(1);
+    auto engine = solvedEngine(c.scene, hierarchicalOptions(1e-4));
+    ASSERT_TRUE(engine);
+    const double rho = 0.5, F = c.formFactor, E = kPi;
+    const double expected = rho * F * E / (1 - rho * rho * F * F);
+    EXPECT_LT(relativeError(surfaceMean(engine->solution(), 1).g, expected), 0.01) << c.scene.surfaces[1].name;
+  }
+}
+
+TEST(HierarchicalTest, ClosedCornellBoxBalancesEnergy) {
+  auto engine = solvedEngine(closedCornellBox(), hierarchicalOptions(1e-3));
+  ASSERT_TRUE(engine);
+  const SolutionView& view = engine->solution();
+  EnergyBalance balance = energyBalance(view.problem(), view.radiosity(), view.scene().metresPerUnit);
+  EXPECT_LT(std::fabs(balance.absorbedWatts + balance.escapedWatts - balance.emittedWatts) / balance.emittedWatts, 1e-3);
+  // Nothing leaves a closed box: what the links do not carry is lost, and that must be small.
+  EXPECT_LT(balance.escapedWatts / balance.emittedWatts, 0.01);
+}
+
+TEST(HierarchicalTest, JacobiAndGaussSeidelReachTheSameSolution) {
+  auto gs = solvedEngine(testing::closedCornellBox(), hierarchicalOptions(1e-3, SolverKind::GaussSeidel));
+  auto jacobi = solvedEngine(testing::closedCornellBox(), hierarchicalOptions(1e-3, SolverKind::Jacobi));
+  ASSERT_TRUE(gs && jacobi);
+  const auto& a = gs->solution().radiosity();
+  const auto& b = jacobi->solution().radiosity();
+  ASSERT_EQ(a.size(), b.size());
+  double worst = 0, scale = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    scale = std::fmax(scale, a[i].maxComponent());
+    worst = std::fmax(worst, std::fabs(a[i].g - b[i].g));
+  }
+  EXPECT_LT(worst / scale, 1e-4);
+}
+
+TEST(HierarchicalTest, LoweringTheLinkErrorNeverMovesAwayFromTheFineFlatSolution) {
+  // The closed Cornell box's per-surface mean radiosity from a fine flat solve is the reference.
+  const Scene scene = closedCornellBox();
+  RadiosityOptions flat;
+  flat.uniform.targetPatches = 3000;
+  flat.formFactors.showProgress = false;
+  flat.solver = SolverKind::GaussSeidel;
+  flat.tolerance = 1e-7;
+  auto reference = solvedEngine(scene, flat);
+  ASSERT_TRUE(reference);
+  double lastError = INFINITY;
+  std::size_t lastLinks = 0;
+  for (double linkError : {1e-2, 1e-3, 1e-4}) {
+    auto engine = solvedEngine(scene, hierarchicalOptions(linkError));
+    ASSERT_TRUE(engine);
+    double worst = 0;
+    for (std::uint32_t s = 0; s < scene.surfaces.size(); ++s) {
+      const Rgb expected = surfaceMean(reference->solution(), s);
+      if (expected.maxComponent() <= 0) continue;
+      worst = std::fmax(worst, std::fabs(surfaceMean(engine->solution(), s).luminance() - expected.luminance()) / expected.luminance());
+    }
+    const auto links = static_cast<std::size_t>(std::get<std::int64_t>(engine->stats().find("links")->value));
+    EXPECT_LE(worst, lastError * 1.05 + 1e-3) << "link error " << linkError;
+    EXPECT_GT(links, lastLinks) << "link error " << linkError;
+    lastError = worst;
+    lastLinks = links;
+  }
+  EXPECT_LT(lastError, 0.02);
+}
+
+TEST(HierarchicalTest, ClusteringStartsFromLinearlyManyLinksAndAgreesWithoutClusters) {
+  // 6 × 12² + 4 faces: without clusters the refinement starts from every ordered pair of faces.
+  const Scene scene = gridBox(12);
+  RadiosityOptions clustered = hierarchicalOptions(1e-3);
+  RadiosityOptions unclustered = clustered;
+  unclustered.hierarchical.links.clusters = false;
+  auto a = solvedEngine(scene, clustered);
+  auto b = solvedEngine(scene, unclustered);
+  ASSERT_TRUE(a && b);
+  auto number = [](const Radiosity& e, const char* key) {
+    return static_cast<double>(std::get<std::int64_t>(e.stats().find(key)->value));
+  };
+  const double faces = number(*a, "faces");
+  EXPECT_EQ(faces, 6 * 144 + 4);
+  EXPECT_EQ(number(*b, "initial_links"), faces * (faces - 1));
+  // Clustered: the links made (estimated on the way down) grow with the faces, not their square.
+  EXPECT_LT(number(*a, "links_estimated"), 60 * faces);
+  EXPECT_LT(number(*a, "links_estimated"), 0.1 * number(*b, "links_estimated"));
+  EXPECT_GT(number(*a, "cluster_links"), 0);
+  for (std::uint32_t s = 0; s < 6; ++s) {
+    const double with = surfaceMean(a->solution(), s).g, without = surfaceMean(b->solution(), s).g;
+    EXPECT_LT(relativeError(with, without), 0.02) << scene.surfaces[s].name;
+  }
+}
+
+TEST(HierarchicalTest, MirrorImageSurfacesGetMirrorImageLinks) {
+  // Two parallel squares, both emitting: the links into one carry what the links into the other
+  // do (Σ K over receivers' areas), as reciprocity and the symmetry of the scene demand.
+  Scene scene = testing::parallelSquares();
+  for (Surface& s : scene.surfaces) s.emittedRadiance = Rgb::gray(1);
+  auto engine = solvedEngine(scene, hierarchicalOptions(1e-4));
+  ASSERT_TRUE(engine);
+  const SolutionView& view = engine->solution();
+  const Rgb bottom = surfaceMean(view, 0), top = surfaceMean(view, 1);
+  EXPECT_LT(relativeError(top.g, bottom.g), 1e-3);
+}
+
+TEST(HierarchicalTest, VertexValuesAreContinuousAcrossTJunctions) {
+  // A spot on a coarse floor splits some elements and not their neighbours: every vertex that
+  // lies inside a leaf's edge must carry the value interpolated along that edge.
+  Scene scene = closedCube(1, {}, Rgb::gray(0.5));
+  Light spot;
+  spot.kind = LightKind::Spot;
+  spot.position = {0.3, 0.9, 0.3};
+  spot.direction = normalize(Vec3{0.2, -1, 0.1});
+  spot.intensity = Rgb::gray(2);
+  spot.coneAngleDegrees = 20;
+  spot.falloffDegrees = 2;
+  scene.lights.push_back(spot);
+  auto engine = solvedEngine(scene, hierarchicalOptions(1e-3));
+  ASSERT_TRUE(engine);
+  const SolutionView& view = engine->solution();
+  const Mesh& mesh = view.vertexMesh();
+  const std::vector<Rgb> values = view.vertexValues(view.radiosity());
+  std::size_t tJunctions = 0;
+  for (std::size_t p = 0; p < mesh.numPatches(); ++p) {
+    auto corners = mesh.cornerIndices(p);
+    for (std::size_t k = 0; k < corners.size(); ++k) {
+      const std::uint32_t a = corners[k], b = corners[(k + 1) % corners.size()];
+      const Vec3 pa = mesh.positions[a], pb = mesh.positions[b];
+      const double edge = length(pb - pa);
+      for (std::uint32_t v = 0; v < mesh.numVertices(); ++v) {
+        if (v == a || v == b || mesh.vertexSurface[v] != mesh.vertexSurface[a]) continue;
+        const Vec3 pv = mesh.positions[v];
+        const double t = dot(pv - pa, pb - pa) / (edge * edge);
+        if (t <= 1e-9 || t >= 1 - 1e-9 || length(pa + (pb - pa) * t - pv) > 1e-9 * edge) continue;
+        ++tJunctions;
+        const Rgb expected = values[a] * (1 - t) + values[b] * t;
+        ASSERT_NEAR(values[v].g, expected.g, 1e-9 * (1 + expected.g)) << "vertex " << v << " on edge " << a << "-" << b;
+      }
+    }
+  }
+  EXPECT_GT(tJunctions, 0u);  // the scene does make T-junctions
+}
+
+TEST(HierarchicalTest, RefusesSolversThatNeedTheMatrix) {
+  for (SolverKind solver : {SolverKind::Direct, SolverKind::Shooting}) {
+    auto engine = Radiosity::create(testing::parallelSquares(), hierarchicalOptions(1e-3, solver));
+    ASSERT_FALSE(engine.ok());
+    EXPECT_NE(engine.error().message.find("gs or jacobi"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace lambert

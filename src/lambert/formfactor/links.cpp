@@ -1,0 +1,351 @@
+#include "lambert/formfactor/links.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "lambert/core/error.h"
+#include "lambert/core/parallel.h"
+#include "lambert/core/progress.h"
+#include "lambert/core/rng.h"
+#include "lambert/core/sampling.h"
+#include "lambert/core/timer.h"
+#include "lambert/core/vec3.h"
+#include "lambert/formfactor/kernels.h"
+
+namespace lambert {
+namespace {
+
+// Estimated: K and visibility known. Inadmissible: too close for the estimate, to be split.
+// Occluded: every ray blocked, between nodes at least one of which is a cluster. Empty: the two
+// cannot exchange light (back to back, coplanar, or the same element).
+enum class Verdict : std::uint8_t { Estimated, Inadmissible, Occluded, Empty };
+
+struct Candidate {
+  std::uint32_t receiver, source;
+  float formFactor = 0;        // K with visibility
+  float uncertainty = 0;       // how far K may be from the truth over the receiver (the oracle's factor)
+  Verdict verdict = Verdict::Estimated;
+  bool estimated = false;      // already estimated (a previous link judged again)
+};
+
+// Whether any corner of polygon a lies in front of the plane of element b.
+bool anyCornerInFront(const HierarchyNode& a, const HierarchyNode& b, double epsilon) {
+  for (std::size_t k = 0; k < a.numCorners; ++k)
+    if (dot(a.corners[k] - b.centre, b.normal) > epsilon) return true;
+  return false;
+}
+
+// The unoccluded form factor from element r to polygon s: the exact point-to-polygon factor
+// averaged over r by a degree-2 rule (three points for a triangle, 2×2 Gauss points for a quad).
+// The centroid alone would underestimate it next to a shared edge, where the factor climbs
+// steeply, and leave light missing in every corner. Also gives the spread of the point values:
+// how much the factor changes across r, which a parent's link hands to all its children alike.
+struct ElementFactor {
+  double mean = 0, spread = 0;
+};
+ElementFactor meanFormFactor(const HierarchyNode& r, const HierarchyNode& s) {
+  const auto& p = r.corners;
+  double values[4];
+  std::size_t count = 0;
+  if (r.numCorners == 3) {
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 x = p[k] * (2.0 / 3.0) + p[(k + 1) % 3] * (1.0 / 6.0) + p[(k + 2) % 3] * (1.0 / 6.0);
+      values[count++] = pointToPolygonFormFactor(x, r.normal, s.polygon(), s.normal);
+    }
+  } else {
+    constexpr double a = 0.5 - 0.28867513459481287, b = 0.5 + 0.28867513459481287;  // 1/2 ∓ 1/(2√3)
+    for (double u : {a, b})
+      for (double v : {a, b}) values[count++] = pointToPolygonFormFactor(lerp(lerp(p[0], p[1], u), lerp(p[3], p[2], u), v), r.normal, s.polygon(), s.normal);
+  }
+  ElementFactor f;
+  double lo = values[0], hi = values[0];
+  for (std::size_t k = 0; k < count; ++k) {
+    f.mean += values[k] / static_cast<double>(count);
+    lo = std::fmin(lo, values[k]);
+    hi = std::fmax(hi, values[k]);
+  }
+  f.spread = hi - lo;
+  return f;
+}
+
+class Refiner {
+ public:
+  Refiner(ElementHierarchy& hierarchy, const RayCaster& caster, double rayEpsilon, const LinkOptions& options,
+          std::span<const double> leafRadiosity, std::span<const double> leafAlbedo)
+      : h_(hierarchy), caster_(caster), epsilon_(rayEpsilon), options_(options), minArea_(minimumElementArea(hierarchy, options)) {
+    const auto& nodes = h_.nodes();
+    LAMBERT_CHECK(leafRadiosity.size() == h_.leafNodes().size() && leafAlbedo.size() == h_.leafNodes().size());
+    radiosity_.assign(nodes.size(), 0.0);
+    albedo_.assign(nodes.size(), 0.0);
+    double power = 0;
+    for (std::size_t l = 0; l < leafRadiosity.size(); ++l) {
+      std::uint32_t n = h_.leafNodes()[l];
+      radiosity_[n] = leafRadiosity[l] * nodes[n].area;  // summed power first, divided below
+      albedo_[n] = leafAlbedo[l];
+      power += leafRadiosity[l] * nodes[n].area;
+    }
+    // Pull: children have larger indices than their parents.
+    for (std::size_t i = nodes.size(); i-- > 0;) {
+      const std::uint32_t parent = nodes[i].parent;
+      if (parent == kNoNode) continue;
+      radiosity_[parent] += radiosity_[i];
+      albedo_[parent] = std::fmax(albedo_[parent], albedo_[i]);
+    }
+    for (std::size_t i = 0; i < nodes.size(); ++i) radiosity_[i] = nodes[i].area > 0 ? radiosity_[i] / nodes[i].area : 0.0;
+    threshold_ = options_.linkError * power;
+  }
+
+  Links run(std::vector<Candidate> frontier, RefinementReport& report) {
+    Timer timer;
+    Progress progress("refining links", 0, options_.showProgress);
+    std::vector<Candidate> kept;
+    std::vector<Candidate> next;
+    while (!frontier.empty()) {
+      std::vector<std::uint8_t> rays(frontier.size(), 0);
+      for (const Candidate& c : frontier) report.estimated += !c.estimated;
+      parallelFor(0, frontier.size(), [&](std::size_t i) {
+        if (!frontier[i].estimated) rays[i] = estimate(frontier[i]);
+      }, 64);
+      for (std::uint8_t n : rays) report.rays += n;
+      progress.advance(frontier.size());
+      next.clear();
+      for (const Candidate& c : frontier) judge(c, kept, next, report);
+      frontier.swap(next);
+    }
+    progress.finish();
+    h_.numberLeaves();
+
+    std::sort(kept.begin(), kept.end(), [](const Candidate& a, const Candidate& b) {
+      return a.receiver != b.receiver ? a.receiver < b.receiver : a.source < b.source;
+    });
+    Links links;
+    links.start.assign(h_.nodes().size() + 1, 0);
+    links.source.reserve(kept.size());
+    links.formFactor.reserve(kept.size());
+    links.uncertainty.reserve(kept.size());
+    for (const Candidate& c : kept) {
+      ++links.start[c.receiver + 1];
+      links.source.push_back(c.source);
+      links.formFactor.push_back(c.formFactor);
+      links.uncertainty.push_back(c.uncertainty);
+      report.clusterLinks += h_.node(c.receiver).isCluster() || h_.node(c.source).isCluster();
+    }
+    for (std::size_t i = 0; i + 1 < links.start.size(); ++i) links.start[i + 1] += links.start[i];
+    report.seconds += timer.seconds();
+    return links;
+  }
+
+ private:
+  // Fills in the candidate's verdict, K and visibility; returns the rays it cast.
+  std::uint8_t estimate(Candidate& c) const {
+    const HierarchyNode& r = h_.node(c.receiver);
+    const HierarchyNode& s = h_.node(c.source);
+    c.estimated = true;
+    if (c.receiver == c.source) {
+      c.verdict = r.isCluster() ? Verdict::Inadmissible : Verdict::Empty;  // a plane does not see itself
+      return 0;
+    }
+    Pcg32 rng(options_.seed, (static_cast<std::uint64_t>(c.receiver) << 32) ^ c.source);
+    const std::uint32_t su = rng.nextUint(), sv = rng.nextUint(), tu = rng.nextUint(), tv = rng.nextUint();
+    const int n = std::max(1, options_.visibilityRays);
+    if (!r.isCluster() && !s.isCluster()) {
+      if (!anyCornerInFront(r, s, epsilon_) || !anyCornerInFront(s, r, epsilon_)) {
+        c.verdict = Verdict::Empty;
+        return 0;
+      }
+      const ElementFactor factor = meanFormFactor(r, s);
+      const double k = std::fmin(1.0, factor.mean);
+      if (!(k > 0)) {
+        // The points of r see nothing of s although parts of the two face each other.
+        c.verdict = Verdict::Inadmissible;
+        return 0;
+      }
+      // Visibility: the share of unoccluded rays between stratified points on the two, among
+      // the pairs of points that face each other. Where the elements cross each other's planes
+      // K already leaves out the part behind, and a ray to it would count it out twice.
+      int open = 0, facing = 0;
+      for (int i = 0; i < n; ++i) {
+        auto [u1, v1] = scrambledZeroTwo(static_cast<std::uint32_t>(i), su, sv);
+        auto [u2, v2] = scrambledZeroTwo(static_cast<std::uint32_t>(i), tu, tv);
+        const Vec3 x = sampleConvexPolygon(r.polygon(), u1, v1), y = sampleConvexPolygon(s.polygon(), u2, v2);
+        if (!(pointToPointKernel(x, r.normal, y, s.normal) > 0)) continue;
+        ++facing;
+        Vec3 from = x + r.normal * epsilon_, to = y + s.normal * epsilon_;
+        open += !caster_.occluded(Ray{from, to - from, 0, 1});
+      }
+      if (facing == 0) {
+        c.verdict = Verdict::Inadmissible;  // only slivers face each other: look closer
+        return 0;
+      }
+      c.formFactor = static_cast<float>(k * open / facing);
+      // Unoccluded, the error is the factor's spread over r; a shadow edge may cross r where
+      // only some rays get through, and then the whole unoccluded factor is in doubt.
+      c.uncertainty = static_cast<float>(open < facing ? k : factor.spread);
+      c.verdict = open > 0 ? Verdict::Estimated : Verdict::Empty;
+      return static_cast<std::uint8_t>(facing);
+    }
+
+    // A cluster at either end: only between nodes whose bounding spheres are apart and which do
+    // not straddle an element's plane, where the point-to-point kernel is well behaved.
+    const Vec3 d = s.centre - r.centre;
+    const double distance = length(d);
+    if (distance <= r.radius + s.radius || (!r.isCluster() && std::fabs(dot(r.normal, d)) < s.radius) ||
+        (!s.isCluster() && std::fabs(dot(s.normal, d)) < r.radius)) {
+      c.verdict = Verdict::Inadmissible;
+      return 0;
+    }
+    // K = P_s(−ω) P_r(ω) / (π d² A_r): the area the source shows toward the receiver and the
+    // receiver toward the source (NodeHierarchy::projectedArea, bounds for clusters), times the
+    // share of unoccluded rays between points on faces chosen by area inside each node.
+    const Vec3 w = d / distance;
+    const double shownBySource = s.projectedArea(-w), shownByReceiver = r.projectedArea(w);
+    if (!(shownBySource > 0) || !(shownByReceiver > 0)) {
+      c.verdict = Verdict::Empty;
+      return 0;
+    }
+    const double k = std::fmin(1.0, shownBySource * shownByReceiver / (kPi * distance * distance * r.area));
+    int open = 0;
+    for (int i = 0; i < n; ++i) {
+      auto [u1, v1] = scrambledZeroTwo(static_cast<std::uint32_t>(i), su, sv);
+      auto [u2, v2] = scrambledZeroTwo(static_cast<std::uint32_t>(i), tu, tv);
+      Vec3 pr, nr, ps, ns;
+      samplePoint(c.receiver, w, u1, v1, rng, pr, nr);
+      samplePoint(c.source, -w, u2, v2, rng, ps, ns);
+      // A point is lifted off the side of its face that faces the other point (which it does
+      // nearly always: faces are chosen by what they show toward the other node).
+      if (dot(nr, ps - pr) < 0) nr = -nr;
+      if (dot(ns, pr - ps) < 0) ns = -ns;
+      Vec3 from = pr + nr * epsilon_, to = ps + ns * epsilon_;
+      open += !caster_.occluded(Ray{from, to - from, 0, 1});
+    }
+    c.uncertainty = static_cast<float>(k);  // a cluster's estimate is only good to its size
+    c.formFactor = static_cast<float>(k * open / n);
+    // No ray got through: a few rays between large nodes are weak evidence, so the judge opens
+    // the link if it could carry too much unoccluded, and drops it only otherwise.
+    c.verdict = open > 0 ? Verdict::Estimated : Verdict::Occluded;
+    return static_cast<std::uint8_t>(n);
+  }
+
+  // A point on the node: on the element itself, or on a face inside the cluster, the children
+  // chosen in proportion to the area they show toward `toward`.
+  void samplePoint(std::uint32_t node, const Vec3& toward, double u, double v, Pcg32& rng, Vec3& point, Vec3& normal) const {
+    while (h_.node(node).isCluster()) {
+      std::span<const std::uint32_t> kids = h_.children(node);
+      double shown[8], total = 0;
+      const std::size_t count = std::min<std::size_t>(kids.size(), 8);
+      for (std::size_t k = 0; k < count; ++k) total += shown[k] = h_.node(kids[k]).projectedArea(toward);
+      std::uint32_t chosen = kids[0];
+      if (total > 0) {
+        double pick = rng.nextDouble() * total;
+        for (std::size_t k = 0; k < count; ++k) {
+          chosen = kids[k];
+          if (pick < shown[k]) break;
+          pick -= shown[k];
+        }
+      } else {
+        chosen = kids[rng.nextBelow(static_cast<std::uint32_t>(count))];
+      }
+      node = chosen;
+    }
+    const HierarchyNode& e = h_.node(node);
+    point = sampleConvexPolygon(e.polygon(), u, v);
+    normal = e.normal;
+  }
+
+  bool splittable(std::uint32_t node) const {
+    const HierarchyNode& n = h_.node(node);
+    return n.isCluster() || !n.isLeaf() || n.area * 0.25 >= minArea_;
+  }
+
+  std::span<const std::uint32_t> childrenOf(std::uint32_t node) {
+    if (h_.node(node).isLeaf()) {
+      h_.split(node);
+      // The children start from their parent's estimates.
+      for (std::uint32_t k : h_.children(node)) {
+        LAMBERT_CHECK(k == radiosity_.size());
+        radiosity_.push_back(radiosity_[node]);
+        albedo_.push_back(albedo_[node]);
+      }
+      ++splits_;
+    }
+    return h_.children(node);
+  }
+
+  void judge(const Candidate& c, std::vector<Candidate>& kept, std::vector<Candidate>& next, RefinementReport& report) {
+    const HierarchyNode& r = h_.node(c.receiver);
+    const HierarchyNode& s = h_.node(c.source);
+    if (c.verdict == Verdict::Empty) return;
+    bool refine = c.verdict == Verdict::Inadmissible;
+    if (!refine) refine = albedo_[c.receiver] * radiosity_[c.source] * c.uncertainty * r.area > threshold_;
+    if (!refine && c.verdict == Verdict::Occluded) return;
+    const bool canR = splittable(c.receiver), canS = splittable(c.source);
+    if (!refine || (!canR && !canS)) {
+      if (c.verdict == Verdict::Estimated) kept.push_back(c);
+      return;
+    }
+    const std::uint64_t splitsBefore = splits_;
+    if (c.receiver == c.source) {
+      std::span<const std::uint32_t> kids = h_.children(c.receiver);
+      for (std::uint32_t a : kids)
+        for (std::uint32_t b : kids) next.push_back({a, b});
+    } else if (canR && (!canS || r.area >= s.area)) {
+      for (std::uint32_t k : childrenOf(c.receiver)) next.push_back({k, c.source});
+    } else {
+      for (std::uint32_t k : childrenOf(c.source)) next.push_back({c.receiver, k});
+    }
+    report.elementsSplit += splits_ - splitsBefore;
+  }
+
+  ElementHierarchy& h_;
+  const RayCaster& caster_;
+  double epsilon_;
+  const LinkOptions& options_;
+  double minArea_;
+  double threshold_ = 0;
+  std::vector<double> radiosity_;  // per node: area-weighted mean of the leaves' largest channel
+  std::vector<double> albedo_;     // per node: the largest albedo under it
+  std::uint64_t splits_ = 0;
+};
+
+}  // namespace
+
+std::size_t Links::bytes() const {
+  return start.capacity() * sizeof(std::uint32_t) + source.capacity() * sizeof(std::uint32_t) +
+         (formFactor.capacity() + uncertainty.capacity()) * sizeof(float);
+}
+
+double minimumElementArea(const ElementHierarchy& hierarchy, const LinkOptions& options) {
+  return options.minElementArea > 0 ? options.minElementArea : hierarchy.totalArea() * 1e-5;
+}
+
+Links refineLinks(ElementHierarchy& hierarchy, const RayCaster& caster, double rayEpsilon, const Links* previous,
+                  std::span<const double> leafRadiosity, std::span<const double> leafAlbedo, const LinkOptions& options,
+                  RefinementReport& report) {
+  Refiner refiner(hierarchy, caster, rayEpsilon, options, leafRadiosity, leafAlbedo);
+  std::vector<Candidate> initial;
+  if (previous) {
+    for (std::uint32_t r = 0; r + 1 < previous->start.size(); ++r)
+      for (std::uint32_t k = previous->start[r]; k < previous->start[r + 1]; ++k) {
+        Candidate c{r, previous->source[k], previous->formFactor[k], previous->uncertainty[k]};
+        c.estimated = true;
+        initial.push_back(c);
+      }
+  } else if (options.clusters) {
+    initial.push_back({0, 0});
+  } else {
+    // Every ordered pair of faces (the hierarchy's roots below the clusters).
+    std::vector<std::uint32_t> faces;
+    for (std::uint32_t i = 0; i < hierarchy.nodes().size(); ++i) {
+      const HierarchyNode& n = hierarchy.node(i);
+      if (!n.isCluster() && n.parent != kNoNode && hierarchy.node(n.parent).isCluster()) faces.push_back(i);
+    }
+    initial.reserve(faces.size() * (faces.size() - 1));
+    for (std::uint32_t a : faces)
+      for (std::uint32_t b : faces)
+        if (a != b) initial.push_back({a, b});
+  }
+  report.initialLinks += initial.size();
+  return refiner.run(std::move(initial), report);
+}
+
+}  // namespace lambert

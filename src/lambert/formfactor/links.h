@@ -1,0 +1,86 @@
+#pragma once
+// The links of hierarchical radiosity and the refinement that makes them (Hanrahan, Salzman &
+// Aupperle 1991), from clusters down to elements (Smits, Arvo & Greenberg 1994; Sillion 1995).
+//
+// A link (r ← s) lets node r gather from node s: r's irradiance-like sum gains K_rs·B̄_s, where
+// B̄_s is the area-weighted mean radiosity of the leaves under s (pull) and r passes what it
+// gathered down to every leaf under it (push).
+//   element ← element   K = the unoccluded form factor from r to polygon s, the exact point-
+//                       to-polygon factor averaged over r at degree-2 quadrature points
+//                       (formfactor/kernels.h, exact at any distance) × the share of unoccluded
+//                       rays between stratified points of the two;
+//   with a cluster      K = P_s(−ω) P_r(ω) / (π d² A_r) × visibility, the point-to-point
+//                       transfer between centres d apart along ω, where P is the area a node
+//                       shows toward a direction: A·cosθ for an element, and for a cluster a
+//                       bound from its faces' areas along the six axis directions (exact for
+//                       axis-aligned faces; Sillion 1995's non-isotropic clusters in their
+//                       simplest form), so that a receiver cluster takes the mean irradiance its
+//                       faces would, and coplanar faces exchange nothing. A receiver cluster
+//                       passes that mean to every face inside it. Only between nodes whose
+//                       bounding spheres are apart and that do not straddle an element's plane,
+//                       where the point-to-point kernel is well behaved.
+// Visibility is the share of unoccluded rays between stratified points on the two nodes (on
+// faces chosen by area inside a cluster).
+//
+// Refinement is breadth-first and deterministic: starting from the root cluster's link to itself
+// (or, unclustered, from every pair of faces, HSA'91's O(n²) start), each candidate link is
+// estimated (in parallel) and then judged in order by the BF oracle: ρ_r·B_s·ΔK·A_r, the power
+// the link may move wrongly, against linkError × the scene's total power, where ΔK is what K is
+// uncertain by: between elements, the spread of the point factors over the receiver (what a
+// parent's link hands its children alike; Lischinski, Tampieri & Greenberg 1994 bound the same
+// variation), or the whole unoccluded K where visibility is partial (a shadow edge crosses);
+// with a cluster, the whole K (HSA'91's magnitude oracle). A link above it is replaced by the links of the larger
+// node's children (a cluster opens, an element splits four ways while above the minimum area),
+// until it is below or neither node can be split. Links that see nothing are dropped.
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "lambert/geometry/ray_caster.h"
+#include "lambert/mesh/element_hierarchy.h"
+
+namespace lambert {
+
+struct LinkOptions {
+  double linkError = 2e-4;     // relative power a link may carry unrefined
+  double minElementArea = 0;   // scene units²; 0: the scene's area × 1e-5
+  int visibilityRays = 8;      // per link
+  bool clusters = true;        // false: start from every pair of faces (no cluster links)
+  std::uint64_t seed = 1;
+  bool showProgress = false;
+};
+
+// Links grouped by receiver node (compressed rows over the hierarchy's nodes), sources in
+// increasing order within each receiver.
+struct Links {
+  std::vector<std::uint32_t> start;   // per node, and one past the last: links of node i are [start[i], start[i+1])
+  std::vector<std::uint32_t> source;
+  std::vector<float> formFactor;      // K_rs, with visibility
+  std::vector<float> uncertainty;     // what the oracle multiplies by ρ_r B_s A_r (see above)
+
+  std::size_t size() const { return source.size(); }
+  std::size_t bytes() const;
+};
+
+struct RefinementReport {
+  std::uint64_t initialLinks = 0;   // the candidates the refinement started from
+  std::uint64_t estimated = 0;      // candidate links estimated
+  std::uint64_t rays = 0;           // visibility rays
+  std::uint64_t elementsSplit = 0;
+  std::uint64_t clusterLinks = 0;   // kept links with a cluster at either end
+  double seconds = 0;
+};
+
+// Refines links over `hierarchy` (splitting its elements as needed) for leaf radiosities given
+// as their largest channel (W/m²) and leaf albedos (largest channel), one per current leaf.
+// With `previous` (links of the same hierarchy before more splits), those links are judged again
+// with the new radiosities and refined further where they now carry too much; without, the
+// refinement starts afresh. Numbers the new leaves before returning.
+Links refineLinks(ElementHierarchy& hierarchy, const RayCaster& caster, double rayEpsilon, const Links* previous,
+                  std::span<const double> leafRadiosity, std::span<const double> leafAlbedo, const LinkOptions& options,
+                  RefinementReport& report);
+
+// The minimum element area the options give for this hierarchy.
+double minimumElementArea(const ElementHierarchy& hierarchy, const LinkOptions& options);
+
+}  // namespace lambert

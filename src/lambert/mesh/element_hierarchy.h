@@ -1,0 +1,131 @@
+#pragma once
+// The element hierarchy of hierarchical radiosity (Hanrahan, Salzman & Aupperle 1991, "A rapid
+// hierarchical radiosity algorithm") under a hierarchy of clusters (Smits, Arvo & Greenberg
+// 1994, "A clustering algorithm for radiosity in complex environments"; Sillion 1995).
+//
+// Every input face (a triangle or a planar convex quad; other polygons are fanned into
+// triangles) roots a tree of elements, each split four ways at its edge midpoints when the
+// links need finer receivers or sources. Above the faces, a bounding-volume hierarchy of
+// clusters (median splits along the longest axis, at most four faces per bottom cluster) groups
+// them, so that distant groups of faces exchange light through one link instead of through
+// every pair of faces.
+//
+// Nodes are numbered in creation order, so a node's parent always has a smaller index: a pass in
+// increasing index visits parents before children (push), one in decreasing index children before
+// parents (pull). The leaves, in increasing node order, are the elements B is solved on; leaves()
+// turns them into a Mesh whose vertices are shared between the leaves of one surface (edge
+// midpoints are made once per edge), so per-vertex values can be continuous.
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "lambert/core/rgb.h"
+#include "lambert/core/vec3.h"
+#include "lambert/mesh/mesh.h"
+#include "lambert/scene/scene.h"
+
+namespace lambert {
+
+inline constexpr std::uint32_t kNoNode = 0xffffffffu;
+
+struct HierarchyNode {
+  // Elements: the corners, counter-clockwise (numCorners 3 or 4); clusters have none.
+  std::array<Vec3, 4> corners{};
+  std::uint8_t numCorners = 0;
+  std::uint8_t depth = 0;     // splits below the face (elements) or below the root (clusters)
+  bool twinned = false;       // element of a two-sided surface (Patch::twinned)
+  std::uint32_t surface = 0;  // elements: the scene surface and face they lie on
+  std::uint32_t face = 0;
+  Vec3 normal;                // elements: unit, front side; clusters: zero
+  Vec3 centre;                // elements: area centroid; clusters: bounding-box centre
+  double area = 0;            // scene units²; clusters: the area of all faces inside
+  double radius = 0;          // of a sphere about centre that holds the node
+  std::uint32_t parent = kNoNode;
+  std::uint32_t firstChild = 0;  // into ElementHierarchy::childList
+  std::uint32_t numChildren = 0;
+  std::uint32_t leaf = kNoNode;  // index among the leaves, set by numberLeaves()
+  // Clusters: Σ over the faces inside of A·max(0, ±n_axis), for +x, −x, +y, −y, +z, −z, so
+  // that projectedArea(ω) bounds the area the faces show toward ω (exact for faces along the
+  // axes, as in most buildings).
+  std::array<float, 6> axisArea{};
+
+  bool isCluster() const { return numCorners == 0; }
+  // The area the node shows toward the unit direction ω: A·max(0, n·ω) for an element; for a
+  // cluster Σ_axis |ω_axis| · axisArea on ω's side, never less than what its faces show.
+  double projectedArea(const Vec3& w) const {
+    if (!isCluster()) return area * std::fmax(0.0, dot(normal, w));
+    return std::fabs(w.x) * axisArea[w.x > 0 ? 0 : 1] + std::fabs(w.y) * axisArea[w.y > 0 ? 2 : 3] +
+           std::fabs(w.z) * axisArea[w.z > 0 ? 4 : 5];
+  }
+  bool isLeaf() const { return numChildren == 0; }
+  std::span<const Vec3> polygon() const { return {corners.data(), numCorners}; }
+};
+
+// A vertex of leaves() that lies on an edge of a larger leaf without being one of its corners
+// (a T-junction): its value must be interpolated along that edge, half way between the ends of
+// the edge it was made on, so that both sides of the edge show the same values.
+struct HangingVertex {
+  std::uint32_t vertex, edgeStart, edgeEnd;
+};
+
+class ElementHierarchy {
+ public:
+  // The faces of every surface, and the clusters over them. The root (node 0) is a cluster.
+  explicit ElementHierarchy(const Scene& scene);
+
+  const std::vector<HierarchyNode>& nodes() const { return nodes_; }
+  const HierarchyNode& node(std::uint32_t i) const { return nodes_[i]; }
+  std::span<const std::uint32_t> children(std::uint32_t i) const {
+    return {childList_.data() + nodes_[i].firstChild, nodes_[i].numChildren};
+  }
+  std::size_t numFaces() const { return numFaces_; }
+  std::size_t numClusters() const { return numClusters_; }
+  std::size_t numElements() const { return nodes_.size() - numClusters_; }
+  double totalArea() const { return nodes_[0].area; }
+
+  // Splits a leaf element four ways (triangles at the edge midpoints into four triangles, quads
+  // at the midpoints and centre into four quads). Children are appended to nodes().
+  void split(std::uint32_t element);
+
+  // Numbers the leaves in node order; returns how many there are. Call after splitting.
+  std::size_t numberLeaves();
+  const std::vector<std::uint32_t>& leafNodes() const { return leafNodes_; }
+
+  // The leaves as patches (face, surface and twinned set) over shared per-surface vertices, and
+  // the T-junction vertices among them, in the order they must be interpolated.
+  struct LeafMesh {
+    Mesh mesh;
+    std::vector<HangingVertex> hanging;
+  };
+  LeafMesh leaves(const Scene& scene) const;
+
+  // The bytes the nodes and child lists take.
+  std::size_t bytes() const;
+
+ private:
+  struct FaceRoot;
+  std::uint32_t addNode(const HierarchyNode& node);
+  void buildClusters(std::span<FaceRoot> faces, std::uint32_t parent, std::uint32_t slot, std::uint8_t depth);
+
+  // A face's root element and its corners' indices among all surfaces' vertices (surfaces in
+  // order, each one's vertices in order), which leaves() shares between faces.
+  struct Root {
+    std::uint32_t node;
+    std::array<std::uint32_t, 4> vertices;
+  };
+
+  std::vector<HierarchyNode> nodes_;
+  std::vector<std::uint32_t> childList_;
+  std::vector<Root> roots_;
+  std::vector<std::uint32_t> leafNodes_;
+  std::size_t numFaces_ = 0, numClusters_ = 0;
+};
+
+// Per-vertex values of a per-leaf quantity on a LeafMesh, continuous across leaves of one
+// surface: mesh/vertex_radiosity.h's averaging (with its border extrapolation), then every
+// T-junction vertex set to the mean of its edge's ends, coarsest first.
+std::vector<Rgb> leafVertexValues(const ElementHierarchy::LeafMesh& leaves, const std::vector<Rgb>& perLeaf);
+
+}  // namespace lambert

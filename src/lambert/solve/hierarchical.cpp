@@ -1,0 +1,99 @@
+#include "lambert/solve/hierarchical.h"
+
+#include <cmath>
+
+#include "lambert/core/error.h"
+#include "lambert/core/parallel.h"
+
+namespace lambert {
+namespace {
+
+double largestChange(const Rgb& a, const Rgb& b) {
+  return std::fmax(std::fabs(a.r - b.r), std::fmax(std::fabs(a.g - b.g), std::fabs(a.b - b.b)));
+}
+
+}  // namespace
+
+HierarchicalTransport::HierarchicalTransport(const ElementHierarchy& hierarchy, std::shared_ptr<const Links> links)
+    : nodeOfLeaf_(hierarchy.leafNodes()), links_(std::move(links)) {
+  const auto& nodes = hierarchy.nodes();
+  LAMBERT_CHECK(links_ && links_->start.size() == nodes.size() + 1);
+  parent_.resize(nodes.size());
+  area_.resize(nodes.size());
+  leafOfNode_.resize(nodes.size());
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    parent_[i] = nodes[i].parent;
+    area_[i] = nodes[i].area;
+    leafOfNode_[i] = nodes[i].leaf;
+  }
+}
+
+void HierarchicalTransport::pull(const std::vector<Rgb>& radiosity, std::vector<Rgb>& mean) const {
+  const std::size_t n = parent_.size();
+  mean.assign(n, Rgb{});  // power first, W per scene unit² of radiosity
+  for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l) mean[nodeOfLeaf_[l]] = radiosity[l] * area_[nodeOfLeaf_[l]];
+  for (std::size_t i = n; i-- > 1;)
+    if (parent_[i] != kNoNode) mean[parent_[i]] += mean[i];
+  for (std::size_t i = 0; i < n; ++i) mean[i] = area_[i] > 0 ? mean[i] / area_[i] : Rgb{};
+}
+
+Rgb HierarchicalTransport::gatherNode(std::uint32_t node, const std::vector<Rgb>& mean) const {
+  const Links& links = *links_;
+  double r = 0, g = 0, b = 0;
+  for (std::uint32_t k = links.start[node]; k < links.start[node + 1]; ++k) {
+    const double f = links.formFactor[k];
+    const Rgb& s = mean[links.source[k]];
+    r += f * s.r;
+    g += f * s.g;
+    b += f * s.b;
+  }
+  return {r, g, b};
+}
+
+void HierarchicalTransport::gather(const std::vector<Rgb>& radiosity, std::vector<Rgb>& irradiance) const {
+  LAMBERT_CHECK(radiosity.size() == size());
+  const std::size_t n = parent_.size();
+  std::vector<Rgb> mean, gathered(n);
+  pull(radiosity, mean);
+  parallelFor(0, n, [&](std::size_t i) { gathered[i] = gatherNode(static_cast<std::uint32_t>(i), mean); }, 256);
+  // Push: parents come first, so each node adds what every ancestor gathered.
+  for (std::size_t i = 1; i < n; ++i)
+    if (parent_[i] != kNoNode) gathered[i] += gathered[parent_[i]];
+  irradiance.resize(size());
+  for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l) irradiance[l] = gathered[nodeOfLeaf_[l]];
+}
+
+SweepChange HierarchicalTransport::sweep(const std::vector<Rgb>& emitted, const std::vector<Rgb>& albedo,
+                                         std::vector<Rgb>& radiosity, bool inPlace) const {
+  SweepChange change;
+  if (!inPlace) {
+    std::vector<Rgb> irradiance;
+    gather(radiosity, irradiance);
+    for (std::size_t l = 0; l < radiosity.size(); ++l) {
+      Rgb updated = emitted[l] + albedo[l] * irradiance[l];
+      change.change = std::fmax(change.change, largestChange(updated, radiosity[l]));
+      change.magnitude = std::fmax(change.magnitude, updated.maxComponent());
+      radiosity[l] = updated;
+    }
+    return change;
+  }
+  const std::size_t n = parent_.size();
+  std::vector<Rgb> mean, pushed(n);
+  pull(radiosity, mean);
+  for (std::size_t i = 0; i < n; ++i) {
+    pushed[i] = gatherNode(static_cast<std::uint32_t>(i), mean);
+    if (parent_[i] != kNoNode) pushed[i] += pushed[parent_[i]];
+    const std::uint32_t l = leafOfNode_[i];
+    if (l == kNoNode) continue;
+    Rgb updated = emitted[l] + albedo[l] * pushed[i];
+    const Rgb delta = updated - radiosity[l];
+    change.change = std::fmax(change.change, largestChange(updated, radiosity[l]));
+    change.magnitude = std::fmax(change.magnitude, updated.maxComponent());
+    radiosity[l] = updated;
+    const Rgb power = delta * area_[i];
+    for (std::uint32_t a = static_cast<std::uint32_t>(i); a != kNoNode; a = parent_[a]) mean[a] += power / area_[a];
+  }
+  return change;
+}
+
+}  // namespace lambert
