@@ -562,6 +562,32 @@ TEST(CliTest, SceneFileDefaultsApplyUnlessTheCommandLineSays) {
   EXPECT_EQ(given["solver"], "gs");
 }
 
+// --method hierarchical solves a generated building and the Cornell box, reports its links,
+// and refuses the flat method's options (and flat the hierarchical ones) by name.
+TEST(CliTest, HierarchicalMethodSolvesAndRefusesFlatOptions) {
+  fs::path dir = outputDir("hierarchical");
+  CommandResult r = run("solve --scene cornell --method hierarchical --json");
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  nlohmann::json stats = nlohmann::json::parse(r.output.substr(r.output.find('{')));
+  EXPECT_EQ(stats["mesh"], "hierarchical, clustered");
+  EXPECT_GT(stats["links"].get<double>(), 1000);
+  EXPECT_EQ(stats["converged"], "yes");
+  EXPECT_LT(stats["residual"].get<double>(), 1e-3);
+  EXPECT_NEAR(stats["absorbed_watts"].get<double>() + stats["escaped_watts"].get<double>(), stats["emitted_watts"].get<double>(),
+              1e-3 * stats["emitted_watts"].get<double>());
+  ASSERT_EQ(run("generate building --rooms 2 --face-size 0.5 -o " + (dir / "b.json").string()).exitCode, 0);
+  r = run("render --scene " + (dir / "b.json").string() + " --method hierarchical --link-error 1e-3 -o " + (dir / "b.png").string());
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_TRUE(fs::exists(dir / "b.png"));
+  for (const char* bad : {" --method hierarchical --patches 100", " --method hierarchical --formfactor hemicube",
+                          " --method hierarchical --solver shoot", " --link-error 1e-3", " --no-clusters"}) {
+    r = run(std::string("solve --scene cornell") + bad);
+    EXPECT_EQ(r.exitCode, 2) << bad << ": " << r.output;
+    EXPECT_TRUE(r.output.find("has no effect") != std::string::npos || r.output.find("gs or jacobi") != std::string::npos)
+        << bad << ": " << r.output;
+  }
+}
+
 // Every kind of bad scene input: exit code 2, a message naming the file and what is wrong, and
 // no image written.
 TEST(CliTest, BadScenesAreRefusedNamingTheFileAndWritingNothing) {

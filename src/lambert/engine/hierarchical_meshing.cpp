@@ -145,12 +145,11 @@ bool HierarchicalMeshing::refine(const std::vector<Light>& lights, std::vector<R
     oldLeafOfNode.assign(hierarchy_.nodes().size(), kNoNode);
   }
 
-  const std::vector<Rgb> albedo = patchAlbedo(scene_, leaves_.mesh);
   RefinementReport pass;
   LinkOptions linkOptions = options_.links;
   links_ = std::make_shared<Links>(refineLinks(hierarchy_, *caster_, epsilon_, passesDone_ > 0 ? links_.get() : nullptr,
-                                               largestChannel(estimate), largestChannel(albedo), linkOptions, pass));
-  refinement_.initialLinks += pass.initialLinks;
+                                               largestChannel(estimate), linkOptions, pass));
+  if (passesDone_ == 0) refinement_.initialLinks = pass.initialLinks;  // later passes start from the links
   refinement_.estimated += pass.estimated;
   refinement_.rays += pass.rays;
   refinement_.elementsSplit += pass.elementsSplit;

@@ -16,8 +16,9 @@ namespace lambert {
 namespace {
 
 // Estimated: K and visibility known. Inadmissible: too close for the estimate, to be split.
-// Occluded: every ray blocked, between nodes at least one of which is a cluster. Empty: the two
-// cannot exchange light (back to back, coplanar, or the same element).
+// Occluded: every ray blocked; a few rays are weak evidence (a mostly shadowed element would lose
+// its sliver of light every time), so it is split where it could carry too much unoccluded.
+// Empty: the two cannot exchange light (back to back, coplanar, or the same element).
 enum class Verdict : std::uint8_t { Estimated, Inadmissible, Occluded, Empty };
 
 struct Candidate {
@@ -71,17 +72,15 @@ ElementFactor meanFormFactor(const HierarchyNode& r, const HierarchyNode& s) {
 class Refiner {
  public:
   Refiner(ElementHierarchy& hierarchy, const RayCaster& caster, double rayEpsilon, const LinkOptions& options,
-          std::span<const double> leafRadiosity, std::span<const double> leafAlbedo)
+          std::span<const double> leafRadiosity)
       : h_(hierarchy), caster_(caster), epsilon_(rayEpsilon), options_(options), minArea_(minimumElementArea(hierarchy, options)) {
     const auto& nodes = h_.nodes();
-    LAMBERT_CHECK(leafRadiosity.size() == h_.leafNodes().size() && leafAlbedo.size() == h_.leafNodes().size());
+    LAMBERT_CHECK(leafRadiosity.size() == h_.leafNodes().size());
     radiosity_.assign(nodes.size(), 0.0);
-    albedo_.assign(nodes.size(), 0.0);
     double power = 0;
     for (std::size_t l = 0; l < leafRadiosity.size(); ++l) {
       std::uint32_t n = h_.leafNodes()[l];
       radiosity_[n] = leafRadiosity[l] * nodes[n].area;  // summed power first, divided below
-      albedo_[n] = leafAlbedo[l];
       power += leafRadiosity[l] * nodes[n].area;
     }
     // Pull: children have larger indices than their parents.
@@ -89,7 +88,6 @@ class Refiner {
       const std::uint32_t parent = nodes[i].parent;
       if (parent == kNoNode) continue;
       radiosity_[parent] += radiosity_[i];
-      albedo_[parent] = std::fmax(albedo_[parent], albedo_[i]);
     }
     for (std::size_t i = 0; i < nodes.size(); ++i) radiosity_[i] = nodes[i].area > 0 ? radiosity_[i] / nodes[i].area : 0.0;
     threshold_ = options_.linkError * power;
@@ -181,7 +179,7 @@ class Refiner {
       // Unoccluded, the error is the factor's spread over r; a shadow edge may cross r where
       // only some rays get through, and then the whole unoccluded factor is in doubt.
       c.uncertainty = static_cast<float>(open < facing ? k : factor.spread);
-      c.verdict = open > 0 ? Verdict::Estimated : Verdict::Empty;
+      c.verdict = open > 0 ? Verdict::Estimated : Verdict::Occluded;
       return static_cast<std::uint8_t>(facing);
     }
 
@@ -204,36 +202,45 @@ class Refiner {
       return 0;
     }
     const double k = std::fmin(1.0, shownBySource * shownByReceiver / (kPi * distance * distance * r.area));
-    int open = 0;
+    // Only pairs of points whose faces face each other count: the orientations are already in
+    // the projected areas, and a ray to the back of a face would count them out twice.
+    int open = 0, facing = 0;
     for (int i = 0; i < n; ++i) {
       auto [u1, v1] = scrambledZeroTwo(static_cast<std::uint32_t>(i), su, sv);
       auto [u2, v2] = scrambledZeroTwo(static_cast<std::uint32_t>(i), tu, tv);
       Vec3 pr, nr, ps, ns;
-      samplePoint(c.receiver, w, u1, v1, rng, pr, nr);
-      samplePoint(c.source, -w, u2, v2, rng, ps, ns);
-      // A point is lifted off the side of its face that faces the other point (which it does
-      // nearly always: faces are chosen by what they show toward the other node).
-      if (dot(nr, ps - pr) < 0) nr = -nr;
-      if (dot(ns, pr - ps) < 0) ns = -ns;
+      samplePoint(c.receiver, w, false, u1, v1, rng, pr, nr);
+      samplePoint(c.source, -w, true, u2, v2, rng, ps, ns);
+      if (!(pointToPointKernel(pr, nr, ps, ns) > 0)) continue;
+      ++facing;
       Vec3 from = pr + nr * epsilon_, to = ps + ns * epsilon_;
       open += !caster_.occluded(Ray{from, to - from, 0, 1});
     }
+    if (facing == 0) {
+      c.verdict = Verdict::Inadmissible;  // the bound saw faces toward each other; look closer
+      return 0;
+    }
     c.uncertainty = static_cast<float>(k);  // a cluster's estimate is only good to its size
-    c.formFactor = static_cast<float>(k * open / n);
-    // No ray got through: a few rays between large nodes are weak evidence, so the judge opens
-    // the link if it could carry too much unoccluded, and drops it only otherwise.
+    c.formFactor = static_cast<float>(k * open / facing);
     c.verdict = open > 0 ? Verdict::Estimated : Verdict::Occluded;
-    return static_cast<std::uint8_t>(n);
+    return static_cast<std::uint8_t>(facing);
   }
 
   // A point on the node: on the element itself, or on a face inside the cluster, the children
-  // chosen in proportion to the area they show toward `toward`.
-  void samplePoint(std::uint32_t node, const Vec3& toward, double u, double v, Pcg32& rng, Vec3& point, Vec3& normal) const {
+  // chosen in proportion to the area they show toward `toward` (a receiver: its irradiance is
+  // the mean over that area) times, for a source, their radiosity (what is seen is its light:
+  // a lamp among dark ceiling tiles, which it covers, must be seen where it shines).
+  void samplePoint(std::uint32_t node, const Vec3& toward, bool source, double u, double v, Pcg32& rng, Vec3& point,
+                   Vec3& normal) const {
     while (h_.node(node).isCluster()) {
       std::span<const std::uint32_t> kids = h_.children(node);
       double shown[8], total = 0;
       const std::size_t count = std::min<std::size_t>(kids.size(), 8);
-      for (std::size_t k = 0; k < count; ++k) total += shown[k] = h_.node(kids[k]).projectedArea(toward);
+      for (std::size_t k = 0; k < count; ++k) {
+        shown[k] = h_.node(kids[k]).projectedArea(toward);
+        if (source && radiosity_[node] > 0) shown[k] *= radiosity_[kids[k]];
+        total += shown[k];
+      }
       std::uint32_t chosen = kids[0];
       if (total > 0) {
         double pick = rng.nextDouble() * total;
@@ -264,7 +271,6 @@ class Refiner {
       for (std::uint32_t k : h_.children(node)) {
         LAMBERT_CHECK(k == radiosity_.size());
         radiosity_.push_back(radiosity_[node]);
-        albedo_.push_back(albedo_[node]);
       }
       ++splits_;
     }
@@ -276,7 +282,7 @@ class Refiner {
     const HierarchyNode& s = h_.node(c.source);
     if (c.verdict == Verdict::Empty) return;
     bool refine = c.verdict == Verdict::Inadmissible;
-    if (!refine) refine = albedo_[c.receiver] * radiosity_[c.source] * c.uncertainty * r.area > threshold_;
+    if (!refine) refine = radiosity_[c.source] * c.uncertainty * r.area > threshold_;
     if (!refine && c.verdict == Verdict::Occluded) return;
     const bool canR = splittable(c.receiver), canS = splittable(c.source);
     if (!refine || (!canR && !canS)) {
@@ -303,7 +309,6 @@ class Refiner {
   double minArea_;
   double threshold_ = 0;
   std::vector<double> radiosity_;  // per node: area-weighted mean of the leaves' largest channel
-  std::vector<double> albedo_;     // per node: the largest albedo under it
   std::uint64_t splits_ = 0;
 };
 
@@ -319,9 +324,8 @@ double minimumElementArea(const ElementHierarchy& hierarchy, const LinkOptions& 
 }
 
 Links refineLinks(ElementHierarchy& hierarchy, const RayCaster& caster, double rayEpsilon, const Links* previous,
-                  std::span<const double> leafRadiosity, std::span<const double> leafAlbedo, const LinkOptions& options,
-                  RefinementReport& report) {
-  Refiner refiner(hierarchy, caster, rayEpsilon, options, leafRadiosity, leafAlbedo);
+                  std::span<const double> leafRadiosity, const LinkOptions& options, RefinementReport& report) {
+  Refiner refiner(hierarchy, caster, rayEpsilon, options, leafRadiosity);
   std::vector<Candidate> initial;
   if (previous) {
     for (std::uint32_t r = 0; r + 1 < previous->start.size(); ++r)

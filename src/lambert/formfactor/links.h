@@ -24,8 +24,9 @@
 //
 // Refinement is breadth-first and deterministic: starting from the root cluster's link to itself
 // (or, unclustered, from every pair of faces, HSA'91's O(n²) start), each candidate link is
-// estimated (in parallel) and then judged in order by the BF oracle: ρ_r·B_s·ΔK·A_r, the power
-// the link may move wrongly, against linkError × the scene's total power, where ΔK is what K is
+// estimated (in parallel) and then judged in order by the BF oracle: B_s·ΔK·A_r, the power the
+// link may move wrongly (not weighted by the receiver's albedo, so that what black surfaces
+// absorb is counted as well as the rest), against linkError × the scene's total power, where ΔK is what K is
 // uncertain by: between elements, the spread of the point factors over the receiver (what a
 // parent's link hands its children alike; Lischinski, Tampieri & Greenberg 1994 bound the same
 // variation), or the whole unoccluded K where visibility is partial (a shadow edge crosses);
@@ -56,7 +57,7 @@ struct Links {
   std::vector<std::uint32_t> start;   // per node, and one past the last: links of node i are [start[i], start[i+1])
   std::vector<std::uint32_t> source;
   std::vector<float> formFactor;      // K_rs, with visibility
-  std::vector<float> uncertainty;     // what the oracle multiplies by ρ_r B_s A_r (see above)
+  std::vector<float> uncertainty;     // ΔK: what the oracle multiplies by B_s A_r (see above)
 
   std::size_t size() const { return source.size(); }
   std::size_t bytes() const;
@@ -72,13 +73,12 @@ struct RefinementReport {
 };
 
 // Refines links over `hierarchy` (splitting its elements as needed) for leaf radiosities given
-// as their largest channel (W/m²) and leaf albedos (largest channel), one per current leaf.
+// as their largest channel (W/m²), one per current leaf.
 // With `previous` (links of the same hierarchy before more splits), those links are judged again
 // with the new radiosities and refined further where they now carry too much; without, the
 // refinement starts afresh. Numbers the new leaves before returning.
 Links refineLinks(ElementHierarchy& hierarchy, const RayCaster& caster, double rayEpsilon, const Links* previous,
-                  std::span<const double> leafRadiosity, std::span<const double> leafAlbedo, const LinkOptions& options,
-                  RefinementReport& report);
+                  std::span<const double> leafRadiosity, const LinkOptions& options, RefinementReport& report);
 
 // The minimum element area the options give for this hierarchy.
 double minimumElementArea(const ElementHierarchy& hierarchy, const LinkOptions& options);
