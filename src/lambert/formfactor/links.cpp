@@ -25,6 +25,7 @@ struct Candidate {
   std::uint32_t receiver, source;
   float formFactor = 0;        // K with visibility
   float uncertainty = 0;       // how far K may be from the truth over the receiver (the oracle's factor)
+  bool receiverSide = false;   // the uncertainty is the factor's spread over the receiver: split it
   Verdict verdict = Verdict::Estimated;
   bool estimated = false;      // already estimated (a previous link judged again)
 };
@@ -39,8 +40,9 @@ bool anyCornerInFront(const HierarchyNode& a, const HierarchyNode& b, double eps
 // The unoccluded form factor from element r to polygon s: the exact point-to-polygon factor
 // averaged over r by a degree-2 rule (three points for a triangle, 2×2 Gauss points for a quad).
 // The centroid alone would underestimate it next to a shared edge, where the factor climbs
-// steeply, and leave light missing in every corner. Also gives the spread of the point values:
-// how much the factor changes across r, which a parent's link hands to all its children alike.
+// steeply, and leave light missing in every corner. Also gives the spread of the point values
+// (quadrature points and corners): how much the factor changes across r, which a parent's link
+// hands to all its children alike.
 struct ElementFactor {
   double mean = 0, spread = 0;
 };
@@ -64,6 +66,14 @@ ElementFactor meanFormFactor(const HierarchyNode& r, const HierarchyNode& s) {
     f.mean += values[k] / static_cast<double>(count);
     lo = std::fmin(lo, values[k]);
     hi = std::fmax(hi, values[k]);
+  }
+  // The corners too (drawn 1% in, off the edges), for the spread only: the quadrature points sit
+  // well inside, and a factor that falls off sharply at the element's rim (a wall's top row
+  // below a ceiling light) would not show in them.
+  for (std::size_t k = 0; k < r.numCorners; ++k) {
+    const double value = pointToPolygonFormFactor(lerp(p[k], r.centre, 0.01), r.normal, s.polygon(), s.normal);
+    lo = std::fmin(lo, value);
+    hi = std::fmax(hi, value);
   }
   f.spread = hi - lo;
   return f;
@@ -121,11 +131,13 @@ class Refiner {
     links.source.reserve(kept.size());
     links.formFactor.reserve(kept.size());
     links.uncertainty.reserve(kept.size());
+    links.receiverSide.reserve(kept.size());
     for (const Candidate& c : kept) {
       ++links.start[c.receiver + 1];
       links.source.push_back(c.source);
       links.formFactor.push_back(c.formFactor);
       links.uncertainty.push_back(c.uncertainty);
+      links.receiverSide.push_back(c.receiverSide);
       report.clusterLinks += h_.node(c.receiver).isCluster() || h_.node(c.source).isCluster();
     }
     for (std::size_t i = 0; i + 1 < links.start.size(); ++i) links.start[i + 1] += links.start[i];
@@ -179,6 +191,7 @@ class Refiner {
       // Unoccluded, the error is the factor's spread over r; a shadow edge may cross r where
       // only some rays get through, and then the whole unoccluded factor is in doubt.
       c.uncertainty = static_cast<float>(open < facing ? k : factor.spread);
+      c.receiverSide = open == facing;
       c.verdict = open > 0 ? Verdict::Estimated : Verdict::Occluded;
       return static_cast<std::uint8_t>(facing);
     }
@@ -294,7 +307,9 @@ class Refiner {
       std::span<const std::uint32_t> kids = h_.children(c.receiver);
       for (std::uint32_t a : kids)
         for (std::uint32_t b : kids) next.push_back({a, b});
-    } else if (canR && (!canS || r.area >= s.area)) {
+    } else if (canR && (!canS || r.area >= s.area || c.receiverSide)) {
+      // The larger node, as HSA'91 splits, unless the error is the factor's spread over the
+      // receiver: splitting the source would not make that smaller.
       for (std::uint32_t k : childrenOf(c.receiver)) next.push_back({k, c.source});
     } else {
       for (std::uint32_t k : childrenOf(c.source)) next.push_back({c.receiver, k});
@@ -316,7 +331,7 @@ class Refiner {
 
 std::size_t Links::bytes() const {
   return start.capacity() * sizeof(std::uint32_t) + source.capacity() * sizeof(std::uint32_t) +
-         (formFactor.capacity() + uncertainty.capacity()) * sizeof(float);
+         (formFactor.capacity() + uncertainty.capacity()) * sizeof(float) + receiverSide.capacity() * sizeof(std::uint8_t);
 }
 
 double minimumElementArea(const ElementHierarchy& hierarchy, const LinkOptions& options) {
@@ -330,7 +345,7 @@ Links refineLinks(ElementHierarchy& hierarchy, const RayCaster& caster, double r
   if (previous) {
     for (std::uint32_t r = 0; r + 1 < previous->start.size(); ++r)
       for (std::uint32_t k = previous->start[r]; k < previous->start[r + 1]; ++k) {
-        Candidate c{r, previous->source[k], previous->formFactor[k], previous->uncertainty[k]};
+        Candidate c{r, previous->source[k], previous->formFactor[k], previous->uncertainty[k], previous->receiverSide[k] != 0};
         c.estimated = true;
         initial.push_back(c);
       }

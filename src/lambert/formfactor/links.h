@@ -30,8 +30,9 @@
 // uncertain by: between elements, the spread of the point factors over the receiver (what a
 // parent's link hands its children alike; Lischinski, Tampieri & Greenberg 1994 bound the same
 // variation), or the whole unoccluded K where visibility is partial (a shadow edge crosses);
-// with a cluster, the whole K (HSA'91's magnitude oracle). A link above it is replaced by the links of the larger
-// node's children (a cluster opens, an element splits four ways while above the minimum area),
+// with a cluster, the whole K (HSA'91's magnitude oracle). A link above it is replaced by the
+// links of the larger node's children, or the receiver's where ΔK is its spread (a cluster
+// opens, an element splits four ways while above the minimum area),
 // until it is below or neither node can be split. Links that see nothing are dropped.
 #include <cstdint>
 #include <span>
@@ -58,6 +59,7 @@ struct Links {
   std::vector<std::uint32_t> source;
   std::vector<float> formFactor;      // K_rs, with visibility
   std::vector<float> uncertainty;     // ΔK: what the oracle multiplies by B_s A_r (see above)
+  std::vector<std::uint8_t> receiverSide;  // ΔK is K's spread over the receiver: refining splits the receiver
 
   std::size_t size() const { return source.size(); }
   std::size_t bytes() const;
