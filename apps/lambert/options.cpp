@@ -231,7 +231,12 @@ Result<RadiosityOptions> radiosityOptions(const Scene& scene, const SolveCommand
     std::string why;
   };
   // The scene file's defaults, where the command line does not say.
-  const SolverKind solver = !o.given("--solver") && !scene.defaults.solver.empty() ? solverNames().at(scene.defaults.solver) : o.solver;
+  SolverKind solver = !o.given("--solver") && !scene.defaults.solver.empty() ? solverNames().at(scene.defaults.solver) : o.solver;
+  // The hierarchical method gathers over links: where nothing chose a solver, a command whose
+  // own default needs the dense matrix (animate's shoot) gathers with gs instead.
+  if (o.method == MeshStrategy::Hierarchical && !o.given("--solver") && scene.defaults.solver.empty() &&
+      (solver == SolverKind::Shooting || solver == SolverKind::Direct))
+    solver = SolverKind::GaussSeidel;
   const double tolerance = !o.given("--tolerance") && scene.defaults.tolerance > 0 ? scene.defaults.tolerance : o.tolerance;
   const bool mc = o.formFactor == FormFactorMethod::AreaMonteCarlo;
   const std::string method = formFactorMethodName(o.formFactor);

@@ -40,6 +40,11 @@ void Progress::finish() {
 
 void Progress::draw(std::uint64_t done, bool final) {
   std::lock_guard<std::mutex> lock(drawMutex_);
+  if (total_ == 0) {  // open-ended work: the count so far
+    std::fprintf(stderr, "\r%-14s %llu%s", label_.c_str(), static_cast<unsigned long long>(done), final ? "\n" : "");
+    std::fflush(stderr);
+    return;
+  }
   double fraction = total_ ? static_cast<double>(done) / static_cast<double>(total_) : 1.0;
   if (fraction > 1) fraction = 1;
   constexpr int kWidth = 30;

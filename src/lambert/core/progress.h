@@ -10,7 +10,8 @@ namespace lambert {
 
 class Progress {
  public:
-  // total: units of work; a line is shown only when enabled and stderr is a terminal.
+  // total: units of work (0: not known in advance, and the line shows the count done); a line
+  // is shown only when enabled and stderr is a terminal.
   Progress(std::string label, std::uint64_t total, bool enabled = true);
   ~Progress();
   Progress(const Progress&) = delete;

@@ -105,7 +105,7 @@ class Refiner {
 
   Links run(std::vector<Candidate> frontier, RefinementReport& report) {
     Timer timer;
-    Progress progress("refining links", 0, options_.showProgress);
+    Progress progress("links judged", 0, options_.showProgress);
     std::vector<Candidate> kept;
     std::vector<Candidate> next;
     while (!frontier.empty()) {
