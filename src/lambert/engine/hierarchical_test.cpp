@@ -197,7 +197,8 @@ TEST(HierarchicalTest, ClusteringStartsFromLinearlyManyLinksAndAgreesWithoutClus
   auto b = solvedEngine(scene, unclustered);
   ASSERT_TRUE(a && b);
   auto number = [](const Radiosity& e, const char* key) {
-    const Stats::Value& value = e.stats().find(key)->value;
+    const Stats stats = e.stats();
+    const Stats::Value& value = stats.find(key)->value;
     return std::holds_alternative<double>(value) ? std::get<double>(value) : static_cast<double>(std::get<std::int64_t>(value));
   };
   const double faces = number(*a, "faces");
