@@ -150,7 +150,7 @@ Json scaling(const Options& options, std::vector<std::pair<double, double>>& fac
                     {"clusters", number(s, "clusters")},
                     {"links", number(s, "links")},
                     {"visibility_rays", number(s, "visibility_rays")},
-                    {"light_edge_rays", number(s, "light_edge_rays")},
+                    {"light_edge_samples", number(s, "light_edge_samples")},
                     {"link_mib", roundDigits(number(s, "link_bytes"), 1)},
                     {"bytes_per_link", roundDigits(number(s, "bytes_per_link"), 2)},
                     {"hierarchy_mib", roundDigits(number(s, "node_bytes"), 1)},

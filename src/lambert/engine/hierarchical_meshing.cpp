@@ -50,12 +50,14 @@ void HierarchicalMeshing::splitAtLightEdges(const std::vector<Light>& lights, do
   std::vector<double> nextAlbedo;
   while (!frontier.empty()) {
     std::vector<char> split(frontier.size(), 0);
+    std::vector<std::uint32_t> samples(frontier.size(), 0);  // points × lights evaluated
     parallelFor(0, frontier.size(), [&](std::size_t i) {
       const HierarchyNode& e = hierarchy_.node(frontier[i]);
       if (e.area * 0.25 < minArea) return;
       Vec3 points[5] = {e.centre};
       for (std::size_t k = 0; k < e.numCorners; ++k) points[k + 1] = lerp(e.corners[k], e.centre, 0.1);
       for (const Light& light : lights) {
+        samples[i] += e.numCorners + 1u;
         double lo = INFINITY, hi = 0;
         for (std::size_t k = 0; k <= e.numCorners; ++k) {
           double value = irradiance(light, points[k], e.normal, *caster_, epsilon_, scene_.metresPerUnit).maxComponent();
@@ -68,7 +70,7 @@ void HierarchicalMeshing::splitAtLightEdges(const std::vector<Light>& lights, do
         }
       }
     }, 16);
-    for (std::size_t i = 0; i < frontier.size(); ++i) lightRays_ += (hierarchy_.node(frontier[i]).numCorners + 1u) * lights.size();
+    for (std::uint32_t n : samples) lightSamples_ += n;
     next.clear();
     nextAlbedo.clear();
     for (std::size_t i = 0; i < frontier.size(); ++i) {
@@ -197,7 +199,7 @@ void HierarchicalMeshing::addStats(Stats& stats) const {
   stats.add("links_estimated", "links estimated", count(refinement_.estimated));
   stats.add("visibility_rays", "visibility rays", count(refinement_.rays));
   stats.add("light_splits", "elements split at light edges", count(lightSplits_));
-  stats.add("light_edge_rays", "light-edge shadow rays", count(lightRays_));
+  stats.add("light_edge_samples", "light-edge samples (points × lights)", count(lightSamples_));
   const double linkBytes = static_cast<double>(links_->bytes());
   const double nodeBytes = static_cast<double>(hierarchy_.bytes());
   stats.add("link_bytes", "link memory", linkBytes / (1024.0 * 1024.0), "MiB");

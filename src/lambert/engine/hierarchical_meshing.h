@@ -53,7 +53,7 @@ class HierarchicalMeshing final : public Meshing {
   std::shared_ptr<const HierarchicalTransport> transport_;
   int passesDone_ = 0;
   RefinementReport refinement_;
-  std::uint64_t lightSplits_ = 0, lightRays_ = 0;
+  std::uint64_t lightSplits_ = 0, lightSamples_ = 0;
   double buildSeconds_ = 0, bvhSeconds_ = 0, lightSeconds_ = 0, leafSeconds_ = 0;
 };
 
