@@ -5,6 +5,7 @@
 
 #include "lambert/core/parallel.h"
 #include "lambert/core/timer.h"
+#include "lambert/engine/final_gather.h"
 #include "lambert/geometry/coverage.h"
 #include "lambert/light/emission.h"
 #include "lambert/light/lights.h"
@@ -15,6 +16,12 @@ namespace {
 std::vector<double> largestChannel(const std::vector<Rgb>& values) {
   std::vector<double> out(values.size());
   for (std::size_t i = 0; i < values.size(); ++i) out[i] = std::fmax(0.0, values[i].maxComponent());
+  return out;
+}
+
+std::vector<double> openFractions(const Mesh& mesh) {
+  std::vector<double> out(mesh.numPatches());
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = mesh.patches[i].openFraction;
   return out;
 }
 
@@ -33,7 +40,7 @@ HierarchicalMeshing::HierarchicalMeshing(const Scene& scene, const RadiosityOpti
   auto none = std::make_shared<Links>();
   none->start.assign(hierarchy_.nodes().size() + 1, 0);
   links_ = none;
-  transport_ = std::make_shared<HierarchicalTransport>(hierarchy_, links_);
+  transport_ = std::make_shared<HierarchicalTransport>(hierarchy_, links_, openFractions(leaves_.mesh));
 }
 
 // Splits leaves, breadth first, while the direct light of some light varies across one by more
@@ -162,7 +169,7 @@ bool HierarchicalMeshing::refine(const std::vector<Light>& lights, std::vector<R
   report.formFactorSeconds += pass.seconds;
 
   rebuildLeaves();
-  transport_ = std::make_shared<HierarchicalTransport>(hierarchy_, links_);
+  transport_ = std::make_shared<HierarchicalTransport>(hierarchy_, links_, openFractions(leaves_.mesh));
   // Warm start: each leaf from the nearest ancestor that was a leaf before (B stays as solved).
   radiosity.assign(hierarchy_.leafNodes().size(), Rgb{});
   if (!old.empty()) {
@@ -179,6 +186,32 @@ bool HierarchicalMeshing::refine(const std::vector<Light>& lights, std::vector<R
 
 std::vector<Rgb> HierarchicalMeshing::vertexValues(const std::vector<Rgb>& perElement) const {
   return leafVertexValues(leaves_, perElement);
+}
+
+std::vector<Rgb> HierarchicalMeshing::vertexSolution(const ElementSolution& solution, VertexQuantity quantity) const {
+  LAMBERT_CHECK(solution.radiosity.size() == leaves_.mesh.numPatches());
+  const FinalGather gather(hierarchy_, leaves_, *links_, *caster_, epsilon_, 1e-4 * sceneDiagonal(scene_),
+                           options_.links.visibilityRays, options_.links.seed);
+  std::vector<Rgb> mean;
+  transport_->pull(solution.radiosity, mean);
+  std::vector<Rgb> values = gather.irradiance(mean);
+  const std::vector<VertexSite>& sites = gather.sites();
+  const std::vector<std::uint32_t>& leaf = gather.gatheringLeaf();
+  parallelFor(0, values.size(), [&](std::size_t v) {
+    if (leaf[v] == kNoNode) return;
+    Rgb direct;
+    if (quantity != VertexQuantity::IndirectRadiosity)
+      for (const Light& light : solution.lights)
+        direct += irradiance(light, sites[v].point, sites[v].normal, *caster_, epsilon_, solution.metresPerUnit);
+    const Rgb received = values[v] + direct;
+    if (quantity == VertexQuantity::Irradiance) {
+      values[v] = received;
+    } else {
+      values[v] = solution.emitted[leaf[v]] + solution.albedo[leaf[v]] * received;
+    }
+  }, 64);
+  constrainHangingVertices(leaves_, values);
+  return values;
 }
 
 void HierarchicalMeshing::addStats(Stats& stats) const {

@@ -32,6 +32,9 @@ class HierarchicalMeshing final : public Meshing {
   bool refine(const std::vector<Light>& lights, std::vector<Rgb>& radiosity, SolveCallReport& report) override;
   const Mesh& vertexMesh() const override { return leaves_.mesh; }
   std::vector<Rgb> vertexValues(const std::vector<Rgb>& perElement) const override;
+  // The final gather (engine/final_gather.h) at every vertex, with the lights' direct light
+  // evaluated there too; T-junction vertices are then constrained to their edges.
+  std::vector<Rgb> vertexSolution(const ElementSolution& solution, VertexQuantity quantity) const override;
   void addStats(Stats& stats) const override;
   Status saveCache() override { return Ok{}; }  // links are not cached
 

@@ -8,6 +8,7 @@
 
 #include "lambert/engine/hierarchical_meshing.h"
 #include "lambert/engine/radiosity.h"
+#include "lambert/formfactor/kernels.h"
 #include "lambert/solve/energy.h"
 #include "tests/support/scenes.h"
 
@@ -81,20 +82,19 @@ Scene gridBox(int n) {
 }
 
 TEST(HierarchicalTest, FurnaceIsUniformAtEmissionOverOneMinusAlbedo) {
-  // Every face emits E = π and reflects ρ = 0.5 of what it receives: B = E / (1 − ρ) everywhere.
-  // The links conserve the power (the mean is within 1%); an element whose links sit at
-  // different levels of its ancestors takes their mean factors for its own, which the oracle
-  // bounds per link, not per element: measured up to 13.5% at link error 1e-3 (the issue asks
-  // 1% per element; not reached).
+  // Every face emits E = π and reflects ρ = 0.5 of what it receives: B = E / (1 − ρ) everywhere,
+  // in the mean and in every element. An element whose links sit at different levels of its
+  // ancestors takes their mean factors for its own, which the oracle bounds per link: at link
+  // error 3e-5 every element is within 1% (measured 0.7%; 2.6% at 1e-3).
   const Scene scene = closedCube(1, Rgb::gray(1), Rgb::gray(0.5));
-  auto engine = solvedEngine(scene, hierarchicalOptions(1e-3));
+  auto engine = solvedEngine(scene, hierarchicalOptions(3e-5));
   ASSERT_TRUE(engine);
   const SolutionView& view = engine->solution();
   const double expected = kPi / (1 - 0.5);
   EXPECT_GT(view.mesh().numPatches(), 6u);  // the links split the faces
   double sum = 0, area = 0;
   for (std::size_t i = 0; i < view.mesh().numPatches(); ++i) {
-    ASSERT_LT(relativeError(view.radiosity()[i].g, expected), 0.15) << "element " << i;
+    ASSERT_LT(relativeError(view.radiosity()[i].g, expected), 0.01) << "element " << i;
     sum += view.radiosity()[i].g * view.mesh().patches[i].area;
     area += view.mesh().patches[i].area;
   }
@@ -121,15 +121,47 @@ TEST(HierarchicalTest, HowellTwoPatchFactorsThroughTheSolver) {
 }
 
 TEST(HierarchicalTest, ClosedCornellBoxBalancesEnergy) {
-  auto engine = solvedEngine(closedCornellBox(), hierarchicalOptions(1e-3));
+  auto engine = solvedEngine(closedCornellBox(), hierarchicalOptions(2e-4));
   ASSERT_TRUE(engine);
   const SolutionView& view = engine->solution();
   EnergyBalance balance = energyBalance(view.problem(), view.radiosity(), view.scene().metresPerUnit);
   EXPECT_LT(std::fabs(balance.absorbedWatts + balance.escapedWatts - balance.emittedWatts) / balance.emittedWatts, 1e-3);
-  // Nothing leaves a closed box: what the links do not carry is lost. Measured 2.8% at link
-  // error 1e-3 (the issue asks for 1%; the flat method with 3000 patches loses 0.5%).
-  EXPECT_LT(balance.escapedWatts / balance.emittedWatts, 0.04);
-  EXPECT_GT(balance.escapedWatts / balance.emittedWatts, -0.01);
+  // Nothing leaves a closed box: what the links do not carry is lost, what they carry twice is
+  // gained. Within 1% at the default link error (measured −0.22%; the flat method with 3000
+  // patches loses 0.5%).
+  std::printf("escaped %.4f of the emitted power\n", balance.escapedWatts / balance.emittedWatts);
+  EXPECT_LT(std::fabs(balance.escapedWatts / balance.emittedWatts), 0.01);
+}
+
+TEST(HierarchicalTest, FinalGatherGivesTheExactPointIrradianceAtEveryVertex) {
+  // A black square emitting E = π (L_e = 1) above a grey one, one element each (the minimum
+  // area forbids splitting): the receiver's element value is ρ·F·E with F its mean factor, but
+  // at a vertex the final gather must give ρ·F(x)·E with F(x) the exact point-to-polygon factor
+  // there: 0.1385 at a corner against a mean of 0.1998, so interpolating would miss by 44%.
+  Scene scene = testing::parallelSquares();
+  scene.materials.push_back({"black", Rgb::gray(0)});
+  scene.surfaces[1].material = 1;
+  scene.surfaces[1].emittedRadiance = Rgb::gray(1);
+  RadiosityOptions options = hierarchicalOptions(1e-4);
+  options.hierarchical.links.minElementArea = 10;
+  auto engine = solvedEngine(scene, options);
+  ASSERT_TRUE(engine);
+  const SolutionView& view = engine->solution();
+  ASSERT_EQ(view.mesh().numPatches(), 2u);
+  const Mesh& mesh = view.vertexMesh();
+  const std::vector<Vec3> top = scene.surfaces[1].vertices;
+  const std::vector<Rgb> radiosity = view.vertexValues(VertexQuantity::Radiosity);
+  const std::vector<Rgb> irradiance = view.vertexValues(VertexQuantity::Irradiance);
+  std::size_t checked = 0;
+  for (std::uint32_t v = 0; v < mesh.numVertices(); ++v) {
+    if (mesh.vertexSurface[v] != 0) continue;
+    const double pointFactor = pointToPolygonFormFactor(mesh.positions[v], {0, 0, 1}, top, {0, 0, -1});
+    EXPECT_LT(relativeError(irradiance[v].g, kPi * pointFactor), 2e-3) << "vertex " << v;
+    EXPECT_LT(relativeError(radiosity[v].g, 0.5 * kPi * pointFactor), 2e-3) << "vertex " << v;
+    ++checked;
+  }
+  EXPECT_EQ(checked, 4u);
+  EXPECT_LT(relativeError(view.radiosity()[0].g, 0.5 * kPi * 0.19982), 0.01);  // the element keeps its mean
 }
 
 TEST(HierarchicalTest, JacobiAndGaussSeidelReachTheSameSolution) {
@@ -184,7 +216,7 @@ TEST(HierarchicalTest, LoweringTheLinkErrorNeverMovesAwayFromTheFineFlatSolution
     lastError = worst;
     lastLinks = links;
   }
-  EXPECT_LT(lastError, 0.12);  // measured 9.9% of the mean at 1e-4 against the 3000-patch flat solution
+  EXPECT_LT(lastError, 0.08);  // measured 6.2% of the mean at 1e-4 against the 3000-patch flat solution
 }
 
 TEST(HierarchicalTest, ClusteringStartsFromLinearlyManyLinksAndAgreesWithoutClusters) {
@@ -215,6 +247,7 @@ TEST(HierarchicalTest, ClusteringStartsFromLinearlyManyLinksAndAgreesWithoutClus
   for (std::uint32_t s = 0; s < 6; ++s) {
     const double with = surfaceMean(a->solution(), s).g, without = surfaceMean(b->solution(), s).g;
     EXPECT_LT(relativeError(with, without), scene.surfaces[s].name == "ceiling" ? 0.3 : 0.08) << scene.surfaces[s].name;
+    std::printf("%s: clustered %.5f, unclustered %.5f\n", scene.surfaces[s].name.c_str(), with, without);
   }
 }
 
@@ -246,8 +279,12 @@ TEST(HierarchicalTest, VertexValuesAreContinuousAcrossTJunctions) {
   ASSERT_TRUE(engine);
   const SolutionView& view = engine->solution();
   const Mesh& mesh = view.vertexMesh();
-  const std::vector<Rgb> values = view.vertexValues(view.radiosity());
   std::size_t tJunctions = 0;
+  // The element values interpolated, and the final gather's radiosity, indirect part and
+  // irradiance, each continuous.
+  for (const std::vector<Rgb>& values :
+       {view.vertexValues(view.radiosity()), view.vertexValues(VertexQuantity::Radiosity),
+        view.vertexValues(VertexQuantity::IndirectRadiosity), view.vertexValues(VertexQuantity::Irradiance)})
   for (std::size_t p = 0; p < mesh.numPatches(); ++p) {
     auto corners = mesh.cornerIndices(p);
     for (std::size_t k = 0; k < corners.size(); ++k) {

@@ -16,6 +16,7 @@
 
 #include "lambert/core/error.h"
 #include "lambert/core/stats.h"
+#include "lambert/engine/solution.h"
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/mesh/mesh.h"
 #include "lambert/scene/scene.h"
@@ -25,6 +26,16 @@ namespace lambert {
 
 struct RadiosityOptions;
 struct SolveCallReport;
+
+// The engine's solution per element, for Meshing::vertexSolution. W/m²; ρ dimensionless.
+struct ElementSolution {
+  const std::vector<Rgb>& radiosity;  // B
+  const std::vector<Rgb>& injected;   // the lights' ρ·E_direct
+  const std::vector<Rgb>& emitted;    // the surfaces' own emission
+  const std::vector<Rgb>& albedo;     // ρ
+  const std::vector<Light>& lights;
+  double metresPerUnit;
+};
 
 class Meshing {
  public:
@@ -41,7 +52,12 @@ class Meshing {
   virtual bool refine(const std::vector<Light>& lights, std::vector<Rgb>& radiosity, SolveCallReport& report) = 0;
 
   virtual const Mesh& vertexMesh() const = 0;
+  // Continuous per-vertex values of any per-element quantity, interpolated.
   virtual std::vector<Rgb> vertexValues(const std::vector<Rgb>& perElement) const = 0;
+  // The solution at the vertices. By default the per-element quantity interpolated
+  // (vertexValues); hierarchical meshing gathers at the vertices themselves instead
+  // (engine/final_gather.h).
+  virtual std::vector<Rgb> vertexSolution(const ElementSolution& solution, VertexQuantity quantity) const;
 
   // The strategy's figures: mesh, form-factor method, times, cache.
   virtual void addStats(Stats& stats) const = 0;

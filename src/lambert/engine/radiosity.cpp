@@ -1,6 +1,7 @@
 #include "lambert/engine/radiosity.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "lambert/core/timer.h"
@@ -37,6 +38,19 @@ Result<std::unique_ptr<Meshing>> makeMeshing(const Scene& scene, const Radiosity
     }
   }
   return Error{"unknown mesh strategy"};
+}
+
+std::vector<Rgb> Meshing::vertexSolution(const ElementSolution& solution, VertexQuantity quantity) const {
+  std::vector<Rgb> perElement = solution.radiosity;
+  for (std::size_t i = 0; i < perElement.size(); ++i) {
+    if (quantity == VertexQuantity::IndirectRadiosity) perElement[i] -= solution.injected[i];
+    if (quantity != VertexQuantity::Irradiance) continue;
+    for (int c = 0; c < 3; ++c) {
+      const double rho = solution.albedo[i][c];
+      perElement[i][c] = rho > 0 ? std::fmax(0.0, solution.radiosity[i][c] - solution.emitted[i][c]) / rho : 0;
+    }
+  }
+  return vertexValues(perElement);
 }
 
 Result<std::unique_ptr<Radiosity>> Radiosity::create(Scene scene, RadiosityOptions options) {
@@ -230,8 +244,14 @@ std::vector<Rgb> SolutionView::vertexValues(const std::vector<Rgb>& perElement) 
   return engine_->meshing_->vertexValues(perElement);
 }
 
+std::vector<Rgb> SolutionView::vertexValues(VertexQuantity quantity) const {
+  const Radiosity& e = *engine_;
+  return e.meshing_->vertexSolution({e.radiosity_, e.injected_, e.surfaceEmitted_, e.problem_.albedo, e.lights_, e.scene_.metresPerUnit},
+                                    quantity);
+}
+
 std::vector<Rgb> SolutionView::vertexRadiance() const {
-  std::vector<Rgb> radiance = vertexValues(radiosity());
+  std::vector<Rgb> radiance = vertexValues(VertexQuantity::Radiosity);
   for (Rgb& l : radiance) l = l / kPi;
   return radiance;
 }

@@ -20,6 +20,13 @@ namespace lambert {
 
 class Radiosity;
 
+// What the solution gives at each vertex of SolutionView::vertexMesh(), W/m².
+enum class VertexQuantity {
+  Radiosity,          // B
+  IndirectRadiosity,  // B less the lights' direct light ρ·E_direct (hybrid images add it per pixel)
+  Irradiance,         // E = (B − emission)/ρ: the light a surface receives (0 where ρ is 0)
+};
+
 class SolutionView {
  public:
   const Scene& scene() const;                // surfaces, materials, camera, metresPerUnit
@@ -41,9 +48,12 @@ class SolutionView {
   // Visibility over the scene's geometry, for shadow rays.
   const RayCaster& caster() const;
 
-  // Per vertex of vertexMesh(): continuous values of a per-element quantity (B, or the indirect
-  // part), and the outgoing radiance L = B/π; albedo per patch of vertexMesh().
+  // Per vertex of vertexMesh(): the solution's B, its indirect part or the irradiance
+  // (engine/meshing.h; gathered at the vertices themselves by the hierarchical method, the
+  // elements' values interpolated otherwise), continuous values of any per-element quantity,
+  // and the outgoing radiance L = B/π; albedo per patch of vertexMesh().
   const Mesh& vertexMesh() const;
+  std::vector<Rgb> vertexValues(VertexQuantity quantity) const;
   std::vector<Rgb> vertexValues(const std::vector<Rgb>& perElement) const;
   std::vector<Rgb> vertexRadiance() const;
   const std::vector<Rgb>& vertexMeshAlbedo() const;

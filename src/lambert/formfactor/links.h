@@ -32,8 +32,10 @@
 // variation), or the whole unoccluded K where visibility is partial (a shadow edge crosses);
 // with a cluster, the whole K (HSA'91's magnitude oracle). A link above it is replaced by the
 // links of the larger node's children, or the receiver's where ΔK is its spread (a cluster
-// opens, an element splits four ways while above the minimum area),
-// until it is below or neither node can be split. Links that see nothing are dropped.
+// opens, an element splits four ways while above the minimum area), until it is below or
+// neither node can be split. Links that see nothing are dropped. receiverSide marks the links
+// whose rays all got through (ΔK is the spread), which the final gather
+// (engine/final_gather.h) takes as unoccluded.
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -59,7 +61,7 @@ struct Links {
   std::vector<std::uint32_t> source;
   std::vector<float> formFactor;      // K_rs, with visibility
   std::vector<float> uncertainty;     // ΔK: what the oracle multiplies by B_s A_r (see above)
-  std::vector<std::uint8_t> receiverSide;  // ΔK is K's spread over the receiver: refining splits the receiver
+  std::vector<std::uint8_t> receiverSide;  // ΔK is K's spread over the receiver (every ray got through): refining splits the receiver
 
   std::size_t size() const { return source.size(); }
   std::size_t bytes() const;

@@ -138,14 +138,8 @@ Status writeGlb(const std::string& path, const SolutionView& solution, const Glt
   const Mesh& mesh = solution.vertexMesh();
   const double scale = std::exp2(options.exposureStops);
 
-  // Irradiance H = (B − E)/ρ per element, and both quantities at the vertices.
-  std::vector<Rgb> irradiance(solution.radiosity().size());
-  for (std::size_t i = 0; i < irradiance.size(); ++i)
-    for (int c = 0; c < 3; ++c) {
-      const double rho = solution.albedo()[i][c];
-      irradiance[i][c] = rho > 0 ? std::fmax(0.0, solution.radiosity()[i][c] - solution.emitted()[i][c]) / rho : 0;
-    }
-  const std::vector<Rgb> vertexIrradiance = solution.vertexValues(irradiance);
+  // Irradiance H = (B − E)/ρ and radiance at the vertices.
+  const std::vector<Rgb> vertexIrradiance = solution.vertexValues(VertexQuantity::Irradiance);
   const std::vector<Rgb> vertexRadiance = solution.vertexRadiance();
   // Vertex normals: the area-weighted normals of the vertex's patches (all on one surface).
   std::vector<Vec3> normals(mesh.numVertices());

@@ -313,9 +313,14 @@ std::size_t ElementHierarchy::bytes() const {
 
 std::vector<Rgb> leafVertexValues(const ElementHierarchy::LeafMesh& leaves, const std::vector<Rgb>& perLeaf) {
   std::vector<Rgb> values = vertexRadiosity(leaves.mesh, perLeaf);
+  constrainHangingVertices(leaves, values);
+  return values;
+}
+
+void constrainHangingVertices(const ElementHierarchy::LeafMesh& leaves, std::vector<Rgb>& values) {
+  LAMBERT_CHECK(values.size() == leaves.mesh.numVertices());
   // Made on a coarser edge first (a smaller vertex index), so an end that hangs itself is final.
   for (const HangingVertex& h : leaves.hanging) values[h.vertex] = (values[h.edgeStart] + values[h.edgeEnd]) * 0.5;
-  return values;
 }
 
 }  // namespace lambert

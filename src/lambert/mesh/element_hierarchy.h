@@ -128,4 +128,8 @@ class ElementHierarchy {
 // T-junction vertex set to the mean of its edge's ends, coarsest first.
 std::vector<Rgb> leafVertexValues(const ElementHierarchy::LeafMesh& leaves, const std::vector<Rgb>& perLeaf);
 
+// Sets every T-junction vertex's value to the mean of its edge's ends, coarsest first, so that
+// both sides of the edge interpolate the same values (no crack in Gouraud shading).
+void constrainHangingVertices(const ElementHierarchy::LeafMesh& leaves, std::vector<Rgb>& perVertex);
+
 }  // namespace lambert

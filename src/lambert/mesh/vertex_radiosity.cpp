@@ -93,4 +93,28 @@ std::vector<Rgb> vertexRadiosity(const Mesh& mesh, const std::vector<Rgb>& radio
   return result;
 }
 
+std::vector<VertexSite> vertexSites(const Mesh& mesh, double nudge) {
+  const std::size_t n = mesh.numVertices();
+  std::vector<Vec3> centroidSum(n), normalSum(n);
+  std::vector<std::uint32_t> uses(n, 0);
+  for (std::size_t p = 0; p < mesh.numPatches(); ++p) {
+    const Patch& patch = mesh.patches[p];
+    for (std::uint32_t corner : mesh.cornerIndices(p)) {
+      centroidSum[corner] += patch.centroid;
+      normalSum[corner] += patch.normal * patch.area;
+      ++uses[corner];
+    }
+  }
+  std::vector<VertexSite> sites(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    sites[i].point = mesh.positions[i];
+    if (uses[i] == 0 || !(lengthSquared(normalSum[i]) > 0)) continue;
+    sites[i].normal = normalize(normalSum[i]);
+    const Vec3 toCentroid = centroidSum[i] / uses[i] - mesh.positions[i];
+    const double distance = length(toCentroid);
+    if (distance > 0) sites[i].point += toCentroid * (std::fmin(nudge, 0.5 * distance) / distance);
+  }
+  return sites;
+}
+
 }  // namespace lambert

@@ -22,4 +22,15 @@ namespace lambert {
 
 std::vector<Rgb> vertexRadiosity(const Mesh& mesh, const std::vector<Rgb>& patchRadiosity);
 
+// Where a quantity is evaluated "at" a vertex (the path tracer's reference and the hierarchical
+// final gather): the vertex moved `nudge` scene units (at most half way) toward the mean of its
+// patches' centroids, so as not to sit exactly on an edge shared with a perpendicular surface,
+// where the irradiance jumps, and the area-weighted mean normal of its patches (zero for a vertex
+// no patch uses).
+struct VertexSite {
+  Vec3 point;
+  Vec3 normal;
+};
+std::vector<VertexSite> vertexSites(const Mesh& mesh, double nudge);
+
 }  // namespace lambert

@@ -9,6 +9,7 @@
 #include "lambert/core/rng.h"
 #include "lambert/formfactor/kernels.h"
 #include "lambert/light/lights.h"
+#include "lambert/mesh/vertex_radiosity.h"
 #include "lambert/render/camera.h"
 
 namespace lambert {
@@ -209,27 +210,13 @@ Rgb ReferenceRenderer::outgoingRadiance(const Vec3& x, const Vec3& n, std::uint3
 
 std::vector<Rgb> ReferenceRenderer::vertexRadiance(const Mesh& mesh) const {
   const std::size_t n = mesh.numVertices();
-  std::vector<Vec3> centroidSum(n), normalSum(n);
-  std::vector<std::uint32_t> uses(n, 0);
-  for (std::size_t p = 0; p < mesh.numPatches(); ++p) {
-    const Patch& patch = mesh.patches[p];
-    for (std::uint32_t corner : mesh.cornerIndices(p)) {
-      centroidSum[corner] += patch.centroid;
-      normalSum[corner] += patch.normal * patch.area;
-      ++uses[corner];
-    }
-  }
-  const double nudge = 1e-4 * sceneDiagonal(scene_);
+  const std::vector<VertexSite> sites = vertexSites(mesh, 1e-4 * sceneDiagonal(scene_));
   std::vector<Rgb> result(n);
   Progress progress("reference", n, options_.showProgress);
   parallelFor(0, n, [&](std::size_t i) {
-    if (uses[i] > 0 && lengthSquared(normalSum[i]) > 0) {
+    if (lengthSquared(sites[i].normal) > 0) {
       const std::uint32_t surface = i < mesh.vertexSurface.size() ? mesh.vertexSurface[i] : 0;
-      Vec3 toCentroid = centroidSum[i] / uses[i] - mesh.positions[i];
-      double distance = length(toCentroid);
-      Vec3 x = distance > 0 ? mesh.positions[i] + toCentroid * (std::fmin(nudge, 0.5 * distance) / distance)
-                            : mesh.positions[i];
-      result[i] = outgoingRadiance(x, normalize(normalSum[i]), surface, i);
+      result[i] = outgoingRadiance(sites[i].point, sites[i].normal, surface, i);
     }
     progress.advance();
   });

@@ -27,7 +27,6 @@ bool drawsLightsPerPixel(const SolutionView& solution, const SolutionImageOption
 
 Image renderSolution(const SolutionView& solution, const SolutionImageOptions& options) {
   const bool hybrid = drawsLightsPerPixel(solution, options);
-  const std::vector<Rgb> values = hybrid ? solution.indirectRadiosity() : solution.radiosity();
   const Camera& camera = options.camera ? *options.camera : solution.scene().camera;
   RenderOptions render;
   render.width = options.width;
@@ -36,11 +35,12 @@ Image renderSolution(const SolutionView& solution, const SolutionImageOptions& o
   render.supersample = options.supersample;
   if (options.shading == Shading::Flat) {
     if (hybrid) render = withDirectLight(render, solution, solution.mesh(), solution.albedo());
-    return renderRadiance(camera, solution.mesh(), values, render);
+    return renderRadiance(camera, solution.mesh(), hybrid ? solution.indirectRadiosity() : solution.radiosity(), render);
   }
   const Mesh& mesh = solution.vertexMesh();
   if (hybrid) render = withDirectLight(render, solution, mesh, solution.vertexMeshAlbedo());
-  return renderVertexRadiosity(camera, mesh, solution.vertexValues(values), render);
+  return renderVertexRadiosity(camera, mesh,
+                               solution.vertexValues(hybrid ? VertexQuantity::IndirectRadiosity : VertexQuantity::Radiosity), render);
 }
 
 }  // namespace lambert

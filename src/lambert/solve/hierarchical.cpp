@@ -14,18 +14,28 @@ double largestChange(const Rgb& a, const Rgb& b) {
 
 }  // namespace
 
-HierarchicalTransport::HierarchicalTransport(const ElementHierarchy& hierarchy, std::shared_ptr<const Links> links)
+HierarchicalTransport::HierarchicalTransport(const ElementHierarchy& hierarchy, std::shared_ptr<const Links> links,
+                                             std::span<const double> leafOpenFraction)
     : nodeOfLeaf_(hierarchy.leafNodes()), links_(std::move(links)) {
   const auto& nodes = hierarchy.nodes();
   LAMBERT_CHECK(links_ && links_->start.size() == nodes.size() + 1);
+  LAMBERT_CHECK(leafOpenFraction.size() == nodeOfLeaf_.size());
   parent_.resize(nodes.size());
   area_.resize(nodes.size());
+  openArea_.assign(nodes.size(), 0.0);
   leafOfNode_.resize(nodes.size());
   for (std::size_t i = 0; i < nodes.size(); ++i) {
     parent_[i] = nodes[i].parent;
     area_[i] = nodes[i].area;
     leafOfNode_[i] = nodes[i].leaf;
   }
+  for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l) openArea_[nodeOfLeaf_[l]] = area_[nodeOfLeaf_[l]] * leafOpenFraction[l];
+  for (std::size_t i = nodes.size(); i-- > 1;)
+    if (parent_[i] != kNoNode) openArea_[parent_[i]] += openArea_[i];
+  // A cluster's links sample its faces by the light they show, not uniformly: their rays do not
+  // count the covered parts out, so it shows its mean over all its area.
+  for (std::size_t i = 0; i < nodes.size(); ++i)
+    if (nodes[i].isCluster()) openArea_[i] = area_[i];
 }
 
 void HierarchicalTransport::pull(const std::vector<Rgb>& radiosity, std::vector<Rgb>& mean) const {
@@ -34,7 +44,7 @@ void HierarchicalTransport::pull(const std::vector<Rgb>& radiosity, std::vector<
   for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l) mean[nodeOfLeaf_[l]] = radiosity[l] * area_[nodeOfLeaf_[l]];
   for (std::size_t i = n; i-- > 1;)
     if (parent_[i] != kNoNode) mean[parent_[i]] += mean[i];
-  for (std::size_t i = 0; i < n; ++i) mean[i] = area_[i] > 0 ? mean[i] / area_[i] : Rgb{};
+  for (std::size_t i = 0; i < n; ++i) mean[i] = openArea_[i] > 0 ? mean[i] / openArea_[i] : Rgb{};
 }
 
 Rgb HierarchicalTransport::gatherNode(std::uint32_t node, const std::vector<Rgb>& mean) const {
@@ -91,7 +101,8 @@ SweepChange HierarchicalTransport::sweep(const std::vector<Rgb>& emitted, const 
     change.magnitude = std::fmax(change.magnitude, updated.maxComponent());
     radiosity[l] = updated;
     const Rgb power = delta * area_[i];
-    for (std::uint32_t a = static_cast<std::uint32_t>(i); a != kNoNode; a = parent_[a]) mean[a] += power / area_[a];
+    for (std::uint32_t a = static_cast<std::uint32_t>(i); a != kNoNode; a = parent_[a])
+      if (openArea_[a] > 0) mean[a] += power / openArea_[a];
   }
   return change;
 }

@@ -4,6 +4,7 @@
 // links, push what each node gathered down to the leaves under it. One gather costs
 // O(nodes + links), against O(n²) for the dense matrix. formfactor/links.h makes the links.
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "lambert/formfactor/links.h"
@@ -15,7 +16,9 @@ namespace lambert {
 class HierarchicalTransport final : public Transport {
  public:
   // Copies what it needs of the hierarchy (which may be refined further afterwards).
-  HierarchicalTransport(const ElementHierarchy& hierarchy, std::shared_ptr<const Links> links);
+  // leafOpenFraction: per leaf, the share not covered by other geometry (Patch::openFraction).
+  HierarchicalTransport(const ElementHierarchy& hierarchy, std::shared_ptr<const Links> links,
+                        std::span<const double> leafOpenFraction);
 
   std::size_t size() const override { return nodeOfLeaf_.size(); }
   void gather(const std::vector<Rgb>& radiosity, std::vector<Rgb>& irradiance) const override;
@@ -26,14 +29,19 @@ class HierarchicalTransport final : public Transport {
                     bool inPlace) const override;
 
   const Links& links() const { return *links_; }
+  // The radiosity every node shows to what its links reach, HSA'91's pull: the power of the
+  // leaves under an element over their open area (where the floor runs under a block, the
+  // covered part is dark, and the links' visibility rays already leave it out; a mean over the
+  // whole area would count it out twice and dim everything the element lights); a cluster's
+  // over all its area.
+  void pull(const std::vector<Rgb>& radiosity, std::vector<Rgb>& mean) const;
 
  private:
-  // Area-weighted means of the leaves' radiosity under every node.
-  void pull(const std::vector<Rgb>& radiosity, std::vector<Rgb>& mean) const;
   Rgb gatherNode(std::uint32_t node, const std::vector<Rgb>& mean) const;
 
   std::vector<std::uint32_t> parent_;
   std::vector<double> area_;
+  std::vector<double> openArea_;  // of the leaves under each element; a cluster's whole area
   std::vector<std::uint32_t> leafOfNode_;  // kNoNode for inner nodes
   std::vector<std::uint32_t> nodeOfLeaf_;
   std::shared_ptr<const Links> links_;

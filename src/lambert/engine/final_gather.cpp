@@ -1,0 +1,99 @@
+#include "lambert/engine/final_gather.h"
+
+#include <cmath>
+
+#include "lambert/core/error.h"
+#include "lambert/core/parallel.h"
+#include "lambert/core/rng.h"
+#include "lambert/core/sampling.h"
+#include "lambert/formfactor/kernels.h"
+
+namespace lambert {
+
+FinalGather::FinalGather(const ElementHierarchy& hierarchy, const ElementHierarchy::LeafMesh& leaves, const Links& links,
+                         const RayCaster& caster, double rayEpsilon, double nudge, int visibilityRays, std::uint64_t seed)
+    : hierarchy_(hierarchy),
+      links_(links),
+      caster_(caster),
+      epsilon_(rayEpsilon),
+      rays_(std::max(1, visibilityRays)),
+      seed_(seed),
+      sites_(vertexSites(leaves.mesh, nudge)) {
+  const Mesh& mesh = leaves.mesh;
+  LAMBERT_CHECK(mesh.numPatches() == hierarchy.leafNodes().size());
+  leaf_.assign(mesh.numVertices(), kNoNode);
+  for (std::uint32_t p = 0; p < mesh.numPatches(); ++p) {
+    const Patch& patch = mesh.patches[p];
+    for (std::uint32_t v : mesh.cornerIndices(p)) {
+      const std::uint32_t current = leaf_[v];
+      if (current == kNoNode) {
+        leaf_[v] = p;
+        continue;
+      }
+      const Patch& other = mesh.patches[current];
+      if (patch.openFraction > other.openFraction || (patch.openFraction == other.openFraction && patch.area < other.area))
+        leaf_[v] = p;
+    }
+  }
+}
+
+double FinalGather::visibility(std::uint32_t vertex, std::uint32_t link, const HierarchyNode& source) const {
+  const VertexSite& site = sites_[vertex];
+  Pcg32 rng(seed_, (static_cast<std::uint64_t>(vertex) << 32) ^ link);
+  const std::uint32_t su = rng.nextUint(), sv = rng.nextUint();
+  int open = 0, facing = 0;
+  const Vec3 from = site.point + site.normal * epsilon_;
+  for (int i = 0; i < rays_; ++i) {
+    auto [u, v] = scrambledZeroTwo(static_cast<std::uint32_t>(i), su, sv);
+    const Vec3 y = sampleConvexPolygon(source.polygon(), u, v);
+    if (!(pointToPointKernel(site.point, site.normal, y, source.normal) > 0)) continue;
+    ++facing;
+    const Vec3 to = y + source.normal * epsilon_;
+    open += !caster_.occluded(Ray{from, to - from, 0, 1});
+  }
+  // No ray pair faces (a source seen edge-on from here): keep what the link measured.
+  if (facing == 0) return links_.uncertainty[link] > 0 ? links_.formFactor[link] / links_.uncertainty[link] : 0.0;
+  return static_cast<double>(open) / facing;
+}
+
+std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean) const {
+  LAMBERT_CHECK(mean.size() == hierarchy_.nodes().size());
+  std::vector<Rgb> out(sites_.size());
+  const std::vector<std::uint32_t>& leafNodes = hierarchy_.leafNodes();
+  parallelFor(0, sites_.size(), [&](std::size_t v) {
+    if (leaf_[v] == kNoNode) return;
+    const VertexSite& site = sites_[v];
+    Rgb sum;
+    for (std::uint32_t r = leafNodes[leaf_[v]]; r != kNoNode; r = hierarchy_.node(r).parent) {
+      const bool clusterReceiver = hierarchy_.node(r).isCluster();
+      for (std::uint32_t k = links_.start[r]; k < links_.start[r + 1]; ++k) {
+        const std::uint32_t s = links_.source[k];
+        const HierarchyNode& source = hierarchy_.node(s);
+        double factor = 0;
+        if (!source.isCluster()) {
+          factor = pointToPolygonFormFactor(site.point, site.normal, source.polygon(), source.normal);
+        } else {
+          const Vec3 d = source.centre - site.point;
+          const double distanceSquared = lengthSquared(d);
+          const Vec3 w = d / std::sqrt(distanceSquared);
+          factor = source.projectedArea(-w) * std::fmax(0.0, dot(site.normal, w)) / (kPi * distanceSquared);
+        }
+        if (!(factor > 0)) continue;
+        // The link's rays all got through (an element pair's receiverSide verdict): visible.
+        double seen = 1;
+        if (!links_.receiverSide[k]) {
+          if (!source.isCluster() && !clusterReceiver) {
+            seen = visibility(static_cast<std::uint32_t>(v), k, source);
+          } else {
+            seen = links_.uncertainty[k] > 0 ? links_.formFactor[k] / links_.uncertainty[k] : 0.0;
+          }
+        }
+        sum += mean[s] * (factor * seen);
+      }
+    }
+    out[v] = sum;
+  }, 64);
+  return out;
+}
+
+}  // namespace lambert

@@ -1,0 +1,59 @@
+#pragma once
+// The final gather of hierarchical radiosity: the irradiance at each vertex of the leaf mesh,
+// gathered over the links of a leaf the vertex bounds and of that leaf's ancestors, with every
+// link's kernel evaluated at the vertex itself instead of averaged over the receiver (Smits,
+// Arvo & Greenberg 1994, §6; Lischinski, Tampieri & Greenberg 1993 gather the same way at
+// their final mesh's points).
+//
+// A link hands every leaf under its receiver the same irradiance K·B̄_s, so without this the
+// leaves' values are constant across whatever a coarse link covers, and interpolating them at
+// the vertices (mesh/vertex_radiosity.h) cannot show how the light varies there: the dark rim of
+// a wall below the ceiling, a floor's corners, a block's contact shadow. Here the sources are
+// still the elements the oracle chose (their mean radiosity B̄_s), but the receiver is the
+// point:
+//   element source   the exact point-to-polygon factor from the vertex to s (formfactor/kernels.h)
+//                    × visibility: 1 where all the link's rays got through, otherwise the share of
+//                    unoccluded rays from the vertex to stratified points on s;
+//   cluster source   P_s(−ω) max(0, n·ω) / (π d²) × the link's visibility.
+// A vertex is evaluated where the path tracer's reference evaluates it (vertexSites: nudged
+// into its own surface) and gathers through the adjacent leaf with the largest open fraction,
+// then the smallest (whose links are the finest).
+#include <cstdint>
+#include <vector>
+
+#include "lambert/core/rgb.h"
+#include "lambert/formfactor/links.h"
+#include "lambert/geometry/ray_caster.h"
+#include "lambert/mesh/element_hierarchy.h"
+#include "lambert/mesh/vertex_radiosity.h"
+
+namespace lambert {
+
+class FinalGather {
+ public:
+  // The references must outlive this object and stay unchanged while it is used.
+  FinalGather(const ElementHierarchy& hierarchy, const ElementHierarchy::LeafMesh& leaves, const Links& links,
+              const RayCaster& caster, double rayEpsilon, double nudge, int visibilityRays, std::uint64_t seed);
+
+  // Per vertex of the leaf mesh: the irradiance the links bring (W/m² per W/m² of radiosity,
+  // i.e. Σ K(x, s) B̄_s), from the area-weighted mean radiosity of every node.
+  std::vector<Rgb> irradiance(const std::vector<Rgb>& nodeMeanRadiosity) const;
+
+  const std::vector<VertexSite>& sites() const { return sites_; }
+  // The leaf each vertex gathers through (its patch index in the leaf mesh); kNoNode if none.
+  const std::vector<std::uint32_t>& gatheringLeaf() const { return leaf_; }
+
+ private:
+  double visibility(std::uint32_t vertex, std::uint32_t link, const HierarchyNode& source) const;
+
+  const ElementHierarchy& hierarchy_;
+  const Links& links_;
+  const RayCaster& caster_;
+  double epsilon_;
+  int rays_;
+  std::uint64_t seed_;
+  std::vector<VertexSite> sites_;
+  std::vector<std::uint32_t> leaf_;
+};
+
+}  // namespace lambert
