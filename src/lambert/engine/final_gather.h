@@ -35,8 +35,8 @@ class FinalGather {
   FinalGather(const ElementHierarchy& hierarchy, const ElementHierarchy::LeafMesh& leaves, const Links& links,
               const RayCaster& caster, double rayEpsilon, double nudge, int visibilityRays, std::uint64_t seed);
 
-  // Per vertex of the leaf mesh: the irradiance the links bring (W/m² per W/m² of radiosity,
-  // i.e. Σ K(x, s) B̄_s), from the area-weighted mean radiosity of every node.
+  // Per vertex of the leaf mesh: the irradiance Σ K(x, s) B̄_s the links bring (W/m²), from the
+  // radiosity every node shows (HierarchicalTransport::pull, W/m²).
   std::vector<Rgb> irradiance(const std::vector<Rgb>& nodeMeanRadiosity) const;
 
   const std::vector<VertexSite>& sites() const { return sites_; }

@@ -24,7 +24,8 @@ class Radiosity;
 enum class VertexQuantity {
   Radiosity,          // B
   IndirectRadiosity,  // B less the lights' direct light ρ·E_direct (hybrid images add it per pixel)
-  Irradiance,         // E = (B − emission)/ρ: the light a surface receives (0 where ρ is 0)
+  Irradiance,         // E = (B − emission)/ρ: the light a surface receives (where it is interpolated from
+                      // the elements, 0 where ρ is 0)
 };
 
 class SolutionView {
