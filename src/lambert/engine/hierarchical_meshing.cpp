@@ -188,30 +188,39 @@ std::vector<Rgb> HierarchicalMeshing::vertexValues(const std::vector<Rgb>& perEl
   return leafVertexValues(leaves_, perElement);
 }
 
-std::vector<Rgb> HierarchicalMeshing::vertexSolution(const ElementSolution& solution, VertexQuantity quantity) const {
+std::vector<std::vector<Rgb>> HierarchicalMeshing::vertexSolution(const ElementSolution& solution,
+                                                                   std::span<const VertexQuantity> quantities) const {
   LAMBERT_CHECK(solution.radiosity.size() == leaves_.mesh.numPatches());
   const FinalGather gather(hierarchy_, leaves_, *links_, *caster_, epsilon_, 1e-4 * sceneDiagonal(scene_),
                            options_.links.visibilityRays, options_.links.seed);
   std::vector<Rgb> mean;
   transport_->pull(solution.radiosity, mean);
-  std::vector<Rgb> values = gather.irradiance(mean);
+  const std::vector<Rgb> gathered = gather.irradiance(mean);
   const std::vector<VertexSite>& sites = gather.sites();
   const std::vector<std::uint32_t>& leaf = gather.gatheringLeaf();
-  parallelFor(0, values.size(), [&](std::size_t v) {
-    if (leaf[v] == kNoNode) return;
-    Rgb direct;
-    if (quantity != VertexQuantity::IndirectRadiosity)
+  // The lights' direct irradiance at the vertices, where a quantity includes it.
+  std::vector<Rgb> direct(gathered.size());
+  bool needsDirect = false;
+  for (VertexQuantity quantity : quantities) needsDirect |= quantity != VertexQuantity::IndirectRadiosity;
+  if (needsDirect && !solution.lights.empty())
+    parallelFor(0, direct.size(), [&](std::size_t v) {
+      if (leaf[v] == kNoNode) return;
       for (const Light& light : solution.lights)
-        direct += irradiance(light, sites[v].point, sites[v].normal, *caster_, epsilon_, solution.metresPerUnit);
-    const Rgb received = values[v] + direct;
-    if (quantity == VertexQuantity::Irradiance) {
-      values[v] = received;
-    } else {
-      values[v] = solution.emitted[leaf[v]] + solution.albedo[leaf[v]] * received;
+        direct[v] += irradiance(light, sites[v].point, sites[v].normal, *caster_, epsilon_, solution.metresPerUnit);
+    }, 64);
+  std::vector<std::vector<Rgb>> out;
+  for (VertexQuantity quantity : quantities) {
+    std::vector<Rgb> values(gathered.size());
+    for (std::size_t v = 0; v < values.size(); ++v) {
+      if (leaf[v] == kNoNode) continue;
+      const Rgb received = quantity == VertexQuantity::IndirectRadiosity ? gathered[v] : gathered[v] + direct[v];
+      values[v] = quantity == VertexQuantity::Irradiance ? received
+                                                          : solution.emitted[leaf[v]] + solution.albedo[leaf[v]] * received;
     }
-  }, 64);
-  constrainHangingVertices(leaves_, values);
-  return values;
+    constrainHangingVertices(leaves_, values);
+    out.push_back(std::move(values));
+  }
+  return out;
 }
 
 void HierarchicalMeshing::addStats(Stats& stats) const {

@@ -34,7 +34,8 @@ class HierarchicalMeshing final : public Meshing {
   std::vector<Rgb> vertexValues(const std::vector<Rgb>& perElement) const override;
   // The final gather (engine/final_gather.h) at every vertex, with the lights' direct light
   // evaluated there too; T-junction vertices are then constrained to their edges.
-  std::vector<Rgb> vertexSolution(const ElementSolution& solution, VertexQuantity quantity) const override;
+  std::vector<std::vector<Rgb>> vertexSolution(const ElementSolution& solution,
+                                               std::span<const VertexQuantity> quantities) const override;
   void addStats(Stats& stats) const override;
   Status saveCache() override { return Ok{}; }  // links are not cached
 

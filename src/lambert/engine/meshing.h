@@ -11,6 +11,7 @@
 //                    Pair-wise methods only.
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -54,10 +55,11 @@ class Meshing {
   virtual const Mesh& vertexMesh() const = 0;
   // Continuous per-vertex values of any per-element quantity, interpolated.
   virtual std::vector<Rgb> vertexValues(const std::vector<Rgb>& perElement) const = 0;
-  // The solution at the vertices. By default the per-element quantity interpolated
-  // (vertexValues); hierarchical meshing gathers at the vertices themselves instead
-  // (engine/final_gather.h).
-  virtual std::vector<Rgb> vertexSolution(const ElementSolution& solution, VertexQuantity quantity) const;
+  // The solution at the vertices, one array per quantity asked for. By default the per-element
+  // quantity interpolated (vertexValues); hierarchical meshing gathers at the vertices
+  // themselves instead (engine/final_gather.h), once for all the quantities.
+  virtual std::vector<std::vector<Rgb>> vertexSolution(const ElementSolution& solution,
+                                                       std::span<const VertexQuantity> quantities) const;
 
   // The strategy's figures: mesh, form-factor method, times, cache.
   virtual void addStats(Stats& stats) const = 0;

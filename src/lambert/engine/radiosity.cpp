@@ -40,17 +40,22 @@ Result<std::unique_ptr<Meshing>> makeMeshing(const Scene& scene, const Radiosity
   return Error{"unknown mesh strategy"};
 }
 
-std::vector<Rgb> Meshing::vertexSolution(const ElementSolution& solution, VertexQuantity quantity) const {
-  std::vector<Rgb> perElement = solution.radiosity;
-  for (std::size_t i = 0; i < perElement.size(); ++i) {
-    if (quantity == VertexQuantity::IndirectRadiosity) perElement[i] -= solution.injected[i];
-    if (quantity != VertexQuantity::Irradiance) continue;
-    for (int c = 0; c < 3; ++c) {
-      const double rho = solution.albedo[i][c];
-      perElement[i][c] = rho > 0 ? std::fmax(0.0, solution.radiosity[i][c] - solution.emitted[i][c]) / rho : 0;
+std::vector<std::vector<Rgb>> Meshing::vertexSolution(const ElementSolution& solution,
+                                                      std::span<const VertexQuantity> quantities) const {
+  std::vector<std::vector<Rgb>> out;
+  for (VertexQuantity quantity : quantities) {
+    std::vector<Rgb> perElement = solution.radiosity;
+    for (std::size_t i = 0; i < perElement.size(); ++i) {
+      if (quantity == VertexQuantity::IndirectRadiosity) perElement[i] -= solution.injected[i];
+      if (quantity != VertexQuantity::Irradiance) continue;
+      for (int c = 0; c < 3; ++c) {
+        const double rho = solution.albedo[i][c];
+        perElement[i][c] = rho > 0 ? std::fmax(0.0, solution.radiosity[i][c] - solution.emitted[i][c]) / rho : 0;
+      }
     }
+    out.push_back(vertexValues(perElement));
   }
-  return vertexValues(perElement);
+  return out;
 }
 
 Result<std::unique_ptr<Radiosity>> Radiosity::create(Scene scene, RadiosityOptions options) {
@@ -244,10 +249,14 @@ std::vector<Rgb> SolutionView::vertexValues(const std::vector<Rgb>& perElement) 
   return engine_->meshing_->vertexValues(perElement);
 }
 
-std::vector<Rgb> SolutionView::vertexValues(VertexQuantity quantity) const {
+std::vector<std::vector<Rgb>> SolutionView::vertexValues(std::span<const VertexQuantity> quantities) const {
   const Radiosity& e = *engine_;
   return e.meshing_->vertexSolution({e.radiosity_, e.injected_, e.surfaceEmitted_, e.problem_.albedo, e.lights_, e.scene_.metresPerUnit},
-                                    quantity);
+                                    quantities);
+}
+
+std::vector<Rgb> SolutionView::vertexValues(VertexQuantity quantity) const {
+  return std::move(vertexValues(std::span<const VertexQuantity>(&quantity, 1)).front());
 }
 
 std::vector<Rgb> SolutionView::vertexRadiance() const {

@@ -8,6 +8,7 @@
 // Gouraud shading and export (the same mesh for uniform meshing; the quad-tree's finest level,
 // with hanging vertices constrained, for adaptive meshing). Units: B, E and injected light in
 // W/m² (radiant exitance), radiance L = B/π in W/(m²·sr), albedo ρ dimensionless.
+#include <span>
 #include <vector>
 
 #include "lambert/core/rgb.h"
@@ -55,6 +56,8 @@ class SolutionView {
   // and the outgoing radiance L = B/π; albedo per patch of vertexMesh().
   const Mesh& vertexMesh() const;
   std::vector<Rgb> vertexValues(VertexQuantity quantity) const;
+  // Several at once (one final gather for all of them), in the order asked for.
+  std::vector<std::vector<Rgb>> vertexValues(std::span<const VertexQuantity> quantities) const;
   std::vector<Rgb> vertexValues(const std::vector<Rgb>& perElement) const;
   std::vector<Rgb> vertexRadiance() const;
   const std::vector<Rgb>& vertexMeshAlbedo() const;

@@ -138,9 +138,12 @@ Status writeGlb(const std::string& path, const SolutionView& solution, const Glt
   const Mesh& mesh = solution.vertexMesh();
   const double scale = std::exp2(options.exposureStops);
 
-  // Irradiance H = (B − E)/ρ and radiance at the vertices.
-  const std::vector<Rgb> vertexIrradiance = solution.vertexValues(VertexQuantity::Irradiance);
-  const std::vector<Rgb> vertexRadiance = solution.vertexRadiance();
+  // Irradiance H = (B − E)/ρ and radiance L = B/π at the vertices (one final gather for both).
+  constexpr VertexQuantity kQuantities[] = {VertexQuantity::Irradiance, VertexQuantity::Radiosity};
+  std::vector<std::vector<Rgb>> atVertices = solution.vertexValues(kQuantities);
+  const std::vector<Rgb>& vertexIrradiance = atVertices[0];
+  std::vector<Rgb>& vertexRadiance = atVertices[1];
+  for (Rgb& l : vertexRadiance) l = l / kPi;
   // Vertex normals: the area-weighted normals of the vertex's patches (all on one surface).
   std::vector<Vec3> normals(mesh.numVertices());
   for (const Patch& patch : mesh.patches)
