@@ -9,6 +9,13 @@
 #include "lambert/formfactor/kernels.h"
 
 namespace lambert {
+namespace {
+
+// A source node whose bounding sphere is wider than this share of its distance from the vertex
+// is gathered from its children instead.
+constexpr double kOpeningRatio = 0.5;
+
+}  // namespace
 
 FinalGather::FinalGather(const ElementHierarchy& hierarchy, const ElementHierarchy::LeafMesh& leaves, const Links& links,
                          const RayCaster& caster, double rayEpsilon, double nudge, int visibilityRays, std::uint64_t seed)
@@ -63,32 +70,42 @@ std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean) const {
   parallelFor(0, sites_.size(), [&](std::size_t v) {
     if (leaf_[v] == kNoNode) return;
     const VertexSite& site = sites_[v];
+    std::vector<std::uint32_t> open;  // the link's source and its descendants still to gather
     Rgb sum;
     for (std::uint32_t r = leafNodes[leaf_[v]]; r != kNoNode; r = hierarchy_.node(r).parent) {
       const bool clusterReceiver = hierarchy_.node(r).isCluster();
       for (std::uint32_t k = links_.start[r]; k < links_.start[r + 1]; ++k) {
-        const std::uint32_t s = links_.source[k];
-        const HierarchyNode& source = hierarchy_.node(s);
-        double factor = 0;
-        if (!source.isCluster()) {
-          factor = pointToPolygonFormFactor(site.point, site.normal, source.polygon(), source.normal);
-        } else {
-          const Vec3 d = source.centre - site.point;
-          const double distanceSquared = lengthSquared(d);
-          const Vec3 w = d / std::sqrt(distanceSquared);
-          factor = source.projectedArea(-w) * std::fmax(0.0, dot(site.normal, w)) / (kPi * distanceSquared);
-        }
-        if (!(factor > 0)) continue;
-        // The link's rays all got through (an element pair's receiverSide verdict): visible.
-        double seen = 1;
-        if (!links_.receiverSide[k]) {
-          if (!source.isCluster() && !clusterReceiver) {
-            seen = visibility(static_cast<std::uint32_t>(v), k, source);
-          } else {
-            seen = links_.uncertainty[k] > 0 ? links_.formFactor[k] / links_.uncertainty[k] : 0.0;
+        // What the link measured: its rays all got through (an element pair's receiverSide
+        // verdict), or the share that did.
+        const bool allVisible = links_.receiverSide[k] != 0;
+        const double linkVisibility =
+            allVisible ? 1.0 : links_.uncertainty[k] > 0 ? links_.formFactor[k] / links_.uncertainty[k] : 0.0;
+        open.assign(1, links_.source[k]);
+        while (!open.empty()) {
+          const std::uint32_t s = open.back();
+          open.pop_back();
+          const HierarchyNode& source = hierarchy_.node(s);
+          const double distance = length(source.centre - site.point);
+          // A source seen from close by, for its size, shows the vertex more than its mean: the
+          // floor next to a block's base is in the block's shadow while the floor element the
+          // link reached is lit further out. Its children's means, already pulled, say how it
+          // varies (Barnes–Hut's opening criterion on the source's bounding sphere).
+          if (!source.isLeaf() && source.radius > kOpeningRatio * distance) {
+            for (std::uint32_t child : hierarchy_.children(s)) open.push_back(child);
+            continue;
           }
+          double factor = 0;
+          if (!source.isCluster()) {
+            factor = pointToPolygonFormFactor(site.point, site.normal, source.polygon(), source.normal);
+          } else {
+            const Vec3 w = (source.centre - site.point) / distance;
+            factor = source.projectedArea(-w) * std::fmax(0.0, dot(site.normal, w)) / (kPi * distance * distance);
+          }
+          if (!(factor > 0)) continue;
+          double seen = linkVisibility;
+          if (!allVisible && !source.isCluster() && !clusterReceiver) seen = visibility(static_cast<std::uint32_t>(v), k, source);
+          sum += mean[s] * (factor * seen);
         }
-        sum += mean[s] * (factor * seen);
       }
     }
     out[v] = sum;

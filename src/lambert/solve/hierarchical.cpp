@@ -29,9 +29,14 @@ HierarchicalTransport::HierarchicalTransport(const ElementHierarchy& hierarchy, 
     area_[i] = nodes[i].area;
     leafOfNode_[i] = nodes[i].leaf;
   }
+  leafOpenFraction_.assign(leafOpenFraction.begin(), leafOpenFraction.end());
   for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l) openArea_[nodeOfLeaf_[l]] = area_[nodeOfLeaf_[l]] * leafOpenFraction[l];
   for (std::size_t i = nodes.size(); i-- > 1;)
     if (parent_[i] != kNoNode) openArea_[parent_[i]] += openArea_[i];
+  // What a node's links gather is a mean over all its area, where the covered part got nothing;
+  // it all falls on the open part.
+  toOpenPart_.resize(nodes.size());
+  for (std::size_t i = 0; i < nodes.size(); ++i) toOpenPart_[i] = openArea_[i] > 0 ? area_[i] / openArea_[i] : 0.0;
   // A cluster's links sample its faces by the light they show, not uniformly: their rays do not
   // count the covered parts out, so it shows its mean over all its area.
   for (std::size_t i = 0; i < nodes.size(); ++i)
@@ -57,7 +62,7 @@ Rgb HierarchicalTransport::gatherNode(std::uint32_t node, const std::vector<Rgb>
     g += f * s.g;
     b += f * s.b;
   }
-  return {r, g, b};
+  return Rgb{r, g, b} * toOpenPart_[node];
 }
 
 void HierarchicalTransport::gather(const std::vector<Rgb>& radiosity, std::vector<Rgb>& irradiance) const {
@@ -70,7 +75,7 @@ void HierarchicalTransport::gather(const std::vector<Rgb>& radiosity, std::vecto
   for (std::size_t i = 1; i < n; ++i)
     if (parent_[i] != kNoNode) gathered[i] += gathered[parent_[i]];
   irradiance.resize(size());
-  for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l) irradiance[l] = gathered[nodeOfLeaf_[l]];
+  for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l) irradiance[l] = gathered[nodeOfLeaf_[l]] * leafOpenFraction_[l];
 }
 
 SweepChange HierarchicalTransport::sweep(const std::vector<Rgb>& emitted, const std::vector<Rgb>& albedo,
@@ -95,7 +100,7 @@ SweepChange HierarchicalTransport::sweep(const std::vector<Rgb>& emitted, const 
     if (parent_[i] != kNoNode) pushed[i] += pushed[parent_[i]];
     const std::uint32_t l = leafOfNode_[i];
     if (l == kNoNode) continue;
-    Rgb updated = emitted[l] + albedo[l] * pushed[i];
+    Rgb updated = emitted[l] + albedo[l] * pushed[i] * leafOpenFraction_[l];
     const Rgb delta = updated - radiosity[l];
     change.change = std::fmax(change.change, largestChange(updated, radiosity[l]));
     change.magnitude = std::fmax(change.magnitude, updated.maxComponent());
