@@ -6,9 +6,12 @@
 #include <cmath>
 #include <cstdio>
 
+#include "lambert/engine/final_gather.h"
 #include "lambert/engine/hierarchical_meshing.h"
 #include "lambert/engine/radiosity.h"
 #include "lambert/formfactor/kernels.h"
+#include "lambert/geometry/ray_caster.h"
+#include "lambert/scene/builtin.h"
 #include "lambert/solve/energy.h"
 #include "tests/support/scenes.h"
 
@@ -162,6 +165,82 @@ TEST(HierarchicalTest, FinalGatherGivesTheExactPointIrradianceAtEveryVertex) {
   }
   EXPECT_EQ(checked, 4u);
   EXPECT_LT(relativeError(view.radiosity()[0].g, 0.5 * kPi * 0.19982), 0.01);  // the element keeps its mean
+}
+
+TEST(HierarchicalTest, FinalGatherOpensASourceSeenFromCloseBy) {
+  // A wall meeting a floor; the wall is split once into four elements of radiosity 0, 1, 3 and
+  // 8 W/m², and the floor links to it as one element (their mean, 3 W/m²). Every floor vertex is
+  // closer to the wall than twice its bounding radius, so the gather must take the children:
+  // the irradiance is exactly Σ_c B_c F(x → c). The wall's mean is 8% off or more at each.
+  const Scene scene = testing::perpendicularSquares();
+  ElementHierarchy hierarchy(scene);
+  std::uint32_t floor = kNoNode, wall = kNoNode;
+  for (std::uint32_t i = 0; i < hierarchy.nodes().size(); ++i) {
+    const HierarchyNode& n = hierarchy.node(i);
+    if (!n.isCluster() && hierarchy.node(n.parent).isCluster()) (n.surface == 0 ? floor : wall) = i;
+  }
+  ASSERT_TRUE(floor != kNoNode && wall != kNoNode);
+  hierarchy.split(wall);
+  hierarchy.numberLeaves();
+  const ElementHierarchy::LeafMesh leaves = hierarchy.leaves(scene);
+  Links links;
+  links.start.assign(hierarchy.nodes().size() + 1, 0);
+  for (std::size_t i = floor + 1; i < links.start.size(); ++i) links.start[i] = 1;
+  links.source = {wall};
+  links.formFactor = {0.2f};
+  links.uncertainty = {0.01f};
+  links.receiverSide = {1};  // every ray got through
+  auto caster = makeEmbreeRayCaster(leaves.mesh);
+  const FinalGather gather(hierarchy, leaves, links, *caster, rayEpsilon(leaves.mesh), 1e-4, 8, 1);
+  std::vector<Rgb> mean(hierarchy.nodes().size());
+  const double childRadiosity[] = {0, 1, 3, 8};
+  const std::span<const std::uint32_t> kids = hierarchy.children(wall);
+  ASSERT_EQ(kids.size(), 4u);
+  for (std::size_t c = 0; c < 4; ++c) mean[kids[c]] = Rgb::gray(childRadiosity[c]);
+  mean[wall] = Rgb::gray(3);
+  const std::vector<Rgb> irradiance = gather.irradiance(mean);
+  std::size_t checked = 0;
+  double meanMisses = INFINITY;
+  for (std::uint32_t v = 0; v < leaves.mesh.numVertices(); ++v) {
+    if (leaves.mesh.vertexSurface[v] != 0) continue;
+    const VertexSite& site = gather.sites()[v];
+    double expected = 0;
+    for (std::size_t c = 0; c < 4; ++c) {
+      const HierarchyNode& child = hierarchy.node(kids[c]);
+      expected += childRadiosity[c] * pointToPolygonFormFactor(site.point, site.normal, child.polygon(), child.normal);
+    }
+    const HierarchyNode& w = hierarchy.node(wall);
+    const double fromMean = 3 * pointToPolygonFormFactor(site.point, site.normal, w.polygon(), w.normal);
+    meanMisses = std::fmin(meanMisses, relativeError(fromMean, expected));
+    EXPECT_LT(relativeError(irradiance[v].g, expected), 1e-6) << "vertex " << v;
+    ++checked;
+  }
+  EXPECT_EQ(checked, 4u);
+  EXPECT_GT(meanMisses, 0.05);  // the test tells the two apart
+}
+
+TEST(HierarchicalTest, PartlyCoveredLeavesShowTheLightOfTheirOpenPart) {
+  // A link's factor is a mean over its receiver, where the part under a block gets nothing;
+  // what it gathers falls on the open part. A floor leaf straddling a block's base must show
+  // (B / open fraction) the floor's light next to the block, never more than the brightest
+  // open floor leaf. Pushed as a plain mean, such leaves showed up to 30 times as much.
+  auto engine = solvedEngine(cornellBox(), hierarchicalOptions(2e-4));
+  ASSERT_TRUE(engine);
+  const SolutionView& view = engine->solution();
+  double brightestOpen = 0;
+  for (std::size_t i = 0; i < view.mesh().numPatches(); ++i) {
+    const Patch& p = view.mesh().patches[i];
+    if (p.surface == 0 && p.openFraction == 1) brightestOpen = std::fmax(brightestOpen, view.radiosity()[i].maxComponent());
+  }
+  std::size_t straddling = 0;
+  for (std::size_t i = 0; i < view.mesh().numPatches(); ++i) {
+    const Patch& p = view.mesh().patches[i];
+    if (p.surface != 0 || p.openFraction == 1 || p.openFraction == 0) continue;
+    ++straddling;
+    EXPECT_LE(view.radiosity()[i].maxComponent() / p.openFraction, 1.05 * brightestOpen)
+        << "floor leaf " << i << ", open fraction " << p.openFraction;
+  }
+  EXPECT_GT(straddling, 20u);
 }
 
 TEST(HierarchicalTest, JacobiAndGaussSeidelReachTheSameSolution) {

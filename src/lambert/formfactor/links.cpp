@@ -11,6 +11,7 @@
 #include "lambert/core/timer.h"
 #include "lambert/core/vec3.h"
 #include "lambert/formfactor/kernels.h"
+#include "lambert/geometry/coverage.h"
 
 namespace lambert {
 namespace {
@@ -173,27 +174,27 @@ class Refiner {
       // Visibility: the share of unoccluded rays between stratified points on the two, among
       // the pairs of points that face each other. Where the elements cross each other's planes
       // K already leaves out the part behind, and a ray to it would count it out twice.
-      int open = 0, facing = 0;
+      Visibility seen;
       for (int i = 0; i < n; ++i) {
         auto [u1, v1] = scrambledZeroTwo(static_cast<std::uint32_t>(i), su, sv);
         auto [u2, v2] = scrambledZeroTwo(static_cast<std::uint32_t>(i), tu, tv);
         const Vec3 x = sampleConvexPolygon(r.polygon(), u1, v1), y = sampleConvexPolygon(s.polygon(), u2, v2);
         if (!(pointToPointKernel(x, r.normal, y, s.normal) > 0)) continue;
-        ++facing;
-        Vec3 from = x + r.normal * epsilon_, to = y + s.normal * epsilon_;
-        open += !caster_.occluded(Ray{from, to - from, 0, 1});
+        trace(x, r.normal, y, s.normal, seen);
       }
-      if (facing == 0) {
+      const int open = seen.open, facing = seen.facing;
+      if (facing == 0 && seen.covered == 0) {
         c.verdict = Verdict::Inadmissible;  // only slivers face each other: look closer
         return 0;
       }
-      c.formFactor = static_cast<float>(k * open / facing);
+      // Every point that faces s is covered: as if every ray were blocked (the rest of r may be open).
+      c.formFactor = facing > 0 ? static_cast<float>(k * open / facing) : 0.0f;
       // Unoccluded, the error is the factor's spread over r; a shadow edge may cross r where
       // only some rays get through, and then the whole unoccluded factor is in doubt.
-      c.uncertainty = static_cast<float>(open < facing ? k : factor.spread);
-      c.receiverSide = open == facing;
+      c.uncertainty = static_cast<float>(open < facing || facing == 0 ? k : factor.spread);
+      c.receiverSide = facing > 0 && open == facing;
       c.verdict = open > 0 ? Verdict::Estimated : Verdict::Occluded;
-      return static_cast<std::uint8_t>(facing);
+      return seen.rays();
     }
 
     // A cluster at either end: only between nodes whose bounding spheres are apart and which do
@@ -217,7 +218,7 @@ class Refiner {
     const double k = std::fmin(1.0, shownBySource * shownByReceiver / (kPi * distance * distance * r.area));
     // Only pairs of points whose faces face each other count: the orientations are already in
     // the projected areas, and a ray to the back of a face would count them out twice.
-    int open = 0, facing = 0;
+    Visibility seen;
     for (int i = 0; i < n; ++i) {
       auto [u1, v1] = scrambledZeroTwo(static_cast<std::uint32_t>(i), su, sv);
       auto [u2, v2] = scrambledZeroTwo(static_cast<std::uint32_t>(i), tu, tv);
@@ -225,18 +226,36 @@ class Refiner {
       samplePoint(c.receiver, w, false, u1, v1, rng, pr, nr);
       samplePoint(c.source, -w, true, u2, v2, rng, ps, ns);
       if (!(pointToPointKernel(pr, nr, ps, ns) > 0)) continue;
-      ++facing;
-      Vec3 from = pr + nr * epsilon_, to = ps + ns * epsilon_;
-      open += !caster_.occluded(Ray{from, to - from, 0, 1});
+      trace(pr, nr, ps, ns, seen);
     }
-    if (facing == 0) {
+    if (seen.facing == 0 && seen.covered == 0) {
       c.verdict = Verdict::Inadmissible;  // the bound saw faces toward each other; look closer
       return 0;
     }
     c.uncertainty = static_cast<float>(k);  // a cluster's estimate is only good to its size
-    c.formFactor = static_cast<float>(k * open / facing);
-    c.verdict = open > 0 ? Verdict::Estimated : Verdict::Occluded;
-    return static_cast<std::uint8_t>(facing);
+    c.formFactor = seen.facing > 0 ? static_cast<float>(k * seen.open / seen.facing) : 0.0f;
+    c.verdict = seen.open > 0 ? Verdict::Estimated : Verdict::Occluded;
+    return seen.rays();
+  }
+
+  // The rays between receiving points and source points that face each other. A receiving point
+  // that is covered (the floor under a block: the first surface along its normal is seen from
+  // behind) receives nothing, and the links' K is the irradiance of the receiver's open part
+  // (solve/hierarchical.h): it is left out, not counted as blocked. Only blocked rays are
+  // asked, so open receivers cost nothing more.
+  struct Visibility {
+    int open = 0, facing = 0, covered = 0;
+    std::uint8_t rays() const { return static_cast<std::uint8_t>(std::min(255, facing + 2 * covered)); }
+  };
+  void trace(const Vec3& x, const Vec3& xNormal, const Vec3& y, const Vec3& yNormal, Visibility& seen) const {
+    const Vec3 from = x + xNormal * epsilon_, to = y + yNormal * epsilon_;
+    const bool blocked = caster_.occluded(Ray{from, to - from, 0, 1});
+    if (blocked && isCovered(caster_, x, xNormal, epsilon_)) {
+      ++seen.covered;
+      return;
+    }
+    ++seen.facing;
+    seen.open += !blocked;
   }
 
   // A point on the node: on the element itself, or on a face inside the cluster, the children
@@ -368,3 +387,4 @@ Links refineLinks(ElementHierarchy& hierarchy, const RayCaster& caster, double r
 }
 
 }  // namespace lambert
+

@@ -33,10 +33,6 @@ HierarchicalTransport::HierarchicalTransport(const ElementHierarchy& hierarchy, 
   for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l) openArea_[nodeOfLeaf_[l]] = area_[nodeOfLeaf_[l]] * leafOpenFraction[l];
   for (std::size_t i = nodes.size(); i-- > 1;)
     if (parent_[i] != kNoNode) openArea_[parent_[i]] += openArea_[i];
-  // What a node's links gather is a mean over all its area, where the covered part got nothing;
-  // it all falls on the open part.
-  toOpenPart_.resize(nodes.size());
-  for (std::size_t i = 0; i < nodes.size(); ++i) toOpenPart_[i] = openArea_[i] > 0 ? area_[i] / openArea_[i] : 0.0;
   // A cluster's links sample its faces by the light they show, not uniformly: their rays do not
   // count the covered parts out, so it shows its mean over all its area.
   for (std::size_t i = 0; i < nodes.size(); ++i)
@@ -62,7 +58,7 @@ Rgb HierarchicalTransport::gatherNode(std::uint32_t node, const std::vector<Rgb>
     g += f * s.g;
     b += f * s.b;
   }
-  return Rgb{r, g, b} * toOpenPart_[node];
+  return {r, g, b};
 }
 
 void HierarchicalTransport::gather(const std::vector<Rgb>& radiosity, std::vector<Rgb>& irradiance) const {

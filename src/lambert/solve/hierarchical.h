@@ -43,7 +43,6 @@ class HierarchicalTransport final : public Transport {
   std::vector<double> area_;
   std::vector<double> openArea_;  // of the leaves under each element; a cluster's whole area
   std::vector<double> leafOpenFraction_;
-  std::vector<double> toOpenPart_;  // area / open area of the leaves under the node: the irradiance of its open part per mean irradiance
   std::vector<std::uint32_t> leafOfNode_;  // kNoNode for inner nodes
   std::vector<std::uint32_t> nodeOfLeaf_;
   std::shared_ptr<const Links> links_;
