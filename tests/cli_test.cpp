@@ -579,8 +579,20 @@ TEST(CliTest, HierarchicalMethodSolvesAndRefusesFlatOptions) {
   r = run("render --scene " + (dir / "b.json").string() + " --method hierarchical --link-error 1e-3 -o " + (dir / "b.png").string());
   EXPECT_EQ(r.exitCode, 0) << r.output;
   EXPECT_TRUE(fs::exists(dir / "b.png"));
+  // Without --method, hierarchical is the default, and a flat method's option chooses flat.
+  const auto meshOf = [&](const std::string& options) {
+    CommandResult solved = run("solve --scene cornell --json" + options);
+    EXPECT_EQ(solved.exitCode, 0) << options << ": " << solved.output;
+    return nlohmann::json::parse(solved.output.substr(solved.output.find('{')))["mesh"].get<std::string>();
+  };
+  EXPECT_EQ(meshOf(""), "hierarchical, clustered");
+  EXPECT_EQ(meshOf(" --link-error 1e-3"), "hierarchical, clustered");
+  EXPECT_EQ(meshOf(" --patches 100"), "uniform bisection");
+  EXPECT_EQ(meshOf(" --solver shoot --patches 100"), "uniform bisection");
+  EXPECT_EQ(meshOf(" --solver direct --max-edge 200"), "uniform bisection");
   for (const char* bad : {" --method hierarchical --patches 100", " --method hierarchical --formfactor hemicube",
-                          " --method hierarchical --solver shoot", " --link-error 1e-3", " --no-clusters"}) {
+                          " --method hierarchical --solver shoot", " --method flat --link-error 1e-3",
+                          " --patches 100 --no-clusters", " --solver direct --link-error 1e-3"}) {
     r = run(std::string("solve --scene cornell") + bad);
     EXPECT_EQ(r.exitCode, 2) << bad << ": " << r.output;
     EXPECT_TRUE(r.output.find("has no effect") != std::string::npos || r.output.find("gs or jacobi") != std::string::npos)

@@ -86,7 +86,7 @@ void addSolveOptions(CLI::App& cmd, SolveCommandOptions& o) {
                  "hierarchical (element trees under clusters, linked by the BF oracle) or flat (a mesh with a dense form-factor matrix)")
       ->transform(CLI::CheckedTransformer(std::map<std::string, MeshStrategy>{{"flat", MeshStrategy::Uniform},
                                                                              {"hierarchical", MeshStrategy::Hierarchical}}))
-      ->default_str("flat");
+      ->default_str("hierarchical, or flat where a flat method's option is given");
   cmd.add_option("--link-error", o.linkError, "Hierarchical: the share of the scene's power one link may carry unrefined")
       ->check(CLI::Range(1e-12, 1.0))
       ->capture_default_str();
@@ -217,6 +217,13 @@ const std::initializer_list<const char*>& solveOnlyOptions() {
   return options;
 }
 
+const std::initializer_list<const char*>& flatMethodOptions() {
+  static const std::initializer_list<const char*> options = {
+      "--patches", "--max-edge", "--adaptive", "--formfactor", "--samples", "--hemicube-resolution", "--hemisphere-rays",
+      "--normalize-rows", "--cache-dir"};
+  return options;
+}
+
 Status refuseGiven(const GivenOptions& o, std::initializer_list<const char*> options, const std::string& why) {
   for (const char* option : options)
     if (o.given(option)) return Error{std::string(option) + " has no effect: " + why};
@@ -232,18 +239,25 @@ Result<RadiosityOptions> radiosityOptions(const Scene& scene, const SolveCommand
   };
   // The scene file's defaults, where the command line does not say.
   SolverKind solver = !o.given("--solver") && !scene.defaults.solver.empty() ? solverNames().at(scene.defaults.solver) : o.solver;
+  const bool solverNamed = o.given("--solver") || !scene.defaults.solver.empty();
+  const bool needsMatrix = solver == SolverKind::Shooting || solver == SolverKind::Direct;
+  // The method: --method, or hierarchical unless something asks for a flat one: a mesh size
+  // (on the command line or in the scene file), a form-factor or cache option, or a solver that
+  // needs the dense matrix.
+  bool hierarchical = o.method == MeshStrategy::Hierarchical;
+  if (!o.given("--method")) {
+    bool flatAsked = scene.defaults.patches > 0 || scene.defaults.maxEdgeLength > 0 || (solverNamed && needsMatrix);
+    for (const char* option : flatMethodOptions()) flatAsked |= o.given(option);
+    hierarchical = !flatAsked;
+  }
   // The hierarchical method gathers over links: where nothing chose a solver, a command whose
   // own default needs the dense matrix (animate's shoot) gathers with gs instead.
-  if (o.method == MeshStrategy::Hierarchical && !o.given("--solver") && scene.defaults.solver.empty() &&
-      (solver == SolverKind::Shooting || solver == SolverKind::Direct))
-    solver = SolverKind::GaussSeidel;
+  if (hierarchical && !solverNamed && needsMatrix) solver = SolverKind::GaussSeidel;
   const double tolerance = !o.given("--tolerance") && scene.defaults.tolerance > 0 ? scene.defaults.tolerance : o.tolerance;
   const bool mc = o.formFactor == FormFactorMethod::AreaMonteCarlo;
   const std::string method = formFactorMethodName(o.formFactor);
-  const bool hierarchical = o.method == MeshStrategy::Hierarchical;
   const Rule rules[] = {
-      {hierarchical, {"--patches", "--max-edge", "--adaptive", "--formfactor", "--samples", "--hemicube-resolution", "--hemisphere-rays",
-                      "--normalize-rows", "--cache-dir"},
+      {hierarchical, flatMethodOptions(),
        "it is for --method flat; the hierarchical method sizes its elements by --link-error and --min-area and caches no links"},
       {!hierarchical, {"--link-error", "--min-area", "--visibility-rays", "--no-clusters", "--refine-passes"},
        "it applies to --method hierarchical only"},

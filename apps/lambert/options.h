@@ -48,7 +48,7 @@ struct SolveCommandOptions : MeshCommandOptions {
   bool noCache = false;
   bool normalizeRows = false;
   // Hierarchical radiosity with clustering, or the flat methods (uniform or adaptive mesh, dense F).
-  MeshStrategy method = MeshStrategy::Uniform;  // Uniform: --method flat
+  MeshStrategy method = MeshStrategy::Hierarchical;  // read where --method is given; otherwise radiosityOptions chooses
   double linkError = 2e-4;
   double minElementArea = 0;  // scene units²; 0: the scene's area × 1e-5
   int visibilityRays = 8;
