@@ -8,7 +8,7 @@
 //   dynamic   a spot moving through an office of the ~10⁵-face building: inject + warm re-solve
 //             updates per second, and the indirect light after it stops against a cold solve.
 //
-//   hierarchical_bench [--quick] [--rooms 1,8,64,640] [--face-size 0.25]
+//   hierarchical_bench [--quick] [--rooms 1,8,64,640] [--face-size 0.25] [--reference-samples 1024]
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -40,6 +40,7 @@ constexpr double k1e5SecondsTarget = 60, k1e5MemoryTargetMib = 4096, kUpdatesPer
 
 struct Options {
   bool quick = false;
+  int referenceSamples = 1024;  // per vertex of the Cornell box's path-traced reference
   std::vector<int> rooms{1, 8, 64, 640};
   double faceSize = 0.25;
 };
@@ -90,10 +91,11 @@ double cornellError(const Scene& scene, const SolutionView& view, const Referenc
   return c ? c->error.relativeRmse : NAN;
 }
 
-Json cornell(bool quick) {
+Json cornell(bool quick, int referenceSamples) {
   const Scene scene = cornellBox();
   ReferenceOptions referenceOptions;
   referenceOptions.showProgress = true;
+  referenceOptions.vertexSamples = referenceSamples;
   ReferenceRenderer tracer(scene, subdivideScene(scene, 2 * sceneDiagonal(scene)), referenceOptions);
   Json out;
   double seconds = 0, work = 0, rmse = 0;
@@ -131,6 +133,20 @@ Json cornell(bool quick) {
         {"patches", number(fs, "patches")},
         {"seconds", bench::seconds(number(fs, "formfactor_seconds") + number(fs, "solve_seconds") + interpolateSeconds)},
         {"vertex_relative_rmse", roundDigits(fRmse, 5)}};
+  }
+  // The reference's own noise: the same vertices traced with another seed, compared the same way
+  // (the difference of two references, so each one's own noise is this over √2).
+  {
+    RadiosityOptions options = hierarchical();
+    auto h = solved(scene, options, seconds);
+    const Mesh& mesh = h->solution().vertexMesh();
+    ReferenceOptions other = referenceOptions;
+    other.seed = referenceOptions.seed + 1;
+    ReferenceRenderer second(scene, subdivideScene(scene, 2 * sceneDiagonal(scene)), other);
+    Result<VertexComparison> noise = compareVertices(scene, vertexSamples(mesh, second.vertexRadiance(mesh)),
+                                                     vertexSamples(mesh, tracer.vertexRadiance(mesh)));
+    out["reference_samples"] = referenceSamples;
+    out["reference_noise_vertex_relative_rmse"] = roundDigits(noise ? noise->error.relativeRmse : NAN, 5);
   }
   out["targets"] = Json::array({Json{{"name", "vertex_relative_rmse"}, {"max", kCornellRmseTarget}, {"value", rmse}, {"target_met", rmse <= kCornellRmseTarget}},
                                 Json{{"name", "seconds"}, {"max", kCornellSecondsTarget}, {"value", work}, {"target_met", work < kCornellSecondsTarget}}});
@@ -256,6 +272,10 @@ Options parseOptions(int argc, char** argv) {
   CLI::App app{"hierarchical_bench: hierarchical radiosity on the Cornell box and on generated buildings, as JSON"};
   app.add_flag("--quick", options.quick, "Buildings of 1, 8 and 64 rooms only, fewer dynamic frames, flat at 784 patches only");
   auto* rooms = app.add_option("--rooms", options.rooms, "Building sizes (offices) for the scaling curve")->delimiter(',')->check(CLI::Range(1, 100000));
+  app.add_option("--reference-samples", options.referenceSamples,
+                 "Cornell box: path-traced samples per vertex of the reference (its noise is reported)")
+      ->check(CLI::Range(16, 1 << 20))
+      ->capture_default_str();
   app.add_option("--face-size", options.faceSize, "Largest face of the buildings, m")->check(CLI::Range(0.01, 100.0))->capture_default_str();
   try {
     app.parse(argc, argv);
@@ -273,7 +293,7 @@ int main(int argc, char** argv) {
   Json doc;
   doc["machine"] = {{"cpu", cpuModel()}, {"threads", std::thread::hardware_concurrency()}, {"build", buildDescription()},
                     {"date", utcNow()}, {"load_average", loadAverage()}};
-  doc["cornell"] = cornell(options.quick);
+  doc["cornell"] = cornell(options.quick, options.referenceSamples);
   std::vector<std::pair<double, double>> points;
   doc["scaling"] = scaling(options, points);
   // Growth exponent of time in faces between consecutive sizes: log(t2/t1) / log(n2/n1).

@@ -157,7 +157,7 @@ bool HierarchicalMeshing::refine(const std::vector<Light>& lights, std::vector<R
   RefinementReport pass;
   LinkOptions linkOptions = options_.links;
   links_ = std::make_shared<Links>(refineLinks(hierarchy_, *caster_, epsilon_, passesDone_ > 0 ? links_.get() : nullptr,
-                                               largestChannel(estimate), linkOptions, pass));
+                                               largestChannel(estimate), openFractions(leaves_.mesh), linkOptions, pass));
   if (passesDone_ == 0) refinement_.initialLinks = pass.initialLinks;  // later passes start from the links
   refinement_.estimated += pass.estimated;
   refinement_.rays += pass.rays;

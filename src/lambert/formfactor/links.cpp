@@ -83,10 +83,15 @@ ElementFactor meanFormFactor(const HierarchyNode& r, const HierarchyNode& s) {
 class Refiner {
  public:
   Refiner(ElementHierarchy& hierarchy, const RayCaster& caster, double rayEpsilon, const LinkOptions& options,
-          std::span<const double> leafRadiosity)
+          std::span<const double> leafRadiosity, std::span<const double> leafOpenFraction)
       : h_(hierarchy), caster_(caster), epsilon_(rayEpsilon), options_(options), minArea_(minimumElementArea(hierarchy, options)) {
     const auto& nodes = h_.nodes();
     LAMBERT_CHECK(leafRadiosity.size() == h_.leafNodes().size());
+    LAMBERT_CHECK(leafOpenFraction.size() == h_.leafNodes().size());
+    partlyCovered_.assign(nodes.size(), 0);
+    for (std::size_t l = 0; l < leafOpenFraction.size(); ++l) partlyCovered_[h_.leafNodes()[l]] = leafOpenFraction[l] < 1;
+    for (std::size_t i = nodes.size(); i-- > 0;)  // children have larger indices than their parents
+      if (nodes[i].parent != kNoNode && partlyCovered_[i]) partlyCovered_[nodes[i].parent] = 1;
     radiosity_.assign(nodes.size(), 0.0);
     double power = 0;
     for (std::size_t l = 0; l < leafRadiosity.size(); ++l) {
@@ -180,7 +185,7 @@ class Refiner {
         auto [u2, v2] = scrambledZeroTwo(static_cast<std::uint32_t>(i), tu, tv);
         const Vec3 x = sampleConvexPolygon(r.polygon(), u1, v1), y = sampleConvexPolygon(s.polygon(), u2, v2);
         if (!(pointToPointKernel(x, r.normal, y, s.normal) > 0)) continue;
-        trace(x, r.normal, y, s.normal, seen);
+        trace(x, r.normal, partlyCovered_[c.receiver] != 0, y, s.normal, seen);
       }
       const int open = seen.open, facing = seen.facing;
       if (facing == 0 && seen.covered == 0) {
@@ -223,10 +228,10 @@ class Refiner {
       auto [u1, v1] = scrambledZeroTwo(static_cast<std::uint32_t>(i), su, sv);
       auto [u2, v2] = scrambledZeroTwo(static_cast<std::uint32_t>(i), tu, tv);
       Vec3 pr, nr, ps, ns;
-      samplePoint(c.receiver, w, false, u1, v1, rng, pr, nr);
+      const std::uint32_t onReceiver = samplePoint(c.receiver, w, false, u1, v1, rng, pr, nr);
       samplePoint(c.source, -w, true, u2, v2, rng, ps, ns);
       if (!(pointToPointKernel(pr, nr, ps, ns) > 0)) continue;
-      trace(pr, nr, ps, ns, seen);
+      trace(pr, nr, partlyCovered_[onReceiver] != 0, ps, ns, seen);
     }
     if (seen.facing == 0 && seen.covered == 0) {
       c.verdict = Verdict::Inadmissible;  // the bound saw faces toward each other; look closer
@@ -241,16 +246,16 @@ class Refiner {
   // The rays between receiving points and source points that face each other. A receiving point
   // that is covered (the floor under a block: the first surface along its normal is seen from
   // behind) receives nothing, and the links' K is the irradiance of the receiver's open part
-  // (solve/hierarchical.h): it is left out, not counted as blocked. Only blocked rays are
-  // asked, so open receivers cost nothing more.
+  // (solve/hierarchical.h): it is left out, not counted as blocked. Only blocked rays from
+  // elements partly covered are asked, so open receivers cost nothing more.
   struct Visibility {
     int open = 0, facing = 0, covered = 0;
     std::uint8_t rays() const { return static_cast<std::uint8_t>(std::min(255, facing + 2 * covered)); }
   };
-  void trace(const Vec3& x, const Vec3& xNormal, const Vec3& y, const Vec3& yNormal, Visibility& seen) const {
+  void trace(const Vec3& x, const Vec3& xNormal, bool xMayBeCovered, const Vec3& y, const Vec3& yNormal, Visibility& seen) const {
     const Vec3 from = x + xNormal * epsilon_, to = y + yNormal * epsilon_;
     const bool blocked = caster_.occluded(Ray{from, to - from, 0, 1});
-    if (blocked && isCovered(caster_, x, xNormal, epsilon_)) {
+    if (blocked && xMayBeCovered && isCovered(caster_, x, xNormal, epsilon_)) {
       ++seen.covered;
       return;
     }
@@ -262,8 +267,9 @@ class Refiner {
   // chosen in proportion to the area they show toward `toward` (a receiver: its irradiance is
   // the mean over that area) times, for a source, their radiosity (what is seen is its light:
   // a lamp among dark ceiling tiles, which it covers, must be seen where it shines).
-  void samplePoint(std::uint32_t node, const Vec3& toward, bool source, double u, double v, Pcg32& rng, Vec3& point,
-                   Vec3& normal) const {
+  // Returns the element the point lies on.
+  std::uint32_t samplePoint(std::uint32_t node, const Vec3& toward, bool source, double u, double v, Pcg32& rng, Vec3& point,
+                            Vec3& normal) const {
     while (h_.node(node).isCluster()) {
       std::span<const std::uint32_t> kids = h_.children(node);
       double shown[8], total = 0;
@@ -289,6 +295,7 @@ class Refiner {
     const HierarchyNode& e = h_.node(node);
     point = sampleConvexPolygon(e.polygon(), u, v);
     normal = e.normal;
+    return node;
   }
 
   bool splittable(std::uint32_t node) const {
@@ -303,6 +310,7 @@ class Refiner {
       for (std::uint32_t k : h_.children(node)) {
         LAMBERT_CHECK(k == radiosity_.size());
         radiosity_.push_back(radiosity_[node]);
+        partlyCovered_.push_back(partlyCovered_[node]);
       }
       ++splits_;
     }
@@ -343,6 +351,7 @@ class Refiner {
   double minArea_;
   double threshold_ = 0;
   std::vector<double> radiosity_;  // per node: area-weighted mean of the leaves' largest channel
+  std::vector<std::uint8_t> partlyCovered_;  // per node: a leaf partly covered is, or was, under it
   std::uint64_t splits_ = 0;
 };
 
@@ -358,8 +367,9 @@ double minimumElementArea(const ElementHierarchy& hierarchy, const LinkOptions& 
 }
 
 Links refineLinks(ElementHierarchy& hierarchy, const RayCaster& caster, double rayEpsilon, const Links* previous,
-                  std::span<const double> leafRadiosity, const LinkOptions& options, RefinementReport& report) {
-  Refiner refiner(hierarchy, caster, rayEpsilon, options, leafRadiosity);
+                  std::span<const double> leafRadiosity, std::span<const double> leafOpenFraction, const LinkOptions& options,
+                  RefinementReport& report) {
+  Refiner refiner(hierarchy, caster, rayEpsilon, options, leafRadiosity, leafOpenFraction);
   std::vector<Candidate> initial;
   if (previous) {
     for (std::uint32_t r = 0; r + 1 < previous->start.size(); ++r)

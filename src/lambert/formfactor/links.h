@@ -77,12 +77,15 @@ struct RefinementReport {
 };
 
 // Refines links over `hierarchy` (splitting its elements as needed) for leaf radiosities given
-// as their largest channel (W/m²), one per current leaf.
+// as their largest channel (W/m²), one per current leaf, and the leaves' open fractions
+// (Patch::openFraction): only the points of a leaf partly covered, and of its descendants, are
+// asked whether they are covered.
 // With `previous` (links of the same hierarchy before more splits), those links are judged again
 // with the new radiosities and refined further where they now carry too much; without, the
 // refinement starts afresh. Numbers the new leaves before returning.
 Links refineLinks(ElementHierarchy& hierarchy, const RayCaster& caster, double rayEpsilon, const Links* previous,
-                  std::span<const double> leafRadiosity, const LinkOptions& options, RefinementReport& report);
+                  std::span<const double> leafRadiosity, std::span<const double> leafOpenFraction, const LinkOptions& options,
+                  RefinementReport& report);
 
 // The minimum element area the options give for this hierarchy.
 double minimumElementArea(const ElementHierarchy& hierarchy, const LinkOptions& options);
