@@ -9,8 +9,9 @@
 // leaves' values are constant across whatever a coarse link covers, and interpolating them at
 // the vertices (mesh/vertex_radiosity.h) cannot show how the light varies there: the dark rim of
 // a wall below the ceiling, a floor's corners, a block's contact shadow. Here the sources are
-// still the elements the oracle chose (their mean radiosity B̄_s), but the receiver is the
-// point:
+// the nodes the oracle chose (their mean radiosity B̄_s), opened to their children (whose means
+// are pulled too) where a node's bounding sphere is wider than half its distance from the
+// vertex, and the receiver is the point:
 //   element source   the exact point-to-polygon factor from the vertex to s (formfactor/kernels.h)
 //                    × visibility: 1 where all the link's rays got through, otherwise the share of
 //                    unoccluded rays from the vertex to stratified points on s;

@@ -250,14 +250,18 @@ class Refiner {
   // elements partly covered are asked, so open receivers cost nothing more.
   struct Visibility {
     int open = 0, facing = 0, covered = 0;
-    std::uint8_t rays() const { return static_cast<std::uint8_t>(std::min(255, facing + 2 * covered)); }
+    int coverageRays = 0;  // rays that asked whether a receiving point is covered
+    std::uint8_t rays() const { return static_cast<std::uint8_t>(std::min(255, facing + covered + coverageRays)); }
   };
   void trace(const Vec3& x, const Vec3& xNormal, bool xMayBeCovered, const Vec3& y, const Vec3& yNormal, Visibility& seen) const {
     const Vec3 from = x + xNormal * epsilon_, to = y + yNormal * epsilon_;
     const bool blocked = caster_.occluded(Ray{from, to - from, 0, 1});
-    if (blocked && xMayBeCovered && isCovered(caster_, x, xNormal, epsilon_)) {
-      ++seen.covered;
-      return;
+    if (blocked && xMayBeCovered) {
+      ++seen.coverageRays;
+      if (isCovered(caster_, x, xNormal, epsilon_)) {
+        ++seen.covered;
+        return;
+      }
     }
     ++seen.facing;
     seen.open += !blocked;

@@ -20,7 +20,8 @@
 //                       bounding spheres are apart and that do not straddle an element's plane,
 //                       where the point-to-point kernel is well behaved.
 // Visibility is the share of unoccluded rays between stratified points on the two nodes (on
-// faces chosen by area inside a cluster).
+// faces chosen by area inside a cluster), leaving out receiving points that are covered (the
+// floor under a block): K is the irradiance of the receiver's open part.
 //
 // Refinement is breadth-first and deterministic: starting from the root cluster's link to itself
 // (or, unclustered, from every pair of faces, HSA'91's O(n²) start), each candidate link is

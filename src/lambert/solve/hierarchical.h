@@ -42,6 +42,8 @@ class HierarchicalTransport final : public Transport {
   std::vector<std::uint32_t> parent_;
   std::vector<double> area_;
   std::vector<double> openArea_;  // of the leaves under each element; a cluster's whole area
+  // A link's K is the irradiance of its receiver's open part (formfactor/links.h): a leaf takes
+  // its open share f of what it and its ancestors gather, E = f·ΣK·B̄_s, a mean over its area.
   std::vector<double> leafOpenFraction_;
   std::vector<std::uint32_t> leafOfNode_;  // kNoNode for inner nodes
   std::vector<std::uint32_t> nodeOfLeaf_;
