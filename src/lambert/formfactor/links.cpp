@@ -202,12 +202,16 @@ class Refiner {
       return seen.rays();
     }
 
-    // A cluster at either end: only between nodes whose bounding spheres are apart and which do
-    // not straddle an element's plane, where the point-to-point kernel is well behaved.
+    // A cluster at either end: only between nodes whose bounding spheres are apart and neither of
+    // which cuts through the other's element plane, where the point-to-point kernel is well
+    // behaved. The plane test takes the node's box, not its sphere: a column's cluster is as tall
+    // as the column, its sphere reaches below the floor it stands on and above the ceiling, and
+    // no floor or ceiling element anywhere could link to it; refinement then opened it down to
+    // every facet, each linked to the floor's elements one by one (the MGF floor's finely divided
+    // cylinders made tens of millions of links that way).
     const Vec3 d = s.centre - r.centre;
     const double distance = length(d);
-    if (distance <= r.radius + s.radius || (!r.isCluster() && std::fabs(dot(r.normal, d)) < s.radius) ||
-        (!s.isCluster() && std::fabs(dot(s.normal, d)) < r.radius)) {
+    if (distance <= r.radius + s.radius || cutsThrough(r, s) || cutsThrough(s, r)) {
       c.verdict = Verdict::Inadmissible;
       return 0;
     }
@@ -241,6 +245,15 @@ class Refiner {
     c.formFactor = seen.facing > 0 ? static_cast<float>(k * seen.open / seen.facing) : 0.0f;
     c.verdict = seen.open > 0 ? Verdict::Estimated : Verdict::Occluded;
     return seen.rays();
+  }
+
+  // Whether element e's plane cuts through node b's box. Touching is not cutting: a column
+  // standing on the floor is all in front of it.
+  bool cutsThrough(const HierarchyNode& e, const HierarchyNode& b) const {
+    if (e.isCluster()) return false;
+    const Vec3 half = (b.boxHi - b.boxLo) * 0.5;
+    const double reach = std::fabs(e.normal.x) * half.x + std::fabs(e.normal.y) * half.y + std::fabs(e.normal.z) * half.z;
+    return std::fabs(dot(e.normal, (b.boxLo + b.boxHi) * 0.5 - e.centre)) < reach - epsilon_;
   }
 
   // The rays between receiving points and source points that face each other. A receiving point

@@ -42,6 +42,7 @@ struct HierarchyNode {
   Vec3 centre;                // elements: area centroid; clusters: bounding-box centre
   double area = 0;            // scene units²; clusters: the area of all faces inside
   double radius = 0;          // of a sphere about centre that holds the node
+  Vec3 boxLo, boxHi;          // the axis-aligned box that holds the node
   std::uint32_t parent = kNoNode;
   std::uint32_t firstChild = 0;  // into ElementHierarchy::childList
   std::uint32_t numChildren = 0;
