@@ -319,16 +319,13 @@ TEST(HierarchicalTest, ClusteringStartsFromLinearlyManyLinksAndAgreesWithoutClus
   EXPECT_LT(number(*a, "links_estimated"), 80 * faces);
   EXPECT_LT(number(*a, "links_estimated"), 0.1 * number(*b, "links_estimated"));
   EXPECT_GT(number(*a, "cluster_links"), 0);
-  // The power absorbed agrees within 3% (measured 2.5%: the point-to-point kernel between the
-  // nodes' centres overestimates K by 15–20% where they are close for their size, and the box
-  // plane test lets a wall's clusters link to the floor they stand on; under 2% before it);
-  // surfaces lit directly by the lamp within 8% (measured up to 7.9%); the ceiling, which only
-  // bounces reach, takes the mean irradiance of clusters it shares with walls: measured 24%
-  // brighter (the issue asks 2% everywhere; not reached).
-  EXPECT_LT(relativeError(number(*a, "absorbed_watts"), number(*b, "absorbed_watts")), 0.03);
+  // The power absorbed agrees within 2% (measured 1.7%) and every surface within 5% (measured
+  // up to 4.1%, the ceiling's; it was 24% bright while the cluster kernel was the centres'
+  // point-to-point transfer and a receiver cluster's faces all took its mean).
+  EXPECT_LT(relativeError(number(*a, "absorbed_watts"), number(*b, "absorbed_watts")), 0.02);
   for (std::uint32_t s = 0; s < 6; ++s) {
     const double with = surfaceMean(a->solution(), s).g, without = surfaceMean(b->solution(), s).g;
-    EXPECT_LT(relativeError(with, without), scene.surfaces[s].name == "ceiling" ? 0.3 : 0.08) << scene.surfaces[s].name;
+    EXPECT_LT(relativeError(with, without), 0.05) << scene.surfaces[s].name;
     std::printf("%s: clustered %.5f, unclustered %.5f\n", scene.surfaces[s].name.c_str(), with, without);
   }
 }
@@ -353,11 +350,11 @@ Surface column(double x, double z, double r, int facets) {
 
 TEST(HierarchicalTest, AColumnLinksToTheFloorAndCeilingThroughItsClusters) {
   // The column's clusters are as tall as the column: their bounding spheres reach through the
-  // floor and the ceiling it stands between. With the sphere as the plane test no floor or
-  // ceiling element could link to them, and refinement opened the column down to its facets,
-  // each linked to the floor's and ceiling's elements one by one: measured 3.5 M links
-  // estimated and 0.95 M kept; with the box as the plane test 1.9 M and 0.38 M. (Elements
-  // within the column's sphere still link to its facets: what is left, docs/hierarchical.md.)
+  // floor and the ceiling it stands between, and hold most of the room. With the sphere as the
+  // plane test no floor or ceiling element could link to them, and refinement opened the column
+  // down to its facets, each linked to the floor's and ceiling's elements one by one: measured
+  // 3.5 M links estimated and 0.95 M kept; with boxes for the plane test but spheres apart
+  // still 1.9 M and 0.38 M; with boxes for both (and a kernel valid close by) 0.6 M and 21 k.
   Scene scene = gridBox(4);
   scene.surfaces.push_back(column(0.25, 0.25, 0.03, 256));
   auto engine = solvedEngine(scene, hierarchicalOptions(2e-4));
@@ -366,13 +363,12 @@ TEST(HierarchicalTest, AColumnLinksToTheFloorAndCeilingThroughItsClusters) {
   const auto value = [&](const char* key) { return static_cast<double>(std::get<std::int64_t>(stats.find(key)->value)); };
   std::printf("%g faces: %g links estimated, %g kept, %g with a cluster\n", value("faces"), value("links_estimated"), value("links"),
               value("cluster_links"));
-  EXPECT_LT(value("links_estimated"), 2.5e6);
-  EXPECT_LT(value("links"), 0.6e6);
-  // Closed: what the lamp emits is absorbed, within what the cluster kernel allows (measured
-  // 3.1% more: the point-to-point kernel between centres overestimates K by 15–20% where the
-  // nodes are close for their size, summed face by face against the exact factors).
+  EXPECT_LT(value("links_estimated"), 1e6);
+  EXPECT_LT(value("links"), 50e3);
+  // Closed: what the lamp emits is absorbed (measured 1.1% short).
   const double emitted = std::get<double>(stats.find("emitted_watts")->value), absorbed = std::get<double>(stats.find("absorbed_watts")->value);
-  EXPECT_LT(relativeError(absorbed, emitted), 0.04);
+  std::printf("absorbed %.5f W of %.5f W emitted\n", absorbed, emitted);
+  EXPECT_LT(relativeError(absorbed, emitted), 0.02);
 }
 
 TEST(HierarchicalTest, MirrorImageSurfacesGetMirrorImageLinks) {

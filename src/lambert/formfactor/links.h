@@ -9,19 +9,20 @@
 //                       to-polygon factor averaged over r at degree-2 quadrature points
 //                       (formfactor/kernels.h, exact at any distance) × the share of unoccluded
 //                       rays between stratified points of the two;
-//   with a cluster      K = P_s(−ω) P_r(ω) / (π d² A_r) × visibility, the point-to-point
-//                       transfer between centres d apart along ω, where P is the area a node
-//                       shows toward a direction: A·cosθ for an element, and for a cluster a
-//                       bound from its faces' areas along the six axis directions (exact for
-//                       axis-aligned faces; Sillion 1995's non-isotropic clusters in their
-//                       simplest form), so that a receiver cluster takes the mean irradiance its
-//                       faces would, and coplanar faces exchange nothing. A receiver cluster
-//                       passes that mean to every face inside it. Only between nodes whose
-//                       bounding spheres are apart and that do not straddle an element's plane,
-//                       where the point-to-point kernel is well behaved.
-// Visibility is the share of unoccluded rays between stratified points on the two nodes (on
-// faces chosen by area inside a cluster), leaving out receiving points that are covered (the
-// floor under a block): K is the irradiance of the receiver's open part.
+//   with a cluster      K = 1/A_r ∫_r Σ_f F(x→f) V B_f / B̄_s over the faces f of the source,
+//                       by Monte Carlo over the link's own sample pairs: a receiving face and a
+//                       source face chosen by the area they show each other (the source's also
+//                       by its radiosity), a point on the receiving face, the exact point-to-
+//                       polygon factor to the source face, and one visibility ray. Far apart it
+//                       is the point-to-point transfer P_s(−ω) P_r(ω) / (π d² A_r) of Sillion
+//                       1995's non-isotropic clusters (P: the area a node shows toward a
+//                       direction); close by, where that kernel is 15–20% high, it stays exact
+//                       on average, so links need only the nodes' boxes apart and neither
+//                       cutting through the other's element plane. A receiver cluster passes its
+//                       mean to every face inside it.
+// Visibility is the share of unoccluded rays between stratified points on the two nodes,
+// leaving out receiving points that are covered (the floor under a block): K is the irradiance
+// of the receiver's open part.
 //
 // Refinement is breadth-first and deterministic: starting from the root cluster's link to itself
 // (or, unclustered, from every pair of faces, HSA'91's O(n²) start), each candidate link is
@@ -31,7 +32,8 @@
 // uncertain by: between elements, the spread of the point factors over the receiver (what a
 // parent's link hands its children alike; Lischinski, Tampieri & Greenberg 1994 bound the same
 // variation), or the whole unoccluded K where visibility is partial (a shadow edge crosses);
-// with a cluster, the whole K (HSA'91's magnitude oracle). A link above it is replaced by the
+// with a cluster, the whole point-to-point transfer between the centres (HSA'91's magnitude
+// oracle; not the Monte Carlo K, whose noise would keep the links it underestimates). A link above it is replaced by the
 // links of the larger node's children, or the receiver's where ΔK is its spread (a cluster
 // opens, an element splits four ways while above the minimum area), until it is below or
 // neither node can be split. Links that see nothing are dropped. receiverSide marks the links
