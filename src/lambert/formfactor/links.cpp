@@ -286,7 +286,10 @@ class Refiner {
 
   // Whether the two nodes' boxes are apart along some axis.
   bool boxesApart(const HierarchyNode& a, const HierarchyNode& b) const {
-    const Vec3 gap = componentMax(a.boxLo - b.boxHi, b.boxLo - a.boxHi);
+    Vec3 aLo, aHi, bLo, bHi;
+    a.box(aLo, aHi);
+    b.box(bLo, bHi);
+    const Vec3 gap = componentMax(aLo - bHi, bLo - aHi);
     return std::fmax(gap.x, std::fmax(gap.y, gap.z)) > epsilon_;
   }
 
@@ -294,9 +297,11 @@ class Refiner {
   // standing on the floor is all in front of it.
   bool cutsThrough(const HierarchyNode& e, const HierarchyNode& b) const {
     if (e.isCluster()) return false;
-    const Vec3 half = (b.boxHi - b.boxLo) * 0.5;
+    Vec3 lo, hi;
+    b.box(lo, hi);
+    const Vec3 half = (hi - lo) * 0.5;
     const double reach = std::fabs(e.normal.x) * half.x + std::fabs(e.normal.y) * half.y + std::fabs(e.normal.z) * half.z;
-    return std::fabs(dot(e.normal, (b.boxLo + b.boxHi) * 0.5 - e.centre)) < reach - epsilon_;
+    return std::fabs(dot(e.normal, (lo + hi) * 0.5 - e.centre)) < reach - epsilon_;
   }
 
   // The rays between receiving points and source points that face each other. A receiving point

@@ -27,12 +27,7 @@ void setElementGeometry(HierarchyNode& node) {
   node.normal = length(normalSum) > 0 ? normalize(normalSum) : Vec3{0, 0, 1};
   node.centre = area > 0 ? weighted / area : origin;
   node.radius = 0;
-  node.boxLo = node.boxHi = node.corners[0];
-  for (std::size_t k = 0; k < node.numCorners; ++k) {
-    node.radius = std::fmax(node.radius, length(node.corners[k] - node.centre));
-    node.boxLo = componentMin(node.boxLo, node.corners[k]);
-    node.boxHi = componentMax(node.boxHi, node.corners[k]);
-  }
+  for (std::size_t k = 0; k < node.numCorners; ++k) node.radius = std::fmax(node.radius, length(node.corners[k] - node.centre));
 }
 
 // A quad is kept whole only if it is planar and convex (every corner turns the same way about
@@ -144,8 +139,13 @@ void ElementHierarchy::buildClusters(std::span<FaceRoot> faces, std::uint32_t pa
     for (int k = 0; k < 6; ++k) c.axisArea[k] = static_cast<float>(axisArea[k]);
     c.centre = (lo + hi) * 0.5;
     c.radius = 0.5 * length(hi - lo);
-    c.boxLo = lo;
-    c.boxHi = hi;
+    const Vec3 half = (hi - lo) * 0.5;
+    const double halves[3] = {half.x, half.y, half.z};
+    for (int a = 0; a < 3; ++a) {
+      float h = static_cast<float>(halves[a]);
+      if (static_cast<double>(h) < halves[a]) h = std::nextafter(h, INFINITY);  // the box must hold the faces
+      c.halfExtent[a] = h;
+    }
   }
   // At most four faces: they are the cluster's children. Otherwise two halves by the median
   // centroid along the longest axis of the centroids' bounds.

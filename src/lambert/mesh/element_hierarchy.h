@@ -42,7 +42,6 @@ struct HierarchyNode {
   Vec3 centre;                // elements: area centroid; clusters: bounding-box centre
   double area = 0;            // scene units²; clusters: the area of all faces inside
   double radius = 0;          // of a sphere about centre that holds the node
-  Vec3 boxLo, boxHi;          // the axis-aligned box that holds the node
   std::uint32_t parent = kNoNode;
   std::uint32_t firstChild = 0;  // into ElementHierarchy::childList
   std::uint32_t numChildren = 0;
@@ -51,6 +50,9 @@ struct HierarchyNode {
   // that projectedArea(ω) bounds the area the faces show toward ω (exact for faces along the
   // axes, as in most buildings).
   std::array<float, 6> axisArea{};
+  // Clusters: half the extent of the axis-aligned box about centre that holds their faces,
+  // rounded up (elements: see box()).
+  std::array<float, 3> halfExtent{};
 
   bool isCluster() const { return numCorners == 0; }
   // The area the node shows toward the unit direction ω: A·max(0, n·ω) for an element; for a
@@ -61,6 +63,20 @@ struct HierarchyNode {
            std::fabs(w.z) * axisArea[w.z > 0 ? 4 : 5];
   }
   bool isLeaf() const { return numChildren == 0; }
+  // The axis-aligned box that holds the node: a cluster's, or its corners'.
+  void box(Vec3& lo, Vec3& hi) const {
+    if (isCluster()) {
+      const Vec3 half{halfExtent[0], halfExtent[1], halfExtent[2]};
+      lo = centre - half;
+      hi = centre + half;
+      return;
+    }
+    lo = hi = corners[0];
+    for (std::size_t k = 1; k < numCorners; ++k) {
+      lo = componentMin(lo, corners[k]);
+      hi = componentMax(hi, corners[k]);
+    }
+  }
   std::span<const Vec3> polygon() const { return {corners.data(), numCorners}; }
 };
 
