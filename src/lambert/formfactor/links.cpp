@@ -214,10 +214,12 @@ class Refiner {
       c.verdict = Verdict::Inadmissible;
       return 0;
     }
-    const Vec3 w = d / length(d);
+    const double distance = length(d);
+    const Vec3 w = d / distance;
     // Far apart (spheres apart), faces that show nothing toward the other node's centre show
-    // nothing toward the node. Close by they may: the Monte Carlo estimate below decides.
-    if (length(d) > r.radius + s.radius && (!(s.projectedArea(-w) > 0) || !(r.projectedArea(w) > 0))) {
+    // nothing toward the node. Close by they may: the Monte Carlo estimate below decides
+    // (dropping such links lost 2.5% of what the clustering test's receivers gather).
+    if (distance > r.radius + s.radius && (!(s.projectedArea(-w) > 0) || !(r.projectedArea(w) > 0))) {
       c.verdict = Verdict::Empty;
       return 0;
     }
@@ -263,7 +265,7 @@ class Refiner {
       unoccluded += contribution;
     }
     if (seen.facing == 0 && seen.covered == 0) {
-      c.verdict = Verdict::Inadmissible;  // the bound saw faces toward each other; look closer
+      c.verdict = Verdict::Inadmissible;  // no sampled pair faced each other: look closer
       return 0;
     }
     // Covered receiving points are left out: K is the irradiance of the receiver's open part.
