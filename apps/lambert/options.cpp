@@ -92,7 +92,7 @@ void addSolveOptions(CLI::App& cmd, SolveCommandOptions& o) {
       ->capture_default_str();
   cmd.add_option("--min-area", o.minElementArea, "Hierarchical: smallest element area, scene units² (default: scene area × 1e-5)")
       ->check(CLI::Range(1e-30, 1e30));
-  cmd.add_option("--visibility-rays", o.visibilityRays, "Hierarchical: rays per link estimating its visibility")
+  cmd.add_option("--visibility-rays", o.visibilityRays, "Hierarchical: sample pairs per link (a ray each) estimating its visibility, and a cluster link's form factor")
       ->check(CLI::Range(1, 255))
       ->capture_default_str();
   cmd.add_flag("--no-clusters", o.noClusters, "Hierarchical: start from every pair of faces (HSA'91, O(n²) links) instead of clusters");
