@@ -239,8 +239,8 @@ class Refiner {
     for (int i = 0; i < n; ++i) {
       auto [u1, v1] = scrambledZeroTwo(static_cast<std::uint32_t>(i), su, sv);
       auto [u2, v2] = scrambledZeroTwo(static_cast<std::uint32_t>(i), tu, tv);
-      const FaceSample onReceiver = sampleFace(c.receiver, w, false, rng);
-      const FaceSample onSource = sampleFace(c.source, -w, true, rng);
+      const FaceSample onReceiver = sampleFace(c.receiver, w, false, u1);
+      const FaceSample onSource = sampleFace(c.source, -w, true, u2);
       const HierarchyNode& g = h_.node(onReceiver.element);
       const HierarchyNode& f = h_.node(onSource.element);
       const Vec3 x = sampleConvexPolygon(g.polygon(), u1, v1), y = sampleConvexPolygon(f.polygon(), u2, v2);
@@ -334,12 +334,16 @@ class Refiner {
   // in proportion to the area they show toward `toward` (a twentieth of their whole area mixed
   // in, so that close by, where the direction between the nodes' centres is not the direction
   // between their faces, every face can be chosen) times, for a source, their radiosity.
-  // weight is 1/P(face), times B_face / B̄_node for a source chosen by radiosity.
+  // weight is 1/P(face), times B_face / B̄_node for a source chosen by radiosity. `u` chooses,
+  // and is rescaled within each choice for the next one and for the point on the face (as
+  // sampleConvexPolygon reuses it), so that stratified (u, v) stay stratified over the faces:
+  // with independent choices a column's facets, each gathering from a few close clusters, came
+  // out striped.
   struct FaceSample {
     std::uint32_t element;
     double weight;
   };
-  FaceSample sampleFace(std::uint32_t node, const Vec3& toward, bool source, Pcg32& rng) const {
+  FaceSample sampleFace(std::uint32_t node, const Vec3& toward, bool source, double& u) const {
     const bool byRadiosity = source && radiosity_[node] > 0;
     const double meanRadiosity = radiosity_[node];
     double probability = 1;
@@ -354,18 +358,21 @@ class Refiner {
         total += shown[k];
       }
       std::size_t chosen = 0;
+      double share = 1.0 / static_cast<double>(count);
       if (total > 0) {
-        double pick = rng.nextDouble() * total;
+        double pick = u * total;
         for (std::size_t k = 0; k < count; ++k) {
           chosen = k;
-          if (pick < shown[k]) break;
+          if (pick < shown[k] || k + 1 == count) break;
           pick -= shown[k];
         }
-        probability *= shown[chosen] / total;
+        share = shown[chosen] / total;
+        u = shown[chosen] > 0 ? std::clamp(pick / shown[chosen], 0.0, std::nextafter(1.0, 0.0)) : 0.5;
       } else {
-        chosen = rng.nextBelow(static_cast<std::uint32_t>(count));
-        probability /= static_cast<double>(count);
+        chosen = std::min(count - 1, static_cast<std::size_t>(u * static_cast<double>(count)));
+        u = std::clamp(u * static_cast<double>(count) - static_cast<double>(chosen), 0.0, std::nextafter(1.0, 0.0));
       }
+      probability *= share;
       node = kids[chosen];
     }
     double weight = probability > 0 ? 1.0 / probability : 0.0;
