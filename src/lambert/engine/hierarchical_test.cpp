@@ -349,6 +349,39 @@ Surface column(double x, double z, double r, int facets) {
   return s;
 }
 
+TEST(HierarchicalTest, EveryNodesBoxHoldsItsFacesAndClustersBoxesAreTight) {
+  // Links are admitted by the nodes' boxes: a box that missed a face would let a cluster link
+  // reach through it, one much too large would refuse links the column test needs.
+  Scene scene = gridBox(3);
+  scene.surfaces.push_back(column(0.25, 0.25, 0.03, 16));
+  const ElementHierarchy hierarchy(scene);
+  for (std::uint32_t i = 0; i < hierarchy.nodes().size(); ++i) {
+    const HierarchyNode& node = hierarchy.node(i);
+    Vec3 lo, hi;
+    node.box(lo, hi);
+    // The corners of every face under the node, and their bounds.
+    Vec3 facesLo{INFINITY, INFINITY, INFINITY}, facesHi = -facesLo;
+    std::vector<std::uint32_t> open{i};
+    while (!open.empty()) {
+      const HierarchyNode& n = hierarchy.node(open.back());
+      const std::uint32_t at = open.back();
+      open.pop_back();
+      if (n.isCluster()) {
+        for (std::uint32_t k : hierarchy.children(at)) open.push_back(k);
+        continue;
+      }
+      for (const Vec3& corner : n.polygon()) {
+        facesLo = componentMin(facesLo, corner);
+        facesHi = componentMax(facesHi, corner);
+        EXPECT_TRUE(corner.x >= lo.x && corner.y >= lo.y && corner.z >= lo.z && corner.x <= hi.x && corner.y <= hi.y &&
+                    corner.z <= hi.z)
+            << "node " << i;
+      }
+    }
+    EXPECT_LT(length(lo - facesLo) + length(hi - facesHi), 1e-6) << "node " << i;
+  }
+}
+
 TEST(HierarchicalTest, AColumnLinksToTheFloorAndCeilingThroughItsClusters) {
   // The column's clusters are as tall as the column: their bounding spheres reach through the
   // floor and the ceiling it stands between, and hold most of the room. With the sphere as the
