@@ -70,6 +70,15 @@ RadiosityOptions hierarchical() {
   return options;
 }
 
+// The scene, or a message naming what is wrong and exit 1.
+Scene sceneOrExit(Result<Scene> scene) {
+  if (!scene) {
+    std::fprintf(stderr, "hierarchical_bench: %s\n", scene.error().message.c_str());
+    std::exit(1);
+  }
+  return std::move(*scene);
+}
+
 std::unique_ptr<Radiosity> solved(const Scene& scene, const RadiosityOptions& options, double& seconds) {
   Timer timer;
   auto engine = Radiosity::create(scene, options);
@@ -168,14 +177,10 @@ Json cornell(bool quick, int referenceSamples) {
 Json scaling(const Options& options, std::vector<std::pair<double, double>>& facesAndSeconds) {
   Json rows = Json::array();
   for (int rooms : options.rooms) {
-    Result<Scene> scene = generateBuilding({rooms, options.faceSize, 1});
-    if (!scene) {
-      std::fprintf(stderr, "hierarchical_bench: %s\n", scene.error().message.c_str());
-      std::exit(1);
-    }
+    const Scene scene = sceneOrExit(generateBuilding({rooms, options.faceSize, 1}));
     std::fprintf(stderr, "building of %d rooms\n", rooms);
     double seconds = 0;
-    auto engine = solved(*scene, hierarchical(), seconds);
+    auto engine = solved(scene, hierarchical(), seconds);
     const Stats s = engine->stats();
     const double faces = number(s, "faces");
     facesAndSeconds.push_back({faces, seconds});
@@ -212,8 +217,7 @@ std::vector<double> indirectPerSurface(const SolutionView& view) {
 }
 
 Json dynamic(int rooms, double faceSize, bool quick) {
-  Result<Scene> scene = generateBuilding({rooms, faceSize, 1});
-  if (!scene) std::exit(1);
+  Scene scene = sceneOrExit(generateBuilding({rooms, faceSize, 1}));
   // A spot under the first office's ceiling, sweeping across its floor.
   Light spot;
   spot.name = "bench spot";
@@ -221,7 +225,7 @@ Json dynamic(int rooms, double faceSize, bool quick) {
   spot.intensity = Rgb::gray(60);
   spot.coneAngleDegrees = 25;
   spot.falloffDegrees = 5;
-  const Camera& camera = scene->camera;
+  const Camera& camera = scene.camera;
   spot.position = camera.eye + Vec3{0, 0.9, 0};  // near the ceiling (the eye is at 1.6 m in a 2.8 m room)
   auto aimed = [&](int frame) {
     Light l = spot;
@@ -229,9 +233,9 @@ Json dynamic(int rooms, double faceSize, bool quick) {
     l.direction = normalize(Vec3{std::cos(angle) * 0.5, -1, std::sin(angle) * 0.5});
     return l;
   };
-  scene->lights.push_back(aimed(0));
+  scene.lights.push_back(aimed(0));
   double seconds = 0;
-  auto engine = solved(*scene, hierarchical(), seconds);
+  auto engine = solved(scene, hierarchical(), seconds);
   const int frames = quick ? 30 : 120;
   const int sweeps = 1;  // Gauss–Seidel: one sweep carries the moved light one more bounce
   Timer timer;
@@ -247,7 +251,7 @@ Json dynamic(int rooms, double faceSize, bool quick) {
   // The light stops: solve to the tolerance warm, and compare with a cold solve there.
   auto settled = engine->solve();
   if (!settled) std::exit(1);
-  Scene still = *scene;
+  Scene still = scene;
   still.lights = {aimed(frames)};
   double coldSeconds = 0;
   auto cold = solved(still, hierarchical(), coldSeconds);
@@ -256,7 +260,7 @@ Json dynamic(int rooms, double faceSize, bool quick) {
   // lit by its own lamps, would dilute the difference.
   double difference = 0, total = 0;
   for (std::size_t s = 0; s < warm.size(); ++s) {
-    if (length(scene->surfaces[s].vertices[0] - spot.position) > 5) continue;
+    if (length(scene.surfaces[s].vertices[0] - spot.position) > 5) continue;
     difference += std::fabs(warm[s] - truth[s]);
     total += std::fabs(truth[s]);
   }
@@ -282,14 +286,10 @@ Json dynamic(int rooms, double faceSize, bool quick) {
 Json realScene(const Options& options) {
   LoadOptions load;
   load.mgfDivisions = options.mgfDivisions;
-  Result<Scene> scene = loadScene(options.realScene, load);
-  if (!scene) {
-    std::fprintf(stderr, "hierarchical_bench: %s\n", scene.error().message.c_str());
-    std::exit(1);
-  }
+  const Scene scene = sceneOrExit(loadScene(options.realScene, load));
   std::fprintf(stderr, "%s at %d divisions\n", options.realScene.c_str(), options.mgfDivisions);
   double seconds = 0;
-  auto engine = solved(*scene, hierarchical(), seconds);
+  auto engine = solved(scene, hierarchical(), seconds);
   const Stats s = engine->stats();
   return {{"scene", options.realScene},
           {"mgf_divisions", options.mgfDivisions},

@@ -271,7 +271,7 @@ class Refiner {
     // Covered receiving points are left out: K is the irradiance of the receiver's open part.
     const double counted = seen.facing + nonFacing;
     const double k = counted > 0 ? std::fmin(1.0, unoccluded / counted) : 0.0;
-    c.uncertainty = static_cast<float>(k);
+    c.uncertainty = static_cast<float>(k);  // unoccluded K: the final gather reads K / this as the visibility
     c.formFactor = counted > 0 ? static_cast<float>(std::fmin(1.0, sum / counted)) : 0.0f;
     c.verdict = seen.open > 0 ? Verdict::Estimated : Verdict::Occluded;
     return seen.rays();

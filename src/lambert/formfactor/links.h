@@ -63,7 +63,7 @@ struct Links {
   std::vector<std::uint32_t> start;   // per node, and one past the last: links of node i are [start[i], start[i+1])
   std::vector<std::uint32_t> source;
   std::vector<float> formFactor;      // K_rs, with visibility
-  std::vector<float> uncertainty;     // ΔK: what the oracle multiplies by B_s A_r (see above)
+  std::vector<float> uncertainty;     // ΔK: what the oracle multiplies by B_s A_r (see above); for a cluster link, its unoccluded K
   std::vector<std::uint8_t> receiverSide;  // ΔK is K's spread over the receiver (every ray got through): refining splits the receiver
 
   std::size_t size() const { return source.size(); }
