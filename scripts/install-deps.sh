@@ -10,6 +10,9 @@ packages=(
   libembree-dev libtbb-dev libeigen3-dev
   libcli11-dev nlohmann-json3-dev libstb-dev libtinyobjloader-dev libtinygltf-dev libtinyexr-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  libglfw3-dev libepoxy-dev libimgui-dev
+  # the viewer's test draws in a real window: an X server without a screen, Mesa's software OpenGL
+  xvfb xauth libgl1-mesa-dri
 )
 
 # The Khronos glTF-Validator (npm, not Debian) checks the .glb export in the tests; optional: the

@@ -17,6 +17,7 @@ std::function<int()> addCompareCommand(CLI::App& app);
 std::function<int()> addScenesCommand(CLI::App& app);
 std::function<int()> addInfoCommand(CLI::App& app);
 std::function<int()> addGenerateCommand(CLI::App& app);
+std::function<int()> addViewCommand(CLI::App& app);
 
 // Path-tracer options shared by `reference` and `compare`.
 void addReferenceOptions(CLI::App& command, ReferenceOptions& options);

@@ -11,7 +11,8 @@ int main(int argc, char** argv) {
   std::vector<std::pair<CLI::App*, std::function<int()>>> commands;
   for (AddCommand add : {lambert::cli::addRenderCommand, lambert::cli::addSolveCommand, lambert::cli::addAnimateCommand,
                          lambert::cli::addReferenceCommand, lambert::cli::addCompareCommand, lambert::cli::addScenesCommand,
-                         lambert::cli::addInfoCommand, lambert::cli::addGenerateCommand}) {
+                         lambert::cli::addInfoCommand, lambert::cli::addGenerateCommand,
+                         lambert::cli::addViewCommand}) {
     std::function<int()> run = add(app);
     commands.emplace_back(app.get_subcommands({}).back(), std::move(run));
   }

@@ -245,6 +245,11 @@ std::vector<Rgb> SolutionView::indirectRadiosity() const {
   return indirect;
 }
 
+Rgb SolutionView::ambientRadiosity() const {
+  const ProgressiveShooter* shooter = engine_->shooter_.get();
+  return shooter ? lambert::ambientRadiosity(engine_->problem_, shooter->unshot()) : Rgb{};
+}
+
 std::vector<Rgb> SolutionView::vertexValues(const std::vector<Rgb>& perElement) const {
   return engine_->meshing_->vertexValues(perElement);
 }

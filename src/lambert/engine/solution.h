@@ -44,6 +44,11 @@ class SolutionView {
   // B less the injected direct light: what to interpolate when direct light is drawn per pixel
   // (seed 000's hybrid image).
   std::vector<Rgb> indirectRadiosity() const;
+  // Mid-solve, progressive refinement's ambient term (Cohen, Chen, Wallace & Greenberg 1988;
+  // seed 001): the unshot power spread evenly over the scene and reflected to convergence, in
+  // W/m². Displaying B_i + ρ_i·ambient shows a shooting solve at its final brightness from the
+  // first shot. Zero for the gathering solvers, whose iterates carry no unshot power.
+  Rgb ambientRadiosity() const;
   // The system the solver last solved, B = E + ρFB (E here includes the injected light), for
   // programs that solve it another way.
   const RadiosityProblem& problem() const;

@@ -1,0 +1,112 @@
+// `lambert view`: the interactive viewer (viewer/viewer.h). Options are checked, the scene read
+// and the script parsed before any window opens, so bad input fails fast and without a display.
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "commands.h"
+#include "options.h"
+#include "viewer/viewer.h"
+
+namespace lambert::cli {
+namespace {
+
+struct ViewCommandOptions : GivenOptions {
+  SolveCommandOptions solve;
+  int width = 1280, height = 720;
+  int msaa = 4;
+  double exposure = 0;
+  Shading shading = Shading::Gouraud;
+  std::string script;
+  int frames = 0;
+  std::string screenshot;
+  double updateMilliseconds = 10;
+  long long shotsPerUpdate = 0;
+  int sweepsPerUpdate = 0;
+};
+
+int runView(const ViewCommandOptions& o) {
+  std::optional<Scene> scene = findScene("view", o.solve);
+  if (!scene) return 2;
+  Result<RadiosityOptions> radiosity = radiosityOptions(*scene, o.solve);
+  if (!radiosity) return fail("view", radiosity.error().message);
+
+  viewer::ViewerOptions v;
+  v.width = o.width;
+  v.height = o.height;
+  v.msaaSamples = o.msaa;
+  v.display.exposure = o.exposure;
+  v.display.flat = o.shading == Shading::Flat;
+  // Each update solves within a budget so that the picture follows the solve (the direct solver
+  // takes none: it is one step).
+  if (radiosity->solver != SolverKind::Direct) {
+    v.budget.solve = {o.shotsPerUpdate, o.sweepsPerUpdate, o.updateMilliseconds};
+    if (Status ok = checkSolveBudget(radiosity->solver, v.budget.solve); !ok) return fail("view", ok.error().message);
+  } else if (Status ok = refuseGiven(o, {"--update-ms", "--shots-per-update", "--sweeps-per-update"}, "the direct solver solves in one step");
+             !ok) {
+    return fail("view", ok.error().message);
+  }
+  if (!o.script.empty()) {
+    if (Status ok = refuseGiven(o, {"--frames", "--screenshot"}, "--script says when to draw and what to take"); !ok)
+      return fail("view", ok.error().message);
+    Result<viewer::Script> script = viewer::readScript(o.script);
+    if (!script) return fail("view", script.error().message);
+    v.script = std::move(*script);
+  } else if (o.frames > 0 || !o.screenshot.empty()) {
+    // --frames N [--screenshot FILE]: draw N frames, take the screenshot, exit.
+    std::string text = "frames " + std::to_string(std::max(o.frames, 1)) + "\n";
+    if (!o.screenshot.empty()) text += "screenshot " + o.screenshot + "\n";
+    Result<viewer::Script> script = viewer::parseScript(text, "--frames/--screenshot");
+    if (!script) return fail("view", script.error().message);
+    v.script = std::move(*script);
+  }
+  if (v.script) {
+    if (Status ok = viewer::checkScriptLights(*v.script, scene->lights.size()); !ok) return fail("view", ok.error().message);
+    v.vsync = false;
+  }
+  v.radiosity = std::move(*radiosity);
+  v.radiosity.hierarchical.links.showProgress = false;  // the window shows progress
+  v.radiosity.formFactors.showProgress = false;
+  v.scene = std::move(*scene);
+
+  Stats stats;
+  Status ran = viewer::runViewer(v, stats);
+  if (!ran) {
+    std::fprintf(stderr, "lambert view: %s\n", ran.error().message.c_str());
+    return 1;
+  }
+  printStats(stats, o.solve.json, o.solve.quiet, "");
+  return 0;
+}
+
+}  // namespace
+
+std::function<int()> addViewCommand(CLI::App& app) {
+  auto options = std::make_shared<ViewCommandOptions>();
+  // As `animate`: progressive refinement keeps its unshot power between light moves (seed 001's
+  // display, seed 003's moving lights); the hierarchical method gathers with gs instead.
+  options->solve.solver = SolverKind::Shooting;
+  options->solve.tolerance = 1e-4;
+  options->solve.adaptPasses = 1;
+  CLI::App* cmd = app.add_subcommand("view", "Open a window on a scene: the radiosity converging live, lights to move, screenshots");
+  options->command = cmd;
+  addSolveOptions(*cmd, options->solve);
+  cmd->add_option("--width", options->width, "Window width")->check(CLI::Range(64, 16384))->capture_default_str();
+  cmd->add_option("--height", options->height, "Window height")->check(CLI::Range(64, 16384))->capture_default_str();
+  cmd->add_option("--msaa", options->msaa, "Multisample anti-aliasing samples per pixel (0: off)")->check(CLI::Range(0, 16))->capture_default_str();
+  cmd->add_option("--exposure", options->exposure, "Exposure in stops (radiance × 2^stops before sRGB)")->capture_default_str();
+  cmd->add_option("--shading", options->shading, "gouraud (interpolated) or flat (one value per element)")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, Shading>{{"gouraud", Shading::Gouraud}, {"flat", Shading::Flat}}))
+      ->default_str("gouraud");
+  cmd->add_option("--script", options->script, "Play a script of camera and light moves and screenshots headless, then exit (docs/viewer.md)");
+  cmd->add_option("--frames", options->frames, "Draw this many frames, then exit (with --screenshot: then take it)")->check(CLI::Range(1, 10000000));
+  cmd->add_option("--screenshot", options->screenshot, "PNG of the 3-D view after --frames frames (1 by default)");
+  cmd->add_option("--update-ms", options->updateMilliseconds, "Radiosity budget per update in milliseconds (gs, jacobi, shoot)")
+      ->check(CLI::Range(0.1, 1e6))
+      ->capture_default_str();
+  cmd->add_option("--shots-per-update", options->shotsPerUpdate, "Radiosity budget per update in shots (shoot)")->check(CLI::Range(1LL, 1000000000LL));
+  cmd->add_option("--sweeps-per-update", options->sweepsPerUpdate, "Radiosity budget per update in sweeps (gs, jacobi)")->check(CLI::Range(1, 1000000));
+  return [options] { return runView(*options); };
+}
+
+}  // namespace lambert::cli

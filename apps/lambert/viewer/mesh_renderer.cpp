@@ -1,0 +1,329 @@
+#include "viewer/mesh_renderer.h"
+
+#include <cmath>
+#include <cstddef>
+#include <vector>
+
+#include <epoxy/gl.h>
+
+namespace lambert::viewer {
+namespace {
+
+// Corner attributes, in DrawVertex's order; the visibility of 16 lights as four vec4s.
+const char* kMeshVertexShader = R"(#version 330 core
+layout(location = 0) in vec3 position;
+layout(location = 1) in vec3 normal;
+layout(location = 2) in vec3 albedo;
+layout(location = 3) in vec3 indirect;
+layout(location = 4) in vec3 emitted;
+layout(location = 5) in float twinned;
+layout(location = 6) in vec4 visibility0;
+layout(location = 7) in vec4 visibility1;
+layout(location = 8) in vec4 visibility2;
+layout(location = 9) in vec4 visibility3;
+uniform mat4 viewProjection;
+out vec3 vPosition;
+flat out vec3 vNormal;
+flat out vec3 vAlbedo;
+out vec3 vIndirect;
+out vec3 vEmitted;
+flat out float vTwinned;
+out vec4 vVisibility[4];
+void main() {
+  vPosition = position;
+  vNormal = normal;
+  vAlbedo = albedo;
+  vIndirect = indirect;
+  vEmitted = emitted;
+  vTwinned = twinned;
+  vVisibility[0] = visibility0;
+  vVisibility[1] = visibility1;
+  vVisibility[2] = visibility2;
+  vVisibility[3] = visibility3;
+  gl_Position = viewProjection * vec4(position, 1.0);
+}
+)";
+
+// The direct light of lights.cpp (unshadowedIrradiance) per pixel, times the visibility
+// interpolated from the corners; B = E + ρ·E_lights; L = B/π; exposure and sRGB as toSrgb8.
+const char* kMeshFragmentShader = R"(#version 330 core
+const float PI = 3.14159265358979;
+in vec3 vPosition;
+flat in vec3 vNormal;
+flat in vec3 vAlbedo;
+in vec3 vIndirect;
+in vec3 vEmitted;
+flat in float vTwinned;
+in vec4 vVisibility[4];
+uniform int lightCount;
+uniform int lightKind[16];        // 0 point, 1 spot, 2 directional
+uniform vec3 lightPosition[16];
+uniform vec3 lightDirection[16];  // unit
+uniform vec3 lightPower[16];      // I in W/sr, or E⊥ in W/m² (directional)
+uniform vec2 lightCone[16];       // cos(outer), cos(inner)
+uniform float metresPerUnit;
+uniform int mode;                 // 0 both, 1 direct, 2 indirect
+uniform vec3 ambient;             // W/m²
+uniform float exposureScale;
+uniform bool encodeSrgb;
+uniform bool falseColour;
+uniform float falseColourMax;     // W/m²
+uniform bool preview;
+uniform vec3 eye;
+out vec4 colour;
+
+vec3 irradiance(int i, vec3 x, vec3 n) {
+  if (lightKind[i] == 2) return lightPower[i] * max(-dot(n, lightDirection[i]), 0.0);
+  vec3 toLight = lightPosition[i] - x;
+  float distanceSquared = dot(toLight, toLight);
+  float cosine = dot(n, toLight) * inversesqrt(distanceSquared);
+  if (cosine <= 0.0 || distanceSquared <= 0.0) return vec3(0.0);
+  float falloff = 1.0;
+  if (lightKind[i] == 1) falloff = smoothstep(lightCone[i].x, lightCone[i].y, dot(lightDirection[i], -toLight) * inversesqrt(distanceSquared));
+  return lightPower[i] * (falloff * cosine / (distanceSquared * metresPerUnit * metresPerUnit));
+}
+
+// A perceptual ramp from dark blue through green and yellow to red (after matplotlib's turbo).
+vec3 ramp(float t) {
+  t = clamp(t, 0.0, 1.0);
+  vec3 c = vec3(0.19, 0.07, 0.23);
+  c = mix(c, vec3(0.16, 0.47, 0.97), smoothstep(0.0, 0.25, t));
+  c = mix(c, vec3(0.15, 0.93, 0.56), smoothstep(0.25, 0.5, t));
+  c = mix(c, vec3(0.96, 0.82, 0.17), smoothstep(0.5, 0.75, t));
+  c = mix(c, vec3(0.48, 0.02, 0.01), smoothstep(0.75, 1.0, t));
+  return c;
+}
+
+vec3 srgb(vec3 c) {
+  return mix(12.92 * c, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(vec3(0.0031308), c));
+}
+
+void main() {
+  if (!gl_FrontFacing) {
+    if (vTwinned > 0.5) discard;  // its twin's front is drawn here
+    colour = vec4(0.0, 0.0, 0.0, 1.0);
+    return;
+  }
+  vec3 n = normalize(vNormal);
+  if (preview) {
+    float facing = abs(dot(n, normalize(eye - vPosition)));
+    colour = vec4(max(vAlbedo * (0.2 + 0.6 * facing), vEmitted / PI), 1.0);
+    return;
+  }
+  vec3 lights = vec3(0.0);
+  for (int i = 0; i < lightCount; ++i) lights += irradiance(i, vPosition, n) * vVisibility[i / 4][i % 4];
+  vec3 reflectedDirect = vAlbedo * lights;
+  vec3 ambientTerm = vAlbedo * ambient;
+  vec3 b = mode == 1 ? vEmitted + reflectedDirect
+         : mode == 2 ? vIndirect - vEmitted + ambientTerm
+                     : vIndirect + ambientTerm + reflectedDirect;
+  if (falseColour) {
+    // log scale over three decades below the scene's 99th percentile.
+    float luminance = dot(b, vec3(0.2126, 0.7152, 0.0722));
+    float t = luminance > 0.0 ? 1.0 + log(luminance / falseColourMax) / log(1000.0) : 0.0;
+    colour = vec4(ramp(t), 1.0);
+    return;
+  }
+  vec3 c = clamp(b / PI * exposureScale, 0.0, 1.0);
+  colour = vec4(encodeSrgb ? srgb(c) : c, 1.0);
+}
+)";
+
+const char* kLineVertexShader = R"(#version 330 core
+layout(location = 0) in vec3 position;
+uniform mat4 viewProjection;
+uniform float pointSize;
+void main() {
+  gl_Position = viewProjection * vec4(position, 1.0);
+  gl_PointSize = pointSize;
+}
+)";
+
+const char* kLineFragmentShader = R"(#version 330 core
+uniform vec4 lineColour;
+out vec4 colour;
+void main() { colour = lineColour; }
+)";
+
+Result<unsigned> compile(GLenum kind, const char* source, const char* name) {
+  GLuint shader = glCreateShader(kind);
+  glShaderSource(shader, 1, &source, nullptr);
+  glCompileShader(shader);
+  GLint ok = 0;
+  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[4096];
+    glGetShaderInfoLog(shader, sizeof log, nullptr, log);
+    glDeleteShader(shader);
+    return Error{std::string("OpenGL could not compile the ") + name + " shader: " + log};
+  }
+  return shader;
+}
+
+Result<unsigned> link(const char* vertex, const char* fragment, const char* name) {
+  Result<unsigned> vs = compile(GL_VERTEX_SHADER, vertex, name);
+  if (!vs) return vs.error();
+  Result<unsigned> fs = compile(GL_FRAGMENT_SHADER, fragment, name);
+  if (!fs) return fs.error();
+  GLuint program = glCreateProgram();
+  glAttachShader(program, *vs);
+  glAttachShader(program, *fs);
+  glLinkProgram(program);
+  glDeleteShader(*vs);
+  glDeleteShader(*fs);
+  GLint ok = 0;
+  glGetProgramiv(program, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    char log[4096];
+    glGetProgramInfoLog(program, sizeof log, nullptr, log);
+    glDeleteProgram(program);
+    return Error{std::string("OpenGL could not link the ") + name + " program: " + log};
+  }
+  return program;
+}
+
+void floatAttribute(GLuint location, int size, std::size_t offset) {
+  glEnableVertexAttribArray(location);
+  glVertexAttribPointer(location, size, GL_FLOAT, GL_FALSE, sizeof(DrawVertex), reinterpret_cast<const void*>(offset));
+}
+
+GLint uniform(GLuint program, const char* name) { return glGetUniformLocation(program, name); }
+
+}  // namespace
+
+Result<std::unique_ptr<MeshRenderer>> MeshRenderer::create() {
+  std::unique_ptr<MeshRenderer> r(new MeshRenderer());
+  Result<unsigned> mesh = link(kMeshVertexShader, kMeshFragmentShader, "mesh");
+  if (!mesh) return mesh.error();
+  r->meshProgram_ = *mesh;
+  Result<unsigned> line = link(kLineVertexShader, kLineFragmentShader, "line");
+  if (!line) return line.error();
+  r->lineProgram_ = *line;
+
+  glGenVertexArrays(1, &r->meshArray_);
+  glGenBuffers(1, &r->meshBuffer_);
+  glBindVertexArray(r->meshArray_);
+  glBindBuffer(GL_ARRAY_BUFFER, r->meshBuffer_);
+  floatAttribute(0, 3, offsetof(DrawVertex, position));
+  floatAttribute(1, 3, offsetof(DrawVertex, normal));
+  floatAttribute(2, 3, offsetof(DrawVertex, albedo));
+  floatAttribute(3, 3, offsetof(DrawVertex, indirect));
+  floatAttribute(4, 3, offsetof(DrawVertex, emitted));
+  floatAttribute(5, 1, offsetof(DrawVertex, twinned));
+  for (GLuint k = 0; k < 4; ++k) floatAttribute(6 + k, 4, offsetof(DrawVertex, visibility) + k * 4 * sizeof(float));
+
+  for (auto [array, buffer] : {std::pair{&r->edgeArray_, &r->edgeBuffer_}, std::pair{&r->markerArray_, &r->markerBuffer_}}) {
+    glGenVertexArrays(1, array);
+    glGenBuffers(1, buffer);
+    glBindVertexArray(*array);
+    glBindBuffer(GL_ARRAY_BUFFER, *buffer);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 3 * sizeof(float), nullptr);
+  }
+  glBindVertexArray(0);
+  if (GLenum error = glGetError(); error != GL_NO_ERROR)
+    return Error{"OpenGL error " + std::to_string(error) + " while setting up the mesh renderer"};
+  return r;
+}
+
+MeshRenderer::~MeshRenderer() {
+  glDeleteProgram(meshProgram_);
+  glDeleteProgram(lineProgram_);
+  for (GLuint array : {meshArray_, edgeArray_, markerArray_}) glDeleteVertexArrays(1, &array);
+  for (GLuint buffer : {meshBuffer_, edgeBuffer_, markerBuffer_}) glDeleteBuffers(1, &buffer);
+}
+
+void MeshRenderer::upload(const Snapshot& snapshot) {
+  if (uploaded_ == &snapshot) return;
+  glBindBuffer(GL_ARRAY_BUFFER, meshBuffer_);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(snapshot.triangles.size() * sizeof(DrawVertex)), snapshot.triangles.data(),
+               GL_STREAM_DRAW);
+  glBindBuffer(GL_ARRAY_BUFFER, edgeBuffer_);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(snapshot.edges.size() * sizeof(float)), snapshot.edges.data(), GL_STREAM_DRAW);
+  triangleCorners_ = static_cast<int>(snapshot.triangles.size());
+  edgeEnds_ = static_cast<int>(snapshot.edges.size() / 3);
+  uploaded_ = &snapshot;
+}
+
+void MeshRenderer::draw(const Snapshot& snapshot, const Eigen::Matrix4f& viewProjection, const Eigen::Vector3f& eye,
+                        const DisplaySettings& settings, double metresPerUnit, int selectedLight, double markerSize) {
+  upload(snapshot);
+  glEnable(GL_DEPTH_TEST);
+  glDisable(GL_CULL_FACE);  // back faces are drawn black (or left to a twin), as the software renderer does
+  glUseProgram(meshProgram_);
+  glUniformMatrix4fv(uniform(meshProgram_, "viewProjection"), 1, GL_FALSE, viewProjection.data());
+  const int lightCount = static_cast<int>(std::min<std::size_t>(snapshot.lights.size(), kMaxPixelLights));
+  int kinds[kMaxPixelLights] = {};
+  float positions[3 * kMaxPixelLights] = {}, directions[3 * kMaxPixelLights] = {}, powers[3 * kMaxPixelLights] = {},
+        cones[2 * kMaxPixelLights] = {};
+  for (int i = 0; i < lightCount; ++i) {
+    const Light& light = snapshot.lights[static_cast<std::size_t>(i)];
+    kinds[i] = light.kind == LightKind::Point ? 0 : light.kind == LightKind::Spot ? 1 : 2;
+    const Vec3 direction = normalize(light.direction);
+    const Rgb power = light.kind == LightKind::Directional ? light.irradiance : light.intensity;
+    const double outer = light.coneAngleDegrees * kPi / 180, inner = std::fmax(outer - light.falloffDegrees * kPi / 180, 0.0);
+    for (int c = 0; c < 3; ++c) {
+      positions[3 * i + c] = static_cast<float>(c == 0 ? light.position.x : c == 1 ? light.position.y : light.position.z);
+      directions[3 * i + c] = static_cast<float>(c == 0 ? direction.x : c == 1 ? direction.y : direction.z);
+      powers[3 * i + c] = static_cast<float>(power[c]);
+    }
+    cones[2 * i] = static_cast<float>(std::cos(outer));
+    cones[2 * i + 1] = static_cast<float>(std::cos(inner));
+  }
+  glUniform1i(uniform(meshProgram_, "lightCount"), lightCount);
+  glUniform1iv(uniform(meshProgram_, "lightKind"), kMaxPixelLights, kinds);
+  glUniform3fv(uniform(meshProgram_, "lightPosition"), kMaxPixelLights, positions);
+  glUniform3fv(uniform(meshProgram_, "lightDirection"), kMaxPixelLights, directions);
+  glUniform3fv(uniform(meshProgram_, "lightPower"), kMaxPixelLights, powers);
+  glUniform2fv(uniform(meshProgram_, "lightCone"), kMaxPixelLights, cones);
+  glUniform1f(uniform(meshProgram_, "metresPerUnit"), static_cast<float>(metresPerUnit));
+  glUniform1i(uniform(meshProgram_, "mode"), static_cast<int>(settings.lighting));
+  const Rgb ambient = settings.ambient ? snapshot.ambient : Rgb{};
+  glUniform3f(uniform(meshProgram_, "ambient"), static_cast<float>(ambient.r), static_cast<float>(ambient.g), static_cast<float>(ambient.b));
+  glUniform1f(uniform(meshProgram_, "exposureScale"), static_cast<float>(std::exp2(settings.exposure)));
+  glUniform1i(uniform(meshProgram_, "encodeSrgb"), settings.srgb);
+  glUniform1i(uniform(meshProgram_, "falseColour"), settings.falseColour);
+  glUniform1f(uniform(meshProgram_, "falseColourMax"), static_cast<float>(snapshot.maxRadiosity > 0 ? snapshot.maxRadiosity : 1.0));
+  glUniform1i(uniform(meshProgram_, "preview"), snapshot.preview);
+  glUniform3f(uniform(meshProgram_, "eye"), eye.x(), eye.y(), eye.z());
+  glBindVertexArray(meshArray_);
+  if (settings.wireframe) {
+    // Push the surfaces back a little so the edges drawn on them win the depth test.
+    glEnable(GL_POLYGON_OFFSET_FILL);
+    glPolygonOffset(1.0f, 1.0f);
+  }
+  glDrawArrays(GL_TRIANGLES, 0, triangleCorners_);
+  glDisable(GL_POLYGON_OFFSET_FILL);
+
+  glUseProgram(lineProgram_);
+  glUniformMatrix4fv(uniform(lineProgram_, "viewProjection"), 1, GL_FALSE, viewProjection.data());
+  if (settings.wireframe || snapshot.preview) {
+    glUniform4f(uniform(lineProgram_, "lineColour"), 0.05f, 0.05f, 0.05f, 1.0f);
+    glBindVertexArray(edgeArray_);
+    glDrawArrays(GL_LINES, 0, edgeEnds_);
+  }
+  if (settings.lightMarkers && !snapshot.lights.empty()) {
+    // Each point or spot light as a square, a spot also with its axis; the selected one in yellow.
+    glEnable(GL_PROGRAM_POINT_SIZE);
+    glDisable(GL_DEPTH_TEST);
+    glBindVertexArray(markerArray_);
+    glBindBuffer(GL_ARRAY_BUFFER, markerBuffer_);
+    for (std::size_t i = 0; i < snapshot.lights.size(); ++i) {
+      const Light& light = snapshot.lights[i];
+      if (light.kind == LightKind::Directional) continue;
+      const Vec3 tip = light.position + normalize(light.direction) * markerSize * 8;
+      const float points[6] = {static_cast<float>(light.position.x), static_cast<float>(light.position.y), static_cast<float>(light.position.z),
+                               static_cast<float>(tip.x),            static_cast<float>(tip.y),            static_cast<float>(tip.z)};
+      glBufferData(GL_ARRAY_BUFFER, sizeof points, points, GL_STREAM_DRAW);
+      const bool selected = static_cast<int>(i) == selectedLight;
+      glUniform4f(uniform(lineProgram_, "lineColour"), selected ? 1.0f : 0.9f, selected ? 0.85f : 0.9f, selected ? 0.1f : 0.9f, 1.0f);
+      glUniform1f(uniform(lineProgram_, "pointSize"), selected ? 12.0f : 8.0f);
+      glDrawArrays(GL_POINTS, 0, 1);
+      if (light.kind == LightKind::Spot) glDrawArrays(GL_LINES, 0, 2);
+    }
+    glEnable(GL_DEPTH_TEST);
+  }
+  glBindVertexArray(0);
+}
+
+}  // namespace lambert::viewer

@@ -1,0 +1,51 @@
+#pragma once
+// Draws a Snapshot with OpenGL 3.3 core: the hybrid picture of seed 000 (the lights' direct light
+// per pixel in the fragment shader, shadowed by the visibility traced at the corners, over the
+// interpolated radiosity), flat or Gouraud, with patch edges, a false-colour view of B, light
+// markers, and the same exposure and sRGB encoding as lambert's own images (render/tonemap.h).
+#include <memory>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "lambert/core/error.h"
+#include "viewer/solve_worker.h"
+
+namespace lambert::viewer {
+
+enum class LightingMode { Both, Direct, Indirect };
+
+struct DisplaySettings {
+  LightingMode lighting = LightingMode::Both;
+  bool flat = false;
+  bool wireframe = false;
+  bool falseColour = false;
+  bool srgb = true;
+  bool ambient = true;       // add progressive refinement's ambient term mid-solve (seed 001)
+  double exposure = 0;       // stops: radiance × 2^exposure before encoding
+  bool lightMarkers = true;  // not in screenshots
+};
+
+class MeshRenderer {
+ public:
+  // Compiles the shaders; needs a current OpenGL 3.3 core context.
+  static Result<std::unique_ptr<MeshRenderer>> create();
+  ~MeshRenderer();
+  MeshRenderer(const MeshRenderer&) = delete;
+  MeshRenderer& operator=(const MeshRenderer&) = delete;
+
+  // Uploads the snapshot's triangles and edges (when it is not the one already uploaded).
+  void upload(const Snapshot& snapshot);
+  // Draws the uploaded snapshot into the current framebuffer.
+  void draw(const Snapshot& snapshot, const Eigen::Matrix4f& viewProjection, const Eigen::Vector3f& eye,
+            const DisplaySettings& settings, double metresPerUnit, int selectedLight, double markerSize);
+
+ private:
+  MeshRenderer() = default;
+  unsigned meshProgram_ = 0, lineProgram_ = 0;
+  unsigned meshArray_ = 0, meshBuffer_ = 0, edgeArray_ = 0, edgeBuffer_ = 0, markerArray_ = 0, markerBuffer_ = 0;
+  const Snapshot* uploaded_ = nullptr;
+  int triangleCorners_ = 0, edgeEnds_ = 0;
+};
+
+}  // namespace lambert::viewer

@@ -1,0 +1,278 @@
+#include "viewer/solve_worker.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "lambert/core/parallel.h"
+#include "lambert/core/timer.h"
+#include "lambert/light/lights.h"
+
+namespace lambert::viewer {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double now() { return std::chrono::duration<double>(Clock::now().time_since_epoch()).count(); }
+
+void put(float (&out)[3], const Vec3& v) {
+  out[0] = static_cast<float>(v.x), out[1] = static_cast<float>(v.y), out[2] = static_cast<float>(v.z);
+}
+void put(float (&out)[3], const Rgb& c) {
+  out[0] = static_cast<float>(c.r), out[1] = static_cast<float>(c.g), out[2] = static_cast<float>(c.b);
+}
+
+// The corners of every element's triangles (a quad's fan), as element and corner index.
+struct Corner {
+  std::uint32_t patch;
+  std::uint32_t vertex;
+};
+
+std::vector<Corner> triangleCorners(const Mesh& mesh) {
+  std::vector<Corner> corners;
+  corners.reserve(mesh.numPatches() * 6);
+  for (std::uint32_t p = 0; p < mesh.numPatches(); ++p) {
+    const Patch& patch = mesh.patches[p];
+    for (std::uint32_t t = 0; t + 2 < patch.numCorners; ++t)
+      for (std::uint32_t k : {0u, t + 1, t + 2}) corners.push_back({p, patch.vertices[k]});
+  }
+  return corners;
+}
+
+// The visibility of each light from each corner, traced as the software renderer's shadow ray is
+// (lights.cpp: irradiance), from the corner moved a thousandth of the way toward its element's
+// centroid, so that a corner on a crease does not see through the wall it touches.
+std::vector<float> traceVisibility(const Mesh& mesh, const std::vector<Corner>& corners, const std::vector<Light>& lights,
+                                   const RayCaster& caster, double epsilon) {
+  const std::size_t lightCount = std::min<std::size_t>(lights.size(), kMaxPixelLights);
+  std::vector<float> visibility(corners.size() * kMaxPixelLights, 1.0f);
+  parallelFor(0, corners.size(), [&](std::size_t i) {
+    const Patch& patch = mesh.patches[corners[i].patch];
+    const Vec3& x = mesh.positions[corners[i].vertex];
+    const Vec3 origin = x + (patch.centroid - x) * 1e-3 + patch.normal * epsilon;
+    for (std::size_t l = 0; l < lightCount; ++l) {
+      const Light& light = lights[l];
+      Ray shadow = light.kind == LightKind::Directional ? Ray{origin, -normalize(light.direction), 0, INFINITY}
+                                                        : Ray{origin, light.position - origin, 0, 1 - 1e-7};
+      visibility[i * kMaxPixelLights + l] = caster.occluded(shadow) ? 0.0f : 1.0f;
+    }
+  }, 256);
+  return visibility;
+}
+
+double percentileLuminance(const std::vector<Rgb>& values, double fraction) {
+  if (values.empty()) return 0;
+  std::vector<double> luminance(values.size());
+  for (std::size_t i = 0; i < values.size(); ++i) luminance[i] = values[i].luminance();
+  std::size_t k = std::min(values.size() - 1, static_cast<std::size_t>(fraction * static_cast<double>(values.size())));
+  std::nth_element(luminance.begin(), luminance.begin() + static_cast<std::ptrdiff_t>(k), luminance.end());
+  return luminance[k];
+}
+
+}  // namespace
+
+std::shared_ptr<const Snapshot> previewSnapshot(const Scene& scene) {
+  auto snapshot = std::make_shared<Snapshot>();
+  snapshot->preview = true;
+  for (const Surface& surface : scene.surfaces) {
+    const Rgb albedo = scene.materials.at(static_cast<std::size_t>(surface.material)).albedo;
+    for (const std::vector<std::uint32_t>& face : surfaceFaces(surface)) {
+      std::vector<Vec3> corners = facePositions(surface, face);
+      if (corners.size() < 3) continue;
+      const Vec3 normal = normalize(cross(corners[1] - corners[0], corners[2] - corners[0]));
+      for (std::size_t t = 1; t + 1 < corners.size(); ++t)
+        for (std::size_t k : {std::size_t{0}, t, t + 1}) {
+          DrawVertex v{};
+          put(v.position, corners[k]);
+          put(v.normal, normal);
+          put(v.albedo, albedo);
+          put(v.emitted, surface.emittedRadiance * kPi);
+          put(v.indirect, surface.emittedRadiance * kPi);
+          v.twinned = surface.twin >= 0 ? 1.0f : 0.0f;
+          std::fill_n(v.visibility, kMaxPixelLights, 1.0f);
+          snapshot->triangles.push_back(v);
+        }
+      for (std::size_t k = 0; k < corners.size(); ++k)
+        for (const Vec3& x : {corners[k], corners[(k + 1) % corners.size()]})
+          snapshot->edges.insert(snapshot->edges.end(), {static_cast<float>(x.x), static_cast<float>(x.y), static_cast<float>(x.z)});
+    }
+  }
+  snapshot->lights = scene.lights;
+  return snapshot;
+}
+
+SolveWorker::SolveWorker(Scene scene, RadiosityOptions options, UpdateBudget budget, bool flat)
+    : scene_(std::move(scene)), options_(std::move(options)), budget_(budget), startTime_(now()), flat_(flat) {
+  thread_ = std::thread([this] { run(); });
+}
+
+SolveWorker::~SolveWorker() {
+  {
+    std::lock_guard lock(mutex_);
+    stop_ = true;
+  }
+  wake_.notify_all();
+  if (thread_.joinable()) thread_.join();
+}
+
+void SolveWorker::setLights(std::vector<Light> lights) {
+  {
+    std::lock_guard lock(mutex_);
+    pendingLights_ = std::move(lights);
+    lightsPending_ = true;
+  }
+  wake_.notify_all();
+}
+
+void SolveWorker::setFlat(bool flat) {
+  {
+    std::lock_guard lock(mutex_);
+    if (flat_ == flat) return;
+    flat_ = flat;
+    flatChanged_ = true;
+  }
+  wake_.notify_all();
+}
+
+std::shared_ptr<const Snapshot> SolveWorker::latest() const {
+  std::lock_guard lock(mutex_);
+  return latest_;
+}
+
+std::string SolveWorker::error() const {
+  std::lock_guard lock(mutex_);
+  return error_;
+}
+
+double SolveWorker::secondsSinceStart() const { return now() - startTime_; }
+
+Stats SolveWorker::finish(WorkerFigures& figures) {
+  {
+    std::lock_guard lock(mutex_);
+    stop_ = true;
+  }
+  wake_.notify_all();
+  if (thread_.joinable()) thread_.join();
+  figures = figures_;
+  return engine_ ? engine_->stats() : Stats{};
+}
+
+void SolveWorker::run() {
+  Result<std::unique_ptr<Radiosity>> created = Radiosity::create(scene_, options_);
+  if (!created) {
+    std::lock_guard lock(mutex_);
+    error_ = created.error().message;
+    return;
+  }
+  engine_ = std::move(*created);
+  ready_ = true;
+
+  bool needsSolve = true, visibilityStale = true;
+  SolveCallReport last;
+  while (true) {
+    bool lightsChanged = false, republish = false;
+    {
+      std::unique_lock lock(mutex_);
+      wake_.wait(lock, [&] { return stop_ || lightsPending_ || flatChanged_ || needsSolve; });
+      if (stop_) return;
+      if (lightsPending_) {
+        engine_->setLights(std::move(pendingLights_));
+        lightsPending_ = false;
+        lightsChanged = needsSolve = visibilityStale = true;
+        iterationsForLights_ = 0;
+      }
+      if (flatChanged_) {
+        flatChanged_ = false;
+        visibilityStale = republish = true;
+      }
+    }
+    Timer update;
+    double solveSeconds = 0;
+    if (needsSolve) {
+      const std::size_t elementsBefore = engine_->solution().mesh().numPatches();
+      Result<SolveCallReport> report = engine_->solve(budget_.solve);
+      if (!report) {
+        std::lock_guard lock(mutex_);
+        error_ = report.error().message;
+        return;
+      }
+      last = *report;
+      solveSeconds = update.seconds();
+      iterationsForLights_ += report->iterations;
+      needsSolve = !report->converged;
+      // Refinement (hierarchical in its first solve, adaptive in every one) changes the elements.
+      if (report->elements != elementsBefore || options_.meshing == MeshStrategy::Adaptive) visibilityStale = true;
+    } else if (!republish) {
+      continue;
+    }
+    Timer snapshot;
+    publish(*engine_, last, visibilityStale);
+    visibilityStale = false;
+    std::lock_guard lock(mutex_);
+    figures_.updates += 1;
+    figures_.solveSeconds += solveSeconds;
+    figures_.snapshotSeconds += snapshot.seconds();
+    figures_.maxUpdateSeconds = std::max(figures_.maxUpdateSeconds, update.seconds());
+    if (lightsChanged) {
+      figures_.lightUpdates += 1;
+      figures_.lightUpdateSeconds += update.seconds();
+    }
+  }
+}
+
+void SolveWorker::publish(const Radiosity& engine, const SolveCallReport& report, bool visibilityStale) {
+  const SolutionView& view = engine.solution();
+  bool flat;
+  {
+    std::lock_guard lock(mutex_);
+    flat = flat_;
+  }
+  auto snapshot = std::make_shared<Snapshot>();
+  snapshot->flat = flat;
+  const Mesh& mesh = flat ? view.mesh() : view.vertexMesh();
+  // Flat: each element in its own value. Gouraud: the continuous vertex values every consumer
+  // reads (the hierarchical method's final gather), so the picture is the exported solution.
+  std::vector<Rgb> indirect = flat ? view.indirectRadiosity() : view.vertexValues(VertexQuantity::IndirectRadiosity);
+  std::vector<Rgb> emitted = flat ? view.emitted() : view.vertexValues(view.emitted());
+  const std::vector<Rgb>& albedo = flat ? view.albedo() : view.vertexMeshAlbedo();
+
+  const std::vector<Corner> corners = triangleCorners(mesh);
+  if (visibilityStale || visibilityCorners_ != corners.size()) {
+    visibility_ = traceVisibility(mesh, corners, view.lights(), view.caster(), rayEpsilon(mesh));
+    visibilityCorners_ = corners.size();
+  }
+  snapshot->triangles.resize(corners.size());
+  parallelFor(0, corners.size(), [&](std::size_t i) {
+    const Corner& c = corners[i];
+    const Patch& patch = mesh.patches[c.patch];
+    const std::size_t value = flat ? c.patch : c.vertex;
+    DrawVertex& v = snapshot->triangles[i];
+    put(v.position, mesh.positions[c.vertex]);
+    put(v.normal, patch.normal);
+    put(v.albedo, albedo[c.patch]);
+    put(v.indirect, indirect[value]);
+    put(v.emitted, emitted[value]);
+    v.twinned = patch.twinned ? 1.0f : 0.0f;
+    std::copy_n(visibility_.begin() + static_cast<std::ptrdiff_t>(i * kMaxPixelLights), kMaxPixelLights, v.visibility);
+  }, 1024);
+  snapshot->edges.reserve(mesh.numPatches() * 24);
+  for (std::size_t p = 0; p < mesh.numPatches(); ++p) {
+    const Patch& patch = mesh.patches[p];
+    for (std::uint32_t k = 0; k < patch.numCorners; ++k)
+      for (std::uint32_t end : {k, (k + 1) % patch.numCorners}) {
+        const Vec3& x = mesh.positions[patch.vertices[end]];
+        snapshot->edges.insert(snapshot->edges.end(), {static_cast<float>(x.x), static_cast<float>(x.y), static_cast<float>(x.z)});
+      }
+  }
+  snapshot->lights = view.lights();
+  snapshot->ambient = view.ambientRadiosity();
+  snapshot->maxRadiosity = percentileLuminance(view.radiosity(), 0.99);
+  snapshot->unshotFraction = report.unshotFraction;
+  snapshot->converged = report.converged;
+  snapshot->elements = view.mesh().numPatches();
+  snapshot->iterations = iterationsForLights_;
+  std::lock_guard lock(mutex_);
+  snapshot->version = ++version_;
+  latest_ = std::move(snapshot);
+}
+
+}  // namespace lambert::viewer

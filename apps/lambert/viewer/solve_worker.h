@@ -1,0 +1,123 @@
+#pragma once
+// The viewer's radiosity thread: it owns the engine (engine/radiosity.h), brings the solution up
+// to date in small budgets so the picture can follow it frame by frame (seed 001's progressive
+// display), re-solves warm whenever the lights change (seed 003), and publishes each state as a
+// Snapshot the drawing thread uploads. The engine is only ever touched on this thread.
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "lambert/core/stats.h"
+#include "lambert/engine/radiosity.h"
+
+namespace lambert::viewer {
+
+// Lights the shader draws per pixel; the visibility of each is traced at the mesh corners.
+constexpr int kMaxPixelLights = 16;
+
+// One corner of a drawn triangle, as the shader reads it (floats, interleaved).
+struct DrawVertex {
+  float position[3];
+  float normal[3];          // the element's, unit
+  float albedo[3];          // ρ of the element
+  float indirect[3];        // B less the lights' direct light ρ·E_direct (emitters' light stays), W/m²
+  float emitted[3];         // the surface's own emission E, W/m²
+  float twinned;            // 1: the element's back is its twin's front (not drawn)
+  float visibility[kMaxPixelLights];  // 1 where the light is visible from this corner, else 0
+};
+
+// What one update produced, ready to draw: triangles (unindexed), patch edges, and the figures
+// the panels show. Immutable once published.
+struct Snapshot {
+  std::uint64_t version = 0;
+  bool flat = false;                  // per-element values (flat shading) or vertex values (Gouraud)
+  bool preview = false;               // the scene's faces before the first solution: no light yet
+  std::vector<DrawVertex> triangles;  // 3 per triangle; quads as two
+  std::vector<float> edges;           // xyz pairs, the elements' outlines
+  std::vector<Light> lights;          // the lights this solution is for (drawn per pixel)
+  Rgb ambient;                        // progressive refinement's ambient term, W/m²
+  double maxRadiosity = 0;            // 99th percentile of B's luminance, W/m² (false colour)
+  double unshotFraction = 0;          // shoot: unshot power left
+  bool converged = false;
+  std::size_t elements = 0;
+  long long iterations = 0;           // shots or sweeps so far for these lights
+};
+
+// The scene's faces as they are before any solve (albedo, emitters in their emission), so the
+// viewer shows the geometry at once while the engine meshes and computes form factors.
+std::shared_ptr<const Snapshot> previewSnapshot(const Scene& scene);
+
+struct UpdateBudget {
+  SolveBudget solve;             // per update, so the picture follows the solve
+};
+
+struct WorkerFigures {
+  long long updates = 0;         // solve calls that published a snapshot
+  double solveSeconds = 0;       // in Radiosity::solve (inject + solve), summed
+  double snapshotSeconds = 0;    // vertex values, shadow visibility and draw arrays, summed
+  double maxUpdateSeconds = 0;   // the longest solve + snapshot
+  long long lightUpdates = 0;    // updates that began with new lights
+  double lightUpdateSeconds = 0; // their solve + snapshot, summed
+};
+
+class SolveWorker {
+ public:
+  // Starts the thread: it creates the engine (mesh, BVH, form factors) and solves.
+  SolveWorker(Scene scene, RadiosityOptions options, UpdateBudget budget, bool flat);
+  ~SolveWorker();  // stops and joins
+  SolveWorker(const SolveWorker&) = delete;
+  SolveWorker& operator=(const SolveWorker&) = delete;
+
+  // The lights to solve for next (any thread); the worker takes the latest.
+  void setLights(std::vector<Light> lights);
+  // Per-element (flat) or per-vertex (Gouraud) values in the next snapshot.
+  void setFlat(bool flat);
+
+  // The newest snapshot, or null before the first solve step.
+  std::shared_ptr<const Snapshot> latest() const;
+  // Engine creation or a solve failed: the message, else empty.
+  std::string error() const;
+  bool ready() const { return ready_.load(); }  // the engine exists
+  double secondsSinceStart() const;
+
+  // Stops the thread (waiting for the step in progress) and gives the engine's stats and the
+  // worker's figures. Only once.
+  Stats finish(WorkerFigures& figures);
+
+ private:
+  void run();
+  void publish(const Radiosity& engine, const SolveCallReport& report, bool visibilityStale);
+
+  Scene scene_;
+  RadiosityOptions options_;
+  UpdateBudget budget_;
+  std::unique_ptr<Radiosity> engine_;
+  double startTime_ = 0;
+
+  mutable std::mutex mutex_;
+  std::condition_variable wake_;
+  bool stop_ = false;
+  std::vector<Light> pendingLights_;
+  bool lightsPending_ = false;
+  bool flat_ = false;
+  bool flatChanged_ = false;
+  std::shared_ptr<const Snapshot> latest_;
+  std::string error_;
+  WorkerFigures figures_;
+  std::atomic<bool> ready_{false};
+
+  // Worker-thread state: the visibility of each light at each drawn corner, kept while neither
+  // the lights nor the mesh change.
+  std::vector<float> visibility_;
+  std::size_t visibilityCorners_ = 0;
+  long long iterationsForLights_ = 0;
+  std::uint64_t version_ = 0;
+  std::thread thread_;
+};
+
+}  // namespace lambert::viewer

@@ -1,0 +1,584 @@
+#include "viewer/viewer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include <epoxy/gl.h>
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+#include <imgui_impl_glfw.h>
+#include <imgui_impl_opengl3.h>
+
+#include <Eigen/Geometry>
+
+#include "lambert/core/timer.h"
+#include "lambert/io/png.h"
+#include "lambert/light/lights.h"
+#include "lambert/mesh/mesh.h"
+
+namespace lambert::viewer {
+namespace {
+
+constexpr double kDegrees = kPi / 180;
+
+Eigen::Vector3f toFloat(const Vec3& v) { return {static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)}; }
+
+// Rodrigues' rotation of v about the unit axis k.
+Vec3 rotate(const Vec3& v, const Vec3& k, double angle) {
+  double c = std::cos(angle), s = std::sin(angle);
+  return v * c + cross(k, v) * s + k * (dot(k, v) * (1 - c));
+}
+
+// The camera the user moves, kept as lambert's own Camera (eye, target, up, vertical field of
+// view) so that screenshots from it and lambert's software images of it agree.
+struct ViewCamera {
+  Camera camera;
+  bool fly = false;  // fly: dragging turns the view about the eye; orbit: about the target
+
+  Vec3 forward() const { return normalize(camera.target - camera.eye); }
+  Vec3 right() const {
+    Vec3 side = cross(forward(), camera.up);
+    return lengthSquared(side) > 0 ? normalize(side) : Vec3{1, 0, 0};
+  }
+  // Yaw about the up axis, pitch about the right axis, keeping clear of the poles.
+  void turn(double yaw, double pitch) {
+    const Vec3 up = normalize(camera.up);
+    const Vec3 pivot = fly ? camera.eye : camera.target;
+    Vec3 offset = (fly ? camera.target : camera.eye) - pivot;
+    offset = rotate(offset, up, yaw);
+    const double elevation = std::asin(std::clamp(dot(normalize(offset), up), -1.0, 1.0));
+    const double limit = 89 * kDegrees;
+    pitch = std::clamp(elevation + pitch, -limit, limit) - elevation;
+    Vec3 side = cross(offset, up);
+    if (lengthSquared(side) > 0) offset = rotate(offset, normalize(side), pitch);
+    (fly ? camera.target : camera.eye) = pivot + offset;
+  }
+  void orbit(double yaw, double pitch) {
+    const bool wasFly = fly;
+    fly = false;
+    turn(yaw, pitch);
+    fly = wasFly;
+  }
+  void pan(double dx, double dy) {
+    const double distance = length(camera.target - camera.eye);
+    const Vec3 upOnScreen = cross(right(), forward());
+    const Vec3 shift = (right() * -dx + upOnScreen * dy) * distance;
+    camera.eye += shift;
+    camera.target += shift;
+  }
+  void dolly(double factor) { camera.eye = camera.target + (camera.eye - camera.target) * factor; }
+  void move(const Vec3& step) {
+    camera.eye += step;
+    camera.target += step;
+  }
+
+  Eigen::Matrix4f view() const {
+    const Vec3 f = forward(), s = right(), u = cross(s, f);
+    Eigen::Matrix4f m = Eigen::Matrix4f::Identity();
+    m.block<1, 3>(0, 0) = toFloat(s).transpose();
+    m.block<1, 3>(1, 0) = toFloat(u).transpose();
+    m.block<1, 3>(2, 0) = -toFloat(f).transpose();
+    m(0, 3) = static_cast<float>(-dot(s, camera.eye));
+    m(1, 3) = static_cast<float>(-dot(u, camera.eye));
+    m(2, 3) = static_cast<float>(dot(f, camera.eye));
+    return m;
+  }
+  // Near and far planes from the scene's bounds, so the depth buffer spans what can be seen.
+  Eigen::Matrix4f projection(double aspect, const Vec3& lo, const Vec3& hi) const {
+    double far = 0;
+    for (int corner = 0; corner < 8; ++corner) {
+      Vec3 p{corner & 1 ? hi.x : lo.x, corner & 2 ? hi.y : lo.y, corner & 4 ? hi.z : lo.z};
+      far = std::max(far, dot(p - camera.eye, forward()));
+    }
+    far = std::max(far * 1.01, 1e-6);
+    const double near = std::max(1e-3 * length(camera.target - camera.eye), far * 1e-5);
+    far = std::max(far, near * 2);
+    const double f = 1 / std::tan(camera.verticalFovDegrees * kDegrees / 2);
+    Eigen::Matrix4f m = Eigen::Matrix4f::Zero();
+    m(0, 0) = static_cast<float>(f / aspect);
+    m(1, 1) = static_cast<float>(f);
+    m(2, 2) = static_cast<float>((far + near) / (near - far));
+    m(2, 3) = static_cast<float>(2 * far * near / (near - far));
+    m(3, 2) = -1;
+    return m;
+  }
+};
+
+// The framebuffer's pixels, top row first, as the PNG writer wants them.
+Status saveScreenshot(const std::string& path, int width, int height) {
+  std::vector<std::uint8_t> pixels(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadBuffer(GL_BACK);
+  glReadPixels(0, 0, width, height, GL_RGB, GL_UNSIGNED_BYTE, pixels.data());
+  std::vector<std::uint8_t> flipped(pixels.size());
+  const std::size_t row = static_cast<std::size_t>(width) * 3;
+  for (int y = 0; y < height; ++y)
+    std::copy_n(pixels.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(height - 1 - y) * row), row,
+                flipped.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(y) * row));
+  return writePng(path, width, height, flipped);
+}
+
+std::string glfwMessage;
+void onGlfwError(int, const char* description) { glfwMessage = description; }
+
+// Figures over a span of frames.
+struct FrameFigures {
+  long long frames = 0;
+  double seconds = 0, cpuSeconds = 0, uploadSeconds = 0;
+};
+
+// Plays a Script: commands run at the start of a frame until one has to wait (frames to draw, a
+// solution to arrive, a screenshot of this frame).
+class ScriptPlayer {
+ public:
+  explicit ScriptPlayer(const Script* script) : script_(script) {}
+  bool active() const { return script_ != nullptr; }
+  bool finished() const { return script_ && next_ >= script_->lines.size() && waiting_ == Waiting::None; }
+  std::string where() const {
+    return script_->path + ":" + std::to_string(script_->lines[std::min(current_, script_->lines.size() - 1)].line);
+  }
+
+  enum class Waiting { None, Frames, Solution, Converged };
+  Waiting waiting_ = Waiting::None;
+  int framesLeft_ = 0;
+  double timeout_ = 0;
+  Timer waitTimer_;
+  const Script* script_;
+  std::size_t next_ = 0, current_ = 0;
+};
+
+struct ViewerState {
+  ViewCamera camera;
+  DisplaySettings display;
+  std::vector<Light> baseLights;  // as edited; the animation turns them by their angular velocity
+  double animationSeconds = 0;
+  bool playing = false;
+  int selectedLight = -1;
+  bool lightsEdited = false;
+};
+
+std::vector<Light> lightsAt(const std::vector<Light>& base, double seconds) {
+  std::vector<Light> lights;
+  for (const Light& light : base) lights.push_back(seconds > 0 ? lightAtTime(light, seconds) : light);
+  return lights;
+}
+
+// Applies one script command that does not wait; returns false for those that do.
+Status applyCommand(const ScriptStep& step, ViewerState& state, ScriptPlayer& player, std::string& screenshot) {
+  return std::visit(
+      [&](const auto& s) -> Status {
+        using T = std::decay_t<decltype(s)>;
+        auto light = [&](int index) -> Light& { return state.baseLights.at(static_cast<std::size_t>(index)); };
+        if constexpr (std::is_same_v<T, DrawFrames>) {
+          player.waiting_ = ScriptPlayer::Waiting::Frames;
+          player.framesLeft_ = s.frames;
+        } else if constexpr (std::is_same_v<T, WaitForSolution>) {
+          player.waiting_ = ScriptPlayer::Waiting::Solution;
+          player.timeout_ = s.timeoutSeconds;
+          player.waitTimer_ = Timer();
+        } else if constexpr (std::is_same_v<T, WaitForConvergence>) {
+          player.waiting_ = ScriptPlayer::Waiting::Converged;
+          player.timeout_ = s.timeoutSeconds;
+          player.waitTimer_ = Timer();
+        } else if constexpr (std::is_same_v<T, Screenshot>) {
+          screenshot = s.path;
+        } else if constexpr (std::is_same_v<T, SetCamera>) {
+          state.camera.camera.eye = s.eye;
+          state.camera.camera.target = s.target;
+        } else if constexpr (std::is_same_v<T, OrbitCamera>) {
+          state.camera.orbit(s.yawDegrees * kDegrees, s.pitchDegrees * kDegrees);
+        } else if constexpr (std::is_same_v<T, SetLightPosition>) {
+          light(s.light).position = s.position;
+          state.lightsEdited = true;
+        } else if constexpr (std::is_same_v<T, SetLightDirection>) {
+          light(s.light).direction = s.direction;
+          state.lightsEdited = true;
+        } else if constexpr (std::is_same_v<T, AimLight>) {
+          Light& l = light(s.light);
+          if (l.kind == LightKind::Point) return Error{"light " + std::to_string(s.light) + " is a point light: it has no axis to aim"};
+          if (length(s.target - l.position) <= 0) return Error{"the aim point is the light's own position"};
+          l.direction = normalize(s.target - l.position);
+          state.lightsEdited = true;
+        } else if constexpr (std::is_same_v<T, SetLightIntensity>) {
+          Light& l = light(s.light);
+          (l.kind == LightKind::Directional ? l.irradiance : l.intensity) = s.intensity;
+          state.lightsEdited = true;
+        } else if constexpr (std::is_same_v<T, SetLightCone>) {
+          Light& l = light(s.light);
+          if (l.kind != LightKind::Spot) return Error{"light " + std::to_string(s.light) + " is not a spot: it has no cone"};
+          l.coneAngleDegrees = s.coneDegrees;
+          l.falloffDegrees = s.falloffDegrees;
+          state.lightsEdited = true;
+        } else if constexpr (std::is_same_v<T, SetDisplay>) {
+          DisplaySettings& d = state.display;
+          const bool on = s.value == "on";
+          if (s.setting == "lighting")
+            d.lighting = s.value == "both" ? LightingMode::Both : s.value == "direct" ? LightingMode::Direct : LightingMode::Indirect;
+          else if (s.setting == "shading") d.flat = s.value == "flat";
+          else if (s.setting == "wireframe") d.wireframe = on;
+          else if (s.setting == "false-colour") d.falseColour = on;
+          else if (s.setting == "srgb") d.srgb = on;
+          else if (s.setting == "ambient") d.ambient = on;
+          else if (s.setting == "exposure") d.exposure = std::strtod(s.value.c_str(), nullptr);
+        } else if constexpr (std::is_same_v<T, SetPlaying>) {
+          state.playing = s.playing;
+        }
+        return Ok{};
+      },
+      step);
+}
+
+// The panel: what the solve is doing, the display toggles, the camera and the lights.
+void drawPanel(ViewerState& state, const Snapshot& snapshot, const SolveWorker& worker, const ViewerOptions& options,
+               bool& screenshotKey) {
+  ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(330, 0), ImGuiCond_FirstUseEver);
+  ImGui::Begin("lambert");
+  ImGui::Text("%s", options.scene.name.c_str());
+  ImGui::Text("%.0f frames/s (%.2f ms)", ImGui::GetIO().Framerate, 1000.0 / std::max(ImGui::GetIO().Framerate, 1e-3f));
+  if (!worker.ready())
+    ImGui::Text("meshing and form factors… %.1f s", worker.secondsSinceStart());
+  else if (snapshot.preview)
+    ImGui::Text("first solve…");
+  else {
+    ImGui::Text("%zu elements, %s", snapshot.elements, snapshot.converged ? "converged" : "solving…");
+    if (options.radiosity.solver == SolverKind::Shooting)
+      ImGui::Text("unshot power %.2e, %lld shots", snapshot.unshotFraction, snapshot.iterations);
+    else
+      ImGui::Text("%lld sweeps", snapshot.iterations);
+  }
+
+  if (ImGui::CollapsingHeader("Display", ImGuiTreeNodeFlags_DefaultOpen)) {
+    DisplaySettings& d = state.display;
+    int lighting = static_cast<int>(d.lighting);
+    ImGui::RadioButton("both", &lighting, 0);
+    ImGui::SameLine();
+    ImGui::RadioButton("direct", &lighting, 1);
+    ImGui::SameLine();
+    ImGui::RadioButton("indirect", &lighting, 2);
+    d.lighting = static_cast<LightingMode>(lighting);
+    int shading = d.flat ? 1 : 0;
+    ImGui::RadioButton("Gouraud", &shading, 0);
+    ImGui::SameLine();
+    ImGui::RadioButton("flat", &shading, 1);
+    d.flat = shading == 1;
+    ImGui::Checkbox("patch wireframe", &d.wireframe);
+    ImGui::Checkbox("false colour of B", &d.falseColour);
+    if (d.falseColour) ImGui::Text("blue %.3g … red %.3g W/m² (log)", snapshot.maxRadiosity / 1000, snapshot.maxRadiosity);
+    ImGui::Checkbox("sRGB", &d.srgb);
+    if (options.radiosity.solver == SolverKind::Shooting) ImGui::Checkbox("ambient term (Cohen et al. 1988)", &d.ambient);
+    float exposure = static_cast<float>(d.exposure);
+    ImGui::SliderFloat("exposure (stops)", &exposure, -10, 10, "%.1f");
+    d.exposure = exposure;
+    if (ImGui::Button("screenshot (F12)")) screenshotKey = true;
+  }
+  if (ImGui::CollapsingHeader("Camera", ImGuiTreeNodeFlags_DefaultOpen)) {
+    int mode = state.camera.fly ? 1 : 0;
+    ImGui::RadioButton("orbit", &mode, 0);
+    ImGui::SameLine();
+    ImGui::RadioButton("fly (WASD, Q/E)", &mode, 1);
+    state.camera.fly = mode == 1;
+    float fov = static_cast<float>(state.camera.camera.verticalFovDegrees);
+    ImGui::SliderFloat("field of view", &fov, 10, 120, "%.0f°");
+    state.camera.camera.verticalFovDegrees = fov;
+    if (ImGui::Button("scene camera")) state.camera.camera = options.scene.camera;
+  }
+  if (!state.baseLights.empty() && ImGui::CollapsingHeader("Lights", ImGuiTreeNodeFlags_DefaultOpen)) {
+    if (ImGui::Button(state.playing ? "pause" : "play")) state.playing = !state.playing;
+    ImGui::SameLine();
+    ImGui::Text("t = %.2f s", state.animationSeconds);
+    for (std::size_t i = 0; i < state.baseLights.size(); ++i) {
+      const Light& l = state.baseLights[i];
+      const char* kind = l.kind == LightKind::Point ? "point" : l.kind == LightKind::Spot ? "spot" : "directional";
+      std::string label = std::to_string(i) + ": " + (l.name.empty() ? std::string(kind) : l.name + " (" + kind + ")");
+      if (ImGui::Selectable(label.c_str(), state.selectedLight == static_cast<int>(i))) state.selectedLight = static_cast<int>(i);
+    }
+    if (state.selectedLight >= 0 && state.selectedLight < static_cast<int>(state.baseLights.size())) {
+      Light& l = state.baseLights[static_cast<std::size_t>(state.selectedLight)];
+      bool changed = false;
+      if (l.kind != LightKind::Directional) {
+        float p[3] = {static_cast<float>(l.position.x), static_cast<float>(l.position.y), static_cast<float>(l.position.z)};
+        const Bounds b = sceneBounds(options.scene);
+        if (ImGui::DragFloat3("position", p, static_cast<float>(length(b.hi - b.lo) * 0.002))) {
+          l.position = {p[0], p[1], p[2]};
+          changed = true;
+        }
+      }
+      if (l.kind != LightKind::Point) {
+        // The axis as azimuth about y and elevation from the horizontal plane, in degrees.
+        const Vec3 d = normalize(l.direction);
+        float azimuth = static_cast<float>(std::atan2(d.x, d.z) / kDegrees);
+        float elevation = static_cast<float>(std::asin(std::clamp(d.y, -1.0, 1.0)) / kDegrees);
+        bool turned = ImGui::SliderFloat("azimuth", &azimuth, -180, 180, "%.1f°");
+        turned |= ImGui::SliderFloat("elevation", &elevation, -90, 90, "%.1f°");
+        if (turned) {
+          const double a = azimuth * kDegrees, e = elevation * kDegrees;
+          l.direction = {std::cos(e) * std::sin(a), std::sin(e), std::cos(e) * std::cos(a)};
+          changed = true;
+        }
+      }
+      Rgb& power = l.kind == LightKind::Directional ? l.irradiance : l.intensity;
+      const double strength = power.maxComponent();
+      float colour[3] = {1, 1, 1};
+      if (strength > 0) colour[0] = static_cast<float>(power.r / strength), colour[1] = static_cast<float>(power.g / strength), colour[2] = static_cast<float>(power.b / strength);
+      float value = static_cast<float>(strength);
+      bool recoloured = ImGui::ColorEdit3("colour", colour);
+      recoloured |= ImGui::DragFloat(l.kind == LightKind::Directional ? "E (W/m²)" : "I (W/sr)", &value, std::max(0.01f, value * 0.01f), 0,
+                                     1e9f, "%.3g");
+      if (recoloured) {
+        power = Rgb{colour[0], colour[1], colour[2]} * std::max(0.0f, value);
+        changed = true;
+      }
+      if (l.kind == LightKind::Spot) {
+        float cone = static_cast<float>(l.coneAngleDegrees), falloff = static_cast<float>(l.falloffDegrees);
+        bool reshaped = ImGui::SliderFloat("cone half-angle", &cone, 1, 90, "%.1f°");
+        reshaped |= ImGui::SliderFloat("soft edge", &falloff, 0, cone, "%.1f°");
+        if (reshaped) {
+          l.coneAngleDegrees = cone;
+          l.falloffDegrees = std::min(falloff, cone);
+          changed = true;
+        }
+      }
+      state.lightsEdited |= changed;
+    }
+  }
+  ImGui::End();
+}
+
+// The light whose marker is nearest the cursor, within 12 pixels; -1 for none.
+int pickLight(const std::vector<Light>& lights, const Eigen::Matrix4f& viewProjection, double x, double y, int width, int height) {
+  int best = -1;
+  double bestDistance = 12;
+  for (std::size_t i = 0; i < lights.size(); ++i) {
+    if (lights[i].kind == LightKind::Directional) continue;
+    Eigen::Vector4f clip = viewProjection * Eigen::Vector4f(toFloat(lights[i].position).homogeneous());
+    if (clip.w() <= 0) continue;
+    const double sx = (clip.x() / clip.w() * 0.5 + 0.5) * width, sy = (0.5 - clip.y() / clip.w() * 0.5) * height;
+    const double d = std::hypot(sx - x, sy - y);
+    if (d < bestDistance) bestDistance = d, best = static_cast<int>(i);
+  }
+  return best;
+}
+
+}  // namespace
+
+Status runViewer(const ViewerOptions& options, Stats& stats) {
+  glfwSetErrorCallback(onGlfwError);
+  if (!glfwInit())
+    return Error{"no display: GLFW could not start (" + glfwMessage + "); run it in a desktop session, or headless under xvfb-run"};
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+  glfwWindowHint(GLFW_SAMPLES, options.msaaSamples);
+  GLFWwindow* window = glfwCreateWindow(options.width, options.height, ("lambert — " + options.scene.name).c_str(), nullptr, nullptr);
+  if (!window) {
+    glfwTerminate();
+    return Error{"cannot open an OpenGL 3.3 core window (" + glfwMessage + ")"};
+  }
+  glfwMakeContextCurrent(window);
+  glfwSwapInterval(options.vsync ? 1 : 0);
+
+  IMGUI_CHECKVERSION();
+  ImGui::CreateContext();
+  ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini left in the user's directory
+  ImGui::StyleColorsDark();
+  ImGui_ImplGlfw_InitForOpenGL(window, true);
+  ImGui_ImplOpenGL3_Init("#version 330 core");
+
+  Status result = Ok{};
+  {
+    Result<std::unique_ptr<MeshRenderer>> renderer = MeshRenderer::create();
+    if (!renderer) {
+      result = renderer.error();
+    } else {
+      ViewerState state;
+      state.camera.camera = options.scene.camera;
+      state.display = options.display;
+      state.baseLights = options.scene.lights;
+      const Bounds bounds = sceneBounds(options.scene);
+      const double diagonal = length(bounds.hi - bounds.lo);
+
+      SolveWorker worker(options.scene, options.radiosity, options.budget, state.display.flat);
+      std::shared_ptr<const Snapshot> shown = previewSnapshot(options.scene);
+      ScriptPlayer player(options.script ? &*options.script : nullptr);
+      std::vector<Light> sentLights = options.scene.lights;
+
+      FrameFigures all, playing;
+      Timer clock;
+      double lastTime = clock.seconds();
+      double pressX = 0, pressY = 0, lastX = 0, lastY = 0;
+      bool dragging = false;
+      bool firstSolutionShown = false;
+      double firstSolutionSeconds = 0, convergedSeconds = 0;
+      while (!glfwWindowShouldClose(window)) {
+        const double frameStart = clock.seconds();
+        const double dt = frameStart - lastTime;
+        lastTime = frameStart;
+        glfwPollEvents();
+        Timer cpu;
+
+        if (std::string error = worker.error(); !error.empty()) {
+          result = Error{error};
+          break;
+        }
+        if (std::shared_ptr<const Snapshot> latest = worker.latest(); latest && latest != shown) {
+          shown = latest;
+          if (!firstSolutionShown) firstSolutionShown = true, firstSolutionSeconds = clock.seconds();
+        }
+        const bool upToDate = !shown->preview && shown->lights == lightsAt(state.baseLights, state.animationSeconds);
+        if (upToDate && shown->converged && convergedSeconds == 0) convergedSeconds = clock.seconds();
+
+        // The script: run commands until one waits.
+        std::string screenshot;
+        if (player.active()) {
+          using W = ScriptPlayer::Waiting;
+          if (player.waiting_ == W::Frames && player.framesLeft_ <= 0) player.waiting_ = W::None;
+          if (player.waiting_ == W::Solution && !shown->preview) player.waiting_ = W::None;
+          if (player.waiting_ == W::Converged && upToDate && shown->converged) player.waiting_ = W::None;
+          if ((player.waiting_ == W::Solution || player.waiting_ == W::Converged) && player.waitTimer_.seconds() > player.timeout_) {
+            result = Error{player.where() + ": " + (player.waiting_ == W::Solution ? "no solution" : "not converged") + " within " +
+                           std::to_string(player.timeout_) + " s"};
+            break;
+          }
+          while (player.waiting_ == W::None && screenshot.empty() && player.next_ < player.script_->lines.size()) {
+            player.current_ = player.next_++;
+            if (Status ok = applyCommand(player.script_->lines[player.current_].step, state, player, screenshot); !ok) {
+              result = Error{player.where() + ": " + ok.error().message};
+              break;
+            }
+          }
+          if (!result) break;
+          if (player.finished() && screenshot.empty()) break;
+        }
+
+        // Input the panel does not take: orbit/turn, pan, dolly, fly, pick a light.
+        ImGuiIO& io = ImGui::GetIO();
+        int fbWidth = 0, fbHeight = 0;
+        glfwGetFramebufferSize(window, &fbWidth, &fbHeight);
+        fbWidth = std::max(fbWidth, 1), fbHeight = std::max(fbHeight, 1);
+        const double aspect = static_cast<double>(fbWidth) / fbHeight;
+        const Eigen::Matrix4f viewProjection = state.camera.projection(aspect, bounds.lo, bounds.hi) * state.camera.view();
+        double x = 0, y = 0;
+        glfwGetCursorPos(window, &x, &y);
+        int winWidth = 0, winHeight = 0;
+        glfwGetWindowSize(window, &winWidth, &winHeight);
+        if (!io.WantCaptureMouse) {
+          const bool left = glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
+          const bool right = glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS ||
+                             glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_MIDDLE) == GLFW_PRESS;
+          if ((left || right) && !dragging) dragging = true, pressX = lastX = x, pressY = lastY = y;
+          if (dragging && (left || right)) {
+            const double dx = (x - lastX) / std::max(winHeight, 1), dy = (y - lastY) / std::max(winHeight, 1);
+            if (left) state.camera.turn(-dx * kPi, -dy * kPi);
+            else state.camera.pan(dx, dy);
+            lastX = x, lastY = y;
+          }
+          if (dragging && !left && !right) {
+            dragging = false;
+            if (std::hypot(x - pressX, y - pressY) < 3)
+              state.selectedLight = pickLight(state.baseLights, viewProjection, x, y, winWidth, winHeight);
+          }
+          if (io.MouseWheel != 0) state.camera.dolly(std::pow(0.9, io.MouseWheel));
+        }
+        bool screenshotKey = false;
+        if (!io.WantCaptureKeyboard) {
+          const double speed = diagonal * 0.4 * dt * (glfwGetKey(window, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS ? 4 : 1);
+          const Vec3 f = state.camera.forward(), r = state.camera.right(), u = normalize(state.camera.camera.up);
+          const std::pair<int, Vec3> keys[] = {{GLFW_KEY_W, f}, {GLFW_KEY_S, -f}, {GLFW_KEY_D, r}, {GLFW_KEY_A, -r}, {GLFW_KEY_E, u}, {GLFW_KEY_Q, -u}};
+          for (const auto& [key, direction] : keys)
+            if (glfwGetKey(window, key) == GLFW_PRESS) state.camera.move(direction * speed);
+          if (ImGui::IsKeyPressed(GLFW_KEY_F12)) screenshotKey = true;
+          if (ImGui::IsKeyPressed(GLFW_KEY_SPACE) && !state.baseLights.empty()) state.playing = !state.playing;
+        }
+
+        // The lights: the animation advances in real time while playing; any change goes to the
+        // radiosity thread, which re-injects and re-solves warm.
+        if (state.playing) state.animationSeconds += dt;
+        std::vector<Light> lights = lightsAt(state.baseLights, state.animationSeconds);
+        if (lights != sentLights) {
+          worker.setLights(lights);
+          sentLights = lights;
+        }
+        worker.setFlat(state.display.flat);
+
+        // The 3-D view; screenshots take it before the panel is drawn over it.
+        glViewport(0, 0, fbWidth, fbHeight);
+        glClearColor(0, 0, 0, 1);
+        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        DisplaySettings display = state.display;
+        const bool capture = !screenshot.empty() || screenshotKey;
+        display.lightMarkers = !capture;
+        Timer upload;
+        renderer.value()->upload(*shown);
+        const double uploadSeconds = upload.seconds();
+        const Eigen::Vector3f eye = toFloat(state.camera.camera.eye);
+        renderer.value()->draw(*shown, viewProjection, eye, display, options.scene.metresPerUnit, state.selectedLight, diagonal * 0.004);
+        if (capture) {
+          const std::string path = screenshot.empty() ? "lambert-screenshot.png" : screenshot;
+          if (Status saved = saveScreenshot(path, fbWidth, fbHeight); !saved) {
+            result = Error{(player.active() ? player.where() + ": " : "") + saved.error().message};
+            break;
+          }
+          if (screenshot.empty()) std::fprintf(stderr, "lambert view: wrote %s\n", path.c_str());
+        }
+
+        ImGui_ImplOpenGL3_NewFrame();
+        ImGui_ImplGlfw_NewFrame();
+        ImGui::NewFrame();
+        drawPanel(state, *shown, worker, options, screenshotKey);
+        ImGui::Render();
+        ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+        const double cpuSeconds = cpu.seconds();
+        glfwSwapBuffers(window);
+
+        for (FrameFigures* f : {&all, state.playing ? &playing : nullptr}) {
+          if (!f) continue;
+          f->frames += 1;
+          f->seconds += clock.seconds() - frameStart;
+          f->cpuSeconds += cpuSeconds;
+          f->uploadSeconds += uploadSeconds;
+        }
+        if (player.active() && player.waiting_ == ScriptPlayer::Waiting::Frames) player.framesLeft_ -= 1;
+        if (player.finished()) break;
+      }
+
+      WorkerFigures worker_;
+      Stats engineStats = worker.finish(worker_);
+      stats.append(engineStats);
+      stats.add("frames", "frames drawn", static_cast<std::int64_t>(all.frames));
+      stats.add("frames_per_second", "frames per second", all.seconds > 0 ? all.frames / all.seconds : 0.0, "/s");
+      stats.add("frame_cpu_ms_mean", "viewer's own time per frame (input, upload, draw calls, panel)",
+                all.frames ? 1e3 * all.cpuSeconds / all.frames : 0.0, "ms");
+      stats.add("upload_ms_mean", "snapshot upload per frame", all.frames ? 1e3 * all.uploadSeconds / all.frames : 0.0, "ms");
+      if (playing.frames > 0) {
+        stats.add("playing_frames", "frames while the lights moved", static_cast<std::int64_t>(playing.frames));
+        stats.add("playing_frames_per_second", "frames per second while the lights moved", playing.frames / playing.seconds, "/s");
+        stats.add("playing_light_updates_per_second", "radiosity updates per second while the lights moved",
+                  worker_.lightUpdates / playing.seconds, "/s");
+      }
+      stats.add("updates", "radiosity updates", static_cast<std::int64_t>(worker_.updates));
+      stats.add("update_solve_ms_mean", "radiosity update: inject + solve (mean)",
+                worker_.updates ? 1e3 * worker_.solveSeconds / worker_.updates : 0.0, "ms");
+      stats.add("update_snapshot_ms_mean", "radiosity update: vertex values, shadows, draw arrays (mean)",
+                worker_.updates ? 1e3 * worker_.snapshotSeconds / worker_.updates : 0.0, "ms");
+      stats.add("update_ms_max", "radiosity update (max)", 1e3 * worker_.maxUpdateSeconds, "ms");
+      stats.add("light_updates", "radiosity updates for moved lights", static_cast<std::int64_t>(worker_.lightUpdates));
+      stats.add("light_update_ms_mean", "radiosity update for moved lights (mean)",
+                worker_.lightUpdates ? 1e3 * worker_.lightUpdateSeconds / worker_.lightUpdates : 0.0, "ms");
+      stats.add("first_solution_seconds", "first solution on screen after", firstSolutionSeconds, "s");
+      stats.add("converged_seconds", "converged on screen after", convergedSeconds, "s");
+    }
+  }
+  ImGui_ImplOpenGL3_Shutdown();
+  ImGui_ImplGlfw_Shutdown();
+  ImGui::DestroyContext();
+  glfwDestroyWindow(window);
+  glfwTerminate();
+  return result;
+}
+
+}  // namespace lambert::viewer
