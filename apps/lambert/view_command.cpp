@@ -14,7 +14,7 @@ namespace {
 struct ViewCommandOptions : GivenOptions {
   SolveCommandOptions solve;
   int width = 1280, height = 720;
-  int msaa = 4;
+  int msaa = 0;  // Mesa's software OpenGL halves its frame rate at 4 samples
   double exposure = 0;
   Shading shading = Shading::Gouraud;
   std::string script;

@@ -85,10 +85,10 @@ Result<ScriptStep> parseStep(const std::vector<std::string>& w) {
     if (Status ok = timeout(step.timeoutSeconds); !ok) return ok.error();
     return finish(step);
   }
-  if (command == "screenshot") {
-    if (w.size() != 2) return Error{"'screenshot' takes one PNG path"};
+  if (command == "screenshot" || command == "screenshot-window") {
+    if (w.size() != 2) return Error{"'" + command + "' takes one PNG path"};
     if (w[1].size() < 5 || w[1].substr(w[1].size() - 4) != ".png") return Error{"a screenshot is a .png, not '" + w[1] + "'"};
-    return ScriptStep{Screenshot{w[1]}};
+    return ScriptStep{Screenshot{w[1], command == "screenshot-window"}};
   }
   if (command == "camera") {
     SetCamera step;
@@ -144,7 +144,7 @@ Result<ScriptStep> parseStep(const std::vector<std::string>& w) {
     return ScriptStep{SetDisplay{command, w[1]}};
   }
   return Error{"unknown command '" + command +
-               "' (frames, wait-solution, wait-converged, screenshot, camera, orbit, light, play, pause, lighting, shading, "
+               "' (frames, wait-solution, wait-converged, screenshot, screenshot-window, camera, orbit, light, play, pause, lighting, shading, "
                "wireframe, false-colour, srgb, ambient, exposure)"};
 }
 

@@ -19,7 +19,10 @@ struct WaitForSolution { double timeoutSeconds = 300; };
 // Draw until the solution for the current lights has converged and is on screen.
 struct WaitForConvergence { double timeoutSeconds = 300; };
 // The 3-D view (without the panels) of the frame just drawn, as a PNG.
-struct Screenshot { std::string path; };
+struct Screenshot {
+  std::string path;
+  bool withPanels = false;  // screenshot-window: the whole window, panels and light markers too
+};
 struct SetCamera { Vec3 eye, target; };
 // Turn the camera about its target: yaw about the up axis, pitch about the right axis (degrees).
 struct OrbitCamera { double yawDegrees = 0, pitchDegrees = 0; };

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <utility>
 
 #include <epoxy/gl.h>
 #define GLFW_INCLUDE_NONE
@@ -158,6 +159,7 @@ struct ViewerState {
   bool playing = false;
   int selectedLight = -1;
   bool lightsEdited = false;
+  bool screenshotRequested = false;  // F12 or the panel's button: taken in the next frame
 };
 
 std::vector<Light> lightsAt(const std::vector<Light>& base, double seconds) {
@@ -167,7 +169,7 @@ std::vector<Light> lightsAt(const std::vector<Light>& base, double seconds) {
 }
 
 // Applies one script command that does not wait; returns false for those that do.
-Status applyCommand(const ScriptStep& step, ViewerState& state, ScriptPlayer& player, std::string& screenshot) {
+Status applyCommand(const ScriptStep& step, ViewerState& state, ScriptPlayer& player, Screenshot& screenshot) {
   return std::visit(
       [&](const auto& s) -> Status {
         using T = std::decay_t<decltype(s)>;
@@ -184,7 +186,7 @@ Status applyCommand(const ScriptStep& step, ViewerState& state, ScriptPlayer& pl
           player.timeout_ = s.timeoutSeconds;
           player.waitTimer_ = Timer();
         } else if constexpr (std::is_same_v<T, Screenshot>) {
-          screenshot = s.path;
+          screenshot = s;
         } else if constexpr (std::is_same_v<T, SetCamera>) {
           state.camera.camera.eye = s.eye;
           state.camera.camera.target = s.target;
@@ -232,8 +234,7 @@ Status applyCommand(const ScriptStep& step, ViewerState& state, ScriptPlayer& pl
 }
 
 // The panel: what the solve is doing, the display toggles, the camera and the lights.
-void drawPanel(ViewerState& state, const Snapshot& snapshot, const SolveWorker& worker, const ViewerOptions& options,
-               bool& screenshotKey) {
+void drawPanel(ViewerState& state, const Snapshot& snapshot, const SolveWorker& worker, const ViewerOptions& options) {
   ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowSize(ImVec2(330, 0), ImGuiCond_FirstUseEver);
   ImGui::Begin("lambert");
@@ -273,7 +274,7 @@ void drawPanel(ViewerState& state, const Snapshot& snapshot, const SolveWorker& 
     float exposure = static_cast<float>(d.exposure);
     ImGui::SliderFloat("exposure (stops)", &exposure, -10, 10, "%.1f");
     d.exposure = exposure;
-    if (ImGui::Button("screenshot (F12)")) screenshotKey = true;
+    if (ImGui::Button("screenshot (F12)")) state.screenshotRequested = true;
   }
   if (ImGui::CollapsingHeader("Camera", ImGuiTreeNodeFlags_DefaultOpen)) {
     int mode = state.camera.fly ? 1 : 0;
@@ -433,7 +434,7 @@ Status runViewer(const ViewerOptions& options, Stats& stats) {
         if (upToDate && shown->converged && convergedSeconds == 0) convergedSeconds = clock.seconds();
 
         // The script: run commands until one waits.
-        std::string screenshot;
+        Screenshot screenshot;  // asked for by the script in this frame
         if (player.active()) {
           using W = ScriptPlayer::Waiting;
           if (player.waiting_ == W::Frames && player.framesLeft_ <= 0) player.waiting_ = W::None;
@@ -444,7 +445,7 @@ Status runViewer(const ViewerOptions& options, Stats& stats) {
                            std::to_string(player.timeout_) + " s"};
             break;
           }
-          while (player.waiting_ == W::None && screenshot.empty() && player.next_ < player.script_->lines.size()) {
+          while (player.waiting_ == W::None && screenshot.path.empty() && player.next_ < player.script_->lines.size()) {
             player.current_ = player.next_++;
             if (Status ok = applyCommand(player.script_->lines[player.current_].step, state, player, screenshot); !ok) {
               result = Error{player.where() + ": " + ok.error().message};
@@ -452,7 +453,7 @@ Status runViewer(const ViewerOptions& options, Stats& stats) {
             }
           }
           if (!result) break;
-          if (player.finished() && screenshot.empty()) break;
+          if (player.finished() && screenshot.path.empty()) break;
         }
 
         // Input the panel does not take: orbit/turn, pan, dolly, fly, pick a light.
@@ -484,14 +485,14 @@ Status runViewer(const ViewerOptions& options, Stats& stats) {
           }
           if (io.MouseWheel != 0) state.camera.dolly(std::pow(0.9, io.MouseWheel));
         }
-        bool screenshotKey = false;
+        const bool screenshotKey = std::exchange(state.screenshotRequested, false);
         if (!io.WantCaptureKeyboard) {
           const double speed = diagonal * 0.4 * dt * (glfwGetKey(window, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS ? 4 : 1);
           const Vec3 f = state.camera.forward(), r = state.camera.right(), u = normalize(state.camera.camera.up);
           const std::pair<int, Vec3> keys[] = {{GLFW_KEY_W, f}, {GLFW_KEY_S, -f}, {GLFW_KEY_D, r}, {GLFW_KEY_A, -r}, {GLFW_KEY_E, u}, {GLFW_KEY_Q, -u}};
           for (const auto& [key, direction] : keys)
             if (glfwGetKey(window, key) == GLFW_PRESS) state.camera.move(direction * speed);
-          if (ImGui::IsKeyPressed(GLFW_KEY_F12)) screenshotKey = true;
+          if (ImGui::IsKeyPressed(GLFW_KEY_F12)) state.screenshotRequested = true;
           if (ImGui::IsKeyPressed(GLFW_KEY_SPACE) && !state.baseLights.empty()) state.playing = !state.playing;
         }
 
@@ -510,28 +511,31 @@ Status runViewer(const ViewerOptions& options, Stats& stats) {
         glClearColor(0, 0, 0, 1);
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
         DisplaySettings display = state.display;
-        const bool capture = !screenshot.empty() || screenshotKey;
+        const bool capture = (!screenshot.path.empty() && !screenshot.withPanels) || screenshotKey;
         display.lightMarkers = !capture;
         Timer upload;
         renderer.value()->upload(*shown);
         const double uploadSeconds = upload.seconds();
         const Eigen::Vector3f eye = toFloat(state.camera.camera.eye);
         renderer.value()->draw(*shown, viewProjection, eye, display, options.scene.metresPerUnit, state.selectedLight, diagonal * 0.004);
-        if (capture) {
-          const std::string path = screenshot.empty() ? "lambert-screenshot.png" : screenshot;
-          if (Status saved = saveScreenshot(path, fbWidth, fbHeight); !saved) {
+        // F12 and `screenshot` take the 3-D view alone; `screenshot-window` the panels too.
+        auto save = [&](const std::string& path) {
+          if (Status saved = saveScreenshot(path, fbWidth, fbHeight); !saved)
             result = Error{(player.active() ? player.where() + ": " : "") + saved.error().message};
-            break;
-          }
-          if (screenshot.empty()) std::fprintf(stderr, "lambert view: wrote %s\n", path.c_str());
-        }
+          else if (screenshotKey)
+            std::fprintf(stderr, "lambert view: wrote %s\n", path.c_str());
+        };
+        if (capture) save(screenshot.path.empty() ? "lambert-screenshot.png" : screenshot.path);
+        if (!result) break;
 
         ImGui_ImplOpenGL3_NewFrame();
         ImGui_ImplGlfw_NewFrame();
         ImGui::NewFrame();
-        drawPanel(state, *shown, worker, options, screenshotKey);
+        drawPanel(state, *shown, worker, options);
         ImGui::Render();
         ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+        if (screenshot.withPanels) save(screenshot.path);
+        if (!result) break;
         const double cpuSeconds = cpu.seconds();
         glfwSwapBuffers(window);
 

@@ -19,7 +19,7 @@ struct ViewerOptions {
   RadiosityOptions radiosity;
   UpdateBudget budget;
   int width = 1280, height = 720;  // window, in screen coordinates
-  int msaaSamples = 4;             // multisampling of the window (0: none)
+  int msaaSamples = 0;             // multisampling of the window (0: none)
   DisplaySettings display;
   std::optional<Script> script;    // played headless, then the viewer exits
   bool vsync = true;               // off for scripts: frames as fast as they draw
