@@ -238,10 +238,13 @@ void MeshRenderer::upload(const Snapshot& snapshot) {
   glBindBuffer(GL_ARRAY_BUFFER, meshBuffer_);
   glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(snapshot.triangles.size() * sizeof(DrawVertex)), snapshot.triangles.data(),
                GL_STREAM_DRAW);
-  glBindBuffer(GL_ARRAY_BUFFER, edgeBuffer_);
-  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(snapshot.edges.size() * sizeof(float)), snapshot.edges.data(), GL_STREAM_DRAW);
+  if (snapshot.edges.get() != uploadedEdges_) {
+    glBindBuffer(GL_ARRAY_BUFFER, edgeBuffer_);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(snapshot.edges->size() * sizeof(float)), snapshot.edges->data(), GL_STATIC_DRAW);
+    edgeEnds_ = static_cast<int>(snapshot.edges->size() / 3);
+    uploadedEdges_ = snapshot.edges.get();
+  }
   triangleCorners_ = static_cast<int>(snapshot.triangles.size());
-  edgeEnds_ = static_cast<int>(snapshot.edges.size() / 3);
   uploaded_ = &snapshot;
 }
 

@@ -45,6 +45,7 @@ class MeshRenderer {
   unsigned meshProgram_ = 0, lineProgram_ = 0;
   unsigned meshArray_ = 0, meshBuffer_ = 0, edgeArray_ = 0, edgeBuffer_ = 0, markerArray_ = 0, markerBuffer_ = 0;
   const Snapshot* uploaded_ = nullptr;
+  const std::vector<float>* uploadedEdges_ = nullptr;  // outlines change only with the mesh
   int triangleCorners_ = 0, edgeEnds_ = 0;
 };
 

@@ -22,11 +22,7 @@ void put(float (&out)[3], const Rgb& c) {
 }
 
 // The corners of every element's triangles (a quad's fan), as element and corner index.
-struct Corner {
-  std::uint32_t patch;
-  std::uint32_t vertex;
-};
-
+template <class Corner>
 std::vector<Corner> triangleCorners(const Mesh& mesh) {
   std::vector<Corner> corners;
   corners.reserve(mesh.numPatches() * 6);
@@ -41,6 +37,7 @@ std::vector<Corner> triangleCorners(const Mesh& mesh) {
 // The visibility of each light from each corner, traced as the software renderer's shadow ray is
 // (lights.cpp: irradiance), from the corner moved a thousandth of the way toward its element's
 // centroid, so that a corner on a crease does not see through the wall it touches.
+template <class Corner>
 std::vector<float> traceVisibility(const Mesh& mesh, const std::vector<Corner>& corners, const std::vector<Light>& lights,
                                    const RayCaster& caster, double epsilon) {
   const std::size_t lightCount = std::min<std::size_t>(lights.size(), kMaxPixelLights);
@@ -72,6 +69,7 @@ double percentileLuminance(const std::vector<Rgb>& values, double fraction) {
 
 std::shared_ptr<const Snapshot> previewSnapshot(const Scene& scene) {
   auto snapshot = std::make_shared<Snapshot>();
+  auto edges = std::make_shared<std::vector<float>>();
   snapshot->preview = true;
   for (const Surface& surface : scene.surfaces) {
     const Rgb albedo = scene.materials.at(static_cast<std::size_t>(surface.material)).albedo;
@@ -93,9 +91,10 @@ std::shared_ptr<const Snapshot> previewSnapshot(const Scene& scene) {
         }
       for (std::size_t k = 0; k < corners.size(); ++k)
         for (const Vec3& x : {corners[k], corners[(k + 1) % corners.size()]})
-          snapshot->edges.insert(snapshot->edges.end(), {static_cast<float>(x.x), static_cast<float>(x.y), static_cast<float>(x.z)});
+          edges->insert(edges->end(), {static_cast<float>(x.x), static_cast<float>(x.y), static_cast<float>(x.z)});
     }
   }
+  snapshot->edges = std::move(edges);
   snapshot->lights = scene.lights;
   return snapshot;
 }
@@ -166,7 +165,7 @@ void SolveWorker::run() {
   engine_ = std::move(*created);
   ready_ = true;
 
-  bool needsSolve = true, visibilityStale = true;
+  bool needsSolve = true, meshStale = true;
   SolveCallReport last;
   while (true) {
     bool lightsChanged = false, republish = false;
@@ -177,12 +176,12 @@ void SolveWorker::run() {
       if (lightsPending_) {
         engine_->setLights(std::move(pendingLights_));
         lightsPending_ = false;
-        lightsChanged = needsSolve = visibilityStale = true;
+        lightsChanged = needsSolve = true;
         iterationsForLights_ = 0;
       }
       if (flatChanged_) {
         flatChanged_ = false;
-        visibilityStale = republish = true;
+        meshStale = republish = true;
       }
     }
     Timer update;
@@ -200,13 +199,13 @@ void SolveWorker::run() {
       iterationsForLights_ += report->iterations;
       needsSolve = !report->converged;
       // Refinement (hierarchical in its first solve, adaptive in every one) changes the elements.
-      if (report->elements != elementsBefore || options_.meshing == MeshStrategy::Adaptive) visibilityStale = true;
+      if (report->elements != elementsBefore || options_.meshing == MeshStrategy::Adaptive) meshStale = true;
     } else if (!republish) {
       continue;
     }
     Timer snapshot;
-    publish(*engine_, last, visibilityStale);
-    visibilityStale = false;
+    publish(*engine_, last, meshStale, meshStale || lightsChanged);
+    meshStale = false;
     std::lock_guard lock(mutex_);
     figures_.updates += 1;
     figures_.solveSeconds += solveSeconds;
@@ -219,7 +218,7 @@ void SolveWorker::run() {
   }
 }
 
-void SolveWorker::publish(const Radiosity& engine, const SolveCallReport& report, bool visibilityStale) {
+void SolveWorker::publish(const Radiosity& engine, const SolveCallReport& report, bool meshStale, bool visibilityStale) {
   const SolutionView& view = engine.solution();
   bool flat;
   {
@@ -232,14 +231,25 @@ void SolveWorker::publish(const Radiosity& engine, const SolveCallReport& report
   // Flat: each element in its own value. Gouraud: the continuous vertex values every consumer
   // reads (the hierarchical method's final gather), so the picture is the exported solution.
   std::vector<Rgb> indirect = flat ? view.indirectRadiosity() : view.vertexValues(VertexQuantity::IndirectRadiosity);
-  std::vector<Rgb> emitted = flat ? view.emitted() : view.vertexValues(view.emitted());
   const std::vector<Rgb>& albedo = flat ? view.albedo() : view.vertexMeshAlbedo();
-
-  const std::vector<Corner> corners = triangleCorners(mesh);
-  if (visibilityStale || visibilityCorners_ != corners.size()) {
-    visibility_ = traceVisibility(mesh, corners, view.lights(), view.caster(), rayEpsilon(mesh));
-    visibilityCorners_ = corners.size();
+  if (meshStale) {
+    corners_ = triangleCorners<Corner>(mesh);
+    emitted_ = flat ? view.emitted() : view.vertexValues(view.emitted());
+    auto edges = std::make_shared<std::vector<float>>();
+    edges->reserve(mesh.numPatches() * 24);
+    for (std::size_t p = 0; p < mesh.numPatches(); ++p) {
+      const Patch& patch = mesh.patches[p];
+      for (std::uint32_t k = 0; k < patch.numCorners; ++k)
+        for (std::uint32_t end : {k, (k + 1) % patch.numCorners}) {
+          const Vec3& x = mesh.positions[patch.vertices[end]];
+          edges->insert(edges->end(), {static_cast<float>(x.x), static_cast<float>(x.y), static_cast<float>(x.z)});
+        }
+    }
+    edges_ = std::move(edges);
   }
+  const std::vector<Corner>& corners = corners_;
+  const std::vector<Rgb>& emitted = emitted_;
+  if (visibilityStale) visibility_ = traceVisibility(mesh, corners, view.lights(), view.caster(), rayEpsilon(mesh));
   snapshot->triangles.resize(corners.size());
   parallelFor(0, corners.size(), [&](std::size_t i) {
     const Corner& c = corners[i];
@@ -254,15 +264,7 @@ void SolveWorker::publish(const Radiosity& engine, const SolveCallReport& report
     v.twinned = patch.twinned ? 1.0f : 0.0f;
     std::copy_n(visibility_.begin() + static_cast<std::ptrdiff_t>(i * kMaxPixelLights), kMaxPixelLights, v.visibility);
   }, 1024);
-  snapshot->edges.reserve(mesh.numPatches() * 24);
-  for (std::size_t p = 0; p < mesh.numPatches(); ++p) {
-    const Patch& patch = mesh.patches[p];
-    for (std::uint32_t k = 0; k < patch.numCorners; ++k)
-      for (std::uint32_t end : {k, (k + 1) % patch.numCorners}) {
-        const Vec3& x = mesh.positions[patch.vertices[end]];
-        snapshot->edges.insert(snapshot->edges.end(), {static_cast<float>(x.x), static_cast<float>(x.y), static_cast<float>(x.z)});
-      }
-  }
+  snapshot->edges = edges_;
   snapshot->lights = view.lights();
   snapshot->ambient = view.ambientRadiosity();
   snapshot->maxRadiosity = percentileLuminance(view.radiosity(), 0.99);

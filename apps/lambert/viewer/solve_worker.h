@@ -38,7 +38,8 @@ struct Snapshot {
   bool flat = false;                  // per-element values (flat shading) or vertex values (Gouraud)
   bool preview = false;               // the scene's faces before the first solution: no light yet
   std::vector<DrawVertex> triangles;  // 3 per triangle; quads as two
-  std::vector<float> edges;           // xyz pairs, the elements' outlines
+  // xyz pairs, the elements' outlines; shared by the snapshots of one mesh
+  std::shared_ptr<const std::vector<float>> edges;
   std::vector<Light> lights;          // the lights this solution is for (drawn per pixel)
   Rgb ambient;                        // progressive refinement's ambient term, W/m²
   double maxRadiosity = 0;            // 99th percentile of B's luminance, W/m² (false colour)
@@ -91,7 +92,7 @@ class SolveWorker {
 
  private:
   void run();
-  void publish(const Radiosity& engine, const SolveCallReport& report, bool visibilityStale);
+  void publish(const Radiosity& engine, const SolveCallReport& report, bool meshStale, bool visibilityStale);
 
   Scene scene_;
   RadiosityOptions options_;
@@ -111,10 +112,15 @@ class SolveWorker {
   WorkerFigures figures_;
   std::atomic<bool> ready_{false};
 
-  // Worker-thread state: the visibility of each light at each drawn corner, kept while neither
-  // the lights nor the mesh change.
+  // Worker-thread state kept while the drawn mesh stays the same: its corners, outlines and
+  // per-vertex emission, and (while the lights stay too) each light's visibility at each corner.
+  struct Corner {
+    std::uint32_t patch, vertex;
+  };
+  std::vector<Corner> corners_;
+  std::shared_ptr<const std::vector<float>> edges_;
+  std::vector<Rgb> emitted_;
   std::vector<float> visibility_;
-  std::size_t visibilityCorners_ = 0;
   long long iterationsForLights_ = 0;
   std::uint64_t version_ = 0;
   std::thread thread_;

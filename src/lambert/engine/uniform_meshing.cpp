@@ -36,6 +36,7 @@ UniformMeshing::UniformMeshing(const Scene& scene, const RadiosityOptions& optio
   caster_ = makeEmbreeRayCaster(mesh_);
   stats_.add("bvh_seconds", "BVH build time", bvhTimer.seconds(), "s");
   measureOpenFractions(mesh_, *caster_);
+  interpolation_ = std::make_unique<VertexInterpolation>(mesh_);  // after the open fractions it weighs by
 
   FormFactorStats ffStats;
   CachedFormFactors cached = cachedFormFactors(mesh_, *caster_, ff, options.cacheDirectory, &ffStats);
@@ -60,7 +61,7 @@ UniformMeshing::UniformMeshing(const Scene& scene, const RadiosityOptions& optio
 }
 
 std::vector<Rgb> UniformMeshing::vertexValues(const std::vector<Rgb>& perElement) const {
-  return vertexRadiosity(mesh_, perElement);
+  return interpolation_->apply(perElement);
 }
 
 }  // namespace lambert

@@ -4,6 +4,7 @@
 // matrix computed once by any method (or read from the .lff cache).
 #include "lambert/engine/meshing.h"
 #include "lambert/engine/radiosity.h"
+#include "lambert/mesh/vertex_radiosity.h"
 
 namespace lambert {
 
@@ -24,6 +25,7 @@ class UniformMeshing final : public Meshing {
   Mesh mesh_;
   std::unique_ptr<RayCaster> caster_;
   std::shared_ptr<const Transport> transport_;  // a DenseTransport
+  std::unique_ptr<VertexInterpolation> interpolation_;  // the mesh never changes: weights made once
   Stats stats_;
 };
 

@@ -10,15 +10,14 @@
 
 namespace lambert {
 
-std::vector<Rgb> vertexRadiosity(const Mesh& mesh, const std::vector<Rgb>& radiosity) {
-  LAMBERT_CHECK(radiosity.size() == mesh.numPatches());
+VertexInterpolation::VertexInterpolation(const Mesh& mesh) : numPatches_(mesh.numPatches()) {
   const std::size_t numVertices = mesh.numVertices();
-  // The open part of each patch: its radiosity and its area.
-  std::vector<Rgb> patchRadiosity(radiosity.size());
-  std::vector<double> openArea(radiosity.size());
-  for (std::size_t i = 0; i < radiosity.size(); ++i) {
+  // The open part of each patch: its radiosity is B / f, over its open area.
+  patchScale_.resize(numPatches_);
+  std::vector<double> openArea(numPatches_);
+  for (std::size_t i = 0; i < numPatches_; ++i) {
     const double f = mesh.patches[i].openFraction;
-    patchRadiosity[i] = f > 0 ? radiosity[i] / f : Rgb{};
+    patchScale_[i] = f > 0 ? 1 / f : 0;
     openArea[i] = mesh.patches[i].area * f;
   }
 
@@ -37,19 +36,16 @@ std::vector<Rgb> vertexRadiosity(const Mesh& mesh, const std::vector<Rgb>& radio
   for (const auto& [edge, uses] : edgeUses)
     if (uses == 1) border[edge.first] = border[edge.second] = 1;
 
-  std::vector<Rgb> result(numVertices);
+  averageStart_.assign(numVertices + 1, 0);
   std::vector<std::uint32_t> ring;
-  for (std::size_t v = 0; v < numVertices; ++v) {
-    if (around[v].empty()) continue;
-    Rgb weighted;
+  for (std::uint32_t v = 0; v < numVertices; ++v) {
     double area = 0;
-    for (std::uint32_t i : around[v]) {
-      weighted += patchRadiosity[i] * openArea[i];
-      area += openArea[i];
+    for (std::uint32_t i : around[v]) area += openArea[i];
+    if (area > 0) {  // else wholly covered: never seen, left at zero
+      for (std::uint32_t i : around[v]) averageTerms_.push_back({i, openArea[i] / area});
     }
-    if (area <= 0) continue;  // wholly covered: never seen
-    result[v] = weighted / area;
-    if (!border[v]) continue;
+    averageStart_[v + 1] = static_cast<std::uint32_t>(averageTerms_.size());
+    if (area <= 0 || !border[v]) continue;
 
     // Two rings of patches, for a gradient the one-sided first ring alone cannot pin down.
     ring.clear();
@@ -62,35 +58,56 @@ std::vector<Rgb> vertexRadiosity(const Mesh& mesh, const std::vector<Rgb>& radio
 
     Vec3 tangent, bitangent;
     orthonormalBasis(mesh.patches[around[v].front()].normal, tangent, bitangent);
-    Eigen::Matrix3d normalMatrix = Eigen::Matrix3d::Zero();
-    Eigen::Matrix3d rhs = Eigen::Matrix3d::Zero();  // one column per channel
-    Rgb lo = patchRadiosity[ring.front()], hi = lo;
     double scale = 0;
-    for (std::uint32_t i : ring) {
-      Vec3 d = mesh.patches[i].centroid - mesh.positions[v];
-      scale = std::fmax(scale, length(d));
-    }
+    for (std::uint32_t i : ring) scale = std::fmax(scale, length(mesh.patches[i].centroid - mesh.positions[v]));
+    std::vector<Eigen::Vector3d> rows;
+    Eigen::Matrix3d normalMatrix = Eigen::Matrix3d::Zero();
     for (std::uint32_t i : ring) {
       Vec3 d = (mesh.patches[i].centroid - mesh.positions[v]) / scale;  // unit-free, well conditioned
-      Eigen::Vector3d row(1, dot(d, tangent), dot(d, bitangent));
-      const double w = openArea[i];
-      normalMatrix += w * row * row.transpose();
-      for (int c = 0; c < 3; ++c) {
-        rhs.col(c) += w * patchRadiosity[i][c] * row;
-        lo[c] = std::fmin(lo[c], patchRadiosity[i][c]);
-        hi[c] = std::fmax(hi[c], patchRadiosity[i][c]);
-      }
+      rows.emplace_back(1, dot(d, tangent), dot(d, bitangent));
+      normalMatrix += openArea[i] * rows.back() * rows.back().transpose();
     }
     Eigen::FullPivLU<Eigen::Matrix3d> lu(normalMatrix);
     lu.setThreshold(1e-8);
     if (lu.rank() < 3) continue;  // too few patches, or all in a line: keep the average
-    Eigen::Matrix3d fit = lu.solve(rhs);
+    // The fit's value at the vertex, e0ᵀ M⁻¹ Σ w_i row_i B_i, is linear in the B_i: keep the
+    // weights w_i (M⁻¹ e0)ᵀ row_i.
+    const Eigen::Vector3d m = lu.solve(Eigen::Vector3d::UnitX());
+    Fit fit{v, static_cast<std::uint32_t>(fitTerms_.size()), 0};
+    for (std::size_t k = 0; k < ring.size(); ++k) fitTerms_.push_back({ring[k], openArea[ring[k]] * m.dot(rows[k])});
+    fit.end = static_cast<std::uint32_t>(fitTerms_.size());
+    fits_.push_back(fit);
+  }
+}
+
+std::vector<Rgb> VertexInterpolation::apply(const std::vector<Rgb>& radiosity) const {
+  LAMBERT_CHECK(radiosity.size() == numPatches_);
+  const std::size_t numVertices = averageStart_.size() - 1;
+  std::vector<Rgb> result(numVertices);
+  for (std::size_t v = 0; v < numVertices; ++v)
+    for (std::uint32_t k = averageStart_[v]; k < averageStart_[v + 1]; ++k)
+      result[v] += radiosity[averageTerms_[k].patch] * (averageTerms_[k].weight * patchScale_[averageTerms_[k].patch]);
+  for (const Fit& fit : fits_) {
+    Rgb value, lo, hi;
+    for (std::uint32_t k = fit.begin; k < fit.end; ++k) {
+      const Term& t = fitTerms_[k];
+      const Rgb b = radiosity[t.patch] * patchScale_[t.patch];
+      value += b * t.weight;
+      for (int c = 0; c < 3; ++c) {
+        lo[c] = k == fit.begin ? b[c] : std::fmin(lo[c], b[c]);
+        hi[c] = k == fit.begin ? b[c] : std::fmax(hi[c], b[c]);
+      }
+    }
     for (int c = 0; c < 3; ++c) {
-      double range = hi[c] - lo[c];
-      result[v][c] = std::clamp(fit(0, c), std::fmax(0.0, lo[c] - range), hi[c] + range);
+      const double range = hi[c] - lo[c];
+      result[fit.vertex][c] = std::clamp(value[c], std::fmax(0.0, lo[c] - range), hi[c] + range);
     }
   }
   return result;
+}
+
+std::vector<Rgb> vertexRadiosity(const Mesh& mesh, const std::vector<Rgb>& radiosity) {
+  return VertexInterpolation(mesh).apply(radiosity);
 }
 
 std::vector<VertexSite> vertexSites(const Mesh& mesh, double nudge) {

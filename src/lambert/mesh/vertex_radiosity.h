@@ -13,6 +13,7 @@
 // range those patches span widened by that range on each side (and never below zero), so a
 // sharp shadow cannot throw it far off. Vertices are never shared across surfaces, so nothing is
 // ever mixed across a crease.
+#include <cstdint>
 #include <vector>
 
 #include "lambert/core/rgb.h"
@@ -20,6 +21,32 @@
 
 namespace lambert {
 
+// The interpolation above for one mesh, with everything that depends on the geometry alone (the
+// patches around each vertex, their weights, the border fits' weights) computed once, so that
+// a mesh whose values change every frame (a moving light) interpolates in O(vertices).
+class VertexInterpolation {
+ public:
+  explicit VertexInterpolation(const Mesh& mesh);
+  // B at every vertex from B per patch (one per patch of the mesh it was made for).
+  std::vector<Rgb> apply(const std::vector<Rgb>& patchRadiosity) const;
+
+ private:
+  struct Term {
+    std::uint32_t patch;
+    double weight;
+  };
+  struct Fit {
+    std::uint32_t vertex, begin, end;  // its terms in fitTerms_; the same patches bound the clamp
+  };
+  std::size_t numPatches_ = 0;
+  std::vector<double> patchScale_;           // 1 / openFraction (0 for a covered patch)
+  std::vector<std::uint32_t> averageStart_;  // per vertex, into averageTerms_
+  std::vector<Term> averageTerms_;
+  std::vector<Term> fitTerms_;
+  std::vector<Fit> fits_;
+};
+
+// VertexInterpolation(mesh).apply(patchRadiosity), for a mesh interpolated once.
 std::vector<Rgb> vertexRadiosity(const Mesh& mesh, const std::vector<Rgb>& patchRadiosity);
 
 // Where a quantity is evaluated "at" a vertex (the path tracer's reference and the hierarchical
