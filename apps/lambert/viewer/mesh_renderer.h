@@ -3,6 +3,7 @@
 // per pixel in the fragment shader, shadowed by the visibility traced at the corners, over the
 // interpolated radiosity), flat or Gouraud, with patch edges, a false-colour view of B, light
 // markers, and the same exposure and sRGB encoding as lambert's own images (render/tonemap.h).
+#include <array>
 #include <memory>
 #include <string>
 
@@ -42,7 +43,8 @@ class MeshRenderer {
 
  private:
   MeshRenderer() = default;
-  unsigned meshProgram_ = 0, lineProgram_ = 0;
+  std::array<unsigned, kMaxPixelLights + 1> meshPrograms_{};  // by the number of lights drawn per pixel
+  unsigned lineProgram_ = 0;
   unsigned meshArray_ = 0, meshBuffer_ = 0, edgeArray_ = 0, edgeBuffer_ = 0, markerArray_ = 0, markerBuffer_ = 0;
   const Snapshot* uploaded_ = nullptr;
   const std::vector<float>* uploadedEdges_ = nullptr;  // outlines change only with the mesh

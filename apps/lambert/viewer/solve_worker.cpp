@@ -10,10 +10,6 @@
 namespace lambert::viewer {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double now() { return std::chrono::duration<double>(Clock::now().time_since_epoch()).count(); }
-
 void put(float (&out)[3], const Vec3& v) {
   out[0] = static_cast<float>(v.x), out[1] = static_cast<float>(v.y), out[2] = static_cast<float>(v.z);
 }
@@ -67,6 +63,17 @@ double percentileLuminance(const std::vector<Rgb>& values, double fraction) {
 
 }  // namespace
 
+double steadyClockSeconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+std::vector<Light> LightAnimation::lightsAt(double clock) const {
+  const double t = secondsAt(clock);
+  std::vector<Light> lights;
+  for (const Light& light : base) lights.push_back(t != 0 ? lightAtTime(light, t) : light);
+  return lights;
+}
+
 std::shared_ptr<const Snapshot> previewSnapshot(const Scene& scene) {
   auto snapshot = std::make_shared<Snapshot>();
   auto edges = std::make_shared<std::vector<float>>();
@@ -100,7 +107,8 @@ std::shared_ptr<const Snapshot> previewSnapshot(const Scene& scene) {
 }
 
 SolveWorker::SolveWorker(Scene scene, RadiosityOptions options, UpdateBudget budget, bool flat)
-    : scene_(std::move(scene)), options_(std::move(options)), budget_(budget), startTime_(now()), flat_(flat) {
+    : scene_(std::move(scene)), options_(std::move(options)), budget_(budget), startTime_(steadyClockSeconds()), flat_(flat) {
+  animation_.base = scene_.lights;
   thread_ = std::thread([this] { run(); });
 }
 
@@ -113,11 +121,10 @@ SolveWorker::~SolveWorker() {
   if (thread_.joinable()) thread_.join();
 }
 
-void SolveWorker::setLights(std::vector<Light> lights) {
+void SolveWorker::setAnimation(LightAnimation animation) {
   {
     std::lock_guard lock(mutex_);
-    pendingLights_ = std::move(lights);
-    lightsPending_ = true;
+    animation_ = std::move(animation);
   }
   wake_.notify_all();
 }
@@ -142,7 +149,7 @@ std::string SolveWorker::error() const {
   return error_;
 }
 
-double SolveWorker::secondsSinceStart() const { return now() - startTime_; }
+double SolveWorker::secondsSinceStart() const { return steadyClockSeconds() - startTime_; }
 
 Stats SolveWorker::finish(WorkerFigures& figures) {
   {
@@ -171,11 +178,13 @@ void SolveWorker::run() {
     bool lightsChanged = false, republish = false;
     {
       std::unique_lock lock(mutex_);
-      wake_.wait(lock, [&] { return stop_ || lightsPending_ || flatChanged_ || needsSolve; });
+      // Asleep while converged, until the lights, the animation or the shading change.
+      wake_.wait(lock, [&] {
+        return stop_ || flatChanged_ || needsSolve || animation_.playing || animation_.lightsAt(steadyClockSeconds()) != engine_->lights();
+      });
       if (stop_) return;
-      if (lightsPending_) {
-        engine_->setLights(std::move(pendingLights_));
-        lightsPending_ = false;
+      if (std::vector<Light> lights = animation_.lightsAt(steadyClockSeconds()); lights != engine_->lights()) {
+        engine_->setLights(std::move(lights));
         lightsChanged = needsSolve = true;
         iterationsForLights_ = 0;
       }

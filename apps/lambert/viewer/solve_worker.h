@@ -53,6 +53,23 @@ struct Snapshot {
 // viewer shows the geometry at once while the engine meshes and computes form factors.
 std::shared_ptr<const Snapshot> previewSnapshot(const Scene& scene);
 
+// Seconds on the steady clock, the one time base of the viewer's threads.
+double steadyClockSeconds();
+
+// The lights over time: the scene's lights as edited, each turned by its angular velocity for the
+// animation's time (light/lights.h: lightAtTime). While playing, time runs with the clock from
+// when it was set, so the radiosity thread moves the lights at its own rate, not the frames'.
+struct LightAnimation {
+  std::vector<Light> base;
+  bool playing = false;
+  double seconds = 0;  // animation time at `setAt`
+  double setAt = 0;    // steadyClockSeconds() when set
+
+  double secondsAt(double clock) const { return playing ? seconds + (clock - setAt) : seconds; }
+  std::vector<Light> lightsAt(double clock) const;
+  bool operator==(const LightAnimation&) const = default;
+};
+
 struct UpdateBudget {
   SolveBudget solve;             // per update, so the picture follows the solve
 };
@@ -74,8 +91,8 @@ class SolveWorker {
   SolveWorker(const SolveWorker&) = delete;
   SolveWorker& operator=(const SolveWorker&) = delete;
 
-  // The lights to solve for next (any thread); the worker takes the latest.
-  void setLights(std::vector<Light> lights);
+  // The lights to solve for from now on (any thread); the worker takes the latest.
+  void setAnimation(LightAnimation animation);
   // Per-element (flat) or per-vertex (Gouraud) values in the next snapshot.
   void setFlat(bool flat);
 
@@ -103,8 +120,7 @@ class SolveWorker {
   mutable std::mutex mutex_;
   std::condition_variable wake_;
   bool stop_ = false;
-  std::vector<Light> pendingLights_;
-  bool lightsPending_ = false;
+  LightAnimation animation_;
   bool flat_ = false;
   bool flatChanged_ = false;
   std::shared_ptr<const Snapshot> latest_;

@@ -154,18 +154,17 @@ class ScriptPlayer {
 struct ViewerState {
   ViewCamera camera;
   DisplaySettings display;
-  std::vector<Light> baseLights;  // as edited; the animation turns them by their angular velocity
-  double animationSeconds = 0;
-  bool playing = false;
+  LightAnimation animation;  // the lights as edited, turned by their angular velocity over time
   int selectedLight = -1;
-  bool lightsEdited = false;
   bool screenshotRequested = false;  // F12 or the panel's button: taken in the next frame
 };
 
-std::vector<Light> lightsAt(const std::vector<Light>& base, double seconds) {
-  std::vector<Light> lights;
-  for (const Light& light : base) lights.push_back(seconds > 0 ? lightAtTime(light, seconds) : light);
-  return lights;
+// Play or pause: the animation's time carries on from where it is now.
+void setPlaying(LightAnimation& animation, bool playing) {
+  const double now = steadyClockSeconds();
+  animation.seconds = animation.secondsAt(now);
+  animation.setAt = now;
+  animation.playing = playing;
 }
 
 // Applies one script command that does not wait; returns false for those that do.
@@ -173,7 +172,7 @@ Status applyCommand(const ScriptStep& step, ViewerState& state, ScriptPlayer& pl
   return std::visit(
       [&](const auto& s) -> Status {
         using T = std::decay_t<decltype(s)>;
-        auto light = [&](int index) -> Light& { return state.baseLights.at(static_cast<std::size_t>(index)); };
+        auto light = [&](int index) -> Light& { return state.animation.base.at(static_cast<std::size_t>(index)); };
         if constexpr (std::is_same_v<T, DrawFrames>) {
           player.waiting_ = ScriptPlayer::Waiting::Frames;
           player.framesLeft_ = s.frames;
@@ -194,26 +193,21 @@ Status applyCommand(const ScriptStep& step, ViewerState& state, ScriptPlayer& pl
           state.camera.orbit(s.yawDegrees * kDegrees, s.pitchDegrees * kDegrees);
         } else if constexpr (std::is_same_v<T, SetLightPosition>) {
           light(s.light).position = s.position;
-          state.lightsEdited = true;
         } else if constexpr (std::is_same_v<T, SetLightDirection>) {
           light(s.light).direction = s.direction;
-          state.lightsEdited = true;
         } else if constexpr (std::is_same_v<T, AimLight>) {
           Light& l = light(s.light);
           if (l.kind == LightKind::Point) return Error{"light " + std::to_string(s.light) + " is a point light: it has no axis to aim"};
           if (length(s.target - l.position) <= 0) return Error{"the aim point is the light's own position"};
           l.direction = normalize(s.target - l.position);
-          state.lightsEdited = true;
         } else if constexpr (std::is_same_v<T, SetLightIntensity>) {
           Light& l = light(s.light);
           (l.kind == LightKind::Directional ? l.irradiance : l.intensity) = s.intensity;
-          state.lightsEdited = true;
         } else if constexpr (std::is_same_v<T, SetLightCone>) {
           Light& l = light(s.light);
           if (l.kind != LightKind::Spot) return Error{"light " + std::to_string(s.light) + " is not a spot: it has no cone"};
           l.coneAngleDegrees = s.coneDegrees;
           l.falloffDegrees = s.falloffDegrees;
-          state.lightsEdited = true;
         } else if constexpr (std::is_same_v<T, SetDisplay>) {
           DisplaySettings& d = state.display;
           const bool on = s.value == "on";
@@ -226,7 +220,7 @@ Status applyCommand(const ScriptStep& step, ViewerState& state, ScriptPlayer& pl
           else if (s.setting == "ambient") d.ambient = on;
           else if (s.setting == "exposure") d.exposure = std::strtod(s.value.c_str(), nullptr);
         } else if constexpr (std::is_same_v<T, SetPlaying>) {
-          state.playing = s.playing;
+          setPlaying(state.animation, s.playing);
         }
         return Ok{};
       },
@@ -287,25 +281,23 @@ void drawPanel(ViewerState& state, const Snapshot& snapshot, const SolveWorker& 
     state.camera.camera.verticalFovDegrees = fov;
     if (ImGui::Button("scene camera")) state.camera.camera = options.scene.camera;
   }
-  if (!state.baseLights.empty() && ImGui::CollapsingHeader("Lights", ImGuiTreeNodeFlags_DefaultOpen)) {
-    if (ImGui::Button(state.playing ? "pause" : "play")) state.playing = !state.playing;
+  if (!state.animation.base.empty() && ImGui::CollapsingHeader("Lights", ImGuiTreeNodeFlags_DefaultOpen)) {
+    if (ImGui::Button(state.animation.playing ? "pause (space)" : "play (space)")) setPlaying(state.animation, !state.animation.playing);
     ImGui::SameLine();
-    ImGui::Text("t = %.2f s", state.animationSeconds);
-    for (std::size_t i = 0; i < state.baseLights.size(); ++i) {
-      const Light& l = state.baseLights[i];
+    ImGui::Text("t = %.2f s", state.animation.secondsAt(steadyClockSeconds()));
+    for (std::size_t i = 0; i < state.animation.base.size(); ++i) {
+      const Light& l = state.animation.base[i];
       const char* kind = l.kind == LightKind::Point ? "point" : l.kind == LightKind::Spot ? "spot" : "directional";
       std::string label = std::to_string(i) + ": " + (l.name.empty() ? std::string(kind) : l.name + " (" + kind + ")");
       if (ImGui::Selectable(label.c_str(), state.selectedLight == static_cast<int>(i))) state.selectedLight = static_cast<int>(i);
     }
-    if (state.selectedLight >= 0 && state.selectedLight < static_cast<int>(state.baseLights.size())) {
-      Light& l = state.baseLights[static_cast<std::size_t>(state.selectedLight)];
-      bool changed = false;
+    if (state.selectedLight >= 0 && state.selectedLight < static_cast<int>(state.animation.base.size())) {
+      Light& l = state.animation.base[static_cast<std::size_t>(state.selectedLight)];
       if (l.kind != LightKind::Directional) {
         float p[3] = {static_cast<float>(l.position.x), static_cast<float>(l.position.y), static_cast<float>(l.position.z)};
         const Bounds b = sceneBounds(options.scene);
         if (ImGui::DragFloat3("position", p, static_cast<float>(length(b.hi - b.lo) * 0.002))) {
           l.position = {p[0], p[1], p[2]};
-          changed = true;
         }
       }
       if (l.kind != LightKind::Point) {
@@ -318,7 +310,6 @@ void drawPanel(ViewerState& state, const Snapshot& snapshot, const SolveWorker& 
         if (turned) {
           const double a = azimuth * kDegrees, e = elevation * kDegrees;
           l.direction = {std::cos(e) * std::sin(a), std::sin(e), std::cos(e) * std::cos(a)};
-          changed = true;
         }
       }
       Rgb& power = l.kind == LightKind::Directional ? l.irradiance : l.intensity;
@@ -329,10 +320,7 @@ void drawPanel(ViewerState& state, const Snapshot& snapshot, const SolveWorker& 
       bool recoloured = ImGui::ColorEdit3("colour", colour);
       recoloured |= ImGui::DragFloat(l.kind == LightKind::Directional ? "E (W/m²)" : "I (W/sr)", &value, std::max(0.01f, value * 0.01f), 0,
                                      1e9f, "%.3g");
-      if (recoloured) {
-        power = Rgb{colour[0], colour[1], colour[2]} * std::max(0.0f, value);
-        changed = true;
-      }
+      if (recoloured) power = Rgb{colour[0], colour[1], colour[2]} * std::max(0.0f, value);
       if (l.kind == LightKind::Spot) {
         float cone = static_cast<float>(l.coneAngleDegrees), falloff = static_cast<float>(l.falloffDegrees);
         bool reshaped = ImGui::SliderFloat("cone half-angle", &cone, 1, 90, "%.1f°");
@@ -340,10 +328,8 @@ void drawPanel(ViewerState& state, const Snapshot& snapshot, const SolveWorker& 
         if (reshaped) {
           l.coneAngleDegrees = cone;
           l.falloffDegrees = std::min(falloff, cone);
-          changed = true;
         }
       }
-      state.lightsEdited |= changed;
     }
   }
   ImGui::End();
@@ -399,14 +385,15 @@ Status runViewer(const ViewerOptions& options, Stats& stats) {
       ViewerState state;
       state.camera.camera = options.scene.camera;
       state.display = options.display;
-      state.baseLights = options.scene.lights;
+      state.animation.base = options.scene.lights;
+      state.animation.setAt = steadyClockSeconds();
       const Bounds bounds = sceneBounds(options.scene);
       const double diagonal = length(bounds.hi - bounds.lo);
 
       SolveWorker worker(options.scene, options.radiosity, options.budget, state.display.flat);
       std::shared_ptr<const Snapshot> shown = previewSnapshot(options.scene);
       ScriptPlayer player(options.script ? &*options.script : nullptr);
-      std::vector<Light> sentLights = options.scene.lights;
+      LightAnimation sentAnimation = state.animation;
 
       FrameFigures all, playing;
       Timer clock;
@@ -430,7 +417,7 @@ Status runViewer(const ViewerOptions& options, Stats& stats) {
           shown = latest;
           if (!firstSolutionShown) firstSolutionShown = true, firstSolutionSeconds = clock.seconds();
         }
-        const bool upToDate = !shown->preview && shown->lights == lightsAt(state.baseLights, state.animationSeconds);
+        const bool upToDate = !shown->preview && shown->lights == state.animation.lightsAt(steadyClockSeconds());
         if (upToDate && shown->converged && convergedSeconds == 0) convergedSeconds = clock.seconds();
 
         // The script: run commands until one waits.
@@ -481,7 +468,7 @@ Status runViewer(const ViewerOptions& options, Stats& stats) {
           if (dragging && !left && !right) {
             dragging = false;
             if (std::hypot(x - pressX, y - pressY) < 3)
-              state.selectedLight = pickLight(state.baseLights, viewProjection, x, y, winWidth, winHeight);
+              state.selectedLight = pickLight(state.animation.base, viewProjection, x, y, winWidth, winHeight);
           }
           if (io.MouseWheel != 0) state.camera.dolly(std::pow(0.9, io.MouseWheel));
         }
@@ -493,16 +480,14 @@ Status runViewer(const ViewerOptions& options, Stats& stats) {
           for (const auto& [key, direction] : keys)
             if (glfwGetKey(window, key) == GLFW_PRESS) state.camera.move(direction * speed);
           if (ImGui::IsKeyPressed(GLFW_KEY_F12)) state.screenshotRequested = true;
-          if (ImGui::IsKeyPressed(GLFW_KEY_SPACE) && !state.baseLights.empty()) state.playing = !state.playing;
+          if (ImGui::IsKeyPressed(GLFW_KEY_SPACE) && !state.animation.base.empty()) setPlaying(state.animation, !state.animation.playing);
         }
 
-        // The lights: the animation advances in real time while playing; any change goes to the
-        // radiosity thread, which re-injects and re-solves warm.
-        if (state.playing) state.animationSeconds += dt;
-        std::vector<Light> lights = lightsAt(state.baseLights, state.animationSeconds);
-        if (lights != sentLights) {
-          worker.setLights(lights);
-          sentLights = lights;
+        // Edited lights and play/pause go to the radiosity thread, which re-injects and re-solves
+        // warm, and while playing moves the lights itself at its own rate.
+        if (!(state.animation == sentAnimation)) {
+          worker.setAnimation(state.animation);
+          sentAnimation = state.animation;
         }
         worker.setFlat(state.display.flat);
 
@@ -539,7 +524,7 @@ Status runViewer(const ViewerOptions& options, Stats& stats) {
         const double cpuSeconds = cpu.seconds();
         glfwSwapBuffers(window);
 
-        for (FrameFigures* f : {&all, state.playing ? &playing : nullptr}) {
+        for (FrameFigures* f : {&all, state.animation.playing ? &playing : nullptr}) {
           if (!f) continue;
           f->frames += 1;
           f->seconds += clock.seconds() - frameStart;
