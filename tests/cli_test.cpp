@@ -16,6 +16,7 @@
 #include "lambert/io/vertices.h"
 #include "lambert/render/camera.h"
 #include "lambert/scene/builtin.h"
+#include "lambert/version.h"
 #include "tests/support/files.h"
 
 namespace lambert {
@@ -116,6 +117,26 @@ TEST(CliTest, JsonStatsAreMachineReadable) {
   for (const char* key : {"mesh_seconds", "formfactor_seconds", "solve_seconds", "render_seconds", "total_seconds"})
     EXPECT_TRUE(stats.contains(key)) << key;
   EXPECT_TRUE(fs::exists(png));
+}
+
+// `lambert --version` names the library linked in, and every command's figures carry it.
+TEST(CliTest, VersionIsPrintedAndInEveryCommandsStats) {
+  CommandResult version = run("--version");
+  EXPECT_EQ(version.exitCode, 0) << version.output;
+  EXPECT_EQ(version.output, std::string("lambert ") + LAMBERT_VERSION_STRING + "\n");
+  EXPECT_STREQ(lambert::version(), LAMBERT_VERSION_STRING);  // the library is the headers' version
+
+  // Every command prints its figures through one function; one that solves and one that does not.
+  for (const char* command : {"info --scene cornell --json", "solve --scene cornell --patches 64 --json"}) {
+    CommandResult result = run(command);
+    ASSERT_EQ(result.exitCode, 0) << command << "\n" << result.output;
+    nlohmann::json stats = nlohmann::json::parse(result.output);
+    EXPECT_EQ(stats["lambert_version"], LAMBERT_VERSION_STRING) << command;
+  }
+  CommandResult table = run("info --scene cornell");
+  ASSERT_EQ(table.exitCode, 0) << table.output;
+  EXPECT_NE(table.output.find("lambert version"), std::string::npos) << table.output;
+  EXPECT_NE(table.output.find(LAMBERT_VERSION_STRING), std::string::npos) << table.output;
 }
 
 TEST(CliTest, BadInputFailsClearlyAndWritesNothing) {

@@ -1,11 +1,15 @@
 // lambert: radiosity for diffuse scenes. A thin front end: each subcommand lives in its own file.
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "commands.h"
+#include "lambert/version.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"lambert — physically based radiosity for diffuse scenes"};
+  // The library's version (the one linked in), as `lambert --version` prints it.
+  app.set_version_flag("--version", std::string("lambert ") + lambert::version());
   app.require_subcommand(1);
   using AddCommand = std::function<int()> (*)(CLI::App&);
   std::vector<std::pair<CLI::App*, std::function<int()>>> commands;

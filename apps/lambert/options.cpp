@@ -10,6 +10,7 @@
 #include "lambert/mesh/mesh.h"
 #include "lambert/render/tonemap.h"
 #include "lambert/scene/scene_file.h"
+#include "lambert/version.h"
 
 namespace lambert::cli {
 namespace {
@@ -152,10 +153,15 @@ void addImageOptions(CLI::App& cmd, ImageCommandOptions& o) {
 }
 
 void printStats(const Stats& stats, bool json, bool quiet, const std::string& headline) {
+  // Every command's figures say which library made them, so that saved JSON can be compared
+  // across versions.
+  Stats all;
+  all.add("lambert_version", "lambert version", std::string(version()));
+  all.append(stats);
   if (json)
-    std::printf("%s\n", stats.json().dump(2).c_str());
+    std::printf("%s\n", all.json().dump(2).c_str());
   else if (!quiet)
-    std::printf("%s%s", headline.empty() ? "" : (headline + "\n").c_str(), stats.table().c_str());
+    std::printf("%s%s", headline.empty() ? "" : (headline + "\n").c_str(), all.table().c_str());
 }
 
 std::optional<Scene> findScene(const std::string& command, const MeshCommandOptions& o) {

@@ -107,8 +107,8 @@ std::unique_ptr<Radiosity> makeEngine(const std::string& command, const Scene& s
 Status checkImagePath(const std::string& path, const GivenOptions& given);
 Status writeImageFile(const std::string& path, const Image& image, double exposureStops);
 
-// Prints a command's figures: JSON with --json, else the headline (if any) and a table, unless
-// --quiet.
+// Prints a command's figures, led by the library's version (lambert_version): JSON with --json,
+// else the headline (if any) and a table, unless --quiet.
 void printStats(const Stats& stats, bool json, bool quiet, const std::string& headline = "");
 
 // The uniform mesh --patches / --max-edge ask for, or else the scene file's defaults.

@@ -1,0 +1,109 @@
+#!/usr/bin/env bash
+# Install.ExamplesBuildAgainstThePackage: installs lambert from a build tree into a scratch
+# prefix and builds examples/ against it as another project would (find_package(lambert),
+# lambert::lambert), then runs the programs. Each step is named; the first that fails ends the
+# test with its name.
+#
+#   tests/install_test.sh BUILD_DIR SOURCE_DIR SCRATCH_DIR
+#
+# SCRATCH_DIR is removed first and holds the prefix, the examples' build and their output.
+set -uo pipefail
+
+if [ $# -ne 3 ]; then
+  echo "usage: $0 BUILD_DIR SOURCE_DIR SCRATCH_DIR" >&2
+  exit 2
+fi
+build=$(cd "$1" && pwd) || exit 2
+source=$(cd "$2" && pwd) || exit 2
+scratch=$3
+case "$scratch" in
+  "" | / | "$build" | "$source") echo "install_test: refusing to use '$scratch' as the scratch directory" >&2; exit 2 ;;
+esac
+
+step=""
+started=$SECONDS
+begin() {
+  step=$1
+  echo "== install_test: $step"
+}
+fail() {
+  echo "install_test: FAILED in step '$step': $*" >&2
+  exit 1
+}
+# Runs a command of the current step; its failure fails the step.
+run() {
+  "$@" || fail "'$*' exited with status $?"
+}
+
+begin "clear the scratch directory"
+run rm -rf "$scratch"
+run mkdir -p "$scratch"
+scratch=$(cd "$scratch" && pwd) || fail "cannot enter $scratch"  # absolute: CMake is run from elsewhere
+prefix=$scratch/prefix
+
+# The library directory the build tree installs to (GNUInstallDirs: lib on Debian).
+cache_value() { sed -n "s/^$1:[A-Z]*=//p" "$build/CMakeCache.txt"; }
+libdir=$(cache_value CMAKE_INSTALL_LIBDIR)
+libdir=${libdir:-lib}
+case "$libdir" in /*) begin "read the build's settings"; fail "CMAKE_INSTALL_LIBDIR is absolute ($libdir); the test installs into its own prefix" ;; esac
+
+begin "cmake --install $build --prefix $prefix"
+run cmake --install "$build" --prefix "$prefix"
+
+begin "the prefix holds the CLI, both libraries, the headers and the package"
+for file in bin/lambert "$libdir/liblambert.a" include/lambert/engine/radiosity.h include/lambert/version.h \
+  "$libdir/cmake/lambert/lambertConfig.cmake" "$libdir/cmake/lambert/lambertConfigVersion.cmake" \
+  "$libdir/cmake/lambert/lambertTargets.cmake"; do
+  [ -f "$prefix/$file" ] || fail "$prefix/$file is missing"
+done
+[ -x "$prefix/bin/lambert" ] || fail "$prefix/bin/lambert is not executable"
+compgen -G "$prefix/$libdir/liblambert.so*" > /dev/null || fail "no $prefix/$libdir/liblambert.so*"
+
+begin "internal headers are not installed"
+for internal in formfactor/kernels.h formfactor/hemicube.h geometry/coverage.h solve/progressive_shooter.h \
+  engine/meshing.h core/parallel.h; do
+  [ ! -e "$prefix/include/lambert/$internal" ] || fail "internal header lambert/$internal is installed"
+done
+if grep -rlE '#include <embree' "$prefix/include" > "$scratch/embree-headers.txt"; then
+  fail "installed headers include Embree: $(tr '\n' ' ' < "$scratch/embree-headers.txt")"
+fi
+
+begin "every lambert header an installed header includes is installed"
+while IFS= read -r header; do
+  for included in $(sed -n 's/^#include "\(lambert\/[^"]*\)".*/\1/p' "$header"); do
+    [ -f "$prefix/include/$included" ] || fail "${header#"$prefix/include/"} includes $included, which is not installed"
+  done
+done < <(find "$prefix/include" -name '*.h')
+
+begin "lambert --version"
+version=$(sed -n 's/^#define LAMBERT_VERSION_STRING "\(.*\)"$/\1/p' "$prefix/include/lambert/version.h")
+[ -n "$version" ] || fail "no LAMBERT_VERSION_STRING in $prefix/include/lambert/version.h"
+printed=$("$prefix/bin/lambert" --version) || fail "exited with status $?"
+[ "$printed" = "lambert $version" ] || fail "printed '$printed', expected 'lambert $version'"
+
+begin "configure examples/ against the prefix"
+run cmake -S "$source/examples" -B "$scratch/examples-build" -DCMAKE_BUILD_TYPE=Release \
+  -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_CXX_COMPILER="$(cache_value CMAKE_CXX_COMPILER)"
+found=$(sed -n 's/^lambert_DIR:PATH=//p' "$scratch/examples-build/CMakeCache.txt")
+[ "$found" = "$prefix/$libdir/cmake/lambert" ] || fail "find_package(lambert) found '$found', not the prefix's package"
+
+begin "build examples/"
+run cmake --build "$scratch/examples-build" -j2
+
+bin=$scratch/examples-build
+begin "solve_cornell_shared runs on the prefix's liblambert.so"
+ldd "$bin/solve_cornell_shared" | grep -q "liblambert.so.* => $prefix/$libdir/liblambert.so" ||
+  fail "it is not linked to $prefix/$libdir/liblambert.so: $(ldd "$bin/solve_cornell_shared" | grep lambert)"
+output=$("$bin/solve_cornell_shared") || fail "exited with status $?"
+echo "$output"
+[[ "$output" =~ ^[0-9]+\ vertices,\ mean\ radiance\ 0\.[0-9]+ ]] || fail "printed '$output'"
+
+begin "bake tests/data/blender_room.glb"
+run "$bin/bake" "$source/tests/data/blender_room.glb" "$scratch/baked.glb"
+[ -s "$scratch/baked.glb" ] || fail "$scratch/baked.glb was not written"
+[ "$(head -c 4 "$scratch/baked.glb")" = "glTF" ] || fail "$scratch/baked.glb does not start with the glTF magic"
+
+begin "moving_light"
+run "$bin/moving_light"
+
+echo "install_test: passed in $((SECONDS - started)) s"
