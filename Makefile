@@ -27,7 +27,7 @@ run: build
 test: build
 	@cd $(BUILD_DIR) && ctest --output-on-failure -j$(JOBS)
 
-# Benchmarks: one JSON document on stdout, {"pipeline": …, "dynamic": …, "load": …, "hierarchical": …}, each part also in
+# Benchmarks: one JSON document on stdout, {"pipeline": …, "dynamic": …, "load": …, "hierarchical": …, "viewer": …}, each part also in
 # out/bench/; the micro-benchmarks' table goes to stderr and their JSON to out/bench/micro.json.
 bench: build
 	@mkdir -p out/bench
@@ -37,8 +37,10 @@ bench: build
 	@$(BUILD_DIR)/bin/dynamic_bench > out/bench/dynamic.json
 	@$(BUILD_DIR)/bin/load_bench --scenes scenes > out/bench/load.json
 	@$(BUILD_DIR)/bin/hierarchical_bench > out/bench/hierarchical.json
+	@$(BUILD_DIR)/bin/viewer_bench > out/bench/viewer.json
 	@printf '{"pipeline": ' && cat out/bench/pipeline.json && printf ', "dynamic": ' && cat out/bench/dynamic.json && \
-	  printf ', "load": ' && cat out/bench/load.json && printf ', "hierarchical": ' && cat out/bench/hierarchical.json && printf '}\n'
+	  printf ', "load": ' && cat out/bench/load.json && printf ', "hierarchical": ' && cat out/bench/hierarchical.json && \
+	  printf ', "viewer": ' && cat out/bench/viewer.json && printf '}\n'
 
 # The test suite under AddressSanitizer and UndefinedBehaviorSanitizer.
 sanitize: deps

@@ -79,10 +79,10 @@ void expectSamePicture(const Luminance& viewer, const Luminance& software) {
   EXPECT_LT(difference, 0.02 * software.mean());
 }
 
-// lambert's own software rasterizer, on the same solution (mesh, solver and tolerance as the
-// viewer's defaults), camera and tone mapping.
-Luminance softwareImage(const fs::path& path, const std::string& arguments) {
-  CommandResult rendered = shell(kCli + " render --no-cache --quiet --solver shoot --tolerance 1e-4 --width " + std::to_string(kWidth) +
+// lambert's own software rasterizer, on the same solution (mesh, solver, tolerance and light
+// samples as the viewer's defaults), camera and tone mapping.
+Luminance softwareImage(const fs::path& path, const std::string& arguments, const std::string& lightSamples = "") {
+  CommandResult rendered = shell(kCli + " render --no-cache --quiet --solver shoot --tolerance 1e-4 " + lightSamples + " --width " + std::to_string(kWidth) +
                                  " --height " + std::to_string(kHeight) + " -o " + path.string() + " " + arguments);
   EXPECT_EQ(rendered.exitCode, 0) << rendered.output;
   return luminance(path);
@@ -93,7 +93,7 @@ bool haveXvfb() { return shell("command -v xvfb-run").exitCode == 0; }
 TEST(ViewerTest, MatchesTheSoftwareRendererAndBrightensWhileConverging) {
   if (!haveXvfb()) GTEST_SKIP() << "no xvfb-run here (Debian xvfb): the viewer needs an X server";
   const fs::path dir = testing::scratchDirectory("viewer", "converging");
-  // A few shots per update, without the ambient term: the first picture on screen is the light's
+  // One shot per update, without the ambient term: the first picture on screen is the light's
   // first shots, far from converged.
   CommandResult viewed = view(dir,
                               "ambient off\n"
@@ -101,7 +101,7 @@ TEST(ViewerTest, MatchesTheSoftwareRendererAndBrightensWhileConverging) {
                               "screenshot " + (dir / "early.png").string() + "\n"
                               "wait-converged\n"
                               "screenshot " + (dir / "late.png").string() + "\n",
-                              "--scene cornell --patches 1000 --shots-per-update 4 --json");
+                              "--scene cornell --patches 1000 --shots-per-update 1 --json");
   if (noXServer(viewed)) GTEST_SKIP() << "Xvfb could not start here: " << viewed.output;
   ASSERT_EQ(viewed.exitCode, 0) << viewed.output;
   EXPECT_TRUE(contains(viewed.output, "\"frames_per_second\"")) << viewed.output;
@@ -135,7 +135,7 @@ TEST(ViewerTest, MovingASpotMovesTheLitRegion) {
                               "--scene cornell-spots --patches 800 --quiet");
   if (noXServer(viewed)) GTEST_SKIP() << "Xvfb could not start here: " << viewed.output;
   ASSERT_EQ(viewed.exitCode, 0) << viewed.output;
-  expectSamePicture(luminance(dir / "scene.png"), softwareImage(dir / "software.png", "--scene cornell-spots --patches 800"));
+  expectSamePicture(luminance(dir / "scene.png"), softwareImage(dir / "software.png", "--scene cornell-spots --patches 800", "--light-samples 4"));
   const Luminance floorLit = luminance(dir / "floor.png"), wallLit = luminance(dir / "wall.png");
   // Where the aimed points are on screen, from the scene's camera (render/camera.h).
   const PinholeCamera camera(cornellBoxWithSpots().camera, kWidth, kHeight);

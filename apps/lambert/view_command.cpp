@@ -20,7 +20,7 @@ struct ViewCommandOptions : GivenOptions {
   std::string script;
   int frames = 0;
   std::string screenshot;
-  double updateMilliseconds = 10;
+  double updateMilliseconds = 4;
   long long shotsPerUpdate = 0;
   int sweepsPerUpdate = 0;
 };
@@ -88,6 +88,9 @@ std::function<int()> addViewCommand(CLI::App& app) {
   options->solve.solver = SolverKind::Shooting;
   options->solve.tolerance = 1e-4;
   options->solve.adaptPasses = 1;
+  // The lights' direct light is drawn per pixel; what they inject only feeds the indirect light,
+  // which 4 points per patch estimate well enough (a moving spot re-injects 4× faster than at 16).
+  options->solve.lightSamples = 4;
   CLI::App* cmd = app.add_subcommand("view", "Open a window on a scene: the radiosity converging live, lights to move, screenshots");
   options->command = cmd;
   addSolveOptions(*cmd, options->solve);

@@ -6,6 +6,7 @@
 #include "lambert/core/parallel.h"
 #include "lambert/core/timer.h"
 #include "lambert/light/lights.h"
+#include "lambert/mesh/vertex_radiosity.h"
 
 namespace lambert::viewer {
 namespace {
@@ -30,23 +31,22 @@ std::vector<Corner> triangleCorners(const Mesh& mesh) {
   return corners;
 }
 
-// The visibility of each light from each corner, traced as the software renderer's shadow ray is
-// (lights.cpp: irradiance), from the corner moved a thousandth of the way toward its element's
-// centroid, so that a corner on a crease does not see through the wall it touches.
-template <class Corner>
-std::vector<float> traceVisibility(const Mesh& mesh, const std::vector<Corner>& corners, const std::vector<Light>& lights,
-                                   const RayCaster& caster, double epsilon) {
+// The visibility of each light from each vertex, traced as the software renderer's shadow ray is
+// (lights.cpp: irradiance), from the vertex moved a little toward its patches (mesh/
+// vertex_radiosity.h: vertexSites), so that a vertex on a crease does not see through the wall
+// it touches. Vertices are never shared across surfaces, so one normal per vertex serves.
+std::vector<float> traceVisibility(const Mesh& mesh, const std::vector<Light>& lights, const RayCaster& caster) {
   const std::size_t lightCount = std::min<std::size_t>(lights.size(), kMaxPixelLights);
-  std::vector<float> visibility(corners.size() * kMaxPixelLights, 1.0f);
-  parallelFor(0, corners.size(), [&](std::size_t i) {
-    const Patch& patch = mesh.patches[corners[i].patch];
-    const Vec3& x = mesh.positions[corners[i].vertex];
-    const Vec3 origin = x + (patch.centroid - x) * 1e-3 + patch.normal * epsilon;
+  const double epsilon = rayEpsilon(mesh);
+  const std::vector<VertexSite> sites = vertexSites(mesh, 10 * epsilon);
+  std::vector<float> visibility(sites.size() * kMaxPixelLights, 1.0f);
+  parallelFor(0, sites.size(), [&](std::size_t v) {
+    const Vec3 origin = sites[v].point + sites[v].normal * epsilon;
     for (std::size_t l = 0; l < lightCount; ++l) {
       const Light& light = lights[l];
       Ray shadow = light.kind == LightKind::Directional ? Ray{origin, -normalize(light.direction), 0, INFINITY}
                                                         : Ray{origin, light.position - origin, 0, 1 - 1e-7};
-      visibility[i * kMaxPixelLights + l] = caster.occluded(shadow) ? 0.0f : 1.0f;
+      visibility[v * kMaxPixelLights + l] = caster.occluded(shadow) ? 0.0f : 1.0f;
     }
   }, 256);
   return visibility;
@@ -174,6 +174,7 @@ void SolveWorker::run() {
 
   bool needsSolve = true, meshStale = true;
   SolveCallReport last;
+  double lastUpdate = 0;
   while (true) {
     bool lightsChanged = false, republish = false;
     {
@@ -183,6 +184,11 @@ void SolveWorker::run() {
         return stop_ || flatChanged_ || needsSolve || animation_.playing || animation_.lightsAt(steadyClockSeconds()) != engine_->lights();
       });
       if (stop_) return;
+      if (animation_.playing && budget_.maxUpdatesPerSecond > 0) {
+        const double wait = lastUpdate + 1 / budget_.maxUpdatesPerSecond - steadyClockSeconds();
+        if (wait > 0 && wake_.wait_for(lock, std::chrono::duration<double>(wait), [&] { return stop_; })) return;
+      }
+      lastUpdate = steadyClockSeconds();
       if (std::vector<Light> lights = animation_.lightsAt(steadyClockSeconds()); lights != engine_->lights()) {
         engine_->setLights(std::move(lights));
         lightsChanged = needsSolve = true;
@@ -258,7 +264,7 @@ void SolveWorker::publish(const Radiosity& engine, const SolveCallReport& report
   }
   const std::vector<Corner>& corners = corners_;
   const std::vector<Rgb>& emitted = emitted_;
-  if (visibilityStale) visibility_ = traceVisibility(mesh, corners, view.lights(), view.caster(), rayEpsilon(mesh));
+  if (visibilityStale) visibility_ = traceVisibility(mesh, view.lights(), view.caster());
   snapshot->triangles.resize(corners.size());
   parallelFor(0, corners.size(), [&](std::size_t i) {
     const Corner& c = corners[i];
@@ -271,7 +277,7 @@ void SolveWorker::publish(const Radiosity& engine, const SolveCallReport& report
     put(v.indirect, indirect[value]);
     put(v.emitted, emitted[value]);
     v.twinned = patch.twinned ? 1.0f : 0.0f;
-    std::copy_n(visibility_.begin() + static_cast<std::ptrdiff_t>(i * kMaxPixelLights), kMaxPixelLights, v.visibility);
+    std::copy_n(visibility_.begin() + static_cast<std::ptrdiff_t>(c.vertex * kMaxPixelLights), kMaxPixelLights, v.visibility);
   }, 1024);
   snapshot->edges = edges_;
   snapshot->lights = view.lights();

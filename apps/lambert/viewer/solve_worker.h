@@ -72,6 +72,9 @@ struct LightAnimation {
 
 struct UpdateBudget {
   SolveBudget solve;             // per update, so the picture follows the solve
+  // While the lights move, updates start at most this often (0: back to back), leaving the cores
+  // to the drawing between them; a display shows no more than its frame rate anyway.
+  double maxUpdatesPerSecond = 90;
 };
 
 struct WorkerFigures {
