@@ -18,18 +18,15 @@
 #include "lambert/scene/builtin.h"
 #include "lambert/version.h"
 #include "tests/support/files.h"
+#include "tests/support/process.h"
 
 namespace lambert {
 namespace {
 
 namespace fs = std::filesystem;
 
-struct CommandResult {
-  int exitCode = -1;
-  std::string output;  // stdout and stderr together
-};
-
-CommandResult shell(const std::string& commandLine);
+using testing::CommandResult;
+using testing::shell;
 
 CommandResult run(const std::string& arguments) {
   // Tests never touch the user's cache: every run that does not choose one gets no cache.
@@ -38,18 +35,6 @@ CommandResult run(const std::string& arguments) {
   const bool solves = arguments.rfind("render", 0) == 0 || arguments.rfind("animate", 0) == 0 ||
                       arguments.rfind("solve", 0) == 0 || arguments.rfind("compare", 0) == 0;
   return shell(std::string(LAMBERT_CLI_PATH) + " " + arguments + (solves && !choosesCache ? " --no-cache" : ""));
-}
-
-CommandResult shell(const std::string& commandLine) {
-  const std::string command = commandLine + " 2>&1";
-  CommandResult result;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return result;
-  std::array<char, 4096> buffer;
-  while (std::size_t n = fread(buffer.data(), 1, buffer.size(), pipe)) result.output.append(buffer.data(), n);
-  int status = pclose(pipe);
-  result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
 }
 
 fs::path outputDir(const std::string& name) { return testing::scratchDirectory("cli", name); }

@@ -172,7 +172,11 @@ void SolveWorker::run() {
   engine_ = std::move(*created);
   ready_ = true;
 
-  bool needsSolve = true, meshStale = true;
+  // The hierarchical method's vertex solution is a final gather at every vertex: it waits until
+  // the solution has converged and the lights have stopped (meanwhile the elements' values are
+  // interpolated), then comes as an update of its own.
+  const bool gathersAtVertices = options_.meshing == MeshStrategy::Hierarchical;
+  bool needsSolve = true, meshStale = true, gatherPending = false;
   SolveCallReport last;
   double lastUpdate = 0;
   while (true) {
@@ -181,7 +185,8 @@ void SolveWorker::run() {
       std::unique_lock lock(mutex_);
       // Asleep while converged, until the lights, the animation or the shading change.
       wake_.wait(lock, [&] {
-        return stop_ || flatChanged_ || needsSolve || animation_.playing || animation_.lightsAt(steadyClockSeconds()) != engine_->lights();
+        return stop_ || flatChanged_ || needsSolve || gatherPending || animation_.playing ||
+               animation_.lightsAt(steadyClockSeconds()) != engine_->lights();
       });
       if (stop_) return;
       if (animation_.playing && budget_.maxUpdatesPerSecond > 0) {
@@ -192,6 +197,7 @@ void SolveWorker::run() {
       if (std::vector<Light> lights = animation_.lightsAt(steadyClockSeconds()); lights != engine_->lights()) {
         engine_->setLights(std::move(lights));
         lightsChanged = needsSolve = true;
+        gatherPending = false;
         iterationsForLights_ = 0;
       }
       if (flatChanged_) {
@@ -201,6 +207,7 @@ void SolveWorker::run() {
     }
     Timer update;
     double solveSeconds = 0;
+    bool gathered = !gathersAtVertices;
     if (needsSolve) {
       const std::size_t elementsBefore = engine_->solution().mesh().numPatches();
       Result<SolveCallReport> report = engine_->solve(budget_.solve);
@@ -213,13 +220,19 @@ void SolveWorker::run() {
       solveSeconds = update.seconds();
       iterationsForLights_ += report->iterations;
       needsSolve = !report->converged;
+      gatherPending = gathersAtVertices && report->converged;
       // Refinement (hierarchical in its first solve, adaptive in every one) changes the elements.
       if (report->elements != elementsBefore || options_.meshing == MeshStrategy::Adaptive) meshStale = true;
+    } else if (gatherPending) {
+      gathered = true;
+      gatherPending = false;
     } else if (!republish) {
       continue;
+    } else {
+      gathered = gathered || last.converged;
     }
     Timer snapshot;
-    publish(*engine_, last, meshStale, meshStale || lightsChanged);
+    publish(*engine_, last, meshStale, meshStale || lightsChanged, gathered);
     meshStale = false;
     std::lock_guard lock(mutex_);
     figures_.updates += 1;
@@ -233,7 +246,7 @@ void SolveWorker::run() {
   }
 }
 
-void SolveWorker::publish(const Radiosity& engine, const SolveCallReport& report, bool meshStale, bool visibilityStale) {
+void SolveWorker::publish(const Radiosity& engine, const SolveCallReport& report, bool meshStale, bool visibilityStale, bool gathered) {
   const SolutionView& view = engine.solution();
   bool flat;
   {
@@ -245,7 +258,11 @@ void SolveWorker::publish(const Radiosity& engine, const SolveCallReport& report
   const Mesh& mesh = flat ? view.mesh() : view.vertexMesh();
   // Flat: each element in its own value. Gouraud: the continuous vertex values every consumer
   // reads (the hierarchical method's final gather), so the picture is the exported solution.
-  std::vector<Rgb> indirect = flat ? view.indirectRadiosity() : view.vertexValues(VertexQuantity::IndirectRadiosity);
+  // The vertex solution itself, or (before the hierarchical method's final gather) the elements'
+  // values interpolated.
+  std::vector<Rgb> indirect = flat       ? view.indirectRadiosity()
+                              : gathered ? view.vertexValues(VertexQuantity::IndirectRadiosity)
+                                         : view.vertexValues(view.indirectRadiosity());
   const std::vector<Rgb>& albedo = flat ? view.albedo() : view.vertexMeshAlbedo();
   if (meshStale) {
     corners_ = triangleCorners<Corner>(mesh);
@@ -285,6 +302,7 @@ void SolveWorker::publish(const Radiosity& engine, const SolveCallReport& report
   snapshot->maxRadiosity = percentileLuminance(view.radiosity(), 0.99);
   snapshot->unshotFraction = report.unshotFraction;
   snapshot->converged = report.converged;
+  snapshot->settled = report.converged && (gathered || flat);
   snapshot->elements = view.mesh().numPatches();
   snapshot->iterations = iterationsForLights_;
   std::lock_guard lock(mutex_);

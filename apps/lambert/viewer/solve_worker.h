@@ -45,6 +45,7 @@ struct Snapshot {
   double maxRadiosity = 0;            // 99th percentile of B's luminance, W/m² (false colour)
   double unshotFraction = 0;          // shoot: unshot power left
   bool converged = false;
+  bool settled = false;               // converged, and the vertex values are the final ones
   std::size_t elements = 0;
   long long iterations = 0;           // shots or sweeps so far for these lights
 };
@@ -112,7 +113,7 @@ class SolveWorker {
 
  private:
   void run();
-  void publish(const Radiosity& engine, const SolveCallReport& report, bool meshStale, bool visibilityStale);
+  void publish(const Radiosity& engine, const SolveCallReport& report, bool meshStale, bool visibilityStale, bool gathered);
 
   Scene scene_;
   RadiosityOptions options_;

@@ -239,7 +239,8 @@ void drawPanel(ViewerState& state, const Snapshot& snapshot, const SolveWorker& 
   else if (snapshot.preview)
     ImGui::Text("first solve…");
   else {
-    ImGui::Text("%zu elements, %s", snapshot.elements, snapshot.converged ? "converged" : "solving…");
+    ImGui::Text("%zu elements, %s", snapshot.elements,
+                snapshot.settled ? "converged" : snapshot.converged ? "converged, gathering at the vertices…" : "solving…");
     if (options.radiosity.solver == SolverKind::Shooting)
       ImGui::Text("unshot power %.2e, %lld shots", snapshot.unshotFraction, snapshot.iterations);
     else
@@ -418,7 +419,7 @@ Status runViewer(const ViewerOptions& options, Stats& stats) {
           if (!firstSolutionShown) firstSolutionShown = true, firstSolutionSeconds = clock.seconds();
         }
         const bool upToDate = !shown->preview && shown->lights == state.animation.lightsAt(steadyClockSeconds());
-        if (upToDate && shown->converged && convergedSeconds == 0) convergedSeconds = clock.seconds();
+        if (upToDate && shown->settled && convergedSeconds == 0) convergedSeconds = clock.seconds();
 
         // The script: run commands until one waits.
         Screenshot screenshot;  // asked for by the script in this frame
@@ -426,7 +427,7 @@ Status runViewer(const ViewerOptions& options, Stats& stats) {
           using W = ScriptPlayer::Waiting;
           if (player.waiting_ == W::Frames && player.framesLeft_ <= 0) player.waiting_ = W::None;
           if (player.waiting_ == W::Solution && !shown->preview) player.waiting_ = W::None;
-          if (player.waiting_ == W::Converged && upToDate && shown->converged) player.waiting_ = W::None;
+          if (player.waiting_ == W::Converged && upToDate && shown->settled) player.waiting_ = W::None;
           if ((player.waiting_ == W::Solution || player.waiting_ == W::Converged) && player.waitTimer_.seconds() > player.timeout_) {
             result = Error{player.where() + ": " + (player.waiting_ == W::Solution ? "no solution" : "not converged") + " within " +
                            std::to_string(player.timeout_) + " s"};
