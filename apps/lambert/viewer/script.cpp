@@ -107,6 +107,11 @@ Result<ScriptStep> parseStep(const std::vector<std::string>& w) {
     return finish(OrbitCamera{*yaw, *pitch});
   }
   if (command == "play" || command == "pause") return finish(SetPlaying{command == "play"});
+  if (command == "select") {
+    Result<int> light = p.takeLight();
+    if (!light) return light.error();
+    return finish(SelectLight{*light});
+  }
   if (command == "light") {
     Result<int> light = p.takeLight();
     if (!light) return light.error();
@@ -144,7 +149,7 @@ Result<ScriptStep> parseStep(const std::vector<std::string>& w) {
     return ScriptStep{SetDisplay{command, w[1]}};
   }
   return Error{"unknown command '" + command +
-               "' (frames, wait-solution, wait-converged, screenshot, screenshot-window, camera, orbit, light, play, pause, lighting, shading, "
+               "' (frames, wait-solution, wait-converged, screenshot, screenshot-window, camera, orbit, light, select, play, pause, lighting, shading, "
                "wireframe, false-colour, srgb, ambient, exposure)"};
 }
 

@@ -34,12 +34,14 @@ struct SetLightIntensity { int light = 0; Rgb intensity; };  // W/sr (point, spo
 struct SetLightCone { int light = 0; double coneDegrees = 0, falloffDegrees = 0; };
 // A display setting by name and value (`lighting both`, `shading flat`, `exposure -1`, …).
 struct SetDisplay { std::string setting, value; };
+// Select a light in the panel, as a click on it does.
+struct SelectLight { int light = 0; };
 // Play or pause the scene's light animation.
 struct SetPlaying { bool playing = false; };
 
 using ScriptStep = std::variant<DrawFrames, WaitForSolution, WaitForConvergence, Screenshot, SetCamera, OrbitCamera,
                                 SetLightPosition, SetLightDirection, AimLight, SetLightIntensity, SetLightCone, SetDisplay,
-                                SetPlaying>;
+                                SetPlaying, SelectLight>;
 
 struct ScriptLine {
   int line = 0;  // 1-based, for messages

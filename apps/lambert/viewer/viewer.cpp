@@ -219,6 +219,8 @@ Status applyCommand(const ScriptStep& step, ViewerState& state, ScriptPlayer& pl
           else if (s.setting == "srgb") d.srgb = on;
           else if (s.setting == "ambient") d.ambient = on;
           else if (s.setting == "exposure") d.exposure = std::strtod(s.value.c_str(), nullptr);
+        } else if constexpr (std::is_same_v<T, SelectLight>) {
+          state.selectedLight = s.light;
         } else if constexpr (std::is_same_v<T, SetPlaying>) {
           setPlaying(state.animation, s.playing);
         }
@@ -230,8 +232,7 @@ Status applyCommand(const ScriptStep& step, ViewerState& state, ScriptPlayer& pl
 // The panel: what the solve is doing, the display toggles, the camera and the lights.
 void drawPanel(ViewerState& state, const Snapshot& snapshot, const SolveWorker& worker, const ViewerOptions& options) {
   ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(330, 0), ImGuiCond_FirstUseEver);
-  ImGui::Begin("lambert");
+  ImGui::Begin("lambert", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
   ImGui::Text("%s", options.scene.name.c_str());
   ImGui::Text("%.0f frames/s (%.2f ms)", ImGui::GetIO().Framerate, 1000.0 / std::max(ImGui::GetIO().Framerate, 1e-3f));
   if (!worker.ready())
@@ -399,8 +400,6 @@ Status runViewer(const ViewerOptions& options, Stats& stats) {
       FrameFigures all, playing;
       Timer clock;
       double lastTime = clock.seconds();
-      double pressX = 0, pressY = 0, lastX = 0, lastY = 0;
-      bool dragging = false;
       bool firstSolutionShown = false;
       double firstSolutionSeconds = 0, convergedSeconds = 0;
       while (!glfwWindowShouldClose(window)) {
@@ -445,32 +444,25 @@ Status runViewer(const ViewerOptions& options, Stats& stats) {
         }
 
         // Input the panel does not take: orbit/turn, pan, dolly, fly, pick a light.
+        ImGui_ImplOpenGL3_NewFrame();
+        ImGui_ImplGlfw_NewFrame();
+        ImGui::NewFrame();
         ImGuiIO& io = ImGui::GetIO();
         int fbWidth = 0, fbHeight = 0;
         glfwGetFramebufferSize(window, &fbWidth, &fbHeight);
         fbWidth = std::max(fbWidth, 1), fbHeight = std::max(fbHeight, 1);
         const double aspect = static_cast<double>(fbWidth) / fbHeight;
         const Eigen::Matrix4f viewProjection = state.camera.projection(aspect, bounds.lo, bounds.hi) * state.camera.view();
-        double x = 0, y = 0;
-        glfwGetCursorPos(window, &x, &y);
         int winWidth = 0, winHeight = 0;
         glfwGetWindowSize(window, &winWidth, &winHeight);
         if (!io.WantCaptureMouse) {
-          const bool left = glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
-          const bool right = glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS ||
-                             glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_MIDDLE) == GLFW_PRESS;
-          if ((left || right) && !dragging) dragging = true, pressX = lastX = x, pressY = lastY = y;
-          if (dragging && (left || right)) {
-            const double dx = (x - lastX) / std::max(winHeight, 1), dy = (y - lastY) / std::max(winHeight, 1);
-            if (left) state.camera.turn(-dx * kPi, -dy * kPi);
-            else state.camera.pan(dx, dy);
-            lastX = x, lastY = y;
-          }
-          if (dragging && !left && !right) {
-            dragging = false;
-            if (std::hypot(x - pressX, y - pressY) < 3)
-              state.selectedLight = pickLight(state.animation.base, viewProjection, x, y, winWidth, winHeight);
-          }
+          // ImGui's mouse state, which keeps a click shorter than a frame.
+          const double scale = kPi / std::max(winHeight, 1);
+          const bool moved = io.MouseDragMaxDistanceSqr[0] > 9 || io.MouseDragMaxDistanceSqr[1] > 9 || io.MouseDragMaxDistanceSqr[2] > 9;
+          if (io.MouseDown[0] && moved) state.camera.turn(-io.MouseDelta.x * scale, -io.MouseDelta.y * scale);
+          if ((io.MouseDown[1] || io.MouseDown[2]) && moved) state.camera.pan(io.MouseDelta.x / std::max(winHeight, 1), io.MouseDelta.y / std::max(winHeight, 1));
+          if (ImGui::IsMouseReleased(0) && io.MouseDragMaxDistanceSqr[0] <= 9)
+            state.selectedLight = pickLight(state.animation.base, viewProjection, io.MousePos.x, io.MousePos.y, winWidth, winHeight);
           if (io.MouseWheel != 0) state.camera.dolly(std::pow(0.9, io.MouseWheel));
         }
         const bool screenshotKey = std::exchange(state.screenshotRequested, false);
@@ -514,9 +506,6 @@ Status runViewer(const ViewerOptions& options, Stats& stats) {
         if (capture) save(screenshot.path.empty() ? "lambert-screenshot.png" : screenshot.path);
         if (!result) break;
 
-        ImGui_ImplOpenGL3_NewFrame();
-        ImGui_ImplGlfw_NewFrame();
-        ImGui::NewFrame();
         drawPanel(state, *shown, worker, options);
         ImGui::Render();
         ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
