@@ -31,6 +31,17 @@ std::vector<Corner> triangleCorners(const Mesh& mesh) {
   return corners;
 }
 
+// Whether `light` is visible from `origin` (a point lifted off a surface of normal n at x), as the
+// software renderer's shadow ray decides (light/lights.cpp: irradiance). Where the light gives
+// the point nothing anyway (outside a spot's cone, or behind the surface) it counts as visible:
+// no ray is needed there, and no shadow edge is drawn finer where it cannot be seen.
+float lightVisibility(const Light& light, const Vec3& x, const Vec3& n, const Vec3& origin, const RayCaster& caster) {
+  if (unshadowedIrradiance(light, x, n, 1.0).maxComponent() <= 0) return 1.0f;
+  Ray shadow = light.kind == LightKind::Directional ? Ray{origin, -normalize(light.direction), 0, INFINITY}
+                                                    : Ray{origin, light.position - origin, 0, 1 - 1e-7};
+  return caster.occluded(shadow) ? 0.0f : 1.0f;
+}
+
 // The visibility of each light from each vertex, traced as the software renderer's shadow ray is
 // (lights.cpp: irradiance), from the vertex moved a little toward its patches (mesh/
 // vertex_radiosity.h: vertexSites), so that a vertex on a crease does not see through the wall
@@ -42,14 +53,92 @@ std::vector<float> traceVisibility(const Mesh& mesh, const std::vector<Light>& l
   std::vector<float> visibility(sites.size() * kMaxPixelLights, 1.0f);
   parallelFor(0, sites.size(), [&](std::size_t v) {
     const Vec3 origin = sites[v].point + sites[v].normal * epsilon;
-    for (std::size_t l = 0; l < lightCount; ++l) {
-      const Light& light = lights[l];
-      Ray shadow = light.kind == LightKind::Directional ? Ray{origin, -normalize(light.direction), 0, INFINITY}
-                                                        : Ray{origin, light.position - origin, 0, 1 - 1e-7};
-      visibility[v * kMaxPixelLights + l] = caster.occluded(shadow) ? 0.0f : 1.0f;
-    }
+    for (std::size_t l = 0; l < lightCount; ++l)
+      visibility[v * kMaxPixelLights + l] = lightVisibility(lights[l], sites[v].point, sites[v].normal, origin, caster);
   }, 256);
   return visibility;
+}
+
+// Shadow edges drawn finer than the mesh: a triangle whose corners disagree on a light's
+// visibility is split at its edge midpoints, and again, kShadowLevels times, with the visibility
+// traced at every new corner and the radiosity interpolated linearly, so a shadow's edge steps by
+// an eighth of an element instead of a whole one (the software renderer traces every pixel).
+constexpr int kShadowLevels = 3;
+
+bool visibilityDiffers(const DrawVertex& a, const DrawVertex& b, const DrawVertex& c, std::size_t lightCount) {
+  for (std::size_t l = 0; l < lightCount; ++l)
+    if (a.visibility[l] != b.visibility[l] || a.visibility[l] != c.visibility[l]) return true;
+  return false;
+}
+
+struct ShadowTracer {
+  const std::vector<Light>& lights;
+  const RayCaster& caster;
+  double epsilon;
+  std::size_t lightCount;
+
+  Vec3 at(const float (&p)[3]) const { return {p[0], p[1], p[2]}; }
+
+  // The corner halfway between a and b, seen from inside the triangle (toward `centre`, as
+  // vertexSites does, so a midpoint on a crease does not look through the wall it touches).
+  DrawVertex midpoint(const DrawVertex& a, const DrawVertex& b, const Vec3& centre) const {
+    DrawVertex m = a;
+    for (int k = 0; k < 3; ++k) {
+      m.position[k] = 0.5f * (a.position[k] + b.position[k]);
+      m.indirect[k] = 0.5f * (a.indirect[k] + b.indirect[k]);
+      m.emitted[k] = 0.5f * (a.emitted[k] + b.emitted[k]);
+    }
+    const Vec3 x = at(m.position), n = at(m.normal);
+    const Vec3 toCentre = centre - x;
+    const double distance = length(toCentre);
+    const Vec3 origin = (distance > 0 ? x + toCentre * (std::fmin(10 * epsilon, 0.5 * distance) / distance) : x) + n * epsilon;
+    for (std::size_t l = 0; l < lightCount; ++l) m.visibility[l] = lightVisibility(lights[l], x, n, origin, caster);
+    return m;
+  }
+
+  void split(const DrawVertex& a, const DrawVertex& b, const DrawVertex& c, int level, std::vector<DrawVertex>& out) const {
+    if (level == 0 || !visibilityDiffers(a, b, c, lightCount)) {
+      out.insert(out.end(), {a, b, c});
+      return;
+    }
+    const Vec3 centre = (at(a.position) + at(b.position) + at(c.position)) / 3.0;
+    const DrawVertex ab = midpoint(a, b, centre), bc = midpoint(b, c, centre), ca = midpoint(c, a, centre);
+    split(a, ab, ca, level - 1, out);
+    split(ab, b, bc, level - 1, out);
+    split(ca, bc, c, level - 1, out);
+    split(ab, bc, ca, level - 1, out);
+  }
+};
+
+// Splits the triangles a shadow edge crosses (see kShadowLevels); the others stay as they are.
+std::vector<DrawVertex> refineShadowEdges(std::vector<DrawVertex> triangles, const std::vector<Light>& lights, const RayCaster& caster,
+                                          double epsilon) {
+  const std::size_t lightCount = std::min<std::size_t>(lights.size(), kMaxPixelLights);
+  const std::size_t count = triangles.size() / 3;
+  std::vector<std::uint32_t> crossed;
+  for (std::size_t t = 0; t < count; ++t)
+    if (visibilityDiffers(triangles[3 * t], triangles[3 * t + 1], triangles[3 * t + 2], lightCount)) crossed.push_back(static_cast<std::uint32_t>(t));
+  if (crossed.empty()) return triangles;
+  const ShadowTracer tracer{lights, caster, epsilon, lightCount};
+  std::vector<std::vector<DrawVertex>> refined(crossed.size());
+  parallelFor(0, crossed.size(), [&](std::size_t i) {
+    const std::size_t t = crossed[i];
+    tracer.split(triangles[3 * t], triangles[3 * t + 1], triangles[3 * t + 2], kShadowLevels, refined[i]);
+  }, 16);
+  std::vector<DrawVertex> result;
+  std::size_t size = triangles.size();
+  for (const std::vector<DrawVertex>& r : refined) size += r.size();
+  result.reserve(size);
+  std::size_t next = 0;
+  for (std::size_t t = 0; t < count; ++t) {
+    if (next < crossed.size() && crossed[next] == t) {
+      result.insert(result.end(), refined[next].begin(), refined[next].end());
+      ++next;
+    } else {
+      result.insert(result.end(), triangles.begin() + static_cast<std::ptrdiff_t>(3 * t), triangles.begin() + static_cast<std::ptrdiff_t>(3 * t + 3));
+    }
+  }
+  return result;
 }
 
 double percentileLuminance(const std::vector<Rgb>& values, double fraction) {
@@ -296,6 +385,7 @@ void SolveWorker::publish(const Radiosity& engine, const SolveCallReport& report
     v.twinned = patch.twinned ? 1.0f : 0.0f;
     std::copy_n(visibility_.begin() + static_cast<std::ptrdiff_t>(c.vertex * kMaxPixelLights), kMaxPixelLights, v.visibility);
   }, 1024);
+  snapshot->triangles = refineShadowEdges(std::move(snapshot->triangles), view.lights(), view.caster(), rayEpsilon(mesh));
   snapshot->edges = edges_;
   snapshot->lights = view.lights();
   snapshot->ambient = view.ambientRadiosity();
