@@ -133,22 +133,20 @@ struct FrameFigures {
 
 // Plays a Script: commands run at the start of a frame until one has to wait (frames to draw, a
 // solution to arrive, a screenshot of this frame).
-class ScriptPlayer {
- public:
-  explicit ScriptPlayer(const Script* script) : script_(script) {}
-  bool active() const { return script_ != nullptr; }
-  bool finished() const { return script_ && next_ >= script_->lines.size() && waiting_ == Waiting::None; }
-  std::string where() const {
-    return script_->path + ":" + std::to_string(script_->lines[std::min(current_, script_->lines.size() - 1)].line);
-  }
-
+struct ScriptPlayer {
   enum class Waiting { None, Frames, Solution, Converged };
-  Waiting waiting_ = Waiting::None;
-  int framesLeft_ = 0;
-  double timeout_ = 0;
-  Timer waitTimer_;
-  const Script* script_;
-  std::size_t next_ = 0, current_ = 0;
+
+  const Script* script = nullptr;  // null: no script, a user drives
+  std::size_t next = 0, current = 0;
+  Waiting waiting = Waiting::None;
+  int framesLeft = 0;
+  double timeout = 0;
+  Timer waitTimer;
+
+  bool active() const { return script != nullptr; }
+  bool finished() const { return script && next >= script->lines.size() && waiting == Waiting::None; }
+  // "file:line" of the command run last, for messages.
+  std::string where() const { return script->path + ":" + std::to_string(script->lines.at(current).line); }
 };
 
 struct ViewerState {
@@ -167,23 +165,24 @@ void setPlaying(LightAnimation& animation, bool playing) {
   animation.playing = playing;
 }
 
-// Applies one script command that does not wait; returns false for those that do.
+// Applies one script command; one that waits (frames, a solution) sets the player waiting, and a
+// screenshot is taken when this frame is drawn.
 Status applyCommand(const ScriptStep& step, ViewerState& state, ScriptPlayer& player, Screenshot& screenshot) {
   return std::visit(
       [&](const auto& s) -> Status {
         using T = std::decay_t<decltype(s)>;
         auto light = [&](int index) -> Light& { return state.animation.base.at(static_cast<std::size_t>(index)); };
         if constexpr (std::is_same_v<T, DrawFrames>) {
-          player.waiting_ = ScriptPlayer::Waiting::Frames;
-          player.framesLeft_ = s.frames;
+          player.waiting = ScriptPlayer::Waiting::Frames;
+          player.framesLeft = s.frames;
         } else if constexpr (std::is_same_v<T, WaitForSolution>) {
-          player.waiting_ = ScriptPlayer::Waiting::Solution;
-          player.timeout_ = s.timeoutSeconds;
-          player.waitTimer_ = Timer();
+          player.waiting = ScriptPlayer::Waiting::Solution;
+          player.timeout = s.timeoutSeconds;
+          player.waitTimer = Timer();
         } else if constexpr (std::is_same_v<T, WaitForConvergence>) {
-          player.waiting_ = ScriptPlayer::Waiting::Converged;
-          player.timeout_ = s.timeoutSeconds;
-          player.waitTimer_ = Timer();
+          player.waiting = ScriptPlayer::Waiting::Converged;
+          player.timeout = s.timeoutSeconds;
+          player.waitTimer = Timer();
         } else if constexpr (std::is_same_v<T, Screenshot>) {
           screenshot = s;
         } else if constexpr (std::is_same_v<T, SetCamera>) {
@@ -394,7 +393,8 @@ Status runViewer(const ViewerOptions& options, Stats& stats) {
 
       SolveWorker worker(options.scene, options.radiosity, options.budget, state.display.flat);
       std::shared_ptr<const Snapshot> shown = previewSnapshot(options.scene);
-      ScriptPlayer player(options.script ? &*options.script : nullptr);
+      ScriptPlayer player;
+      player.script = options.script ? &*options.script : nullptr;
       LightAnimation sentAnimation = state.animation;
 
       FrameFigures all, playing;
@@ -424,17 +424,17 @@ Status runViewer(const ViewerOptions& options, Stats& stats) {
         Screenshot screenshot;  // asked for by the script in this frame
         if (player.active()) {
           using W = ScriptPlayer::Waiting;
-          if (player.waiting_ == W::Frames && player.framesLeft_ <= 0) player.waiting_ = W::None;
-          if (player.waiting_ == W::Solution && !shown->preview) player.waiting_ = W::None;
-          if (player.waiting_ == W::Converged && upToDate && shown->settled) player.waiting_ = W::None;
-          if ((player.waiting_ == W::Solution || player.waiting_ == W::Converged) && player.waitTimer_.seconds() > player.timeout_) {
-            result = Error{player.where() + ": " + (player.waiting_ == W::Solution ? "no solution" : "not converged") + " within " +
-                           std::to_string(player.timeout_) + " s"};
+          if (player.waiting == W::Frames && player.framesLeft <= 0) player.waiting = W::None;
+          if (player.waiting == W::Solution && !shown->preview) player.waiting = W::None;
+          if (player.waiting == W::Converged && upToDate && shown->settled) player.waiting = W::None;
+          if ((player.waiting == W::Solution || player.waiting == W::Converged) && player.waitTimer.seconds() > player.timeout) {
+            result = Error{player.where() + ": " + (player.waiting == W::Solution ? "no solution" : "not converged") + " within " +
+                           std::to_string(player.timeout) + " s"};
             break;
           }
-          while (player.waiting_ == W::None && screenshot.path.empty() && player.next_ < player.script_->lines.size()) {
-            player.current_ = player.next_++;
-            if (Status ok = applyCommand(player.script_->lines[player.current_].step, state, player, screenshot); !ok) {
+          while (player.waiting == W::None && screenshot.path.empty() && player.next < player.script->lines.size()) {
+            player.current = player.next++;
+            if (Status ok = applyCommand(player.script->lines[player.current].step, state, player, screenshot); !ok) {
               result = Error{player.where() + ": " + ok.error().message};
               break;
             }
@@ -521,7 +521,7 @@ Status runViewer(const ViewerOptions& options, Stats& stats) {
           f->cpuSeconds += cpuSeconds;
           f->uploadSeconds += uploadSeconds;
         }
-        if (player.active() && player.waiting_ == ScriptPlayer::Waiting::Frames) player.framesLeft_ -= 1;
+        if (player.active() && player.waiting == ScriptPlayer::Waiting::Frames) player.framesLeft -= 1;
         if (player.finished()) break;
       }
 
