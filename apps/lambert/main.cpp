@@ -4,9 +4,11 @@
 #include <vector>
 
 #include "commands.h"
+#include "lambert/core/interrupt.h"
 #include "lambert/version.h"
 
 int main(int argc, char** argv) {
+  lambert::exitCleanlyOnInterrupt("lambert");  // first: every thread started later inherits its signal mask
   CLI::App app{"lambert — physically based radiosity for diffuse scenes"};
   // The library's version (the one linked in), as `lambert --version` prints it.
   app.set_version_flag("--version", std::string("lambert ") + lambert::version());

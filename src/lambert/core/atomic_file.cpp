@@ -7,10 +7,38 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <mutex>
+#include <set>
 #include <system_error>
 
 namespace lambert {
 namespace {
+
+// The temporaries being written now, for removeTemporaryFiles.
+std::mutex temporariesMutex;
+std::set<std::string>& temporaries() {
+  static std::set<std::string> paths;
+  return paths;
+}
+
+// Registers a temporary for as long as it may exist.
+class TemporaryFile {
+ public:
+  explicit TemporaryFile(std::string path) : path_(std::move(path)) {
+    std::lock_guard lock(temporariesMutex);
+    temporaries().insert(path_);
+  }
+  ~TemporaryFile() {
+    std::lock_guard lock(temporariesMutex);
+    temporaries().erase(path_);
+  }
+  TemporaryFile(const TemporaryFile&) = delete;
+  TemporaryFile& operator=(const TemporaryFile&) = delete;
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+};
 
 // Writes all the parts to a new file (O_EXCL: never into one another writer has open); an empty
 // string on success, else what failed.
@@ -52,7 +80,8 @@ Status writeFileAtomically(const std::string& path, std::initializer_list<std::s
   }
   // Unique per process and call, so concurrent writers of one path never share a temporary.
   static std::atomic<std::uint64_t> counter{0};
-  const std::string temp = path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
+  const TemporaryFile registered(path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
+  const std::string& temp = registered.path();
   // No fsync: callers whose files matter check them when reading (sizes, checksums); a torn file
   // after a crash is then rejected rather than trusted.
   if (std::string why = writeNewFile(temp, parts); !why.empty()) {
@@ -66,6 +95,11 @@ Status writeFileAtomically(const std::string& path, std::initializer_list<std::s
     return Error{path + ": cannot rename " + temp + " over it: " + ec.message()};
   }
   return Ok{};
+}
+
+void removeTemporaryFiles() {
+  std::lock_guard lock(temporariesMutex);
+  for (const std::string& path : temporaries()) ::unlink(path.c_str());
 }
 
 }  // namespace lambert

@@ -17,4 +17,8 @@ Status writeFileAtomically(const std::string& path, std::span<const std::uint8_t
 // (a large payload between a header and a trailer need not be copied).
 Status writeFileAtomically(const std::string& path, std::initializer_list<std::span<const std::uint8_t>> parts);
 
+// Removes the temporary files writes in progress have open (for an interrupted process about to
+// exit: core/interrupt.h). Their targets keep their old contents.
+void removeTemporaryFiles();
+
 }  // namespace lambert

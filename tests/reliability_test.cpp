@@ -1,0 +1,111 @@
+// The CLI when its run is cut short: Ctrl-C or SIGTERM in the middle of a solve, and a write that
+// fails for lack of space. Neither may leave a partial file or harm the previous output.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "lambert/io/png.h"
+#include "tests/support/files.h"
+#include "tests/support/process.h"
+
+namespace lambert {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::contains;
+using testing::hasTemporaryFiles;
+using testing::shell;
+
+// Starts the CLI with the arguments, its output into `log`.
+pid_t start(const std::vector<std::string>& arguments, const fs::path& log) {
+  std::vector<std::string> args{LAMBERT_CLI_PATH};
+  args.insert(args.end(), arguments.begin(), arguments.end());
+  pid_t pid = fork();
+  if (pid == 0) {
+    std::freopen(log.c_str(), "w", stderr);
+    std::freopen(log.c_str(), "a", stdout);
+    std::vector<char*> argv;
+    for (std::string& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    execv(argv[0], argv.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+// Waits up to `limit` for the process; its exit code, or -1 (killed, or still running: then it
+// is killed).
+int waitFor(pid_t pid, std::chrono::duration<double> limit) {
+  const auto until = std::chrono::steady_clock::now() + limit;
+  int status = 0;
+  while (std::chrono::steady_clock::now() < until) {
+    if (waitpid(pid, &status, WNOHANG) == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  kill(pid, SIGKILL);
+  waitpid(pid, &status, 0);
+  return -1;
+}
+
+void interruptMidSolve(int signal, int expectedExit) {
+  const fs::path dir = testing::scratchDirectory("reliability", "signal-" + std::to_string(signal));
+  const fs::path image = dir / "cornell.png", cache = dir / "cache";
+  // The previous output and a cache from an earlier run, which must survive.
+  ASSERT_EQ(shell(std::string(LAMBERT_CLI_PATH) + " render --quiet --patches 200 --width 64 --height 64 --cache-dir " + cache.string() +
+                  " -o " + image.string())
+                .exitCode,
+            0);
+  const std::vector<char> previousImage = testing::readBytes(image);
+  std::vector<std::pair<fs::path, std::vector<char>>> previousCache;
+  for (const auto& entry : fs::directory_iterator(cache)) previousCache.emplace_back(entry.path(), testing::readBytes(entry.path()));
+  ASSERT_FALSE(previousCache.empty());
+
+  // A solve that takes a minute (form factors of 5,000 patches), stopped after a second.
+  const pid_t pid = start({"render", "--patches", "5000", "--cache-dir", cache.string(), "-o", image.string()}, dir / "log.txt");
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  ASSERT_EQ(waitpid(pid, nullptr, WNOHANG), 0) << "the solve ended before it could be interrupted";
+  const auto sent = std::chrono::steady_clock::now();
+  kill(pid, signal);
+  const int exitCode = waitFor(pid, std::chrono::seconds(5));
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
+  const std::vector<char> log = testing::readBytes(dir / "log.txt");
+  const std::string output(log.begin(), log.end());
+  EXPECT_EQ(exitCode, expectedExit) << output;
+  EXPECT_LT(seconds, 1.0);
+  EXPECT_TRUE(contains(output, "lambert: interrupted")) << output;
+  EXPECT_EQ(testing::readBytes(image), previousImage);
+  EXPECT_FALSE(hasTemporaryFiles(dir));
+  EXPECT_FALSE(hasTemporaryFiles(cache));
+  std::size_t files = 0;
+  for (const auto& entry : fs::directory_iterator(cache)) ++files, (void)entry;
+  EXPECT_EQ(files, previousCache.size());
+  for (const auto& [path, bytes] : previousCache) EXPECT_EQ(testing::readBytes(path), bytes) << path;
+}
+
+TEST(ReliabilityTest, CtrlCStopsWithin1SecondAndKeepsThePreviousImageAndCache) { interruptMidSolve(SIGINT, 130); }
+
+TEST(ReliabilityTest, SigtermStopsTheSameWay) { interruptMidSolve(SIGTERM, 143); }
+
+TEST(ReliabilityTest, AWriteBeyondTheFileSizeLimitFailsNamingTheFileAndKeepsTheOldOne) {
+  const fs::path dir = testing::scratchDirectory("reliability", "disk-full");
+  const fs::path image = dir / "cornell.png";
+  testing::writeBytes(image, {'o', 'l', 'd'});
+  // A full disk, as the process sees it: no file may grow past 4 KiB (the PNG is larger).
+  testing::CommandResult result = shell("ulimit -f 4 && " + std::string(LAMBERT_CLI_PATH) +
+                                        " render --no-cache --patches 200 --width 256 --height 256 -o " + image.string());
+  EXPECT_EQ(result.exitCode, 1) << result.output;
+  EXPECT_TRUE(contains(result.output, image.string())) << result.output;
+  EXPECT_TRUE(contains(result.output, "File too large")) << result.output;
+  EXPECT_EQ(testing::readBytes(image), (std::vector<char>{'o', 'l', 'd'}));
+  EXPECT_FALSE(hasTemporaryFiles(dir));
+}
+
+}  // namespace
+}  // namespace lambert
