@@ -6,6 +6,8 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <fstream>
+#include <functional>
 #include <filesystem>
 #include <string>
 #include <thread>
@@ -106,6 +108,68 @@ TEST(ReliabilityTest, AWriteBeyondTheFileSizeLimitFailsNamingTheFileAndKeepsTheO
   EXPECT_EQ(testing::readBytes(image), (std::vector<char>{'o', 'l', 'd'}));
   EXPECT_FALSE(hasTemporaryFiles(dir));
 }
+
+}  // namespace
+}  // namespace lambert
+
+namespace lambert {
+namespace {
+
+// One solve and render through the CLI with a thread limit: the solution's hash and the image.
+struct ThreadedRun {
+  std::string solutionHash;
+  std::vector<char> image;
+};
+
+ThreadedRun renderWithThreads(int threads, const std::string& arguments, const fs::path& dir) {
+  const fs::path image = dir / ("threads-" + std::to_string(threads) + ".png");
+  testing::CommandResult result = shell(std::string(LAMBERT_CLI_PATH) + " render --threads " + std::to_string(threads) +
+                                        " --no-cache --json --width 96 --height 96 -o " + image.string() + " " + arguments);
+  EXPECT_EQ(result.exitCode, 0) << arguments << "\n" << result.output;
+  ThreadedRun run;
+  const std::string key = "\"solution_hash\": \"";
+  if (std::size_t at = result.output.find(key); at != std::string::npos)
+    run.solutionHash = result.output.substr(at + key.size(), 16);
+  run.image = testing::readBytes(image);
+  return run;
+}
+
+// Every method and loader gives the same radiosity and image to the bit on 1 thread as on 2.
+class DeterminismTest : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(DeterminismTest, OneAndTwoThreadsGiveBitIdenticalRadiosityAndImages) {
+  const fs::path dir = testing::scratchDirectory("reliability", "determinism-" + std::to_string(std::hash<std::string>{}(GetParam())));
+  std::string arguments = GetParam();
+  if (arguments.find("{ply}") != std::string::npos) {
+    // A PLY box, written here: a floor and a lit ceiling facing each other.
+    const fs::path ply = dir / "box.ply";
+    std::ofstream(ply) << "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\nproperty float y\nproperty float z\n"
+                          "element face 2\nproperty list uchar int vertex_indices\nend_header\n"
+                          "0 0 0\n1 0 0\n1 0 1\n0 0 1\n0 1 0\n0 1 1\n1 1 1\n1 1 0\n4 0 3 2 1\n4 4 7 6 5\n";
+    arguments.replace(arguments.find("{ply}"), 5, ply.string());
+  }
+  const ThreadedRun one = renderWithThreads(1, arguments, dir), two = renderWithThreads(2, arguments, dir);
+  ASSERT_EQ(one.solutionHash.size(), 16u);
+  EXPECT_EQ(one.solutionHash, two.solutionHash) << arguments;
+  EXPECT_FALSE(one.image.empty());
+  EXPECT_TRUE(one.image == two.image) << arguments << ": the images differ";
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    EveryMethodAndLoader, DeterminismTest,
+    ::testing::Values(
+        // Methods on the Cornell box: hierarchical (the default) with both gathering solvers and
+        // without clusters; the flat mesh with every form-factor method and solver; adaptive.
+        "--scene cornell", "--scene cornell-spots --solver jacobi", "--scene cornell --no-clusters --link-error 1e-3",
+        "--scene cornell --patches 300 --formfactor mc --solver gs", "--scene cornell --patches 300 --formfactor point --solver jacobi",
+        "--scene cornell --patches 300 --formfactor hemicube --hemicube-resolution 64 --solver direct",
+        "--scene cornell-spots --patches 300 --formfactor hemisphere --hemisphere-rays 256 --solver shoot",
+        "--scene cornell-spots --adaptive --max-level 2",
+        // Loaders: a scene file, OBJ, glTF, GLB with lights, MGF, PLY.
+        "--scene " LAMBERT_SOURCE_DIR "/scenes/cornell/cornell-spots.json",
+        "--scene " LAMBERT_SOURCE_DIR "/scenes/cornell/cornell.obj --units mm",
+        "--scene " LAMBERT_SOURCE_DIR "/scenes/room/room.gltf", "--scene " LAMBERT_SOURCE_DIR "/tests/data/blender_room.glb",
+        "--scene " LAMBERT_SOURCE_DIR "/scenes/floor/floor.mgf --mgf-divisions 8", "--scene {ply}"));
 
 }  // namespace
 }  // namespace lambert

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "lambert/core/timer.h"
+#include "lambert/formfactor/cache_file.h"
 #include "lambert/engine/adaptive_meshing.h"
 #include "lambert/engine/hierarchical_meshing.h"
 #include "lambert/engine/uniform_meshing.h"
@@ -221,6 +222,11 @@ Stats Radiosity::stats() const {
   stats.add("emitted_watts", lights_.empty() ? "emitted power" : "emitted + injected power", balance.emittedWatts, "W");
   stats.add("absorbed_watts", "absorbed power", balance.absorbedWatts, "W");
   stats.add("escaped_watts", "escaped power (openings)", balance.escapedWatts, "W");
+  // XXH64 of every element's B to the bit: two runs (other thread counts, machines, versions)
+  // solved alike exactly when these agree.
+  cachefile::KeyHasher hash;
+  for (const Rgb& b : radiosity_) hash.f64(b.r), hash.f64(b.g), hash.f64(b.b);
+  stats.add("solution_hash", "solution hash (B, XXH64)", cachefile::hex(hash.digest()));
   return stats;
 }
 
