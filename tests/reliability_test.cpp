@@ -173,3 +173,53 @@ INSTANTIATE_TEST_SUITE_P(
 
 }  // namespace
 }  // namespace lambert
+
+namespace lambert {
+namespace {
+
+// 20 renders at once on one cache directory, half of them on the uniform mesh (the form-factor
+// matrix, .lff) and half adaptive (the master table, .lft): writers race to rename their caches
+// into place while others read them. Every image must be the one a cacheless render makes, and
+// the cache must be whole afterwards.
+TEST(ReliabilityTest, TwentyConcurrentRendersShareOneCacheDirectory) {
+  const fs::path dir = testing::scratchDirectory("reliability", "concurrent-cache");
+  const fs::path cache = dir / "cache";
+  const std::string cli = LAMBERT_CLI_PATH;
+  const std::string uniform = " render --threads 1 --scene cornell-spots --patches 300 --width 64 --height 64";
+  const std::string adaptive = " render --threads 1 --scene cornell-spots --adaptive --max-level 2 --width 64 --height 64";
+  const std::string quiet = " --quiet";
+  ASSERT_EQ(shell(cli + uniform + quiet + " --no-cache -o " + (dir / "uniform.png").string()).exitCode, 0);
+  ASSERT_EQ(shell(cli + adaptive + quiet + " --no-cache -o " + (dir / "adaptive.png").string()).exitCode, 0);
+
+  // Two waves, so that the second starts while the first writes its caches.
+  std::string script = "pids=''; status=0\n";
+  for (int i = 0; i < 20; ++i) {
+    if (i == 10) script += "sleep 0.3\n";
+    script += cli + (i % 2 ? adaptive : uniform) + quiet + " --cache-dir " + cache.string() + " -o " + (dir / ("run-" + std::to_string(i) + ".png")).string() +
+              " > " + (dir / ("run-" + std::to_string(i) + ".log")).string() + " 2>&1 & pids=\"$pids $!\"\n";
+  }
+  script += "for p in $pids; do wait $p || status=1; done; exit $status\n";
+  std::ofstream(dir / "race.sh") << script;
+  testing::CommandResult raced = shell("sh " + (dir / "race.sh").string());
+  EXPECT_EQ(raced.exitCode, 0) << raced.output;
+
+  const std::vector<char> uniformImage = testing::readBytes(dir / "uniform.png"), adaptiveImage = testing::readBytes(dir / "adaptive.png");
+  for (int i = 0; i < 20; ++i) {
+    const std::vector<char> log = testing::readBytes(dir / ("run-" + std::to_string(i) + ".log"));
+    EXPECT_TRUE(testing::readBytes(dir / ("run-" + std::to_string(i) + ".png")) == (i % 2 ? adaptiveImage : uniformImage))
+        << "run " << i << ": " << std::string(log.begin(), log.end());
+  }
+  EXPECT_FALSE(hasTemporaryFiles(cache));
+  // The caches left behind are whole: the next runs load them and draw the same images.
+  for (const auto& [arguments, expected] : {std::pair{uniform, &uniformImage}, std::pair{adaptive, &adaptiveImage}}) {
+    const fs::path image = dir / "after.png";
+    testing::CommandResult after = shell(cli + arguments + " --json --cache-dir " + cache.string() + " -o " + image.string());
+    EXPECT_EQ(after.exitCode, 0) << after.output;
+    EXPECT_TRUE(contains(after.output, "loaded")) << after.output;
+    EXPECT_FALSE(contains(after.output, "warning")) << after.output;
+    EXPECT_TRUE(testing::readBytes(image) == *expected) << arguments;
+  }
+}
+
+}  // namespace
+}  // namespace lambert
