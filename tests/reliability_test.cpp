@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <fstream>
 #include <functional>
 #include <filesystem>
@@ -219,6 +220,55 @@ TEST(ReliabilityTest, TwentyConcurrentRendersShareOneCacheDirectory) {
     EXPECT_FALSE(contains(after.output, "warning")) << after.output;
     EXPECT_TRUE(testing::readBytes(image) == *expected) << arguments;
   }
+}
+
+}  // namespace
+}  // namespace lambert
+
+namespace lambert {
+namespace {
+
+// Solves that would not fit are refused before they allocate, naming the figure and what to do,
+// exit 2 and no image: the dense matrix, the hierarchical links, the adaptive active set. The
+// same solves pass once --memory-limit allows them.
+TEST(ReliabilityTest, SolvesThatWouldNotFitAreRefusedWithTheFigure) {
+  const fs::path dir = testing::scratchDirectory("reliability", "memory");
+  const fs::path image = dir / "out.png";
+  const std::string cli = std::string(LAMBERT_CLI_PATH) + " render --no-cache --width 32 --height 32 -o " + image.string();
+  struct Case {
+    std::string arguments, message;
+  };
+  const Case cases[] = {
+      {"--patches 3000 --memory-limit 10M",
+       "the dense form-factor matrix of 3152 patches needs 37.9 MiB, more than the 10.0 MiB of memory --memory-limit allows; use the "
+       "hierarchical method"},
+      {"--memory-limit 200k", "the hierarchical refinement, unfinished at"},
+      {"--scene cornell-spots --adaptive --memory-limit 100k", "active cells needs"},
+  };
+  for (const Case& c : cases) {
+    testing::CommandResult refused = shell(cli + " " + c.arguments);
+    EXPECT_EQ(refused.exitCode, 2) << c.arguments << "\n" << refused.output;
+    EXPECT_TRUE(contains(refused.output, c.message)) << refused.output;
+    EXPECT_TRUE(contains(refused.output, "--memory-limit to allow more")) << refused.output;
+    EXPECT_FALSE(fs::exists(image));
+    EXPECT_FALSE(hasTemporaryFiles(dir));
+  }
+  EXPECT_EQ(shell(cli + " --patches 3000 --memory-limit 64M --formfactor point").exitCode, 0);
+  EXPECT_TRUE(fs::exists(image));
+
+  // Without --memory-limit the machine's available memory is the limit: a mesh whose matrix is
+  // twice that is refused before anything is computed.
+  std::ifstream meminfo("/proc/meminfo");
+  std::string key, unit;
+  double kib = 0, available = 0;
+  while (meminfo >> key >> kib >> unit)
+    if (key == "MemAvailable:") available = kib * 1024;
+  if (available <= 0) GTEST_SKIP() << "no MemAvailable in /proc/meminfo";
+  const double patches = std::sqrt(2 * available / sizeof(float));
+  if (patches > 200000) GTEST_SKIP() << "this machine's memory holds the largest dense matrix --patches allows";
+  testing::CommandResult refused = shell(cli + " --patches " + std::to_string(static_cast<long>(patches)));
+  EXPECT_EQ(refused.exitCode, 2) << refused.output;
+  EXPECT_TRUE(contains(refused.output, "of memory available (MemAvailable)")) << refused.output;
 }
 
 }  // namespace

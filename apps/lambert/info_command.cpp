@@ -8,6 +8,7 @@
 #include <string>
 
 #include "commands.h"
+#include "lambert/core/memory.h"
 #include "lambert/engine/radiosity.h"
 #include "options.h"
 
@@ -18,17 +19,6 @@ struct InfoCommandOptions {
   MeshCommandOptions mesh;
   bool json = false;
 };
-
-// MemAvailable from /proc/meminfo, in bytes; 0 when unknown.
-double availableMemoryBytes() {
-  std::ifstream in("/proc/meminfo");
-  std::string key;
-  double kib = 0;
-  std::string unit;
-  while (in >> key >> kib >> unit)
-    if (key == "MemAvailable:") return kib * 1024;
-  return 0;
-}
 
 int runInfo(const InfoCommandOptions& o) {
   std::optional<Scene> scene = findScene("info", o.mesh);

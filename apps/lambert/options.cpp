@@ -100,6 +100,11 @@ void addSolveOptions(CLI::App& cmd, SolveCommandOptions& o) {
   cmd.add_option("--refine-passes", o.refinePasses, "Hierarchical: refine-then-solve passes of the first solve")
       ->check(CLI::Range(1, 20))
       ->capture_default_str();
+  // Sizes in bytes with an optional binary suffix: 512M, 8G, 1.5T.
+  cmd.add_option("--memory-limit", o.memoryLimitBytes,
+                 "Memory a solve may use, e.g. 8G or 512M (default: the machine's available memory); larger solves are refused")
+      ->transform(CLI::AsSizeValue(false))
+      ->check(CLI::Range(1.0, 1e18));
   cmd.add_flag("--adaptive", o.adaptive, "Adaptive quad-tree mesh refined at spot and shadow edges (seed 003)");
   cmd.add_option("--base-edge", o.baseEdge, "Adaptive: longest edge of the coarsest cells, scene units (default: diagonal / 6)")
       ->check(CLI::Range(1e-9, 1e12));
@@ -306,6 +311,7 @@ Result<RadiosityOptions> radiosityOptions(const Scene& scene, const SolveCommand
   r.solver = solver;
   r.tolerance = tolerance;
   r.maxIterations = o.maxIterations;
+  r.memoryLimitBytes = o.memoryLimitBytes;
   r.cacheDirectory = o.noCache || hierarchical ? "" : (o.cacheDir.empty() ? defaultCacheDirectory() : o.cacheDir);
   return r;
 }

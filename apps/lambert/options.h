@@ -62,6 +62,7 @@ struct SolveCommandOptions : MeshCommandOptions {
   int adaptPasses = 3;
   bool json = false;
   bool quiet = false;
+  double memoryLimitBytes = 0;  // --memory-limit; 0: the machine's available memory
 };
 
 struct ImageCommandOptions : GivenOptions {

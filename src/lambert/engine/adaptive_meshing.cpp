@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "lambert/core/memory.h"
 #include "lambert/core/timer.h"
 #include "lambert/core/warning.h"
 #include "lambert/formfactor/cache_file.h"
@@ -60,6 +61,7 @@ Result<std::unique_ptr<AdaptiveMeshing>> AdaptiveMeshing::create(const Scene& sc
 AdaptiveMeshing::AdaptiveMeshing(const Scene& scene, AdaptiveMesh mesh, const RadiosityOptions& options)
     : scene_(scene),
       options_(options.adaptive),
+      memoryLimitBytes_(options.memoryLimitBytes),
       formFactorOptions_(options.formFactors),
       normalizeRows_(options.normalizeRows),
       cacheDirectory_(options.cacheDirectory),
@@ -213,7 +215,7 @@ std::vector<char> AdaptiveMeshing::steepLeaves(const std::vector<Rgb>& radiosity
   return steep;
 }
 
-bool AdaptiveMeshing::refine(const std::vector<Light>& lights, std::vector<Rgb>& radiosity, SolveCallReport& report) {
+Result<bool> AdaptiveMeshing::refine(const std::vector<Light>& lights, std::vector<Rgb>& radiosity, SolveCallReport& report) {
   Timer adaptTimer;
   nodeRadiosity_.resize(mesh_.numNodes());
   if (radiosity.size() == mesh_.activeNodes().size())
@@ -229,6 +231,11 @@ bool AdaptiveMeshing::refine(const std::vector<Light>& lights, std::vector<Rgb>&
     Timer ffTimer;
     const std::uint64_t estimatedBefore = table_->pairsEstimated(), reusedBefore = table_->pairsReused(),
                         loadedBefore = table_->pairsLoaded();
+    // The active set's dense matrix is assembled whole.
+    const double n = static_cast<double>(active.size()), bytes = n * n * sizeof(float);
+    if (const double budget = memoryBudgetBytes(memoryLimitBytes_); budget > 0 && bytes > budget)
+      return Error{memoryExceeded("the form-factor matrix of " + std::to_string(active.size()) + " active cells", bytes, memoryLimitBytes_) +
+                   "; lower --max-level, raise --base-edge or --gradient-threshold, or --memory-limit to allow more"};
     auto F = std::make_shared<FormFactorMatrix>(table_->matrix(active));
     if (normalizeRows_) normalizeRows(*F);
     report.pairsEstimated += table_->pairsEstimated() - estimatedBefore;

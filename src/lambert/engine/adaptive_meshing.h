@@ -44,7 +44,7 @@ class AdaptiveMeshing final : public Meshing {
   const Mesh& elements() const override { return activeMesh_; }
   const RayCaster& caster() const override { return *caster_; }
   std::shared_ptr<const Transport> transport() const override { return transport_; }
-  bool refine(const std::vector<Light>& lights, std::vector<Rgb>& radiosity, SolveCallReport& report) override;
+  Result<bool> refine(const std::vector<Light>& lights, std::vector<Rgb>& radiosity, SolveCallReport& report) override;
   const Mesh& vertexMesh() const override { return mesh_.fineMesh(); }
   std::vector<Rgb> vertexValues(const std::vector<Rgb>& perElement) const override;
   void addStats(Stats& stats) const override;
@@ -71,6 +71,7 @@ class AdaptiveMeshing final : public Meshing {
 
   const Scene& scene_;  // the engine's, which owns this strategy
   AdaptiveMeshOptions options_;
+  double memoryLimitBytes_ = 0;  // RadiosityOptions::memoryLimitBytes
   FormFactorOptions formFactorOptions_;
   bool normalizeRows_;
   std::string cacheDirectory_;

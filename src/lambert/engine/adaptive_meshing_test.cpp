@@ -72,7 +72,9 @@ TEST(AdaptiveTest, RefinesExactlyAlongTheSpotsEdge) {
   Light spot = downwardSpot({0.45, 0.6, 0.55}, {0.1, -1, 0});
   std::vector<Rgb> radiosity;
   SolveCallReport update;
-  EXPECT_TRUE(a.refine({spot}, radiosity, update));
+  Result<bool> changed = a.refine({spot}, radiosity, update);
+  ASSERT_TRUE(changed) << changed.error().message;
+  EXPECT_TRUE(*changed);
   EXPECT_GT(update.refined, 0);
   EXPECT_EQ(radiosity.size(), a.elements().numPatches());  // a warm start for the new cells
 
@@ -159,7 +161,7 @@ TEST(AdaptiveTest, RefinesAlongShadowEdges) {
   point.intensity = {1, 1, 1};
   std::vector<Rgb> radiosity;
   SolveCallReport report;
-  a.refine({point}, radiosity, report);
+  ASSERT_TRUE(a.refine({point}, radiosity, report));
   // The blocker's shadow on the floor spans 0.3 … 0.7: cells across its edge are split.
   auto cell = floorCell;
   const Vec3 up{0, 1, 0};

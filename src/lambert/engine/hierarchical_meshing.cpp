@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "lambert/core/parallel.h"
+#include "lambert/core/memory.h"
 #include "lambert/core/timer.h"
 #include "lambert/engine/final_gather.h"
 #include "lambert/geometry/coverage.h"
@@ -28,7 +29,7 @@ std::vector<double> openFractions(const Mesh& mesh) {
 }  // namespace
 
 HierarchicalMeshing::HierarchicalMeshing(const Scene& scene, const RadiosityOptions& options)
-    : scene_(scene), options_(options.hierarchical), hierarchy_(scene) {
+    : scene_(scene), options_(options.hierarchical), memoryLimitBytes_(options.memoryLimitBytes), hierarchy_(scene) {
   leaves_ = hierarchy_.leaves(scene_);
   buildSeconds_ = created_.seconds();
   Timer bvh;
@@ -106,7 +107,7 @@ void HierarchicalMeshing::rebuildLeaves() {
   leafSeconds_ += timer.seconds();
 }
 
-bool HierarchicalMeshing::refine(const std::vector<Light>& lights, std::vector<Rgb>& radiosity, SolveCallReport& report) {
+Result<bool> HierarchicalMeshing::refine(const std::vector<Light>& lights, std::vector<Rgb>& radiosity, SolveCallReport& report) {
   if (passesDone_ >= options_.refinePasses) return false;
   // Which node each current leaf is, to hand the new leaves their ancestor's radiosity.
   std::vector<std::uint32_t> oldLeafOfNode(hierarchy_.nodes().size(), kNoNode);
@@ -156,8 +157,13 @@ bool HierarchicalMeshing::refine(const std::vector<Light>& lights, std::vector<R
 
   RefinementReport pass;
   LinkOptions linkOptions = options_.links;
+  linkOptions.memoryLimitBytes = memoryLimitBytes_;
   links_ = std::make_shared<Links>(refineLinks(hierarchy_, *caster_, epsilon_, passesDone_ > 0 ? links_.get() : nullptr,
                                                largestChannel(estimate), openFractions(leaves_.mesh), linkOptions, pass));
+  if (pass.memoryNeeded > 0)
+    return Error{memoryExceeded("the hierarchical refinement, unfinished at " + std::to_string(hierarchy_.nodes().size()) + " nodes,",
+                                pass.memoryNeeded, memoryLimitBytes_) +
+                 "; raise --link-error or --min-area, or --memory-limit to allow more"};
   if (passesDone_ == 0) refinement_.initialLinks = pass.initialLinks;  // later passes start from the links
   refinement_.estimated += pass.estimated;
   refinement_.rays += pass.rays;

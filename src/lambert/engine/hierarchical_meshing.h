@@ -29,7 +29,7 @@ class HierarchicalMeshing final : public Meshing {
   const Mesh& elements() const override { return leaves_.mesh; }
   const RayCaster& caster() const override { return *caster_; }
   std::shared_ptr<const Transport> transport() const override { return transport_; }
-  bool refine(const std::vector<Light>& lights, std::vector<Rgb>& radiosity, SolveCallReport& report) override;
+  Result<bool> refine(const std::vector<Light>& lights, std::vector<Rgb>& radiosity, SolveCallReport& report) override;
   const Mesh& vertexMesh() const override { return leaves_.mesh; }
   std::vector<Rgb> vertexValues(const std::vector<Rgb>& perElement) const override;
   // The final gather (engine/final_gather.h) at every vertex, with the lights' direct light
@@ -48,6 +48,7 @@ class HierarchicalMeshing final : public Meshing {
 
   const Scene& scene_;  // the engine's, which owns this strategy
   HierarchicalOptions options_;
+  double memoryLimitBytes_ = 0;  // RadiosityOptions::memoryLimitBytes
   Timer created_;  // started before the hierarchy is built
   ElementHierarchy hierarchy_;
   ElementHierarchy::LeafMesh leaves_;

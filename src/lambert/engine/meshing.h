@@ -49,8 +49,9 @@ class Meshing {
   // Adapts the elements to the lights and to the last solution (B per current element; empty
   // before the first solve). Returns whether the elements changed; then elements() and
   // transport() describe the new ones and radiosity holds a warm start for them. Adds what it
-  // did (cells split and merged, pairs estimated, times) to report.
-  virtual bool refine(const std::vector<Light>& lights, std::vector<Rgb>& radiosity, SolveCallReport& report) = 0;
+  // did (cells split and merged, pairs estimated, times) to report. An Error when the refined
+  // elements would not fit in the memory the options allow (core/memory.h).
+  virtual Result<bool> refine(const std::vector<Light>& lights, std::vector<Rgb>& radiosity, SolveCallReport& report) = 0;
 
   virtual const Mesh& vertexMesh() const = 0;
   // Continuous per-vertex values of any per-element quantity, interpolated.

@@ -19,7 +19,11 @@ namespace lambert {
 
 Result<std::unique_ptr<Meshing>> makeMeshing(const Scene& scene, const RadiosityOptions& options) {
   switch (options.meshing) {
-    case MeshStrategy::Uniform: return std::unique_ptr<Meshing>(std::make_unique<UniformMeshing>(scene, options));
+    case MeshStrategy::Uniform: {
+      Result<std::unique_ptr<UniformMeshing>> uniform = UniformMeshing::create(scene, options);
+      if (!uniform) return uniform.error();
+      return std::unique_ptr<Meshing>(std::move(*uniform));
+    }
     case MeshStrategy::Adaptive: {
       Result<std::unique_ptr<AdaptiveMeshing>> adaptive = AdaptiveMeshing::create(scene, options);
       if (!adaptive) return adaptive.error();
@@ -129,11 +133,13 @@ Result<SolveCallReport> Radiosity::solve(const SolveBudget& budget) {
                      : options_.meshing == MeshStrategy::Hierarchical && solves_ == 0 ? options_.hierarchical.refinePasses
                                                                                    : 1;
   for (int pass = 0; pass < passes; ++pass) {
-    if (meshing_->refine(lights_, radiosity_, report)) {
+    Result<bool> refined = meshing_->refine(lights_, radiosity_, report);
+    if (!refined) return refined.error();
+    if (*refined) {
       solved_ = true;  // radiosity_ now holds the refinement's warm start
       rebuildProblem();
     }
-    solvePass(budget, report);
+    if (Status solved = solvePass(budget, report); !solved) return solved.error();
   }
   report.elements = meshing_->elements().numPatches();
   ++solves_;
@@ -147,7 +153,7 @@ Result<SolveCallReport> Radiosity::solve(const SolveBudget& budget) {
   return report;
 }
 
-void Radiosity::solvePass(const SolveBudget& budget, SolveCallReport& report) {
+Status Radiosity::solvePass(const SolveBudget& budget, SolveCallReport& report) {
   const Mesh& elements = meshing_->elements();
   const RayCaster& caster = meshing_->caster();
 
@@ -192,6 +198,14 @@ void Radiosity::solvePass(const SolveBudget& budget, SolveCallReport& report) {
   }
   solved_ = true;
   report.solveSeconds += solveTimer.seconds();
+  // A diverged or non-finite solution is an error naming where, never an image of garbage.
+  largestEmittedPower_ = std::fmax(largestEmittedPower_, emittedPower(problem_));
+  if (std::optional<SolutionFault> fault = findSolutionFault(problem_, radiosity_, largestEmittedPower_)) {
+    const Patch& element = meshing_->elements().patches.at(fault->element);
+    return Error{"the " + solverName(options_.solver) + " solve failed: the radiosity of element " + std::to_string(fault->element) +
+                 " (surface '" + scene_.surfaces.at(element.surface).name + "') " + fault->what};
+  }
+  return Ok{};
 }
 
 Stats Radiosity::stats() const {

@@ -76,6 +76,9 @@ struct RadiosityOptions {
   // Where form factors (uniform: the matrix, .lff) or the master table (adaptive, .lft) are read
   // and written; empty: always computed, never saved.
   std::string cacheDirectory;
+  // Bytes a solve may use for its large structures (core/memory.h); 0: the machine's available
+  // memory. A solve whose estimate exceeds it is refused (create or solve returns the Error).
+  double memoryLimitBytes = 0;
 };
 
 // How much one solve() may do beyond stopping at the tolerance; 0 everywhere: run to the
@@ -151,7 +154,7 @@ class Radiosity {
   friend class SolutionView;
   Radiosity(Scene scene, RadiosityOptions options);
   void rebuildProblem();
-  void solvePass(const SolveBudget& budget, SolveCallReport& report);
+  Status solvePass(const SolveBudget& budget, SolveCallReport& report);
 
   Scene scene_;
   RadiosityOptions options_;
@@ -163,7 +166,8 @@ class Radiosity {
   std::vector<Rgb> injected_;          // the lights' ρ·E_direct, W/m²
   std::vector<Rgb> vertexMeshAlbedo_;  // ρ per patch of the meshing's vertex mesh
   std::vector<Rgb> radiosity_;         // B, W/m², one per element
-  bool solved_ = false;                // radiosity_ holds a solution (or a refinement's warm start)
+  bool solved_ = false;
+  double largestEmittedPower_ = 0;     // Σ E A of any solve so far (findSolutionFault's scale)                // radiosity_ holds a solution (or a refinement's warm start)
   std::unique_ptr<ProgressiveShooter> shooter_;  // shoot: kept between solves, warm
   SolutionView view_;
   // Totals over every solve(), for stats().

@@ -1,5 +1,6 @@
 #include "lambert/engine/uniform_meshing.h"
 
+#include "lambert/core/memory.h"
 #include "lambert/core/timer.h"
 #include "lambert/formfactor/cache.h"
 #include "lambert/formfactor/table.h"
@@ -20,17 +21,27 @@ Mesh uniformMesh(const Scene& scene, const UniformMeshOptions& options) {
   return subdivideScene(scene, maxEdgeLength(scene, options));
 }
 
-UniformMeshing::UniformMeshing(const Scene& scene, const RadiosityOptions& options) {
-  const UniformMeshOptions& uniform = options.uniform;
-  const FormFactorOptions& ff = options.formFactors;
+Result<std::unique_ptr<UniformMeshing>> UniformMeshing::create(const Scene& scene, const RadiosityOptions& options) {
   Timer meshTimer;
-  const double maxEdge = maxEdgeLength(scene, uniform);
-  mesh_ = subdivideScene(scene, maxEdge);
+  const double maxEdge = maxEdgeLength(scene, options.uniform);
+  Mesh mesh = subdivideScene(scene, maxEdge);
+  // The n×n float matrix, which computing or loading it fills at once.
+  const double n = static_cast<double>(mesh.numPatches()), bytes = n * n * sizeof(float);
+  if (const double budget = memoryBudgetBytes(options.memoryLimitBytes); budget > 0 && bytes > budget)
+    return Error{memoryExceeded("the dense form-factor matrix of " + std::to_string(mesh.numPatches()) + " patches", bytes,
+                                options.memoryLimitBytes) +
+                 "; use the hierarchical method (--method hierarchical: memory near-linear in the faces), fewer patches, or "
+                 "--memory-limit to allow more"};
+  return std::make_unique<UniformMeshing>(std::move(mesh), maxEdge, meshTimer.seconds(), options);
+}
+
+UniformMeshing::UniformMeshing(Mesh mesh, double maxEdge, double meshSeconds, const RadiosityOptions& options) : mesh_(std::move(mesh)) {
+  const FormFactorOptions& ff = options.formFactors;
   stats_.add("mesh", "mesh", std::string("uniform bisection"));
   stats_.add("patches", "patches", static_cast<std::int64_t>(mesh_.numPatches()));
   stats_.add("vertices", "vertices", static_cast<std::int64_t>(mesh_.numVertices()));
   stats_.add("max_edge_length", "max edge length", maxEdge, "scene units");
-  stats_.add("mesh_seconds", "mesh time", meshTimer.seconds(), "s");
+  stats_.add("mesh_seconds", "mesh time", meshSeconds, "s");
 
   Timer bvhTimer;
   caster_ = makeEmbreeRayCaster(mesh_);

@@ -10,15 +10,18 @@ namespace lambert {
 
 class UniformMeshing final : public Meshing {
  public:
-  UniformMeshing(const Scene& scene, const RadiosityOptions& options);
+  // Meshes the scene and computes (or loads) the form factors; an Error, before the matrix is
+  // allocated, when it would not fit in the memory the options allow.
+  static Result<std::unique_ptr<UniformMeshing>> create(const Scene& scene, const RadiosityOptions& options);
 
   const Mesh& elements() const override { return mesh_; }
   const RayCaster& caster() const override { return *caster_; }
   std::shared_ptr<const Transport> transport() const override { return transport_; }
-  bool refine(const std::vector<Light>&, std::vector<Rgb>&, SolveCallReport&) override { return false; }
+  Result<bool> refine(const std::vector<Light>&, std::vector<Rgb>&, SolveCallReport&) override { return false; }
   const Mesh& vertexMesh() const override { return mesh_; }
   std::vector<Rgb> vertexValues(const std::vector<Rgb>& perElement) const override;
   void addStats(Stats& stats) const override { stats.append(stats_); }
+  UniformMeshing(Mesh mesh, double maxEdge, double meshSeconds, const RadiosityOptions& options);
   Status saveCache() override { return Ok{}; }  // the matrix was saved when it was computed
 
  private:

@@ -1,9 +1,11 @@
 #include "lambert/formfactor/links.h"
 
+#include "lambert/core/memory.h"
 #include <algorithm>
 #include <cmath>
 
 #include "lambert/core/error.h"
+#include "lambert/core/memory.h"
 #include "lambert/core/parallel.h"
 #include "lambert/core/progress.h"
 #include "lambert/core/rng.h"
@@ -125,6 +127,14 @@ class Refiner {
       next.clear();
       for (const Candidate& c : frontier) judge(c, kept, next, report);
       frontier.swap(next);
+      // What the refinement holds now, and will hold at least: kept and pending links, and the
+      // hierarchy's nodes. Checked every wave, so a refinement that cannot fit stops early.
+      const double bytes = static_cast<double>(kept.size() + frontier.size()) * sizeof(Candidate) +
+                           static_cast<double>(h_.nodes().size()) * sizeof(HierarchyNode);
+      if (const double budget = memoryBudgetBytes(options_.memoryLimitBytes); budget > 0 && bytes > budget) {
+        report.memoryNeeded = bytes;
+        break;
+      }
     }
     progress.finish();
     h_.numberLeaves();

@@ -55,6 +55,7 @@ struct LinkOptions {
   bool clusters = true;        // false: start from every pair of faces (no cluster links)
   std::uint64_t seed = 1;
   bool showProgress = false;
+  double memoryLimitBytes = 0;  // core/memory.h: refinement stops when its links would not fit
 };
 
 // Links grouped by receiver node (compressed rows over the hierarchy's nodes), sources in
@@ -77,6 +78,10 @@ struct RefinementReport {
   std::uint64_t elementsSplit = 0;
   std::uint64_t clusterLinks = 0;   // kept links with a cluster at either end
   double seconds = 0;
+  // Non-zero when refinement stopped because its links and nodes would need more memory than
+  // LinkOptions::memoryLimitBytes allows: the estimate, in bytes. The links returned then are
+  // incomplete.
+  double memoryNeeded = 0;
 };
 
 // Refines links over `hierarchy` (splitting its elements as needed) for leaf radiosities given

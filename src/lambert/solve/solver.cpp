@@ -1,6 +1,7 @@
 #include "lambert/solve/solver.h"
 
 #include <cmath>
+#include <cstdio>
 
 #include "lambert/core/error.h"
 #include "lambert/core/parallel.h"
@@ -46,6 +47,34 @@ double relativeResidual(const RadiosityProblem& problem, const std::vector<Rgb>&
     magnitude = std::fmax(magnitude, rowMagnitude[i]);
   }
   return magnitude > 0 ? residual / magnitude : residual;
+}
+
+double emittedPower(const RadiosityProblem& problem) {
+  double power = 0;
+  for (std::size_t i = 0; i < problem.size(); ++i) power += (problem.emitted[i].r + problem.emitted[i].g + problem.emitted[i].b) * problem.area[i];
+  return power;
+}
+
+std::optional<SolutionFault> findSolutionFault(const RadiosityProblem& problem, const std::vector<Rgb>& radiosity,
+                                               double earlierEmittedPower) {
+  double power = 0, maxAlbedo = 0, largest = -1;
+  std::size_t brightest = 0;
+  for (std::size_t i = 0; i < radiosity.size(); ++i) {
+    const Rgb& b = radiosity[i];
+    if (!std::isfinite(b.r) || !std::isfinite(b.g) || !std::isfinite(b.b)) return SolutionFault{i, "is not finite"};
+    const double p = (b.r + b.g + b.b) * problem.area[i];
+    power += p;
+    if (p > largest) largest = p, brightest = i;
+    maxAlbedo = std::fmax(maxAlbedo, problem.albedo[i].maxComponent());
+  }
+  const double bound = 1.5 * std::fmax(emittedPower(problem), 1e-6 * earlierEmittedPower) / std::fmax(1 - maxAlbedo, 1e-6);
+  if (power > bound && power > 0) {
+    char what[200];
+    std::snprintf(what, sizeof what, "holds the most of %.3g W·units² of power where the emission can give at most %.3g: the solve diverged",
+                  power, bound);
+    return SolutionFault{brightest, what};
+  }
+  return std::nullopt;
 }
 
 Rgb ambientRadiosity(const RadiosityProblem& problem, const std::vector<Rgb>& unshot) {

@@ -3,6 +3,7 @@
 // interface. All start from (and so can warm-start with) the radiosity they are handed.
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -67,6 +68,22 @@ std::unique_ptr<Solver> makeSolver(SolverKind kind, SolveOptions options = {});
 
 // max_i,c |E + ρFB − B| / max_i,c |B|, with FB from one Transport::gather.
 double relativeResidual(const RadiosityProblem& problem, const std::vector<Rgb>& radiosity);
+
+// Where a solution cannot be right: the first element whose radiosity is not finite, or (when
+// all are) the one holding the most power if the total exceeds what the emission can give,
+// Σ B_i A_i ≤ Σ E_i A_i / (1 − ρ_max) for a transport whose rows sum to at most 1, with half
+// again as slack for estimated form factors. Such a solution comes from a system that diverged
+// (a transport that makes energy) or from non-finite input; empty when neither.
+// `earlierEmittedPower` (Σ E_i A_i of earlier solves warm-started into this one) counts with a
+// millionth: light removed by negative shooting leaves rounding behind, not divergence.
+struct SolutionFault {
+  std::size_t element = 0;
+  std::string what;  // "is not finite", "… more power than …"
+};
+std::optional<SolutionFault> findSolutionFault(const RadiosityProblem& problem, const std::vector<Rgb>& radiosity,
+                                               double earlierEmittedPower = 0);
+// Σ E_i A_i over channels, as findSolutionFault counts power.
+double emittedPower(const RadiosityProblem& problem);
 
 // Cohen et al. 1988's ambient radiosity for display during shooting: the unshot power spread
 // uniformly and reflected to convergence, R·Σ ΔB_j A_j / Σ A_j with R = 1 / (1 − ρ_avg).

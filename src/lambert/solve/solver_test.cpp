@@ -189,3 +189,53 @@ TEST(SolverTest, AmbientOfUniformUnshotIsItsInfiniteReflection) {
 
 }  // namespace
 }  // namespace lambert
+
+namespace lambert {
+namespace {
+
+// Two patches facing each other whose "form factors" are 2: a transport that makes energy. With
+// ρ = 0.9 the iteration diverges (spectral radius 1.8); the fault check must say so and where.
+RadiosityProblem energyMakingPair() {
+  auto F = std::make_shared<FormFactorMatrix>(2, 2);
+  *F << 0, 2, 2, 0;
+  RadiosityProblem problem;
+  problem.transport = std::make_shared<DenseTransport>(F);
+  problem.emitted = {Rgb{1, 1, 1}, Rgb{}};
+  problem.albedo = {Rgb{0.9, 0.9, 0.9}, Rgb{0.9, 0.9, 0.9}};
+  problem.area = {1, 3};
+  return problem;
+}
+
+TEST(SolutionFaultTest, ADivergedSolveIsFoundAndTheBrightestElementNamed) {
+  RadiosityProblem problem = energyMakingPair();
+  std::vector<Rgb> radiosity;
+  SolveOptions options;
+  options.maxIterations = 50;
+  makeSolver(SolverKind::Jacobi, options)->solve(problem, radiosity);
+  std::optional<SolutionFault> fault = findSolutionFault(problem, radiosity);
+  ASSERT_TRUE(fault);
+  EXPECT_EQ(fault->element, 1u);  // the larger patch holds more of the power
+  EXPECT_NE(fault->what.find("diverged"), std::string::npos) << fault->what;
+
+  // The same pair with physical form factors (0.2) converges and has no fault.
+  auto F = std::make_shared<FormFactorMatrix>(2, 2);
+  *F << 0, 0.2f, 0.2f, 0;
+  problem.transport = std::make_shared<DenseTransport>(F);
+  radiosity.clear();
+  makeSolver(SolverKind::Jacobi, options)->solve(problem, radiosity);
+  EXPECT_FALSE(findSolutionFault(problem, radiosity));
+}
+
+TEST(SolutionFaultTest, ANonFiniteRadiosityIsFoundWhereItIs) {
+  RadiosityProblem problem = energyMakingPair();
+  std::vector<Rgb> radiosity = {Rgb{1, 1, 1}, Rgb{0.5, std::nan(""), 0.5}};
+  std::optional<SolutionFault> fault = findSolutionFault(problem, radiosity);
+  ASSERT_TRUE(fault);
+  EXPECT_EQ(fault->element, 1u);
+  EXPECT_EQ(fault->what, "is not finite");
+  radiosity[1].g = INFINITY;
+  EXPECT_TRUE(findSolutionFault(problem, radiosity));
+}
+
+}  // namespace
+}  // namespace lambert
