@@ -8,6 +8,7 @@
 #include <cctype>
 #include <filesystem>
 #include <fstream>
+#include <ostream>
 #include <regex>
 #include <set>
 #include <stdexcept>
@@ -36,6 +37,9 @@ struct BadInputCase {
   std::vector<std::string> writes;    // the files {out} must hold afterwards, and no others
   std::string manifestError;          // set when cases.json itself is wrong: the case fails with it
 };
+
+// What gtest (and so CTest's list) shows for a case: its file, not the struct's bytes.
+void PrintTo(const BadInputCase& c, std::ostream* out) { *out << (c.file.empty() ? c.name : c.file); }
 
 std::string testName(const std::string& file) {
   std::string name = file;
