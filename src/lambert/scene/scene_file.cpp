@@ -472,8 +472,11 @@ Result<Scene> parseSceneFile(const std::string& text, const std::string& path) {
         ++column;
       }
     }
+    // nlohmann's text after its own "… line L, column C: " prefix (the first ": " after "column"):
+    // the explanation and what it last read, e.g. "invalid literal; last read: '[N'" for a NaN.
     std::string what = e.what();
-    if (auto colon = what.rfind(": "); colon != std::string::npos) what = what.substr(colon + 2);
+    if (auto at = what.find("column"); at != std::string::npos)
+      if (auto colon = what.find(": ", at); colon != std::string::npos) what = what.substr(colon + 2);
     return Error{path + ":" + std::to_string(line) + ":" + std::to_string(column) + ": not valid JSON: " + what};
   } catch (const Json::exception& e) {  // a number too large for a double, and the like
     std::string what = e.what();
