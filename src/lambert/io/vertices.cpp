@@ -82,8 +82,9 @@ Status writeVertices(const std::string& path, const std::vector<VertexSample>& v
     text += "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n";
     for (const VertexSample& v : vertices) {
       text += formatRow(v, ' ');
-      text += " " + std::to_string(toSrgbByte(v.radiance.r)) + " " + std::to_string(toSrgbByte(v.radiance.g)) + " " +
-              std::to_string(toSrgbByte(v.radiance.b)) + "\n";
+      // Appended piecewise: GCC 12 warns falsely (-Wrestrict) about " " + std::string here.
+      for (double channel : {v.radiance.r, v.radiance.g, v.radiance.b}) text.append(" ").append(std::to_string(toSrgbByte(channel)));
+      text += '\n';
     }
   } else {
     return Error{path + ": unknown vertex file type (use .csv or .ply)"};
