@@ -606,54 +606,7 @@ TEST(CliTest, HierarchicalMethodSolvesAndRefusesFlatOptions) {
   }
 }
 
-// Every kind of bad scene input: exit code 2, a message naming the file and what is wrong, and
-// no image written.
-TEST(CliTest, BadScenesAreRefusedNamingTheFileAndWritingNothing) {
-  fs::path dir = outputDir("bad-scenes");
-  auto write = [&](const std::string& name, const std::string& text) {
-    std::ofstream(dir / name, std::ios::binary) << text;
-    return (dir / name).string();
-  };
-  const std::string quad = R"("surfaces": [{"material": "m", "vertices": [[0,0,0], [1,0,0], [1,1,0], [0,1,0]]}])";
-  struct Case {
-    std::string what, path, message;
-  };
-  const std::vector<Case> cases = {
-      {"malformed JSON", write("syntax.json", "{\"version\": 1,\n  \"materials\": [}"), "syntax.json:2:"},
-      {"wrong type", write("type.json", R"({"materials": [{"name": "m", "albedo": "grey"}], )" + quad + "}"),
-       "/materials/0/albedo: expected an array of 3 numbers"},
-      {"unknown field", write("field.json", R"({"materials": [{"name": "m", "colour": [1, 1, 1]}], )" + quad + "}"),
-       "/materials/0/colour: unknown field"},
-      {"albedo of 1", write("white.json", R"({"materials": [{"name": "m", "albedo": [1, 1, 1]}], )" + quad + "}"),
-       "/materials/0/albedo/0: 1 is out of range: allowed [0, 1)"},
-      {"negative emission", write("dark.json", R"({"materials": [{"name": "m", "emittedRadiance": [-1, 0, 0]}], )" + quad + "}"),
-       "/materials/0/emittedRadiance/0: -1 is out of range"},
-      {"missing texture", write("texture.json", R"({"materials": [{"name": "m", "texture": "nowhere.png"}], )" + quad + "}"),
-       "nowhere.png: no such texture file"},
-      {"missing mesh", write("mesh.json", R"({"meshes": [{"path": "nowhere.obj"}]})"), "/meshes/0/path: " + (dir / "nowhere.obj").string() + ": no such OBJ file"},
-      {"OBJ map_Kd missing", write("tex.obj", "mtllib tex.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl t\nf 1 2 3\n") +
-                                 (write("tex.mtl", "newmtl t\nKd 0.5 0.5 0.5\nmap_Kd gone.png\n"), ""),
-       "material 't': map_Kd: "},
-      {"OBJ without faces", write("empty.obj", "v 0 0 0\n"), "no faces"},
-      {"truncated glb", write("cut.glb", std::string("glTF\x02\0\0\0\x40\0\0\0", 12)), "cut.glb: "},
-      {"text posing as glb", write("text.glb", "this is not a glb"), "text.glb: not a binary glTF file"},
-      {"missing buffer", write("nobuf.gltf", R"({"asset": {"version": "2.0"}, "buffers": [{"uri": "gone.bin", "byteLength": 36}]})"),
-       "nobuf.gltf: File not found : gone.bin"},
-      {"MGF unknown vertex", write("vertex.mgf", "m white =\n\trd .5\nf a b c\n"), "vertex.mgf:3: f: undefined vertex 'a'"},
-      {"MGF missing include", write("include.mgf", "# top\ni gone.mgf\n"), "include.mgf:2: cannot open include 'gone.mgf'"},
-      {"MGF reflectance above 1", write("rd.mgf", "m white =\n\trd 1.5\n"), "rd.mgf:2: rd 1.5: a reflectance must be between 0 and 1"},
-      {"MGF include cycle", write("cycle.mgf", "i cycle.mgf\n"), "cycle.mgf:1: include cycle"},
-      {"unknown extension", write("scene.dae", "<COLLADA/>"), "unknown scene"},
-  };
-  for (const Case& c : cases) {
-    const fs::path png = dir / "never.png";
-    CommandResult r = run("render --scene " + c.path + " --patches 16 -q -o " + png.string());
-    EXPECT_EQ(r.exitCode, 2) << c.what << ": " << r.output;
-    EXPECT_NE(r.output.find(c.message), std::string::npos) << c.what << ": " << r.output;
-    EXPECT_NE(r.output.find(fs::path(c.path).filename().string()), std::string::npos) << c.what << " names no file: " << r.output;
-    EXPECT_FALSE(fs::exists(png)) << c.what;
-  }
-}
+// Bad scene input, case by case, is the corpus under tests/bad/ (tests/bad_input_test.cpp).
 
 // `lambert info` tells what a scene holds and what a dense solve of it would take.
 TEST(CliTest, InfoDescribesTheSceneAndTheSolveItWouldNeed) {

@@ -56,8 +56,6 @@ int runInfo(const InfoCommandOptions& o) {
   stats.add("formfactor_matrix_mib", "dense form-factor matrix", matrixBytes / (1024.0 * 1024.0), "MiB");
   if (const double available = availableMemoryBytes(); available > 0)
     stats.add("fits_in_memory", "fits in available memory", std::string(matrixBytes < 0.8 * available ? "yes" : "no"));
-  if (scene->lights.empty() && emitters == 0)
-    std::fprintf(stderr, "lambert info: note: scene '%s' has no light and no emitting surface: it solves to black\n", scene->name.c_str());
   printStats(stats, o.json, false);
   return 0;
 }

@@ -1,10 +1,12 @@
 #include "options.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
 
 #include "lambert/core/text.h"
+#include "lambert/core/warning.h"
 #include "lambert/io/exr.h"
 #include "lambert/io/png.h"
 #include "lambert/mesh/mesh.h"
@@ -189,6 +191,11 @@ std::optional<Scene> findScene(const std::string& command, const MeshCommandOpti
     fail(command, scene.error().message);
     return std::nullopt;
   }
+  // Not an error (a scene may be lit later, in the viewer), but a black image surprises.
+  const bool emits = std::any_of(scene->surfaces.begin(), scene->surfaces.end(),
+                                 [](const Surface& s) { return s.emittedRadiance.maxComponent() > 0; });
+  if (scene->lights.empty() && !emits)
+    warning(o.scene + ": no light and no emitting surface: the solution is black (add a light, or a material that emits)");
   return std::move(*scene);
 }
 

@@ -82,8 +82,9 @@ Status writeVertices(const std::string& path, const std::vector<VertexSample>& v
     text += "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n";
     for (const VertexSample& v : vertices) {
       text += formatRow(v, ' ');
-      text += " " + std::to_string(toSrgbByte(v.radiance.r)) + " " + std::to_string(toSrgbByte(v.radiance.g)) + " " +
-              std::to_string(toSrgbByte(v.radiance.b)) + "\n";
+      // Appended piecewise: GCC 12 warns falsely (-Wrestrict) about " " + std::string here.
+      for (double channel : {v.radiance.r, v.radiance.g, v.radiance.b}) text.append(" ").append(std::to_string(toSrgbByte(channel)));
+      text += '\n';
     }
   } else {
     return Error{path + ": unknown vertex file type (use .csv or .ply)"};
@@ -105,7 +106,13 @@ Result<std::vector<VertexSample>> readVertices(const std::string& path) {
       ++lineNumber;
       if (lineNumber == 1 && line != "ply") return Error{path + ":1: not a PLY file"};
       if (line.rfind("element vertex ", 0) == 0) {
-        expected = std::stoull(line.substr(15));
+        // from_chars, not stoull: a count that is not a number is the file's error, not a crash.
+        const char* begin = line.data() + 15;
+        const char* end = line.data() + line.size();
+        while (end > begin && (end[-1] == ' ' || end[-1] == '\r')) --end;
+        const auto [stop, ec] = std::from_chars(begin, end, expected);
+        if (ec != std::errc() || stop != end || begin == end)
+          return Error{path + ":" + std::to_string(lineNumber) + ": the vertex count '" + line.substr(15) + "' is not a whole number"};
         counted = true;
       }
       if (line == "end_header") break;
@@ -122,9 +129,10 @@ Result<std::vector<VertexSample>> readVertices(const std::string& path) {
     if (line.empty() || line == "\r") continue;
     double v[9];
     if (!parseRow(line, ply ? ' ' : ',', v))
-      return Error{path + ":" + std::to_string(lineNumber) + ": expected nine numbers (position, normal, radiance)"};
+      return Error{path + ":" + std::to_string(lineNumber) + ": expected nine finite numbers (position, normal, radiance)"};
     vertices.push_back({{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}});
   }
+  if (vertices.empty()) return Error{path + ": no vertices (the file holds a header only)"};
   if (ply && vertices.size() != expected)
     return Error{path + ": header promises " + std::to_string(expected) + " vertices, file has " + std::to_string(vertices.size())};
   return vertices;

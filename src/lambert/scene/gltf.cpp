@@ -137,6 +137,8 @@ class Reader {
     if (auto it = textures_.find(source); it != textures_.end()) return it->second;
     const tinygltf::Image& image = model_.images[static_cast<std::size_t>(source)];
     const std::string name = image.uri.empty() ? "image " + std::to_string(source) : image.uri;
+    // tinygltf leaves an image it could not load empty (and says why in a warning).
+    if (image.image.empty()) return Error{path_ + ": " + name + ": the image could not be loaded (a missing or unreadable file?)"};
     if (image.bits != 8) return Error{path_ + ": " + name + ": only 8-bit images are read as albedo textures"};
     Result<std::shared_ptr<const Texture>> read =
         textureFromSrgb8(image.image, image.width, image.height, image.component, path_ + ": " + name);
@@ -216,6 +218,11 @@ class Reader {
       // (Appended piecewise: GCC 12 warns falsely, -Wrestrict, about "literal" + std::string.)
       polygons.name = !node.name.empty() ? node.name : !mesh.name.empty() ? mesh.name : std::string("mesh ").append(std::to_string(node.mesh));
       if (mesh.primitives.size() > 1) polygons.name.append(" ").append(std::to_string(p + 1));
+      // A NaN or infinite position is a broken file, not a degenerate face: refused, saying where.
+      for (std::size_t k = 0; k < xyz->size(); ++k)
+        if (!std::isfinite((*xyz)[k]))
+          return Error{path_ + ": mesh '" + mesh.name + "': POSITION (accessor " + std::to_string(position->second) + ") vertex " +
+                       std::to_string(k / 3) + " is not finite (NaN or infinite)"};
       for (std::size_t v = 0; v < xyz->size() / 3; ++v)
         polygons.positions.push_back(world.point({(*xyz)[3 * v], (*xyz)[3 * v + 1], (*xyz)[3 * v + 2]}));
       std::vector<std::uint32_t> indices;

@@ -3,8 +3,12 @@
 #include <tiny_obj_loader.h>
 
 #include <algorithm>
+#include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <span>
 
 #include "lambert/core/atomic_file.h"
@@ -13,10 +17,43 @@
 #include "lambert/scene/texture.h"
 
 namespace lambert {
+namespace {
+
+// tinyobjloader reads a coordinate it cannot parse ("nan", "abc", one left out) as 0 and says
+// nothing, so a broken vertex would become a wrong one. Each v and vt line is checked here first:
+// its numbers must be finite, and a v needs x, y and z.
+Status checkCoordinates(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    std::istringstream words(line);
+    std::string keyword, word;
+    words >> keyword;
+    if (keyword != "v" && keyword != "vt") continue;
+    int count = 0;
+    while (words >> word) {
+      ++count;
+      double value = 0;
+      const char* begin = word.data() + (word[0] == '+' ? 1 : 0);
+      const char* end = word.data() + word.size();
+      const auto [stop, ec] = std::from_chars(begin, end, value);
+      const std::string where = path + ":" + std::to_string(number) + ": " + keyword + ": ";
+      if (ec == std::errc() && stop == end && !std::isfinite(value))
+        return Error{where + "'" + word + "' is not a finite number"};
+      if (ec == std::errc::result_out_of_range) return Error{where + "'" + word + "' is not a finite number (out of range)"};
+      if (ec != std::errc() || stop != end) return Error{where + "expected a number, found '" + word + "'"};
+    }
+    if (keyword == "v" && count < 3) return Error{path + ":" + std::to_string(number) + ": v needs three coordinates x y z, found " + std::to_string(count)};
+  }
+  return Ok{};
+}
+
+}  // namespace
 
 Result<Scene> readObj(const std::string& path, const ObjOptions& options) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) return Error{path + ": no such OBJ file"};
+  if (Status s = checkCoordinates(path); !s) return s.error();
   tinyobj::ObjReaderConfig config;
   config.triangulate = false;  // lambert triangulates (ear clipping) only what is not convex
   config.vertex_color = false;

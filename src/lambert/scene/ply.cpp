@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cctype>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -54,6 +55,9 @@ class PlyReader {
             Result<std::vector<double>> values = readProperty(property);
             if (!values) return values.error();
             if (!values->empty()) {
+              const bool coordinate = property.name == "x" || property.name == "y" || property.name == "z";
+              if (coordinate && !std::isfinite((*values)[0]))
+                return error("vertex " + std::to_string(e) + ": " + property.name + " is not finite (NaN or infinite)");
               if (property.name == "x") p.x = (*values)[0];
               if (property.name == "y") p.y = (*values)[0];
               if (property.name == "z") p.z = (*values)[0];

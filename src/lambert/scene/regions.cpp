@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <numeric>
+#include <set>
 
 #include "lambert/core/warning.h"
 
@@ -34,6 +35,7 @@ void DroppedFaces::add(const DroppedFaces& other) {
   repeatedVertex += other.repeatedVertex;
   noArea += other.noArea;
   outOfRange += other.outOfRange;
+  duplicate += other.duplicate;
 }
 
 std::string DroppedFaces::describe() const {
@@ -47,6 +49,7 @@ std::string DroppedFaces::describe() const {
   kind(repeatedVertex, "with a repeated vertex");
   kind(noArea, "with no area");
   kind(outOfRange, "with a vertex index out of range");
+  kind(duplicate, "duplicating an earlier face");
   return std::to_string(total()) + " degenerate face" + (total() == 1 ? "" : "s") + " dropped: " + kinds;
 }
 
@@ -146,6 +149,7 @@ DroppedFaces addSmoothRegions(Scene& scene, const PolygonMesh& mesh, const std::
   std::vector<Piece> pieces;
   pieces.reserve(mesh.faces.size());
   DroppedFaces dropped;
+  std::set<std::vector<std::uint32_t>> seen;  // the faces kept so far, as their rotated corner lists
   std::vector<std::uint32_t> ids;  // one face's welded vertices and their positions, reused
   std::vector<Vec3> polygon;
   for (const PolygonMesh::Face& face : mesh.faces) {
@@ -172,6 +176,14 @@ DroppedFaces addSmoothRegions(Scene& scene, const PolygonMesh& mesh, const std::
     const double size = polygon.size() >= 3 ? polygonExtent(polygon) : 0;
     if (polygon.size() < 3 || !(length(n) > 1e-12 * size * size)) {
       ++dropped.noArea;
+      continue;
+    }
+    // The corners from the lowest index on, in the face's order: equal for the same face started
+    // at another corner, different for the reversed face.
+    std::vector<std::uint32_t> key(ids);
+    std::rotate(key.begin(), std::min_element(key.begin(), key.end()), key.end());
+    if (!seen.insert(std::move(key)).second) {
+      ++dropped.duplicate;
       continue;
     }
     const Vec3 normal = normalize(n);

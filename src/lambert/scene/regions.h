@@ -4,7 +4,9 @@
 // gets the same rules:
 //   - vertices at exactly the same position are welded (exporters split them for normals and UVs);
 //   - degenerate faces (a non-finite coordinate, a repeated vertex, no area) are dropped and
-//     counted by kind;
+//     counted by kind, and so are duplicates (an earlier face's corners, in the same turning
+//     order: coincident patches would count their light twice). A face and its reverse are
+//     both kept: that is a two-sided sheet;
 //   - a convex face is kept whole (the mesher fans it, which also splits a non-planar quad); a
 //     non-convex one is split into triangles by ear clipping in its plane;
 //   - faces that share an edge, have the same material and normals within the crease angle
@@ -37,7 +39,8 @@ struct RegionOptions {
 
 struct DroppedFaces {
   std::size_t nonFinite = 0, repeatedVertex = 0, noArea = 0, outOfRange = 0;
-  std::size_t total() const { return nonFinite + repeatedVertex + noArea + outOfRange; }
+  std::size_t duplicate = 0;  // the same corners in the same turning order as an earlier face
+  std::size_t total() const { return nonFinite + repeatedVertex + noArea + outOfRange + duplicate; }
   void add(const DroppedFaces& other);
   // "3 degenerate faces dropped: 1 with a NaN or infinite coordinate, 2 with no area", or "".
   std::string describe() const;

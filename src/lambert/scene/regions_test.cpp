@@ -100,6 +100,21 @@ TEST(RegionsTest, CreasesAndMaterialsSeparateRegions) {
   for (const auto& [position, count] : onEdge) EXPECT_EQ(count, 2) << "each side has its own vertex at the same point";
 }
 
+// A face given twice (from another corner) would put two patches in one place and count its light
+// twice: the second is dropped and counted. Its reverse is the back of a two-sided sheet: kept.
+TEST(RegionsTest, DuplicateFacesAreDroppedButReversedOnesKept) {
+  Scene scene = withMaterials(1);
+  PolygonMesh mesh{"sheet", {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}},
+                   {{{0, 1, 2, 3}, 0}, {{2, 3, 0, 1}, 0}, {{3, 2, 1, 0}, 0}}};
+  DroppedFaces dropped = addSmoothRegions(scene, mesh, {Rgb{}});
+  EXPECT_EQ(dropped.duplicate, 1u);
+  EXPECT_EQ(dropped.total(), 1u);
+  EXPECT_EQ(dropped.describe(), "1 degenerate face dropped: 1 duplicating an earlier face");
+  std::size_t faces = 0;
+  for (const Surface& s : scene.surfaces) faces += s.faces.size();
+  EXPECT_EQ(faces, 2u);  // the front and the reversed back
+}
+
 TEST(RegionsTest, NonConvexFacesAreTriangulatedAndDegenerateOnesCounted) {
   Scene scene = withMaterials(1);
   // An L of area 3, counter-clockwise, as one face; then five degenerate faces.

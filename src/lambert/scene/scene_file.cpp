@@ -430,6 +430,30 @@ std::string withTriplesOnOneLine(const std::string& text) {
 OrderedJson triple(const Vec3& v) { return OrderedJson::array({v.x, v.y, v.z}); }
 OrderedJson triple(const Rgb& c) { return OrderedJson::array({c.r, c.g, c.b}); }
 
+// Visibility rays are traced in single precision (Embree): a scene whose size or distance from the
+// origin is far outside float's comfortable range traces nothing meaningful (areas and distances
+// squared overflow or underflow, and every face looks degenerate). Refused, with the size found.
+constexpr double kMaxSceneCoordinate = 1e12, kMinSceneSize = 1e-6;
+Status checkSceneExtent(const Scene& scene, const std::string& path) {
+  double largest = 0;
+  Vec3 low{1e300, 1e300, 1e300}, high{-1e300, -1e300, -1e300};
+  for (const Surface& surface : scene.surfaces)
+    for (const Vec3& v : surface.vertices) {
+      largest = std::fmax(largest, std::fmax(std::fabs(v.x), std::fmax(std::fabs(v.y), std::fabs(v.z))));
+      low = {std::fmin(low.x, v.x), std::fmin(low.y, v.y), std::fmin(low.z, v.z)};
+      high = {std::fmax(high.x, v.x), std::fmax(high.y, v.y), std::fmax(high.z, v.z)};
+    }
+  if (scene.surfaces.empty()) return Ok{};
+  const double size = length(high - low);
+  if (!(largest <= kMaxSceneCoordinate))
+    return Error{path + ": a coordinate of " + formatNumber(largest) + " units: lambert traces rays in single precision and reads coordinates up to " +
+                 formatNumber(kMaxSceneCoordinate) + " (check the file's unit, or scale the scene down)"};
+  if (!(size >= kMinSceneSize))
+    return Error{path + ": the scene is " + formatNumber(size) + " units across: lambert needs at least " + formatNumber(kMinSceneSize) +
+                 " (its faces have no area in single precision; check the file's unit, or scale the scene up)"};
+  return Ok{};
+}
+
 }  // namespace
 
 Result<Scene> parseSceneFile(const std::string& text, const std::string& path) {
@@ -448,8 +472,11 @@ Result<Scene> parseSceneFile(const std::string& text, const std::string& path) {
         ++column;
       }
     }
+    // nlohmann's text after its own "… line L, column C: " prefix (the first ": " after "column"):
+    // the explanation and what it last read, e.g. "invalid literal; last read: '[N'" for a NaN.
     std::string what = e.what();
-    if (auto colon = what.rfind(": "); colon != std::string::npos) what = what.substr(colon + 2);
+    if (auto at = what.find("column"); at != std::string::npos)
+      if (auto colon = what.find(": ", at); colon != std::string::npos) what = what.substr(colon + 2);
     return Error{path + ":" + std::to_string(line) + ":" + std::to_string(column) + ": not valid JSON: " + what};
   } catch (const Json::exception& e) {  // a number too large for a double, and the like
     std::string what = e.what();
@@ -575,8 +602,9 @@ Result<Scene> loadScene(const std::string& nameOrPath, const LoadOptions& option
   if (options.metresPerUnit > 0 && !unitless)
     return Error{nameOrPath + ": a unit is for OBJ and PLY files, whose numbers have none; this scene states its own"};
   if (std::optional<Scene> builtin = builtinScene(nameOrPath)) return *builtin;
-  auto withTwins = [&options](Result<Scene> scene) {
+  auto withTwins = [&options, &nameOrPath](Result<Scene> scene) {
     if (!scene) return scene;
+    if (Status size = checkSceneExtent(*scene, nameOrPath); !size) return Result<Scene>(size.error());
     if (options.twoSided)
       for (Material& material : scene->materials) material.twoSided = *options.twoSided;
     addTwins(*scene);
