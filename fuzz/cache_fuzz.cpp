@@ -20,7 +20,7 @@ void load(const std::uint8_t* data, std::size_t size) {
   // A count beyond size_t cannot be a caller's patch count; the reader then sees the mismatch.
   const std::size_t expected = count > std::numeric_limits<std::size_t>::max() ? 0 : static_cast<std::size_t>(count);
   lambert::Result<lambert::FormFactorMatrix> F = lambert::loadFormFactors(path, lambert::fuzz::headerKey(data, size), expected);
-  (void)F;
+  lambert::fuzz::report(F);
 }
 
 }  // namespace

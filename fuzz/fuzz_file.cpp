@@ -51,6 +51,11 @@ std::string writeInput(const std::string& name, const std::uint8_t* data, std::s
   return path.string();
 }
 
+bool verbose() {
+  static const bool on = std::getenv("LAMBERT_FUZZ_VERBOSE") != nullptr;
+  return on;
+}
+
 void silenceWarnings() {
   static const bool silenced = [] {
     setWarningSink([](const std::string&) {});

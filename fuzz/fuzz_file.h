@@ -4,8 +4,11 @@
 // exit), under the name and extension that selects the reader's format.
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <string>
 #include <string_view>
+
+#include "lambert/core/error.h"
 
 namespace lambert::fuzz {
 
@@ -20,5 +23,13 @@ inline std::string writeInput(const std::string& name, std::string_view text) {
 // Sends the library's warnings nowhere: readers warn about much of what a fuzzer feeds them, and
 // printing every warning would cost more than reading the input.
 void silenceWarnings();
+
+// Whether LAMBERT_FUZZ_VERBOSE is set: then report() prints each reader's verdict, to see why a
+// seed or a reproducer is refused (run a target on one file: build-fuzz/bin/mgf_fuzz file.mgf).
+bool verbose();
+template <class T>
+void report(const Result<T>& result) {
+  if (verbose()) std::fprintf(stderr, "fuzz: %s\n", result ? "read" : result.error().message.c_str());
+}
 
 }  // namespace lambert::fuzz

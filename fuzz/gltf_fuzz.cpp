@@ -13,6 +13,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const bool binary = size >= 4 && std::memcmp(data, "glTF", 4) == 0;
   const std::string path = lambert::fuzz::writeInput(binary ? "input.glb" : "input.gltf", data, size);
   lambert::Result<lambert::Scene> scene = lambert::readGltf(path);
-  (void)scene;
+  lambert::fuzz::report(scene);
   return 0;
 }

@@ -12,6 +12,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   lambert::fuzz::silenceWarnings();
   const std::string path = lambert::fuzz::writeInput("input.mgf", data, size);
   lambert::Result<lambert::Scene> scene = lambert::readMgf(path);
-  (void)scene;
+  lambert::fuzz::report(scene);
   return 0;
 }

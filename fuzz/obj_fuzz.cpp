@@ -19,6 +19,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   lambert::fuzz::writeInput("input.mtl", mtl);
   const std::string path = lambert::fuzz::writeInput("input.obj", obj);
   lambert::Result<lambert::Scene> scene = lambert::readObj(path);
-  (void)scene;
+  lambert::fuzz::report(scene);
   return 0;
 }

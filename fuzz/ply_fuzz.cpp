@@ -10,6 +10,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   lambert::fuzz::silenceWarnings();
   const std::string path = lambert::fuzz::writeInput("input.ply", data, size);
   lambert::Result<lambert::Scene> scene = lambert::readPly(path);
-  (void)scene;
+  lambert::fuzz::report(scene);
   return 0;
 }

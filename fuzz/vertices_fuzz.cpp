@@ -14,6 +14,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const bool ply = size >= 3 && std::memcmp(data, "ply", 3) == 0;
   const std::string path = lambert::fuzz::writeInput(ply ? "input.ply" : "input.csv", data, size);
   lambert::Result<std::vector<lambert::VertexSample>> vertices = lambert::readVertices(path);
-  (void)vertices;
+  lambert::fuzz::report(vertices);
   return 0;
 }

@@ -105,7 +105,13 @@ Result<std::vector<VertexSample>> readVertices(const std::string& path) {
       ++lineNumber;
       if (lineNumber == 1 && line != "ply") return Error{path + ":1: not a PLY file"};
       if (line.rfind("element vertex ", 0) == 0) {
-        expected = std::stoull(line.substr(15));
+        // from_chars, not stoull: stoull throws on a non-number, and takes "-1" for 2^64 − 1.
+        const char* first = line.data() + 15;
+        const char* last = line.data() + line.size();
+        if (last > first && last[-1] == '\r') --last;
+        const auto [end, ec] = std::from_chars(first, last, expected);
+        if (ec != std::errc{} || end != last || end == first)
+          return Error{path + ":" + std::to_string(lineNumber) + ": bad vertex count '" + std::string(first, last) + "'"};
         counted = true;
       }
       if (line == "end_header") break;
