@@ -4,6 +4,7 @@
 #include <bit>
 #include <cctype>
 #include <cstdlib>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -123,6 +124,12 @@ class PlyReader {
           property.list = true;
           words >> property.countType >> property.type;
           if (!typeSize(property.countType)) return Error{path_ + ":" + std::to_string(lineNumber) + ": unknown type '" + property.countType + "'"};
+          // A list's length is a count: a float type there (which the PLY format does not allow) could hold
+          // lengths no integer can.
+          if (property.countType == "float" || property.countType == "float32" || property.countType == "double" ||
+              property.countType == "float64")
+            return Error{path_ + ":" + std::to_string(lineNumber) + ": a list's count type must be an integer type, not '" +
+                         property.countType + "'"};
         }
         words >> property.name;
         if (!typeSize(property.type)) return Error{path_ + ":" + std::to_string(lineNumber) + ": unknown type '" + property.type + "'"};
@@ -160,8 +167,16 @@ class PlyReader {
     Result<double> count = scalar(property.countType);
     if (!count) return count.error();
     const int entrySize = format_ == Format::Ascii ? 2 : typeSize(property.type);
+    // Checked, and printed, as a double before any conversion to an integer: an ascii count may be any
+    // number strtod reads, a binary one any value of its type (1e29 has no long long).
+    auto number = [](double v) {
+      std::ostringstream text;
+      text << v;
+      return text.str();
+    };
+    if (*count != std::floor(*count)) return error("a list's count " + number(*count) + " is not a whole number");
     if (!(*count >= 0) || *count > static_cast<double>((bytes_.size() - offset_) / static_cast<std::size_t>(entrySize) + 1))
-      return error("a list of " + std::to_string(static_cast<long long>(*count)) + " entries does not fit in the file");
+      return error("a list of " + number(*count) + " entries does not fit in the file");
     for (long long k = 0; k < static_cast<long long>(*count); ++k) {
       Result<double> v = scalar(property.type);
       if (!v) return v.error();
