@@ -112,8 +112,9 @@ class PlyReader {
       } else if (keyword == "element") {
         Element element;
         long long count = -1;
-        words >> element.name >> count;
-        if (count < 0) return Error{path_ + ":" + std::to_string(lineNumber) + ": an element needs a count"};
+        // A count past long long fails the stream (and leaves LLONG_MAX in count): an error too.
+        if (!(words >> element.name >> count) || count < 0)
+          return Error{path_ + ":" + std::to_string(lineNumber) + ": an element needs a count (a whole number below 2^63)"};
         element.count = static_cast<std::size_t>(count);
         elements_.push_back(element);
       } else if (keyword == "property") {
@@ -148,6 +149,11 @@ class PlyReader {
       std::size_t perElement = 0;
       for (const Property& property : element.properties)
         perElement += format_ == Format::Ascii ? 2 : static_cast<std::size_t>(typeSize(property.list ? property.countType : property.type));
+      // An element without properties takes no bytes, so no file size bounds its count: reading 2^62 of
+      // them would hang (found by fuzz/ply_fuzz).
+      if (perElement == 0 && element.count > 0)
+        return Error{path_ + ": the header declares " + std::to_string(element.count) + " " + element.name +
+                     " elements without any property"};
       if (perElement > 0 && element.count > (bytes_.size() - offset_) / perElement)
         return Error{path_ + ": the header declares " + std::to_string(element.count) + " " + element.name + " elements, more than the file's " +
                      std::to_string(bytes_.size() - offset_) + " bytes of data can hold"};

@@ -114,6 +114,18 @@ TEST(PlyTest, HostileAndBrokenFilesAreErrors) {
     ASSERT_FALSE(read.ok()) << face;
     EXPECT_TRUE(testing::contains(read.error().message, message)) << read.error().message << "\nwanted: " << message;
   }
+  // Found by fuzz/ply_fuzz.cpp (a hang): a vertex element whose count overflowed long long, with no
+  // properties (so no bytes per vertex for the file's size to bound), was read 2^63 times.
+  const std::string hang = std::string(LAMBERT_SOURCE_DIR) + "/tests/corpus/ply/regression-huge-count-no-properties.ply";
+  Result<Scene> hung = readPly(hang);
+  ASSERT_FALSE(hung.ok());
+  EXPECT_EQ(hung.error().message, hang + ":3: an element needs a count (a whole number below 2^63)");
+  const fs::path empty = dir / "empty-element.ply";
+  std::ofstream(empty) << "ply\nformat ascii 1.0\nelement vertex 4000000000\nend_header\n";
+  Result<Scene> noProperties = readPly(empty.string());
+  ASSERT_FALSE(noProperties.ok());
+  EXPECT_TRUE(testing::contains(noProperties.error().message, "4000000000 vertex elements without any property"))
+      << noProperties.error().message;
   // An index past the vertices drops that face only, with the count in a warning.
   const fs::path outOfRange = dir / "range.ply";
   std::ofstream(outOfRange) << header("ascii") << "0 0 0 200\n1 0 0 200\n1 1 0 200\n0 1 0 200\n3 0 1 2\n3 0 2 9\n";
