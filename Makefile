@@ -6,7 +6,7 @@ JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 CMAKE_FLAGS ?=
 LAMBERT = $(BUILD_DIR)/bin/lambert
 
-.PHONY: all deps configure build run test bench sanitize clean
+.PHONY: all deps configure build run test bench sanitize fuzz clean
 
 all: build
 
@@ -48,5 +48,17 @@ sanitize: deps
 	@cmake --build build-sanitize -j$(JOBS) -- --no-print-directory
 	@cd build-sanitize && ctest --output-on-failure -j$(JOBS)
 
+# libFuzzer on every reader (docs/fuzzing.md): clang-14 builds the instrumented library and the
+# targets in build-fuzz/, then each runs FUZZ_SECONDS (default 60) on a copy of tests/corpus/<target>;
+# findings land in out/fuzz/<target>/ and fail the target. FUZZ_TARGETS="mgf ply" runs only those.
+FUZZ_SECONDS ?= 60
+FUZZ_TARGETS ?=
+fuzz:
+	@scripts/install-deps.sh --fuzz
+	@CC=clang-14 CXX=clang++-14 cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLAMBERT_FUZZ=ON \
+	  -DLAMBERT_BUILD_TESTS=OFF -DLAMBERT_BUILD_BENCH=OFF > /dev/null
+	@cmake --build build-fuzz -j$(JOBS) --target fuzz_targets -- --no-print-directory >&2
+	@FUZZ_SECONDS=$(FUZZ_SECONDS) scripts/fuzz.sh build-fuzz/bin $(FUZZ_TARGETS)
+
 clean:
-	rm -rf $(BUILD_DIR) build-sanitize out
+	rm -rf $(BUILD_DIR) build-sanitize build-fuzz out

@@ -14,6 +14,11 @@ packages=(
   # the viewer's test draws in a real window: an X server without a screen, Mesa's software OpenGL
   xvfb xauth libgl1-mesa-dri
 )
+# `make fuzz` (scripts/install-deps.sh --fuzz) also needs clang and its runtime, which holds
+# libFuzzer; the ordinary build does not, so they are installed only then.
+if [ "${1:-}" = "--fuzz" ]; then
+  packages+=(clang-14 libclang-rt-14-dev)
+fi
 
 # The Khronos glTF-Validator (npm, not Debian) checks the .glb export in the tests; optional: the
 # test says it is skipped where there is no npm or no registry.

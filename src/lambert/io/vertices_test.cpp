@@ -70,5 +70,25 @@ TEST(VerticesTest, BadFilesNameTheFileAndLine) {
   EXPECT_FALSE(readVertices((dir / "missing.csv").string()).ok());
 }
 
+// Found by fuzz/vertices_fuzz.cpp: "element vertex +" made std::stoull throw out of the reader.
+// Also hand-made neighbours of it: a negative, a trailing word, an empty count.
+TEST(VerticesTest, FuzzedVertexCountIsAnErrorNotAnException) {
+  const std::string reproducer = std::string(LAMBERT_SOURCE_DIR) + "/tests/corpus/vertices/regression-vertex-count-not-a-number.ply";
+  Result<std::vector<VertexSample>> fuzzed = readVertices(reproducer);
+  ASSERT_FALSE(fuzzed.ok());
+  EXPECT_NE(fuzzed.error().message.find("regression-vertex-count-not-a-number.ply:4: the vertex count '+' is not a whole number"), std::string::npos)
+      << fuzzed.error().message;
+  fs::path dir = scratch("fuzzed-count");
+  for (const char* count : {"-1", "3 vertices", "", "99999999999999999999999"}) {
+    {
+      std::ofstream f(dir / "count.ply");
+      f << "ply\nformat ascii 1.0\nelement vertex " << count << "\nend_header\n";
+    }
+    Result<std::vector<VertexSample>> read = readVertices((dir / "count.ply").string());
+    ASSERT_FALSE(read.ok()) << count;
+    EXPECT_NE(read.error().message.find("is not a whole number"), std::string::npos) << read.error().message;
+  }
+}
+
 }  // namespace
 }  // namespace lambert

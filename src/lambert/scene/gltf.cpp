@@ -154,7 +154,8 @@ class Reader {
     const Transform world = parent * localTransform(node);
     if (node.mesh >= 0)
       if (Status s = readMesh(node, world); !s) return s;
-    if (node.camera >= 0 && !haveCamera_) readCamera(node, world);
+    if (node.camera >= 0 && !haveCamera_)
+      if (Status s = readCamera(node, world); !s) return s;
     if (auto it = node.extensions.find("KHR_lights_punctual"); it != node.extensions.end() && it->second.Has("light"))
       if (Status s = readLight(it->second.Get("light").GetNumberAsInt(), node, world); !s) return s;
     for (int child : node.children)
@@ -199,7 +200,10 @@ class Reader {
   }
 
   Status readMesh(const tinygltf::Node& node, const Transform& world) {
-    const tinygltf::Mesh& mesh = model_.meshes.at(static_cast<std::size_t>(node.mesh));
+    // tinygltf does not check a node's indices; .at() would throw out of the reader.
+    if (node.mesh >= static_cast<int>(model_.meshes.size()))
+      return Error{path_ + ": node '" + node.name + "' refers to mesh " + std::to_string(node.mesh) + ", which does not exist"};
+    const tinygltf::Mesh& mesh = model_.meshes[static_cast<std::size_t>(node.mesh)];
     const bool mirrored = world.determinant() < 0;
     for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
       const tinygltf::Primitive& primitive = mesh.primitives[p];
@@ -210,7 +214,9 @@ class Reader {
       }
       auto position = primitive.attributes.find("POSITION");
       if (position == primitive.attributes.end()) return Error{path_ + ": mesh '" + mesh.name + "' has a primitive without POSITION"};
-      if (model_.accessors.at(static_cast<std::size_t>(position->second)).componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
+      if (position->second < 0 || position->second >= static_cast<int>(model_.accessors.size()))
+        return Error{path_ + ": mesh '" + mesh.name + "': POSITION accessor " + std::to_string(position->second) + " does not exist"};
+      if (model_.accessors[static_cast<std::size_t>(position->second)].componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
         return Error{path_ + ": mesh '" + mesh.name + "': quantised positions (KHR_mesh_quantization) are not read"};
       Result<std::vector<double>> xyz = readAccessor(position->second, 3);
       if (!xyz) return xyz.error();
@@ -283,14 +289,17 @@ class Reader {
     return uvs;
   }
 
-  void readCamera(const tinygltf::Node& node, const Transform& world) {
-    const tinygltf::Camera& camera = model_.cameras.at(static_cast<std::size_t>(node.camera));
-    if (camera.type != "perspective") return;
+  Status readCamera(const tinygltf::Node& node, const Transform& world) {
+    if (node.camera >= static_cast<int>(model_.cameras.size()))
+      return Error{path_ + ": node '" + node.name + "' refers to camera " + std::to_string(node.camera) + ", which does not exist"};
+    const tinygltf::Camera& camera = model_.cameras[static_cast<std::size_t>(node.camera)];
+    if (camera.type != "perspective") return Ok{};
     haveCamera_ = true;
     scene_.camera.eye = world.point({0, 0, 0});
     scene_.camera.target = scene_.camera.eye + normalize(world.direction({0, 0, -1}));
     scene_.camera.up = normalize(world.direction({0, 1, 0}));
     scene_.camera.verticalFovDegrees = camera.perspective.yfov * 180 / kPi;
+    return Ok{};
   }
 
   Status readLight(int index, const tinygltf::Node& node, const Transform& world) {

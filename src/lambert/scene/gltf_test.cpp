@@ -135,6 +135,29 @@ TEST(GltfTest, BlenderExportLoadsWithItsLightsMaterialsAndCamera) {
   EXPECT_NEAR(weighted / area, checkerMean, 0.01);
 }
 
+// Found by fuzz/gltf_fuzz.cpp (a mutated Blender glb whose node named a mesh past the end):
+// tinygltf leaves a node's indices unchecked and std::vector::at threw out of the reader. The
+// minimal reproducer is in the corpus; the camera and POSITION accessor indices had the same flaw.
+TEST(GltfTest, FuzzedIndicesPastTheEndAreErrorsNotExceptions) {
+  const std::string reproducer = std::string(LAMBERT_SOURCE_DIR) + "/tests/corpus/gltf/regression-node-mesh-out-of-range.gltf";
+  Result<Scene> mesh = readGltf(reproducer);
+  ASSERT_FALSE(mesh.ok());
+  EXPECT_EQ(mesh.error().message, reproducer + ": node 'box' refers to mesh 7, which does not exist");
+
+  const std::filesystem::path dir = testing::scratchDirectory("gltf", "fuzzed-indices");
+  std::ofstream(dir / "camera.gltf") << R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+    "nodes": [{"name": "eye", "camera": 3}]})";
+  Result<Scene> camera = readGltf((dir / "camera.gltf").string());
+  ASSERT_FALSE(camera.ok());
+  EXPECT_EQ(camera.error().message, (dir / "camera.gltf").string() + ": node 'eye' refers to camera 3, which does not exist");
+
+  std::ofstream(dir / "position.gltf") << R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+    "nodes": [{"mesh": 0}], "meshes": [{"name": "m", "primitives": [{"attributes": {"POSITION": 9}}]}]})";
+  Result<Scene> position = readGltf((dir / "position.gltf").string());
+  ASSERT_FALSE(position.ok());
+  EXPECT_EQ(position.error().message, (dir / "position.gltf").string() + ": mesh 'm': POSITION accessor 9 does not exist");
+}
+
 TEST(GltfTest, BrokenFilesAreErrorsNamingTheFile) {
   const std::filesystem::path dir = testing::scratchDirectory("gltf", "bad");
   Result<Scene> missing = readGltf((dir / "nowhere.glb").string());

@@ -5,6 +5,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -115,8 +116,9 @@ class PlyReader {
       } else if (keyword == "element") {
         Element element;
         long long count = -1;
-        words >> element.name >> count;
-        if (count < 0) return Error{path_ + ":" + std::to_string(lineNumber) + ": an element needs a count"};
+        // A count past long long fails the stream (and leaves LLONG_MAX in count): an error too.
+        if (!(words >> element.name >> count) || count < 0)
+          return Error{path_ + ":" + std::to_string(lineNumber) + ": an element needs a count (a whole number below 2^63)"};
         element.count = static_cast<std::size_t>(count);
         elements_.push_back(element);
       } else if (keyword == "property") {
@@ -127,6 +129,12 @@ class PlyReader {
           property.list = true;
           words >> property.countType >> property.type;
           if (!typeSize(property.countType)) return Error{path_ + ":" + std::to_string(lineNumber) + ": unknown type '" + property.countType + "'"};
+          // A list's length is a count: a float type there (which the PLY format does not allow) could hold
+          // lengths no integer can.
+          if (property.countType == "float" || property.countType == "float32" || property.countType == "double" ||
+              property.countType == "float64")
+            return Error{path_ + ":" + std::to_string(lineNumber) + ": a list's count type must be an integer type, not '" +
+                         property.countType + "'"};
         }
         words >> property.name;
         if (!typeSize(property.type)) return Error{path_ + ":" + std::to_string(lineNumber) + ": unknown type '" + property.type + "'"};
@@ -145,6 +153,11 @@ class PlyReader {
       std::size_t perElement = 0;
       for (const Property& property : element.properties)
         perElement += format_ == Format::Ascii ? 2 : static_cast<std::size_t>(typeSize(property.list ? property.countType : property.type));
+      // An element without properties takes no bytes, so no file size bounds its count: reading 2^62 of
+      // them would hang (found by fuzz/ply_fuzz).
+      if (perElement == 0 && element.count > 0)
+        return Error{path_ + ": the header declares " + std::to_string(element.count) + " " + element.name +
+                     " elements without any property"};
       if (perElement > 0 && element.count > (bytes_.size() - offset_) / perElement)
         return Error{path_ + ": the header declares " + std::to_string(element.count) + " " + element.name + " elements, more than the file's " +
                      std::to_string(bytes_.size() - offset_) + " bytes of data can hold"};
@@ -164,8 +177,16 @@ class PlyReader {
     Result<double> count = scalar(property.countType);
     if (!count) return count.error();
     const int entrySize = format_ == Format::Ascii ? 2 : typeSize(property.type);
+    // Checked, and printed, as a double before any conversion to an integer: an ascii count may be any
+    // number strtod reads, a binary one any value of its type (1e29 has no long long).
+    auto number = [](double v) {
+      std::ostringstream text;
+      text << v;
+      return text.str();
+    };
+    if (*count != std::floor(*count)) return error("a list's count " + number(*count) + " is not a whole number");
     if (!(*count >= 0) || *count > static_cast<double>((bytes_.size() - offset_) / static_cast<std::size_t>(entrySize) + 1))
-      return error("a list of " + std::to_string(static_cast<long long>(*count)) + " entries does not fit in the file");
+      return error("a list of " + number(*count) + " entries does not fit in the file");
     for (long long k = 0; k < static_cast<long long>(*count); ++k) {
       Result<double> v = scalar(property.type);
       if (!v) return v.error();

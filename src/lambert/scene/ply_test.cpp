@@ -95,6 +95,37 @@ TEST(PlyTest, HostileAndBrokenFilesAreErrors) {
     EXPECT_TRUE(testing::contains(read.error().message, file.string() + ":")) << read.error().message;
     EXPECT_TRUE(testing::contains(read.error().message, message)) << read.error().message << "\nwanted: " << message;
   }
+  // Found by fuzz/ply_fuzz.cpp: a list whose count type is float, holding -1.6e29, was converted
+  // to long long for the error message (undefined behaviour). The reproducer is in the corpus; a
+  // fractional ascii count and a huge one are its ascii neighbours.
+  const std::string reproducer = std::string(LAMBERT_SOURCE_DIR) + "/tests/corpus/ply/regression-float-list-count.ply";
+  Result<Scene> fuzzed = readPly(reproducer);
+  ASSERT_FALSE(fuzzed.ok());
+  EXPECT_EQ(fuzzed.error().message, reproducer + ":8: a list's count type must be an integer type, not 'float'");
+  const std::pair<std::string, std::string> counts[] = {
+      {"2.5 0 1 2\n", "a list's count 2.5 is not a whole number"},
+      {"1e300 0 1 2\n", "a list of 1e+300 entries does not fit in the file"},
+      {"-1e30 0 1 2\n", "a list of -1e+30 entries does not fit in the file"},
+  };
+  for (const auto& [face, message] : counts) {
+    const fs::path file = dir / "count.ply";
+    std::ofstream(file, std::ios::binary) << header("ascii") << "0 0 0 200\n1 0 0 200\n1 1 0 200\n0 1 0 200\n" << face << "3 0 2 3\n";
+    Result<Scene> read = readPly(file.string());
+    ASSERT_FALSE(read.ok()) << face;
+    EXPECT_TRUE(testing::contains(read.error().message, message)) << read.error().message << "\nwanted: " << message;
+  }
+  // Found by fuzz/ply_fuzz.cpp (a hang): a vertex element whose count overflowed long long, with no
+  // properties (so no bytes per vertex for the file's size to bound), was read 2^63 times.
+  const std::string hang = std::string(LAMBERT_SOURCE_DIR) + "/tests/corpus/ply/regression-huge-count-no-properties.ply";
+  Result<Scene> hung = readPly(hang);
+  ASSERT_FALSE(hung.ok());
+  EXPECT_EQ(hung.error().message, hang + ":3: an element needs a count (a whole number below 2^63)");
+  const fs::path empty = dir / "empty-element.ply";
+  std::ofstream(empty) << "ply\nformat ascii 1.0\nelement vertex 4000000000\nend_header\n";
+  Result<Scene> noProperties = readPly(empty.string());
+  ASSERT_FALSE(noProperties.ok());
+  EXPECT_TRUE(testing::contains(noProperties.error().message, "4000000000 vertex elements without any property"))
+      << noProperties.error().message;
   // An index past the vertices drops that face only, with the count in a warning.
   const fs::path outOfRange = dir / "range.ply";
   std::ofstream(outOfRange) << header("ascii") << "0 0 0 200\n1 0 0 200\n1 1 0 200\n0 1 0 200\n3 0 1 2\n3 0 2 9\n";
