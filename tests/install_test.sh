@@ -92,8 +92,10 @@ run cmake --build "$scratch/examples-build" -j2
 
 bin=$scratch/examples-build
 begin "solve_cornell_shared runs on the prefix's liblambert.so"
-ldd "$bin/solve_cornell_shared" | grep -q "liblambert.so.* => $prefix/$libdir/liblambert.so" ||
-  fail "it is not linked to $prefix/$libdir/liblambert.so: $(ldd "$bin/solve_cornell_shared" | grep lambert)"
+# ldd's output taken whole first: `ldd | grep -q` under pipefail fails when grep stops reading early.
+linked=$(ldd "$bin/solve_cornell_shared")
+grep -q "liblambert.so.* => $prefix/$libdir/liblambert.so" <<< "$linked" ||
+  fail "it is not linked to $prefix/$libdir/liblambert.so: $(grep lambert <<< "$linked")"
 output=$("$bin/solve_cornell_shared") || fail "exited with status $?"
 echo "$output"
 [[ "$output" =~ ^[0-9]+\ vertices,\ mean\ radiance\ 0\.[0-9]+ ]] || fail "printed '$output'"
