@@ -33,4 +33,12 @@ inline std::uint64_t headerCount(const std::uint8_t* data, std::size_t size) {
   return size >= cachefile::kHeaderBytes ? cachefile::loadLe64(data + 24) : 0;
 }
 
+// Reads the input with `load` as it is, then with a valid checksum (see above).
+template <class Load>
+void loadAsIsAndWithValidChecksum(const std::uint8_t* data, std::size_t size, Load load) {
+  load(data, size);
+  const std::vector<std::uint8_t> fixed = withValidChecksum(data, size);
+  if (!fixed.empty()) load(fixed.data(), fixed.size());
+}
+
 }  // namespace lambert::fuzz

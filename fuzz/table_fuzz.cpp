@@ -30,8 +30,6 @@ void load(const std::uint8_t* data, std::size_t size) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   lambert::fuzz::silenceWarnings();
-  load(data, size);
-  const std::vector<std::uint8_t> fixed = lambert::fuzz::withValidChecksum(data, size);
-  if (!fixed.empty()) load(fixed.data(), fixed.size());
+  lambert::fuzz::loadAsIsAndWithValidChecksum(data, size, load);
   return 0;
 }

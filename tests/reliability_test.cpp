@@ -14,6 +14,7 @@
 #include <thread>
 #include <vector>
 
+#include "lambert/core/memory.h"
 #include "lambert/io/png.h"
 #include "tests/support/files.h"
 #include "tests/support/process.h"
@@ -110,12 +111,6 @@ TEST(ReliabilityTest, AWriteBeyondTheFileSizeLimitFailsNamingTheFileAndKeepsTheO
   EXPECT_FALSE(hasTemporaryFiles(dir));
 }
 
-}  // namespace
-}  // namespace lambert
-
-namespace lambert {
-namespace {
-
 // One solve and render through the CLI with a thread limit: the solution's hash and the image.
 struct ThreadedRun {
   std::string solutionHash;
@@ -172,12 +167,6 @@ INSTANTIATE_TEST_SUITE_P(
         "--scene " LAMBERT_SOURCE_DIR "/scenes/room/room.gltf", "--scene " LAMBERT_SOURCE_DIR "/tests/data/blender_room.glb",
         "--scene " LAMBERT_SOURCE_DIR "/scenes/floor/floor.mgf --mgf-divisions 8", "--scene {ply}"));
 
-}  // namespace
-}  // namespace lambert
-
-namespace lambert {
-namespace {
-
 // 20 renders at once on one cache directory, half of them on the uniform mesh (the form-factor
 // matrix, .lff) and half adaptive (the master table, .lft): writers race to rename their caches
 // into place while others read them. Every image must be the one a cacheless render makes, and
@@ -222,12 +211,6 @@ TEST(ReliabilityTest, TwentyConcurrentRendersShareOneCacheDirectory) {
   }
 }
 
-}  // namespace
-}  // namespace lambert
-
-namespace lambert {
-namespace {
-
 // Solves that would not fit are refused before they allocate, naming the figure and what to do,
 // exit 2 and no image: the dense matrix, the hierarchical links, the adaptive active set. The
 // same solves pass once --memory-limit allows them.
@@ -258,11 +241,7 @@ TEST(ReliabilityTest, SolvesThatWouldNotFitAreRefusedWithTheFigure) {
 
   // Without --memory-limit the machine's available memory is the limit: a mesh whose matrix is
   // twice that is refused before anything is computed.
-  std::ifstream meminfo("/proc/meminfo");
-  std::string key, unit;
-  double kib = 0, available = 0;
-  while (meminfo >> key >> kib >> unit)
-    if (key == "MemAvailable:") available = kib * 1024;
+  const double available = availableMemoryBytes();
   if (available <= 0) GTEST_SKIP() << "no MemAvailable in /proc/meminfo";
   const double patches = std::sqrt(2 * available / sizeof(float));
   if (patches > 200000) GTEST_SKIP() << "this machine's memory holds the largest dense matrix --patches allows";

@@ -27,12 +27,6 @@ constexpr double kDegrees = kPi / 180;
 
 Eigen::Vector3f toFloat(const Vec3& v) { return {static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)}; }
 
-// Rodrigues' rotation of v about the unit axis k.
-Vec3 rotate(const Vec3& v, const Vec3& k, double angle) {
-  double c = std::cos(angle), s = std::sin(angle);
-  return v * c + cross(k, v) * s + k * (dot(k, v) * (1 - c));
-}
-
 // The camera the user moves, kept as lambert's own Camera (eye, target, up, vertical field of
 // view) so that screenshots from it and lambert's software images of it agree.
 struct ViewCamera {

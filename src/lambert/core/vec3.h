@@ -40,6 +40,12 @@ inline Vec3 componentMax(const Vec3& a, const Vec3& b) {
 
 // Unit tangents t, b with (t, b, n) right-handed and orthonormal, for a unit normal n, without
 // branches or a near-singular case (Duff et al., "Building an Orthonormal Basis, Revisited", 2017).
+// Rodrigues' rotation of v by `angle` radians about the unit axis k.
+inline Vec3 rotate(const Vec3& v, const Vec3& k, double angle) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  return v * c + cross(k, v) * s + k * (dot(k, v) * (1 - c));
+}
+
 inline void orthonormalBasis(const Vec3& n, Vec3& t, Vec3& b) {
   double sign = std::copysign(1.0, n.z);
   double a = -1 / (sign + n.z);

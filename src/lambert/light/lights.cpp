@@ -17,12 +17,6 @@ double smoothstep(double edge0, double edge1, double x) {
   return t * t * (3 - 2 * t);
 }
 
-// Rodrigues' rotation of v by `angle` about the unit axis k.
-Vec3 rotate(const Vec3& v, const Vec3& k, double angle) {
-  double c = std::cos(angle), s = std::sin(angle);
-  return v * c + cross(k, v) * s + k * (dot(k, v) * (1 - c));
-}
-
 // Whether any point of the patch can receive the light: it must face the light, and for a spot its
 // bounding sphere must reach into the cone. Most patches lie outside a spot's cone; this spares
 // them their shadow rays.
