@@ -42,11 +42,14 @@ bench: build
 	  printf ', "load": ' && cat out/bench/load.json && printf ', "hierarchical": ' && cat out/bench/hierarchical.json && \
 	  printf ', "viewer": ' && cat out/bench/viewer.json && printf '}\n'
 
-# The test suite under AddressSanitizer and UndefinedBehaviorSanitizer.
+# The whole suite under AddressSanitizer (leaks included) and UndefinedBehaviorSanitizer, in
+# build-sanitize/; the CLI runs the tests start are instrumented too. Any report fails its test.
+SANITIZE_ENV = ASAN_OPTIONS=detect_leaks=1:check_initialization_order=1:strict_init_order=1 \
+  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 sanitize: deps
 	@cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLAMBERT_SANITIZE=ON -DLAMBERT_BUILD_BENCH=OFF > /dev/null
-	@cmake --build build-sanitize -j$(JOBS) -- --no-print-directory
-	@cd build-sanitize && ctest --output-on-failure -j$(JOBS)
+	@cmake --build build-sanitize -j$(JOBS) -- --no-print-directory >&2
+	@cd build-sanitize && $(SANITIZE_ENV) ctest --output-on-failure -j$(JOBS)
 
 # libFuzzer on every reader (docs/fuzzing.md): clang-14 builds the instrumented library and the
 # targets in build-fuzz/, then each runs FUZZ_SECONDS (default 60) on a copy of tests/corpus/<target>;

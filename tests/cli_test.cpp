@@ -101,7 +101,25 @@ TEST(CliTest, JsonStatsAreMachineReadable) {
   EXPECT_GT(stats["visibility_rays"].get<long>(), 0);
   for (const char* key : {"mesh_seconds", "formfactor_seconds", "solve_seconds", "render_seconds", "total_seconds"})
     EXPECT_TRUE(stats.contains(key)) << key;
+  EXPECT_EQ(stats["warnings"], nlohmann::json::array());
   EXPECT_TRUE(fs::exists(png));
+}
+
+// What a loader dropped reaches a script too: --json lists every warning, as stderr showed it.
+TEST(CliTest, JsonListsTheWarnings) {
+  fs::path dir = outputDir("json_warnings");
+  const fs::path obj = fs::path(LAMBERT_SOURCE_DIR) / "tests" / "bad" / "obj-degenerate-faces.obj";
+  CommandResult result = run("render --scene " + obj.string() + " --patches 16 --width 16 --height 16 --json -o " +
+                             (dir / "image.png").string());
+  ASSERT_EQ(result.exitCode, 0) << result.output;
+  // stderr (merged in first here) still shows them as they happen: tinyobjloader's word on the
+  // index out of range, then lambert's count.
+  const std::string dropped = obj.string() + ": 4 degenerate faces dropped: 1 with a repeated vertex, 1 with no area, ";
+  EXPECT_TRUE(testing::contains(result.output.substr(0, result.output.find('{')), "lambert: warning: " + dropped)) << result.output;
+  nlohmann::json stats = nlohmann::json::parse(result.output.substr(result.output.find('{')));
+  ASSERT_EQ(stats["warnings"].size(), 2u) << stats.dump(2);
+  EXPECT_EQ(stats["warnings"][0], obj.string() + ": Vertex indices out of bounds (line 17.)");
+  EXPECT_EQ(stats["warnings"][1], dropped + "1 with a vertex index out of range, 1 duplicating an earlier face");
 }
 
 // `lambert --version` names the library linked in, and every command's figures carry it.
@@ -174,6 +192,8 @@ TEST(CliTest, FormFactorsAreCachedAndReused) {
   EXPECT_NE(repaired.output.find("warning: " + file.string()), std::string::npos) << repaired.output;
   nlohmann::json again = nlohmann::json::parse(repaired.output.substr(repaired.output.find('{')));
   EXPECT_EQ(again["absorbed_watts"].get<double>(), computed["absorbed_watts"].get<double>());
+  ASSERT_EQ(again["warnings"].size(), 1u) << again.dump(2);
+  EXPECT_EQ(again["warnings"][0].get<std::string>().rfind(file.string(), 0), 0u) << again["warnings"][0];
 
   CommandResult off = run("render --patches 192 --width 32 --height 32 --json --no-cache -o " + (dir / "off.png").string());
   ASSERT_EQ(off.exitCode, 0) << off.output;

@@ -7,11 +7,13 @@
 #include <tbb/global_control.h>
 
 #include "commands.h"
+#include "options.h"
 #include "lambert/core/interrupt.h"
 #include "lambert/version.h"
 
 int main(int argc, char** argv) {
   lambert::exitCleanlyOnInterrupt("lambert");  // first: every thread started later inherits its signal mask
+  lambert::cli::keepWarnings();                 // for --json's "warnings"
   CLI::App app{"lambert — physically based radiosity for diffuse scenes"};
   // The library's version (the one linked in), as `lambert --version` prints it.
   app.set_version_flag("--version", std::string("lambert ") + lambert::version());

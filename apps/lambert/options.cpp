@@ -159,14 +159,26 @@ void addImageOptions(CLI::App& cmd, ImageCommandOptions& o) {
   cmd.add_option("--exposure", o.exposure, "Exposure in stops (radiance × 2^stops before sRGB)")->capture_default_str();
 }
 
+namespace {
+WarningCapture& keptWarnings() {
+  static WarningCapture capture(WarningCapture::Forward::yes);
+  return capture;
+}
+}  // namespace
+
+void keepWarnings() { keptWarnings(); }
+
 void printStats(const Stats& stats, bool json, bool quiet, const std::string& headline) {
   // Every command's figures say which library made them, so that saved JSON can be compared
   // across versions.
   Stats all;
   all.add("lambert_version", "lambert version", std::string(version()));
   all.append(stats);
-  if (json)
-    std::printf("%s\n", all.json().dump(2).c_str());
+  if (json) {
+    nlohmann::ordered_json out = all.json();
+    out["warnings"] = keptWarnings().messages();
+    std::printf("%s\n", out.dump(2).c_str());
+  }
   else if (!quiet)
     std::printf("%s%s", headline.empty() ? "" : (headline + "\n").c_str(), all.table().c_str());
 }

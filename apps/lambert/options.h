@@ -108,8 +108,13 @@ std::unique_ptr<Radiosity> makeEngine(const std::string& command, const Scene& s
 Status checkImagePath(const std::string& path, const GivenOptions& given);
 Status writeImageFile(const std::string& path, const Image& image, double exposureStops);
 
+// Starts keeping every warning (each still goes to stderr as it comes), for printStats' JSON.
+// main calls it first, before any command runs.
+void keepWarnings();
+
 // Prints a command's figures, led by the library's version (lambert_version): JSON with --json,
-// else the headline (if any) and a table, unless --quiet.
+// with every warning reported so far under "warnings" (what was dropped or clamped, for a script
+// to check), else the headline (if any) and a table, unless --quiet.
 void printStats(const Stats& stats, bool json, bool quiet, const std::string& headline = "");
 
 // The uniform mesh --patches / --max-edge ask for, or else the scene file's defaults.

@@ -67,6 +67,26 @@ TEST(WarningTest, GoesToTheSinkWhenOneIsSet) {
   EXPECT_EQ(seen[0], "cache file damaged; recomputing");
 }
 
+TEST(WarningTest, CaptureKeepsThemForwardsWhenAskedAndRestoresTheSink) {
+  std::vector<std::string> outer;
+  WarningSink previous = setWarningSink([&](const std::string& message) { outer.push_back(message); });
+  {
+    WarningCapture forwarding(WarningCapture::Forward::yes);
+    {
+      WarningCapture silent;
+      warning("first");
+      EXPECT_EQ(silent.messages(), std::vector<std::string>{"first"});
+    }
+    warning("second");
+    warning("second again");
+    EXPECT_EQ(forwarding.messages(), (std::vector<std::string>{"second", "second again"}));
+    EXPECT_EQ(forwarding.count("second"), 2);
+  }
+  warning("third");  // both captures gone: the outer sink again
+  setWarningSink(previous);
+  EXPECT_EQ(outer, (std::vector<std::string>{"second", "second again", "third"}));
+}
+
 TEST(StatsTest, AppendKeepsOrderAndFindsByKey) {
   Stats a, b;
   a.add("patches", "patches", std::int64_t{10});

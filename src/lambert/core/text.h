@@ -2,7 +2,11 @@
 // Small text helpers shared by the loaders and the CLI.
 #include <cctype>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
+
+#include "lambert/core/error.h"
 
 namespace lambert {
 
@@ -20,6 +24,15 @@ inline std::string singleLine(std::string text) {
   std::string out;
   for (char c : text) out += c == '\n' ? std::string("; ") : std::string(1, c);
   return out;
+}
+
+// A whole file's bytes, or "<path>: cannot be read".
+inline Result<std::string> readWholeFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return Error{path + ": cannot be read"};
+  std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  if (in.bad()) return Error{path + ": cannot be read"};
+  return bytes;
 }
 
 }  // namespace lambert

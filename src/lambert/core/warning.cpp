@@ -1,7 +1,7 @@
 #include "lambert/core/warning.h"
 
+#include <algorithm>
 #include <cstdio>
-#include <mutex>
 
 namespace lambert {
 namespace {
@@ -16,14 +16,18 @@ WarningSink& currentSink() {
   return sink;
 }
 
+void send(const WarningSink& sink, const std::string& message) {
+  if (sink)
+    sink(message);
+  else
+    std::fprintf(stderr, "lambert: warning: %s\n", message.c_str());
+}
+
 }  // namespace
 
 void warning(const std::string& message) {
   std::lock_guard<std::mutex> lock(sinkMutex());
-  if (currentSink())
-    currentSink()(message);
-  else
-    std::fprintf(stderr, "lambert: warning: %s\n", message.c_str());
+  send(currentSink(), message);
 }
 
 WarningSink setWarningSink(WarningSink sink) {
@@ -31,6 +35,33 @@ WarningSink setWarningSink(WarningSink sink) {
   WarningSink previous = std::move(currentSink());
   currentSink() = std::move(sink);
   return previous;
+}
+
+WarningCapture::WarningCapture(Forward forward) {
+  // Swapped under the sink's lock, so a warning from another thread sees either the old sink or
+  // this one with previous_ already set.
+  std::lock_guard<std::mutex> lock(sinkMutex());
+  previous_ = std::move(currentSink());
+  currentSink() = [this, forward](const std::string& message) {
+    {
+      std::lock_guard<std::mutex> own(mutex_);
+      messages_.push_back(message);
+    }
+    if (forward == Forward::yes) send(previous_, message);
+  };
+}
+
+WarningCapture::~WarningCapture() { setWarningSink(std::move(previous_)); }
+
+std::vector<std::string> WarningCapture::messages() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return messages_;
+}
+
+int WarningCapture::count(const std::string& part) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return static_cast<int>(std::count_if(messages_.begin(), messages_.end(),
+                                        [&](const std::string& m) { return m.find(part) != std::string::npos; }));
 }
 
 }  // namespace lambert

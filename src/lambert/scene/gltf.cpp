@@ -2,6 +2,8 @@
 
 #include <tiny_gltf.h>
 
+#include <nlohmann/json.hpp>
+
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -11,6 +13,7 @@
 
 #include "lambert/core/text.h"
 #include "lambert/core/warning.h"
+#include "lambert/scene/gltf_types.h"
 #include "lambert/scene/texture.h"
 
 namespace lambert {
@@ -347,15 +350,71 @@ class Reader {
 
 }  // namespace
 
+// A .glb's container (glTF 2.0 spec, "Binary glTF Layout"): a 12-byte header (magic 'glTF',
+// version 2, the file's length), then chunks of (length, type, data): JSON first, then an
+// optional BIN. Checked here, before tinygltf, so that a damaged file is named for what is
+// wrong with it ("truncated") rather than tinygltf's "Invalid glTF binary". Returns the JSON chunk.
+Result<std::string> glbJsonChunk(const std::string& path) {
+  std::error_code ec;
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  if (ec) return Error{path + ": cannot read: " + ec.message()};
+  std::ifstream in(path, std::ios::binary);
+  auto readWords = [&](std::uint64_t offset, int count) {
+    std::array<std::uint32_t, 3> words{};
+    std::array<unsigned char, 12> bytes{};
+    in.seekg(static_cast<std::streamoff>(offset));
+    in.read(reinterpret_cast<char*>(bytes.data()), count * 4);
+    for (int w = 0; w < count; ++w)  // little-endian, whatever the machine
+      for (int b = 3; b >= 0; --b) words[w] = (words[w] << 8) | bytes[w * 4 + b];
+    return words;
+  };
+  const std::string again = ": export it again";
+  if (size < 12) return Error{path + ": truncated: a .glb starts with a 12-byte header, and this file has " + std::to_string(size) + " bytes" + again};
+  const auto [magic, version, length] = readWords(0, 3);
+  if (magic != 0x46546C67u) return Error{path + ": not a binary glTF file (a .glb starts with 'glTF')"};
+  if (version != 2) return Error{path + ": binary glTF version " + std::to_string(version) + "; lambert reads glTF 2.0 (export it as glTF 2.0)"};
+  if (length != size)
+    return Error{path + ": the header says the file has " + std::to_string(length) + " bytes, but it has " + std::to_string(size) +
+                 (length > size ? " (truncated)" : " (bytes after the end)") + again};
+  std::uint64_t offset = 12;
+  std::string json;
+  for (int chunk = 0; offset < size && chunk < 2; ++chunk) {
+    const char* name = chunk == 0 ? "JSON" : "BIN";
+    if (size - offset < 8) return Error{path + ": the " + name + " chunk's 8-byte header is cut off at byte " + std::to_string(offset) + again};
+    const auto words = readWords(offset, 2);
+    const std::uint32_t chunkLength = words[0], type = words[1];
+    const std::uint32_t expectedType = chunk == 0 ? 0x4E4F534Au : 0x004E4942u;  // "JSON", "BIN\0"
+    if (type != expectedType)
+      return Error{path + ": chunk " + std::to_string(chunk) + " at byte " + std::to_string(offset) + " is not the " + name +
+                   " chunk a .glb must have there" + again};
+    if (chunkLength > size - offset - 8)
+      return Error{path + ": the " + name + " chunk at byte " + std::to_string(offset) + " claims " + std::to_string(chunkLength) +
+                   " bytes, but only " + std::to_string(size - offset - 8) + " follow its header" + again};
+    if (chunk == 0) {
+      json.resize(chunkLength);
+      in.read(json.data(), chunkLength);
+    }
+    offset += 8 + chunkLength;
+  }
+  if (offset == 12) return Error{path + ": the file has a header but no JSON chunk" + again};
+  if (!in) return Error{path + ": cannot read the JSON chunk"};
+  return json;
+}
+
+// The glTF JSON's types, where it parses (where it does not, tinygltf's message says where).
+Status checkJsonTypes(const std::string& json, const std::string& path) {
+  const nlohmann::json document = nlohmann::json::parse(json, nullptr, /*allow_exceptions=*/false);
+  if (document.is_discarded()) return Ok{};
+  return checkGltfTypes(document, path);
+}
+
 Result<Scene> readGltf(const std::string& path, const RegionOptions& regions) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) return Error{path + ": no such glTF file"};
   const bool binary = lowercaseExtension(path) == ".glb";
-  if (binary) {  // say what the file is not, before tinygltf's byte-level complaints
-    char magic[4] = {};
-    std::ifstream(path, std::ios::binary).read(magic, 4);
-    if (std::string(magic, 4) != "glTF") return Error{path + ": not a binary glTF file (a .glb starts with 'glTF')"};
-  }
+  Result<std::string> json = binary ? glbJsonChunk(path) : readWholeFile(path);
+  if (!json) return json.error();
+  if (Status types = checkJsonTypes(*json, path); !types) return types.error();
   tinygltf::TinyGLTF loader;
   tinygltf::Model model;
   std::string error, warn;

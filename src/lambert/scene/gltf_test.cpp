@@ -38,10 +38,8 @@ void expectNear(const Rgb& value, const Rgb& expected, double tolerance) {
 }
 
 TEST(GltfTest, BlenderExportLoadsWithItsLightsMaterialsAndCamera) {
-  std::vector<std::string> warnings;
-  WarningSink previous = setWarningSink([&](const std::string& m) { warnings.push_back(m); });
+  WarningCapture warnings;
   Result<Scene> scene = loadScene(kBlenderRoom);
-  setWarningSink(previous);
   ASSERT_TRUE(scene.ok()) << scene.error().message;
   EXPECT_EQ(scene->name, "blender_room");
   EXPECT_EQ(scene->metresPerUnit, 1);  // glTF is in metres
@@ -113,7 +111,7 @@ TEST(GltfTest, BlenderExportLoadsWithItsLightsMaterialsAndCamera) {
   EXPECT_NEAR(scene->camera.verticalFovDegrees, 0.6939551846210171 * 180 / kPi, 1e-9);
   EXPECT_LT(scene->camera.target.z, scene->camera.eye.z);  // looking into the room (−z)
 
-  EXPECT_TRUE(warnings.empty()) << warnings.front();
+  EXPECT_EQ(warnings.messages(), std::vector<std::string>{});
 
   // The checker reaches the patches through the UVs: 8 × 8 squares of 0.5 × 0.375 m, so patches of
   // at most 0.1 m take one texel colour or a blend at a square's edge, and their area-weighted
@@ -171,7 +169,8 @@ TEST(GltfTest, BrokenFilesAreErrorsNamingTheFile) {
   testing::writeBytes(dir / "truncated.glb", bytes);
   Result<Scene> truncated = readGltf((dir / "truncated.glb").string());
   ASSERT_FALSE(truncated.ok());
-  EXPECT_TRUE(testing::contains(truncated.error().message, (dir / "truncated.glb").string() + ": ")) << truncated.error().message;
+  EXPECT_EQ(truncated.error().message, (dir / "truncated.glb").string() +
+                                          ": the header says the file has 50344 bytes, but it has 1000 (truncated): export it again");
 
   // An accessor that claims more vertices than its buffer holds.
   std::ofstream(dir / "overrun.gltf") << R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
@@ -196,6 +195,47 @@ TEST(GltfTest, BrokenFilesAreErrorsNamingTheFile) {
   // Mirrored by the node's scale, the winding is flipped back: the front still faces +z.
   EXPECT_GT(surfaceNormal(triangle->surfaces[0]).z, 0.999);
   EXPECT_EQ(triangle->materials[triangle->surfaces[0].material].name, "default");
+}
+
+// tinygltf skips a property of the wrong type silently; lambert names its JSON path.
+TEST(GltfTest, WrongTypesAreErrorsNamingTheJsonPath) {
+  const std::filesystem::path dir = testing::scratchDirectory("gltf", "types");
+  const std::string head = R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], )";
+  const std::string rest = R"(, "buffers": [{"byteLength": 36, "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}],
+    "bufferViews": [{"buffer": 0, "byteLength": 36}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0,0,0], "max": [1,1,0]}]})";
+  struct Case {
+    std::string json;     // between head and rest
+    std::string message;  // after "<file>: "; empty: it loads
+  };
+  const Case cases[] = {
+      {R"("nodes": [{"mesh": "quad"}], "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}])",
+       R"(/nodes/0/mesh: an index (a whole number, 0 or more, without a decimal point) is expected here, not "quad")"},
+      {R"("nodes": [{"mesh": 0}], "meshes": [{"primitives": [{"attributes": {"POSITION": -1}}]}])",
+       "/meshes/0/primitives/0/attributes/POSITION: an index (a whole number, 0 or more, without a decimal point) is expected here, not -1"},
+      {R"("nodes": [{"mesh": 0, "translation": [1, 2]}], "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}])",
+       "/nodes/0/translation: an array of 3 numbers is expected here, not [1,2]"},
+      {R"("nodes": {"mesh": 0}, "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}])",
+       R"(/nodes: an array is expected here, not {"mesh":0})"},
+      {R"("nodes": [{"mesh": 0}], "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "material": 0}]}],
+          "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, "opaque"]}}])",
+       "/materials/0/pbrMetallicRoughness/baseColorFactor: an array of 4 numbers is expected here, not [0.5,0.5,0.5,\"opaque\"]"},
+      // tinygltf would skip an index written with a decimal point too.
+      {R"("nodes": [{"mesh": 0.0}], "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}])",
+       "/nodes/0/mesh: an index (a whole number, 0 or more, without a decimal point) is expected here, not 0.0"},
+      {R"("nodes": [{"mesh": 0}], "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}])", ""},
+  };
+  for (const Case& c : cases) {
+    const std::string file = (dir / "case.gltf").string();
+    std::ofstream(file) << head << c.json << rest;
+    Result<Scene> scene = readGltf(file);
+    if (c.message.empty()) {
+      EXPECT_TRUE(scene.ok()) << c.json << "\n" << scene.error().message;
+    } else {
+      ASSERT_FALSE(scene.ok()) << c.json;
+      EXPECT_EQ(scene.error().message, file + ": " + c.message);
+    }
+  }
 }
 
 }  // namespace

@@ -19,17 +19,6 @@ void write(const fs::path& path, const std::string& text) {
   std::ofstream(path) << text;
 }
 
-struct Captured {
-  std::vector<std::string> warnings;
-  WarningSink previous;
-  Captured() : previous(setWarningSink([this](const std::string& m) { warnings.push_back(m); })) {}
-  ~Captured() { setWarningSink(previous); }
-  int count(const std::string& part) const {
-    int n = 0;
-    for (const std::string& w : warnings) n += testing::contains(w, part);
-    return n;
-  }
-};
 
 // MGF is z-up, lambert y-up: (x, y, z) → (x, z, −y).
 Vec3 fromMgf(const Vec3& p) { return {p.x, p.z, -p.y}; }
@@ -81,7 +70,7 @@ void expectRgbNear(const Rgb& actual, const Rgb& expected, double tolerance) {
 constexpr double kLeOfOneLux = 1 / (kPi * 683);
 
 TEST(MgfTest, FacesMaterialsSidesUnitsAndAxes) {
-  Captured captured;
+  WarningCapture captured;
   Result<Scene> scene = readText("faces", R"(# a floor and a lamp, z up
 m floor =
 	c
@@ -137,7 +126,7 @@ o
   expectRgbNear(lampMaterial.albedo, Rgb::gray(0.2), 1e-9);
   expectRgbNear(lamp.emittedRadiance, Rgb::gray(1000 * kLeOfOneLux), 1e-9);
   EXPECT_NEAR(lamp.emittedRadiance.r, 0.466047, 1e-6);  // 1000 / (π · 683)
-  EXPECT_TRUE(captured.warnings.empty()) << captured.warnings[0];
+  EXPECT_EQ(captured.messages(), std::vector<std::string>{});
 }
 
 TEST(MgfTest, DefaultMaterialIsBlackAndTwoSidedAndBareMResetsIt) {
@@ -390,7 +379,7 @@ f a b c
 }
 
 TEST(MgfTest, IgnoredAndUnknownEntitiesWarnOncePerKind) {
-  Captured captured;
+  WarningCapture captured;
   Result<Scene> scene = readText("ignored", std::string(kTriangle) + R"(m glass =
 	rs .1 .02
 	rs .2 .02
@@ -411,7 +400,7 @@ f a b c
   EXPECT_EQ(captured.count("t.mgf:13: unknown entity 'foo'"), 1);
   EXPECT_EQ(captured.count("unknown entity"), 1);
   EXPECT_EQ(captured.count("t.mgf:15: fh (face with holes) is not supported"), 1);
-  EXPECT_EQ(captured.warnings.size(), 6u);
+  EXPECT_EQ(captured.messages().size(), 6u);
 }
 
 struct BadInput {
@@ -475,10 +464,10 @@ TEST(MgfTest, IncludeCyclesAndDepthAreErrorsInTheIncludedFile) {
 }
 
 TEST(MgfTest, ShippedFloorScene) {
-  Captured captured;
+  WarningCapture captured;
   Result<Scene> scene = readMgf(std::string(LAMBERT_SOURCE_DIR) + "/scenes/floor/floor.mgf");
   ASSERT_TRUE(scene.ok()) << scene.error().message;
-  EXPECT_TRUE(captured.warnings.empty()) << captured.warnings.front();
+  EXPECT_EQ(captured.messages(), std::vector<std::string>{});
   std::size_t faces = 0, emitters = 0;
   for (const Surface& s : scene->surfaces) {
     faces += surfaceFaces(s).size();

@@ -5,13 +5,13 @@
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
-#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
 
+#include "lambert/core/text.h"
 #include "lambert/core/warning.h"
 
 namespace lambert {
@@ -245,10 +245,9 @@ class PlyReader {
 Result<Scene> readPly(const std::string& path, double metresPerUnit, const RegionOptions& regions) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) return Error{path + ": no such PLY file"};
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  return PlyReader(path, bytes.str()).read(metresPerUnit, regions);
+  Result<std::string> bytes = readWholeFile(path);
+  if (!bytes) return bytes.error();
+  return PlyReader(path, *bytes).read(metresPerUnit, regions);
 }
 
 }  // namespace lambert

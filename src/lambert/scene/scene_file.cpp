@@ -493,11 +493,9 @@ Result<Scene> parseSceneFile(const std::string& text, const std::string& path) {
 Result<Scene> readSceneFile(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) return Error{path + ": no such scene file"};
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (!in.good() && !in.eof()) return Error{path + ": cannot be read"};
-  return parseSceneFile(text.str(), path);
+  Result<std::string> text = readWholeFile(path);
+  if (!text) return text.error();
+  return parseSceneFile(*text, path);
 }
 
 std::string sceneFileText(const Scene& scene) {
