@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <functional>
 #include <filesystem>
@@ -82,6 +83,7 @@ void interruptMidSolve(int signal, int expectedExit) {
   const std::vector<char> log = testing::readBytes(dir / "log.txt");
   const std::string output(log.begin(), log.end());
   EXPECT_EQ(exitCode, expectedExit) << output;
+  std::printf("signal %d: exited %.3f s after it was sent\n", signal, seconds);
   EXPECT_LT(seconds, 1.0);
   EXPECT_TRUE(contains(output, "lambert: interrupted")) << output;
   EXPECT_EQ(testing::readBytes(image), previousImage);

@@ -356,7 +356,7 @@ class Reader {
 // wrong with it ("truncated") rather than tinygltf's "Invalid glTF binary". Returns the JSON chunk.
 Result<std::string> glbJsonChunk(const std::string& path) {
   std::error_code ec;
-  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  std::uintmax_t size = std::filesystem::file_size(path, ec);
   if (ec) return Error{path + ": cannot read: " + ec.message()};
   std::ifstream in(path, std::ios::binary);
   auto readWords = [&](std::uint64_t offset, int count) {
@@ -373,9 +373,13 @@ Result<std::string> glbJsonChunk(const std::string& path) {
   const auto [magic, version, length] = readWords(0, 3);
   if (magic != 0x46546C67u) return Error{path + ": not a binary glTF file (a .glb starts with 'glTF')"};
   if (version != 2) return Error{path + ": binary glTF version " + std::to_string(version) + "; lambert reads glTF 2.0 (export it as glTF 2.0)"};
-  if (length != size)
+  if (length > size)
     return Error{path + ": the header says the file has " + std::to_string(length) + " bytes, but it has " + std::to_string(size) +
-                 (length > size ? " (truncated)" : " (bytes after the end)") + again};
+                 " (truncated)" + again};
+  if (length < size) {  // the spec's length is the whole file; what follows it is not glTF
+    warning(path + ": " + std::to_string(size - length) + " bytes after the length the header gives (" + std::to_string(length) + ") are ignored");
+    size = length;
+  }
   std::uint64_t offset = 12;
   std::string json;
   for (int chunk = 0; offset < size && chunk < 2; ++chunk) {

@@ -9,6 +9,8 @@
 
 #include <cmath>
 #include <fstream>
+#include <iterator>
+#include <vector>
 
 #include "lambert/core/warning.h"
 #include "lambert/scene/scene_file.h"
@@ -171,6 +173,18 @@ TEST(GltfTest, BrokenFilesAreErrorsNamingTheFile) {
   ASSERT_FALSE(truncated.ok());
   EXPECT_EQ(truncated.error().message, (dir / "truncated.glb").string() +
                                           ": the header says the file has 50344 bytes, but it has 1000 (truncated): export it again");
+
+  // Bytes after the header's length are not glTF: ignored, with a warning; the file still loads.
+  {
+    std::ifstream whole(kBlenderRoom, std::ios::binary);
+    std::vector<char> padded{std::istreambuf_iterator<char>(whole), std::istreambuf_iterator<char>()};
+    padded.insert(padded.end(), 5, '\0');
+    testing::writeBytes(dir / "padded.glb", padded);
+    WarningCapture warnings;
+    Result<Scene> scene = readGltf((dir / "padded.glb").string());
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    EXPECT_EQ(warnings.count((dir / "padded.glb").string() + ": 5 bytes after the length the header gives (50344) are ignored"), 1);
+  }
 
   // An accessor that claims more vertices than its buffer holds.
   std::ofstream(dir / "overrun.gltf") << R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
