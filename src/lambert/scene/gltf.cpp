@@ -238,6 +238,13 @@ class Reader {
       if (primitive.indices >= 0) {
         Result<std::vector<double>> read = readAccessor(primitive.indices, 1);
         if (!read) return read.error();
+        // The spec allows unsigned byte, short and int indices only; a float one (a fuzzed file
+        // held −1185.98) has no vertex to name.
+        const int type = model_.accessors[static_cast<std::size_t>(primitive.indices)].componentType;
+        if (type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+            type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
+          return Error{path_ + ": mesh '" + mesh.name + "': indices (accessor " + std::to_string(primitive.indices) +
+                       ") must be unsigned integers (componentType 5121, 5123 or 5125), not componentType " + std::to_string(type)};
         for (double i : *read) indices.push_back(static_cast<std::uint32_t>(i));
       } else {
         for (std::uint32_t i = 0; i < polygons.positions.size(); ++i) indices.push_back(i);

@@ -151,6 +151,14 @@ TEST(GltfTest, FuzzedIndicesPastTheEndAreErrorsNotExceptions) {
   ASSERT_FALSE(camera.ok());
   EXPECT_EQ(camera.error().message, (dir / "camera.gltf").string() + ": node 'eye' refers to camera 3, which does not exist");
 
+  // Round 4: indices stored as floats (−1185.98) were cast to an unsigned index, which is
+  // undefined behaviour; the spec allows unsigned integer indices only.
+  const std::string floats = std::string(LAMBERT_SOURCE_DIR) + "/tests/corpus/gltf/regression-float-indices.gltf";
+  Result<Scene> floatIndices = readGltf(floats);
+  ASSERT_FALSE(floatIndices.ok());
+  EXPECT_EQ(floatIndices.error().message,
+            floats + ": mesh 'tri': indices (accessor 1) must be unsigned integers (componentType 5121, 5123 or 5125), not componentType 5126");
+
   std::ofstream(dir / "position.gltf") << R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
     "nodes": [{"mesh": 0}], "meshes": [{"name": "m", "primitives": [{"attributes": {"POSITION": 9}}]}]})";
   Result<Scene> position = readGltf((dir / "position.gltf").string());
