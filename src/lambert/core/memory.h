@@ -1,8 +1,9 @@
 #pragma once
 // How much memory a solve may take: what the machine has available now (Linux's MemAvailable),
 // or a limit the user sets instead. Large allocations (the dense form-factor matrix, the
-// hierarchical links, the adaptive active set's matrix) are estimated against it first, so a
-// solve that cannot fit stops at once with the figure instead of being killed hours later.
+// hierarchical links, the adaptive active set's matrix and master-table pairs) are estimated
+// against it first, so a solve that cannot fit stops at once with the figure instead of being
+// killed hours later.
 #include <string>
 
 namespace lambert {

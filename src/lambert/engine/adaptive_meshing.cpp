@@ -231,10 +231,10 @@ Result<bool> AdaptiveMeshing::refine(const std::vector<Light>& lights, std::vect
     Timer ffTimer;
     const std::uint64_t estimatedBefore = table_->pairsEstimated(), reusedBefore = table_->pairsReused(),
                         loadedBefore = table_->pairsLoaded();
-    // The active set's dense matrix is assembled whole.
-    const double n = static_cast<double>(active.size()), bytes = n * n * sizeof(float);
+    // The active set's dense matrix is assembled whole, and its new pairs join the master table.
+    const double bytes = table_->assemblyBytes(active.size());
     if (const double budget = memoryBudgetBytes(memoryLimitBytes_); budget > 0 && bytes > budget)
-      return Error{memoryExceeded("the form-factor matrix of " + std::to_string(active.size()) + " active cells", bytes, memoryLimitBytes_) +
+      return Error{memoryExceeded("the form-factor matrix and new table pairs of " + std::to_string(active.size()) + " active cells", bytes, memoryLimitBytes_) +
                    "; lower --max-level, raise --base-edge or --gradient-threshold, or --memory-limit to allow more"};
     auto F = std::make_shared<FormFactorMatrix>(table_->matrix(active));
     if (normalizeRows_) normalizeRows(*F);

@@ -71,17 +71,33 @@ bool FormFactorTable::findLoaded(std::uint64_t low, std::uint64_t high, float& v
   return true;
 }
 
+namespace {
+
+// A pair matrix() must add: estimated (or found in the loaded file), then stored.
+struct MissingPair {
+  std::uint32_t from, to;  // positions in ids; from: the one with the lower address
+  float value;
+  bool loaded;
+};
+
+// One std::unordered_map<std::uint64_t, float> entry: its node (next pointer, key, value, the
+// allocator's header) and its bucket pointer at load factor 1.
+constexpr double kTableEntryBytes = 8 + 8 + 4 + 4 + 8 + 8;
+
+}  // namespace
+
+double FormFactorTable::assemblyBytes(std::size_t patches) const {
+  const double n = static_cast<double>(patches), pairs = n * (n - 1) / 2;
+  const double newPairs = std::max(0.0, pairs - static_cast<double>(table_.size()));
+  return n * n * sizeof(float) + newPairs * (sizeof(MissingPair) + kTableEntryBytes);
+}
+
 FormFactorMatrix FormFactorTable::matrix(std::span<const std::uint32_t> ids) {
   const std::size_t n = ids.size();
   // Once per call, not per pair: every pair's direction in the table follows its addresses.
   std::vector<std::uint64_t> addresses(n);
   for (std::size_t a = 0; a < n; ++a) addresses[a] = address(ids[a]);
-  struct Missing {
-    std::uint32_t from, to;  // positions in ids; from: the one with the lower address
-    float value;
-    bool loaded;
-  };
-  std::vector<Missing> missing;
+  std::vector<MissingPair> missing;
   for (std::size_t a = 0; a < n; ++a)
     for (std::size_t b = a + 1; b < n; ++b) {
       if (table_.find(key(std::min(ids[a], ids[b]), std::max(ids[a], ids[b]))) != table_.end()) continue;
@@ -94,7 +110,7 @@ FormFactorMatrix FormFactorTable::matrix(std::span<const std::uint32_t> ids) {
   tbb::enumerable_thread_specific<PairFormFactors> estimators([&] { return PairFormFactors(patches_, caster_, options_); });
   const bool anyLoaded = !loadedRows_.empty();
   parallelFor(0, missing.size(), [&](std::size_t k) {
-    Missing& m = missing[k];
+    MissingPair& m = missing[k];
     if (anyLoaded && findLoaded(addresses[m.from], addresses[m.to], m.value)) {
       m.loaded = true;
       return;
@@ -104,7 +120,7 @@ FormFactorMatrix FormFactorTable::matrix(std::span<const std::uint32_t> ids) {
     m.value = estimator.culled(from, to) ? 0.0f : static_cast<float>(estimator.estimate(from, to));
   }, 64);
   std::uint64_t loaded = 0;
-  for (const Missing& m : missing) {
+  for (const MissingPair& m : missing) {
     table_.emplace(key(std::min(ids[m.from], ids[m.to]), std::max(ids[m.from], ids[m.to])), m.value);
     loaded += m.loaded;
   }

@@ -42,6 +42,13 @@ class FormFactorTable {
   std::uint64_t pairsReused() const { return pairsReused_; }        // answered from the table
   std::size_t pairsStored() const { return table_.size(); }
 
+  // What matrix() of `patches` patches allocates, in bytes, for the memory check before it
+  // (core/memory.h): the dense matrix, and each pair it adds to the table (held in a working list
+  // while it is estimated, then as a hash-table entry). Pairs already stored may be among them,
+  // so at least n(n − 1)/2 − pairsStored() are new: a lower bound, which refuses only what
+  // cannot fit.
+  double assemblyBytes(std::size_t patches) const;
+
   // Writes every pair known (stored, and loaded but not used in this run) to path atomically, as
   // cache_file.h's writeFile does, and returns how many; the Error names the path.
   Result<std::size_t> save(const std::string& path, std::uint64_t key) const;

@@ -276,6 +276,19 @@ TEST(FormFactorTableFileTest, RoundTripGivesIdenticalMatricesWhenIdsDiffer) {
   EXPECT_EQ(b->table->pairsReused(), reused + pairsOf(saved.refined.size()));
 }
 
+// The memory check before an active set's matrix counts the matrix and the pairs the table must
+// add; once they are stored, only the matrix.
+TEST(FormFactorTableMemoryTest, AssemblyBytesCountTheMatrixAndTheNewPairs) {
+  auto cells = cube();
+  const std::vector<std::uint32_t> ids = cells->ids(cells->activeAddresses());
+  const double n = static_cast<double>(ids.size()), matrixBytes = n * n * 4;
+  const double fresh = cells->table->assemblyBytes(ids.size());
+  // 16 bytes in the working list and 40 in the hash table per new pair.
+  EXPECT_EQ(fresh, matrixBytes + static_cast<double>(pairsOf(ids.size())) * (16 + 40));
+  cells->table->matrix(ids);
+  EXPECT_EQ(cells->table->assemblyBytes(ids.size()), matrixBytes);
+}
+
 TEST(FormFactorTableFileTest, NewPairsAreEstimatedAndUnusedLoadedPairsAreKept) {
   SavedTable saved = savedTable("union");
   const std::set<std::uint64_t> known(saved.coarse.begin(), saved.coarse.end());
