@@ -178,9 +178,9 @@ void printStats(const Stats& stats, bool json, bool quiet, const std::string& he
     nlohmann::ordered_json out = all.json();
     out["warnings"] = keptWarnings().messages();
     std::printf("%s\n", out.dump(2).c_str());
-  }
-  else if (!quiet)
+  } else if (!quiet) {
     std::printf("%s%s", headline.empty() ? "" : (headline + "\n").c_str(), all.table().c_str());
+  }
 }
 
 std::optional<Scene> findScene(const std::string& command, const MeshCommandOptions& o) {
