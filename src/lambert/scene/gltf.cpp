@@ -8,7 +8,8 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
+#include <limits>
+#include <string_view>
 #include <map>
 
 #include "lambert/core/text.h"
@@ -355,82 +356,78 @@ class Reader {
   int skippedPrimitives_ = 0;
 };
 
-}  // namespace
-
 // A .glb's container (glTF 2.0 spec, "Binary glTF Layout"): a 12-byte header (magic 'glTF',
 // version 2, the file's length), then chunks of (length, type, data): JSON first, then an
 // optional BIN. Checked here, before tinygltf, so that a damaged file is named for what is
-// wrong with it ("truncated") rather than tinygltf's "Invalid glTF binary". Returns the JSON chunk.
-Result<std::string> glbJsonChunk(const std::string& path) {
-  std::error_code ec;
-  std::uintmax_t size = std::filesystem::file_size(path, ec);
-  if (ec) return Error{path + ": cannot read: " + ec.message()};
-  std::ifstream in(path, std::ios::binary);
-  auto readWords = [&](std::uint64_t offset, int count) {
-    std::array<std::uint32_t, 3> words{};
-    std::array<unsigned char, 12> bytes{};
-    in.seekg(static_cast<std::streamoff>(offset));
-    in.read(reinterpret_cast<char*>(bytes.data()), count * 4);
-    for (int w = 0; w < count; ++w)  // little-endian, whatever the machine
-      for (int b = 3; b >= 0; --b) words[w] = (words[w] << 8) | bytes[w * 4 + b];
-    return words;
+// wrong with it ("truncated") rather than tinygltf's "Invalid glTF binary". Returns the JSON
+// chunk; bytes after the header's length are not glTF, and are dropped from `file` (a warning).
+Result<std::string_view> glbJsonChunk(std::string& file, const std::string& path) {
+  auto word = [&](std::size_t offset) {  // little-endian, whatever the machine
+    std::uint32_t value = 0;
+    for (int b = 3; b >= 0; --b) value = (value << 8) | static_cast<unsigned char>(file[offset + static_cast<std::size_t>(b)]);
+    return value;
   };
   const std::string again = ": export it again";
-  if (size < 12) return Error{path + ": truncated: a .glb starts with a 12-byte header, and this file has " + std::to_string(size) + " bytes" + again};
-  const auto [magic, version, length] = readWords(0, 3);
-  if (magic != 0x46546C67u) return Error{path + ": not a binary glTF file (a .glb starts with 'glTF')"};
-  if (version != 2) return Error{path + ": binary glTF version " + std::to_string(version) + "; lambert reads glTF 2.0 (export it as glTF 2.0)"};
-  if (length > size)
-    return Error{path + ": the header says the file has " + std::to_string(length) + " bytes, but it has " + std::to_string(size) +
+  if (file.size() < 12)
+    return Error{path + ": truncated: a .glb starts with a 12-byte header, and this file has " + std::to_string(file.size()) + " bytes" + again};
+  if (word(0) != 0x46546C67u) return Error{path + ": not a binary glTF file (a .glb starts with 'glTF')"};
+  if (word(4) != 2) return Error{path + ": binary glTF version " + std::to_string(word(4)) + "; lambert reads glTF 2.0 (export it as glTF 2.0)"};
+  const std::size_t length = word(8);
+  if (length > file.size())
+    return Error{path + ": the header says the file has " + std::to_string(length) + " bytes, but it has " + std::to_string(file.size()) +
                  " (truncated)" + again};
-  if (length < size) {  // the spec's length is the whole file; what follows it is not glTF
-    warning(path + ": " + std::to_string(size - length) + " bytes after the length the header gives (" + std::to_string(length) + ") are ignored");
-    size = length;
+  if (length < file.size()) {
+    warning(path + ": " + std::to_string(file.size() - length) + " bytes after the length the header gives (" + std::to_string(length) + ") are ignored");
+    file.resize(length);
   }
-  std::uint64_t offset = 12;
-  std::string json;
-  for (int chunk = 0; offset < size && chunk < 2; ++chunk) {
+  std::string_view json;
+  std::size_t offset = 12;
+  for (int chunk = 0; offset < file.size() && chunk < 2; ++chunk) {
     const char* name = chunk == 0 ? "JSON" : "BIN";
-    if (size - offset < 8) return Error{path + ": the " + name + " chunk's 8-byte header is cut off at byte " + std::to_string(offset) + again};
-    const auto words = readWords(offset, 2);
-    const std::uint32_t chunkLength = words[0], type = words[1];
+    if (file.size() - offset < 8) return Error{path + ": the " + name + " chunk's 8-byte header is cut off at byte " + std::to_string(offset) + again};
+    const std::size_t chunkLength = word(offset);
     const std::uint32_t expectedType = chunk == 0 ? 0x4E4F534Au : 0x004E4942u;  // "JSON", "BIN\0"
-    if (type != expectedType)
+    if (word(offset + 4) != expectedType)
       return Error{path + ": chunk " + std::to_string(chunk) + " at byte " + std::to_string(offset) + " is not the " + name +
                    " chunk a .glb must have there" + again};
-    if (chunkLength > size - offset - 8)
+    if (chunkLength > file.size() - offset - 8)
       return Error{path + ": the " + name + " chunk at byte " + std::to_string(offset) + " claims " + std::to_string(chunkLength) +
-                   " bytes, but only " + std::to_string(size - offset - 8) + " follow its header" + again};
-    if (chunk == 0) {
-      json.resize(chunkLength);
-      in.read(json.data(), chunkLength);
-    }
+                   " bytes, but only " + std::to_string(file.size() - offset - 8) + " follow its header" + again};
+    if (chunk == 0) json = std::string_view(file).substr(offset + 8, chunkLength);
     offset += 8 + chunkLength;
   }
   if (offset == 12) return Error{path + ": the file has a header but no JSON chunk" + again};
-  if (!in) return Error{path + ": cannot read the JSON chunk"};
   return json;
 }
 
 // The glTF JSON's types, where it parses (where it does not, tinygltf's message says where).
-Status checkJsonTypes(const std::string& json, const std::string& path) {
+Status checkJsonTypes(std::string_view json, const std::string& path) {
   const nlohmann::json document = nlohmann::json::parse(json, nullptr, /*allow_exceptions=*/false);
   if (document.is_discarded()) return Ok{};
   return checkGltfTypes(document, path);
 }
 
+}  // namespace
+
 Result<Scene> readGltf(const std::string& path, const RegionOptions& regions) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) return Error{path + ": no such glTF file"};
   const bool binary = lowercaseExtension(path) == ".glb";
-  Result<std::string> json = binary ? glbJsonChunk(path) : readWholeFile(path);
+  // Read once: checked here, then handed to tinygltf from memory.
+  Result<std::string> file = readWholeFile(path);
+  if (!file) return file.error();
+  if (file->size() > std::numeric_limits<unsigned>::max()) return Error{path + ": larger than 4 GiB, which tinygltf cannot read"};
+  Result<std::string_view> json = binary ? glbJsonChunk(*file, path) : Result<std::string_view>(std::string_view(*file));
   if (!json) return json.error();
   if (Status types = checkJsonTypes(*json, path); !types) return types.error();
   tinygltf::TinyGLTF loader;
   tinygltf::Model model;
   std::string error, warn;
-  const bool ok = binary ? loader.LoadBinaryFromFile(&model, &error, &warn, path)
-                                      : loader.LoadASCIIFromFile(&model, &error, &warn, path);
+  // Relative buffer and image URIs are resolved against the file's folder, as LoadASCIIFromFile would.
+  const std::string folder = std::filesystem::path(path).parent_path().string();
+  const auto size = static_cast<unsigned>(file->size());
+  const bool ok = binary ? loader.LoadBinaryFromMemory(&model, &error, &warn, reinterpret_cast<const unsigned char*>(file->data()), size, folder)
+                         : loader.LoadASCIIFromString(&model, &error, &warn, file->data(), size, folder);
   if (!warn.empty()) warning(path + ": " + singleLine(warn));
   if (!ok) return Error{path + ": " + (error.empty() ? std::string("not a glTF file") : singleLine(error))};
   return Reader(model, path, regions).read();
