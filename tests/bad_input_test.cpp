@@ -116,7 +116,8 @@ TEST_P(BadInputTest, FailsClearlyAndWritesNothing) {
   ASSERT_TRUE(fs::exists(input)) << input;
   for (const std::string& used : c.uses) ASSERT_TRUE(fs::exists(kCorpus / used)) << used;
   const fs::path out = testing::scratchDirectory("bad-input", c.name);
-  const std::string arguments = replaceAll(replaceAll(c.arguments, "{file}", "'" + input.string() + "'"), "{out}", out.string());
+  const std::string arguments =
+      replaceAll(replaceAll(replaceAll(c.arguments, "{file}", "'" + input.string() + "'"), "{out}", out.string()), "{dir}", "'" + kCorpus.string() + "'");
   // A case that hangs fails (status 124) instead of stalling the suite.
   const testing::CommandResult r = testing::shell("timeout 120 " + std::string(LAMBERT_CLI_PATH) + " " + arguments);
   SCOPED_TRACE("lambert " + arguments + "\n" + r.output);

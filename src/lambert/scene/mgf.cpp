@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -27,6 +28,7 @@ constexpr int kMaxIncludeDepth = 32;
 
 struct Xyz {
   double x = 1, y = 1, z = 1;  // equal-energy white, MGF's default colour
+  std::string origin;          // "file:line: entity" that set it, for a repair's warning
 };
 
 // g(λ; μ, σ1, σ2): a Gaussian with a different width on each side of its peak (Wyman et al.).
@@ -68,6 +70,90 @@ Rgb xyzToRec709(const Xyz& c) {
   return {3.2404542 * c.x - 1.5371385 * c.y - 0.4985314 * c.z,
           -0.9692660 * c.x + 1.8760108 * c.y + 0.0415560 * c.z,
           0.0556434 * c.x - 0.2040259 * c.y + 1.0572252 * c.z};
+}
+
+// The boundary of the chromaticities real spectra have: the convex hull of the spectral locus
+// (the colour matching functions' chromaticities, 360–830 nm), closed by the purple line.
+// Counter-clockwise, by Andrew's monotone chain.
+const std::vector<std::pair<double, double>>& realChromaticities() {
+  static const std::vector<std::pair<double, double>> hull = [] {
+    std::vector<std::pair<double, double>> points;
+    for (double lambda = 360; lambda <= 830; lambda += 1) {
+      const Xyz c = colourMatching(lambda);
+      const double sum = c.x + c.y + c.z;
+      if (sum > 1e-9) points.emplace_back(c.x / sum, c.y / sum);
+    }
+    std::sort(points.begin(), points.end());
+    auto cross = [](const auto& o, const auto& a, const auto& b) {
+      return (a.first - o.first) * (b.second - o.second) - (a.second - o.second) * (b.first - o.first);
+    };
+    std::vector<std::pair<double, double>> h(2 * points.size());
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      while (k >= 2 && cross(h[k - 2], h[k - 1], points[i]) <= 0) --k;
+      h[k++] = points[i];
+    }
+    for (std::size_t i = points.size() - 1, t = k + 1; i-- > 0;) {
+      while (k >= t && cross(h[k - 2], h[k - 1], points[i]) <= 0) --k;
+      h[k++] = points[i];
+    }
+    h.resize(k - 1);
+    return h;
+  }();
+  return hull;
+}
+
+// Where the segment from MGF's white (1/3, 1/3), inside the hull, to (x, y), outside it, leaves
+// the hull: the most saturated real chromaticity of (x, y)'s hue.
+std::pair<double, double> ontoRealChromaticities(double x, double y) {
+  const std::vector<std::pair<double, double>>& hull = realChromaticities();
+  const double ex = 1.0 / 3, ey = 1.0 / 3, dx = x - ex, dy = y - ey;
+  double nearest = 1;
+  for (std::size_t i = 0; i < hull.size(); ++i) {
+    const auto& a = hull[i];
+    const auto& b = hull[(i + 1) % hull.size()];
+    const double mx = b.first - a.first, my = b.second - a.second;
+    const double det = dx * -my - dy * -mx;
+    if (det == 0) continue;
+    const double rx = a.first - ex, ry = a.second - ey;
+    const double t = (rx * -my - ry * -mx) / det, s = (dx * ry - dy * rx) / det;
+    if (t > 0 && s >= 0 && s <= 1) nearest = std::min(nearest, t);
+  }
+  nearest *= 1 - 1e-9;  // just inside
+  return {ex + nearest * dx, ey + nearest * dy};
+}
+
+// A colour's CIE XYZ as a real colour at unit luminance; `repair` says what was done to one
+// that is not a real colour (empty when nothing was). MGF allows negative spectral samples and
+// mixing weights (the CIE daylight basis functions are negative by definition): only what they
+// integrate to must be a colour. A negative component is clipped to 0, as RenderPark does; a
+// colour with no luminance left (cxy x 0, as RGB-to-xy converters write for pure blue or
+// purple) keeps its hue and becomes the most saturated real colour of it, rather than black
+// (RenderPark's choice, which loses the reflectance the file gives) or white (which loses the
+// hue); one with nothing left at all is white.
+Xyz realColour(const Xyz& c, std::string& repair) {
+  repair.clear();
+  if (c.x >= 0 && c.y > 0 && c.z >= 0) return Xyz{c.x / c.y, 1, c.z / c.y, c.origin};
+  auto format = [](double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.4g", v);
+    return std::string(text);
+  };
+  const double x = std::fmax(0.0, c.x), y = std::fmax(0.0, c.y), z = std::fmax(0.0, c.z);
+  const std::string xyz = "CIE XYZ ∝ (" + format(c.x) + ", " + format(c.y) + ", " + format(c.z) + ")";
+  if (x + y + z == 0) {
+    repair = "no real colour (" + xyz + ", nothing positive): read as white";
+    return Xyz{1, 1, 1, c.origin};
+  }
+  if (y > 0) {
+    repair = "no real colour (" + xyz + "): negative components clipped to 0, giving chromaticity (" + format(x / (x + y + z)) + ", " +
+             format(y / (x + y + z)) + ")";
+    return Xyz{x / y, 1, z / y, c.origin};
+  }
+  const auto [cx, cy] = ontoRealChromaticities(x / (x + z), 0);
+  repair = "no real colour (" + xyz + ", no luminance): read as chromaticity (" + format(cx) + ", " + format(cy) +
+           "), the most saturated real colour of its hue (toward white onto the spectral locus)";
+  return Xyz{cx / cy, 1, (1 - cx - cy) / cy, c.origin};
 }
 
 // A chromaticity as lambert RGB of Rec. 709 luminance 1, with MGF's white (E) at (1, 1, 1).
@@ -235,10 +321,7 @@ struct MaterialContext {
 
 class Reader {
  public:
-  Reader(const MgfOptions& options, const fs::path& top) : options_(options) {
-    root_ = fs::absolute(top).lexically_normal().parent_path();
-    defaultObject_ = top.stem().string();
-  }
+  Reader(const MgfOptions& options, const fs::path& top) : options_(options) { defaultObject_ = top.stem().string(); }
 
   Scene read(const fs::path& top) {
     std::optional<SourceFile> file = loadSource(top, top.string());
@@ -265,7 +348,6 @@ class Reader {
 
  private:
   const MgfOptions& options_;
-  fs::path root_;
   std::string defaultObject_;
   std::vector<fs::path> active_;  // the include chain, for cycles
 
@@ -282,6 +364,7 @@ class Reader {
   std::vector<Affine> xf_{zUpToYUp()};  // the total transform of each open context
   std::vector<std::string> objects_;
   std::set<std::string> warnedKinds_;
+  std::set<std::string> repairedColours_;  // the origins of colours repaired (and reported) once
 
   std::vector<Material> materials_;
   std::vector<Rgb> emission_;
@@ -333,11 +416,11 @@ class Reader {
   void runFile(const SourceFile& file) {
     const std::size_t depth = xf_.size();
     run(file, 0, file.lines.size(), depth);
-    if (xf_.size() != depth) {
-      file_ = &file;
+    if (xf_.size() != depth) {  // a transformation applies to its own file only: it ends there
       const std::size_t open = xf_.size() - depth;
-      throw ParseError{file.path + ":" + std::to_string(file.lines.empty() ? 0 : file.lines.back().number) + ": unbalanced xf: " +
-                       std::to_string(open) + (open == 1 ? " transformation is" : " transformations are") + " not ended"};
+      warning(file.path + ":" + std::to_string(file.lines.empty() ? 0 : file.lines.back().number) + ": unbalanced xf: " +
+              std::to_string(open) + (open == 1 ? " transformation is" : " transformations are") + " not ended; ended at the end of the file");
+      xf_.resize(depth);
     }
   }
 
@@ -348,8 +431,11 @@ class Reader {
       const std::string& k = keyword();
       if (k == "xf") {
         if (numArgs() == 0) {
-          if (xf_.size() <= fileDepth) fail("unbalanced xf: an end with no transformation to end");
-          xf_.pop_back();
+          if (xf_.size() <= fileDepth) {
+            warning(where() + ": xf: an end with no transformation to end; ignored");
+          } else {
+            xf_.pop_back();
+          }
           continue;
         }
         const XfSpec spec = parseXf(1);
@@ -368,6 +454,7 @@ class Reader {
     }
   }
 
+  // The line of the xf that ends the array opened at `open`, or `end` when none does.
   std::size_t matchingXfEnd(const SourceFile& file, std::size_t open, std::size_t end) const {
     int depth = 0;
     for (std::size_t j = open; j < end; ++j) {
@@ -376,7 +463,8 @@ class Reader {
       depth += l.words.size() > 1 ? 1 : -1;
       if (depth == 0) return j;
     }
-    fail("unbalanced xf: an array (-a) with no xf to end it in this file");
+    warning(where() + ": unbalanced xf: no xf ends this array (-a) in its file; it ends at the end of the file");
+    return end;
   }
 
   // Runs body once per array instance of spec (the only one when it has no -a), each inside its
@@ -433,7 +521,7 @@ class Reader {
       } else if (flag == "-s") {
         need(1);
         const double f = number(w[++i]);
-        if (f == 0) fail("xf: -s 0 would collapse everything to a point");
+        if (f == 0) fail("xf: -s 0 would collapse everything to a point; give a nonzero scale factor");
         repeated = repeated.then(scaling(f));
       } else if (flag == "-mx" || flag == "-my" || flag == "-mz") {
         repeated = repeated.then(mirror(flag[2] - 'x'));
@@ -459,12 +547,19 @@ class Reader {
     expectAtLeast(1);
     const std::string& name = arg(0);
     const fs::path target = (from.directory / name).lexically_normal();
-    const fs::path relative = fs::absolute(target).lexically_normal().lexically_relative(root_);
-    if (relative.empty() || *relative.begin() == "..")
-      fail("include '" + name + "' is outside the top file's folder (" + root_.string() + ")");
-    std::error_code ec;
-    if (!fs::is_regular_file(target, ec)) fail("cannot open include '" + name + "'");
     const fs::path canonical = fs::weakly_canonical(target);
+    if (!options_.includeRoot.empty()) {
+      // Before looking at the file, so that nothing outside the root is even probed; both sides
+      // with symbolic links resolved, so that no link leads out of it.
+      const fs::path relative = canonical.lexically_relative(fs::weakly_canonical(options_.includeRoot));
+      if (relative.empty() || *relative.begin() == "..")
+        fail("include '" + name + "' is " + canonical.string() + ", outside the folder includes are confined to (" +
+             options_.includeRoot + "); move the file under it, or give a root that holds it");
+    }
+    std::error_code ec;
+    if (!fs::is_regular_file(target, ec))
+      fail("cannot open include '" + name + "' (looked for " + fs::absolute(target).lexically_normal().string() +
+           ", relative to the including file; check the name, or put the file there)");
     if (std::find(active_.begin(), active_.end(), canonical) != active_.end()) fail("include cycle: '" + name + "' is already being read");
     if (static_cast<int>(active_.size()) > kMaxIncludeDepth)
       fail("includes nested deeper than " + std::to_string(kMaxIncludeDepth) + " levels");
@@ -537,17 +632,14 @@ class Reader {
     } else if (k == "cxy") {
       expectArgs(2);
       const double x = number(arg(0)), y = number(arg(1));
-      if (!(x >= 0 && y > 0 && x + y <= 1)) fail("cxy: (" + arg(0) + ", " + arg(1) + ") is not a chromaticity (x ≥ 0, y > 0, x + y ≤ 1)");
-      currentColour() = Xyz{x / y, 1, (1 - x - y) / y};
+      // XYZ up to a factor; (x, y) outside x ≥ 0, y > 0, x + y ≤ 1 is repaired where it is used.
+      setColour(Xyz{x, y, 1 - x - y});
     } else if (k == "cspec") {
       expectAtLeast(4);
       const double lo = number(arg(0)), hi = number(arg(1));
       if (!(lo > 0 && hi > lo)) fail("cspec: the wavelength range must be 0 < λmin < λmax (nm)");
       std::vector<double> values;
-      for (std::size_t i = 2; i < numArgs(); ++i) {
-        values.push_back(number(arg(i)));
-        if (values.back() < 0) fail("cspec: spectral values must not be negative");
-      }
+      for (std::size_t i = 2; i < numArgs(); ++i) values.push_back(number(arg(i)));
       const double step = (hi - lo) / static_cast<double>(values.size() - 1);
       const Xyz xyz = integrateSpectrum([&](double lambda) {
         if (lambda < lo || lambda > hi) return 0.0;  // zero outside the range given
@@ -559,14 +651,14 @@ class Reader {
     } else if (k == "cct") {
       expectArgs(1);
       const double kelvin = number(arg(0));
-      if (!(kelvin >= 100)) fail("cct: " + arg(0) + " K is not a black-body temperature (at least 100 K)");
+      if (!(kelvin >= 100))
+        fail("cct " + arg(0) + ": a black body below 100 K gives no visible light; give the colour temperature in kelvin (2856 for an incandescent lamp, 6504 for daylight)");
       setColour(integrateSpectrum([&](double lambda) { return planck(lambda, kelvin); }));
     } else if (k == "cmix") {
       if (numArgs() < 2 || numArgs() % 2 != 0) fail("cmix takes pairs of weight and colour name");
       Xyz sum{0, 0, 0};
       for (std::size_t i = 0; i < numArgs(); i += 2) {
-        const double w = number(arg(i));
-        if (w < 0) fail("cmix: weights must not be negative");
+        const double w = number(arg(i));  // negative ones too: the sum is checked where it is used
         auto it = colours_.find(arg(i + 1));
         if (it == colours_.end()) fail("cmix: undefined colour '" + arg(i + 1) + "'");
         sum.x += w * it->second.x;
@@ -583,21 +675,23 @@ class Reader {
     } else if (k == "rd") {
       expectArgs(1);
       const double rd = number(arg(0));
-      if (rd < 0 || rd > 1) fail("rd " + arg(0) + ": a reflectance must be between 0 and 1");
+      // Above 1 is lowered where a face uses it (boundedAlbedo warns); a negative one is no typo
+      // that can be guessed.
+      if (rd < 0) fail("rd " + arg(0) + ": a reflectance must not be negative; give one between 0 and 1 (rd 0 for black)");
       currentMaterial().rd = rd;
       currentMaterial().rdColour = currentColour();
       materialChanged();
     } else if (k == "ed") {
       expectArgs(1);
       const double ed = number(arg(0));
-      if (ed < 0) fail("ed " + arg(0) + ": an emittance must not be negative");
+      if (ed < 0) fail("ed " + arg(0) + ": an emittance must not be negative; give it in lm/m² (ed 0 for none)");
       currentMaterial().ed = ed;
       currentMaterial().edColour = currentColour();
       materialChanged();
     } else if (k == "sides") {
       expectArgs(1);
       const int sides = integer(arg(0));
-      if (sides != 1 && sides != 2) fail("sides " + arg(0) + ": must be 1 or 2");
+      if (sides != 1 && sides != 2) fail("sides " + arg(0) + ": must be 1 (one-sided) or 2 (two-sided)");
       currentMaterial().sides = sides;
       materialChanged();
     } else if (k == "td" || k == "rs" || k == "ts" || k == "ir") {
@@ -610,8 +704,11 @@ class Reader {
       if (numArgs() == 1) {
         objects_.push_back(arg(0));
       } else {
-        if (objects_.empty()) fail("o: an end with no object to end");
-        objects_.pop_back();
+        if (objects_.empty()) {
+          warning(where() + ": o: an end with no object to end; ignored");
+        } else {
+          objects_.pop_back();
+        }
       }
     } else if (k == "f") {
       expectAtLeast(3);
@@ -648,9 +745,28 @@ class Reader {
     }
   }
 
+  // A colour with luminance is kept at unit luminance (cmix's weights are luminances); one without
+  // is kept as it is, scaled to a largest component of 1, and repaired where it is used.
   void setColour(const Xyz& xyz) {
-    if (!(xyz.y > 0)) fail(keyword() + ": the colour has no luminance");
-    currentColour() = Xyz{xyz.x / xyz.y, 1, xyz.z / xyz.y};
+    std::string entity = keyword();
+    for (std::size_t i = 0; i < numArgs() && entity.size() < 40; ++i) entity += " " + arg(i);
+    if (entity.size() >= 40) entity += " ...";
+    const std::string origin = where() + ": " + entity;
+    const double scale = xyz.y > 0 ? xyz.y : std::fmax(std::fabs(xyz.x), std::fmax(std::fabs(xyz.y), std::fabs(xyz.z)));
+    if (scale > 0)
+      currentColour() = Xyz{xyz.x / scale, xyz.y / scale, xyz.z / scale, origin};
+    else
+      currentColour() = Xyz{0, 0, 0, origin};
+  }
+
+  // The colour a material's rd or ed takes, a real one; a repair is reported once per colour
+  // definition, where it matters (a nonzero rd or ed).
+  Xyz usedColour(const Xyz& colour, double amount, const std::string& use) {
+    std::string repair;
+    Xyz real = realColour(colour, repair);
+    if (!repair.empty() && amount > 0 && repairedColours_.insert(colour.origin).second)
+      warning(colour.origin + ": " + repair + " (first used by " + use + " at " + where() + ")");
+    return real;
   }
 
   // --- geometry ---
@@ -668,11 +784,13 @@ class Reader {
         material.name = name + " " + std::to_string(m.version);  // the same name, changed since
         break;
       }
-    material.albedo = boundedAlbedo(m.rd * chromaticityToRgb(m.rdColour), where() + ": material '" + name + "': rd");
+    const Xyz rdColour = usedColour(m.rdColour, m.rd, "rd of material '" + name + "'");
+    const Xyz edColour = usedColour(m.edColour, m.ed, "ed of material '" + name + "'");
+    material.albedo = boundedAlbedo(m.rd * chromaticityToRgb(rdColour), where() + ": material '" + name + "': rd");
     material.twoSided = m.sides == 2;
     const int index = static_cast<int>(materials_.size());
     materials_.push_back(material);
-    emission_.push_back(m.ed / (kPi * kLumensPerWatt) * chromaticityToRgb(m.edColour));
+    emission_.push_back(m.ed / (kPi * kLumensPerWatt) * chromaticityToRgb(edColour));
     materialIndex_[key] = index;
     return index;
   }
@@ -712,13 +830,16 @@ class Reader {
 
   int segments() const { return std::max(3, options_.divisions); }
 
+  // A primitive with no area: nothing to draw, as a degenerate face is dropped.
+  void skip(const std::string& why) { warnOnce("no-area " + keyword(), keyword() + ": " + why + ", no area; skipped"); }
+
   static Vec3 unitCircle(const Vec3& t, const Vec3& b, int j, int n) {
     const double phi = 2 * kPi * j / n;
     return std::cos(phi) * t + std::sin(phi) * b;
   }
 
   void sphere(const Vec3& centre, double radius) {
-    if (radius == 0) fail("sph: the radius must not be zero");
+    if (radius == 0) return skip("a sphere of radius 0");
     const double r = std::fabs(radius);
     const bool inward = radius < 0;
     const int around = segments(), down = std::max(2, around / 2);
@@ -740,10 +861,11 @@ class Reader {
   }
 
   void cone(const Vec3& v1, double r1, const Vec3& v2, double r2) {
-    if ((r1 < 0 && r2 > 0) || (r1 > 0 && r2 < 0)) fail(keyword() + ": the radii must not have different signs");
-    if (r1 == 0 && r2 == 0) fail(keyword() + ": the radii must not both be zero");
+    if ((r1 < 0 && r2 > 0) || (r1 > 0 && r2 < 0))
+      fail(keyword() + ": the radii must not have different signs (both positive: facing out; both negative: facing in); give them the same sign");
+    if (r1 == 0 && r2 == 0) return skip("both radii 0");
     const Vec3 axis = v2 - v1;
-    if (lengthSquared(axis) == 0) fail(keyword() + ": the two ends are the same point (a ring is that)");
+    if (lengthSquared(axis) == 0) return skip("its two ends are the same point (a ring is that)");
     const bool inward = r1 < 0 || r2 < 0;
     const double a1 = std::fabs(r1), a2 = std::fabs(r2);
     Vec3 t, b;
@@ -767,7 +889,12 @@ class Reader {
   }
 
   void ring(const VertexContext& c, double rmin, double rmax) {
-    if (rmin < 0 || !(rmax > rmin)) fail("ring: the radii must satisfy 0 ≤ rmin < rmax");
+    if (rmin < 0 || rmax < 0) fail("ring: the radii must not be negative (a ring faces along its centre's normal; reverse the normal to turn it)");
+    if (rmin == rmax) return skip("equal radii");
+    if (rmin > rmax) {
+      warning(where() + ": ring: the radii are in the wrong order (rmin " + arg(1) + " > rmax " + arg(2) + "); swapped");
+      std::swap(rmin, rmax);
+    }
     const Vec3 n = axisOf(c);
     Vec3 t, b;
     orthonormalBasis(n, t, b);
@@ -785,8 +912,13 @@ class Reader {
   }
 
   void torus(const VertexContext& c, double rmin, double rmax) {
-    if ((rmin < 0 && rmax > 0) || (rmin > 0 && rmax < 0)) fail("torus: the radii must not have different signs");
-    if (!(std::fabs(rmax) > std::fabs(rmin))) fail("torus: |rmax| must be greater than |rmin|");
+    if ((rmin < 0 && rmax > 0) || (rmin > 0 && rmax < 0))
+      fail("torus: the radii must not have different signs (both positive: facing out; both negative: facing in); give them the same sign");
+    if (std::fabs(rmax) == std::fabs(rmin)) return skip("equal radii (a tube of no thickness)");
+    if (std::fabs(rmax) < std::fabs(rmin)) {
+      warning(where() + ": torus: the radii are in the wrong order (|rmin| " + arg(1) + " > |rmax| " + arg(2) + "); swapped");
+      std::swap(rmin, rmax);
+    }
     const bool inward = rmax < 0;
     const double major = (std::fabs(rmax) + std::fabs(rmin)) / 2, tube = (std::fabs(rmax) - std::fabs(rmin)) / 2;
     const Vec3 n = axisOf(c);
@@ -803,9 +935,9 @@ class Reader {
   }
 
   void prism(const std::vector<Vec3>& base, double length) {
-    if (length == 0) fail("prism: the length must not be zero");
+    if (length == 0) return skip("length 0");
     const Vec3 area = polygonAreaVector(base);
-    if (lengthSquared(area) == 0) fail("prism: the base face has no area");
+    if (lengthSquared(area) == 0) return skip("its base face has no area");
     const Vec3 offset = normalize(area) * -length;  // away from the base face's front
     std::vector<Vec3> far;
     for (const Vec3& p : base) far.push_back(p + offset);
