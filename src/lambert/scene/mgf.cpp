@@ -42,13 +42,13 @@ Xyz colourMatching(double lambdaNm) {
   return {1.056 * lobe(lambdaNm, 599.8, 37.9, 31.0) + 0.362 * lobe(lambdaNm, 442.0, 16.0, 26.7) -
               0.065 * lobe(lambdaNm, 501.1, 20.4, 26.2),
           0.821 * lobe(lambdaNm, 568.8, 46.9, 40.5) + 0.286 * lobe(lambdaNm, 530.9, 16.3, 31.1),
-          1.217 * lobe(lambdaNm, 437.0, 11.8, 36.0) + 0.681 * lobe(lambdaNm, 459.0, 26.0, 13.8)};
+          1.217 * lobe(lambdaNm, 437.0, 11.8, 36.0) + 0.681 * lobe(lambdaNm, 459.0, 26.0, 13.8), {}};
 }
 
 // XYZ of a spectrum given as a function of wavelength (nm), integrated at 1 nm over the visible
 // range 360–830 nm; unnormalised.
 Xyz integrateSpectrum(const std::function<double(double)>& spectrum) {
-  Xyz sum{0, 0, 0};
+  Xyz sum{0, 0, 0, {}};
   for (double lambda = 360; lambda <= 830; lambda += 1) {
     const double s = spectrum(lambda);
     const Xyz cmf = colourMatching(lambda);
@@ -72,17 +72,19 @@ Rgb xyzToRec709(const Xyz& c) {
           0.0556434 * c.x - 0.2040259 * c.y + 1.0572252 * c.z};
 }
 
-// The boundary of the chromaticities real spectra have: the convex hull of the spectral locus
-// (the colour matching functions' chromaticities, 360–830 nm), closed by the purple line.
+// The boundary of the chromaticities real spectra have: the convex hull of the CIE 1931 spectral
+// locus (its chromaticities every 10 nm from 380 to 700 nm, from the CIE's table; beyond 700 nm
+// it stays at the last point), closed by the purple line. Tabulated rather than taken from the
+// colour matching functions' fit, whose far tails are too inexact for chromaticity.
 // Counter-clockwise, by Andrew's monotone chain.
 const std::vector<std::pair<double, double>>& realChromaticities() {
   static const std::vector<std::pair<double, double>> hull = [] {
-    std::vector<std::pair<double, double>> points;
-    for (double lambda = 360; lambda <= 830; lambda += 1) {
-      const Xyz c = colourMatching(lambda);
-      const double sum = c.x + c.y + c.z;
-      if (sum > 1e-9) points.emplace_back(c.x / sum, c.y / sum);
-    }
+    std::vector<std::pair<double, double>> points = {
+        {0.1741, 0.0050}, {0.1738, 0.0049}, {0.1733, 0.0048}, {0.1726, 0.0048}, {0.1714, 0.0051}, {0.1689, 0.0069}, {0.1644, 0.0109},
+        {0.1566, 0.0177}, {0.1440, 0.0297}, {0.1241, 0.0578}, {0.0913, 0.1327}, {0.0454, 0.2950}, {0.0082, 0.5384}, {0.0139, 0.7502},
+        {0.0743, 0.8338}, {0.1547, 0.8059}, {0.2296, 0.7543}, {0.3016, 0.6923}, {0.3731, 0.6245}, {0.4441, 0.5547}, {0.5125, 0.4866},
+        {0.5752, 0.4242}, {0.6270, 0.3725}, {0.6658, 0.3340}, {0.6915, 0.3083}, {0.7079, 0.2920}, {0.7190, 0.2809}, {0.7260, 0.2740},
+        {0.7300, 0.2700}, {0.7320, 0.2680}, {0.7334, 0.2666}, {0.7344, 0.2656}, {0.7347, 0.2653}};
     std::sort(points.begin(), points.end());
     auto cross = [](const auto& o, const auto& a, const auto& b) {
       return (a.first - o.first) * (b.second - o.second) - (a.second - o.second) * (b.first - o.first);
@@ -365,6 +367,7 @@ class Reader {
   std::vector<std::string> objects_;
   std::set<std::string> warnedKinds_;
   std::set<std::string> repairedColours_;  // the origins of colours repaired (and reported) once
+  std::map<std::string, Rgb> boundedAlbedos_;  // "place|albedo" → boundedAlbedo's result, reported once
 
   std::vector<Material> materials_;
   std::vector<Rgb> emission_;
@@ -633,7 +636,7 @@ class Reader {
       expectArgs(2);
       const double x = number(arg(0)), y = number(arg(1));
       // XYZ up to a factor; (x, y) outside x ≥ 0, y > 0, x + y ≤ 1 is repaired where it is used.
-      setColour(Xyz{x, y, 1 - x - y});
+      setColour(Xyz{x, y, 1 - x - y, {}});
     } else if (k == "cspec") {
       expectAtLeast(4);
       const double lo = number(arg(0)), hi = number(arg(1));
@@ -656,7 +659,7 @@ class Reader {
       setColour(integrateSpectrum([&](double lambda) { return planck(lambda, kelvin); }));
     } else if (k == "cmix") {
       if (numArgs() < 2 || numArgs() % 2 != 0) fail("cmix takes pairs of weight and colour name");
-      Xyz sum{0, 0, 0};
+      Xyz sum{0, 0, 0, {}};
       for (std::size_t i = 0; i < numArgs(); i += 2) {
         const double w = number(arg(i));  // negative ones too: the sum is checked where it is used
         auto it = colours_.find(arg(i + 1));
@@ -786,7 +789,14 @@ class Reader {
       }
     const Xyz rdColour = usedColour(m.rdColour, m.rd, "rd of material '" + name + "'");
     const Xyz edColour = usedColour(m.edColour, m.ed, "ed of material '" + name + "'");
-    material.albedo = boundedAlbedo(m.rd * chromaticityToRgb(rdColour), where() + ": material '" + name + "': rd");
+    // A file included several times redefines its materials each time: one warning per line.
+    const Rgb albedo = m.rd * chromaticityToRgb(rdColour);
+    const std::string place = where() + ": material '" + name + "': rd";
+    char albedoKey[128];
+    std::snprintf(albedoKey, sizeof albedoKey, "|%a|%a|%a", albedo.r, albedo.g, albedo.b);
+    auto bounded = boundedAlbedos_.find(place + albedoKey);
+    if (bounded == boundedAlbedos_.end()) bounded = boundedAlbedos_.emplace(place + albedoKey, boundedAlbedo(albedo, place)).first;
+    material.albedo = bounded->second;
     material.twoSided = m.sides == 2;
     const int index = static_cast<int>(materials_.size());
     materials_.push_back(material);

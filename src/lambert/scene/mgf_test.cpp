@@ -242,7 +242,7 @@ struct Primitive {
 };
 
 TEST(MgfTest, CurvedPrimitivesAreaAndOrientation) {
-  const MgfOptions options{.divisions = 64, .regions = {}};
+  const MgfOptions options{.divisions = 64, .regions = {}, .includeRoot = {}};
   const std::string vertices = R"(v o =
 	p 0 0 0
 	n 0 0 1
@@ -297,7 +297,7 @@ v p3 =
 }
 
 TEST(MgfTest, RingFacesAlongItsVertexNormal) {
-  const MgfOptions options{.divisions = 64, .regions = {}};
+  const MgfOptions options{.divisions = 64, .regions = {}, .includeRoot = {}};
   Result<Scene> scene = readText("ring", R"(v up =
 	p 0 0 0
 	n 0 0 1
@@ -420,7 +420,7 @@ TEST(MgfTest, BadInputIsAnErrorWithFileAndLine) {
       {"ring-negative", "v c =\n\tp 0 0 0\n\tn 0 0 1\nring c -1 1\n", "t.mgf:4: ring: the radii must not be negative"},
       {"undefined-material", "m nope\n", "t.mgf:1: m: undefined material 'nope'"},
       {"undefined-colour", "c\n\tcmix 1 nope\n", "t.mgf:2: cmix: undefined colour 'nope'"},
-      {"sides", "m x =\n\tsides 3\n", "t.mgf:2: sides 3: must be 1 or 2"},
+      {"sides", "m x =\n\tsides 3\n", "t.mgf:2: sides 3: must be 1 (one-sided) or 2 (two-sided)"},
       {"bad-xf-flag", "xf -q 1\nxf\n", "t.mgf:1: xf: unknown transformation argument '-q'"},
       {"missing-include", "\n\ni nothere.mgf\n", "t.mgf:3: cannot open include 'nothere.mgf' (looked for "},
       {"cycle", "i t.mgf\n", "t.mgf:1: include cycle: 't.mgf' is already being read"},
@@ -554,7 +554,7 @@ TEST(MgfTest, NegativeSpectralSamplesCountAsTheyIntegrate) {
   std::vector<double> samples(41, 1.0);
   for (int i = 6; i <= 8; ++i) samples[i] = -0.2;
   std::string cspec = "\tc\n\t\tcspec 380 780";
-  for (double v : samples) cspec += " " + std::to_string(v);
+  for (double v : samples) cspec.append(" ").append(std::to_string(v));
   WarningCapture captured;
   const Rgb read = albedoOf("cspec-negative", cspec, 0.5);
   EXPECT_EQ(captured.messages(), std::vector<std::string>{});  // a real colour: nothing to repair
@@ -570,7 +570,7 @@ TEST(MgfTest, NegativeSpectralSamplesCountAsTheyIntegrate) {
   // that integrates to no real colour loads, and is repaired only where a material uses it.
   std::string basis = "c day2 =\n\tcspec 380 780";
   for (int i = 0; i < 41; ++i) basis += i < 20 ? " -1" : " 0.01";
-  Result<Scene> unused = readText("basis-unused", basis + "\n" + std::string(kTriangle) + "m x =\n\trd .5\nf a b c\n");
+  Result<Scene> unused = readText("basis-unused", basis + "\nc\n" + std::string(kTriangle) + "m x =\n\trd .5\nf a b c\n");
   ASSERT_TRUE(unused.ok()) << unused.error().message;
   EXPECT_EQ(captured.messages(), std::vector<std::string>{});
 }
@@ -596,13 +596,21 @@ TEST(MgfTest, ColoursThatAreNotRealAreRepairedWhereUsed) {
   EXPECT_EQ(captured.count("t.mgf:2: cxy 0.400000 0.000000: no real colour (CIE XYZ ∝ (0.6667, 0, 1), no luminance): read as chromaticity ("), 1)
       << captured.messages()[0];
   EXPECT_EQ(captured.count("the most saturated real colour of its hue"), 1);
-  EXPECT_EQ(captured.count("(first used by rd of material 'x' at t.mgf:"), 1) << captured.messages()[0];
+  EXPECT_EQ(captured.count("(first used by rd of material 'x' at "), 1) << captured.messages()[0];
+  EXPECT_EQ(captured.count("t.mgf:12)"), 1) << captured.messages()[0];  // the face that uses it
   const Rgb repaired = scene->materials[scene->surfaces.at(0).material].albedo;
   const auto purple = ontoPurpleLine(0.4, 0);
   expectRgbNear(repaired, albedoOf("purple-by-hand", cxyText(purple), 0.1), 0.01);
   EXPECT_NEAR(repaired.luminance(), 0.1, 1e-9);  // rd is kept
   EXPECT_GT(repaired.r, repaired.g);
   EXPECT_GT(repaired.b, repaired.g);
+
+  // cxy 0 0 (pure blue, by the same converters): where x = y meets the spectral locus, between
+  // its 470 nm (0.1241, 0.0578) and 480 nm (0.0913, 0.1327) points.
+  const double t = (0.1241 - 0.0578) / ((0.1327 - 0.0578) + (0.1241 - 0.0913)), onLocus = 0.1241 - t * (0.1241 - 0.0913);
+  WarningCapture blue;
+  expectRgbNear(albedoOf("cxy-00", "\tc\n\t\tcxy 0 0", 0.05), albedoOf("cxy-00-by-hand", cxyText({onLocus, onLocus}), 0.05), 0.01);
+  EXPECT_EQ(blue.count("read as chromaticity (0.1039, 0.1039)"), 1) << (blue.messages().empty() ? "" : blue.messages()[0]);
 
   // Not used with a nonzero rd or ed: nothing to say.
   WarningCapture quiet;
