@@ -341,7 +341,7 @@ class Reader {
       numFaces += mesh.faces.size();
       dropped.add(addSmoothRegions(scene, mesh, emission_, options_.regions));
     }
-    if (numFaces == 0) throw ParseError{top.string() + ": no faces (lambert needs surfaces: f, sph, cyl, cone, ring, torus, prism)"};
+    if (numFaces == 0) throw ParseError{top.string() + ": no faces (lambert needs surfaces: f, sph, cyl, cone, ring, torus, prism); a library of materials and colours, as MGF's Materials/*.mgf are, is included (i) by a scene that has them"};
     if (dropped.total() > 0) warning(top.string() + ": " + dropped.describe());
     if (scene.surfaces.empty()) throw ParseError{top.string() + ": every face is degenerate (" + dropped.describe() + ")"};
     scene.camera = cameraViewingScene(scene);
