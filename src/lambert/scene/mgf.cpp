@@ -385,12 +385,23 @@ class Reader {
   std::size_t numArgs() const { return line_->words.size() - 1; }
   const std::string& arg(std::size_t i) const { return line_->words[i + 1]; }
 
+  // How the specification writes an entity, for the message that refuses a malformed one.
+  static std::string usage(const std::string& k) {
+    static const std::map<std::string, std::string> forms = {
+        {"p", "p x y z"}, {"n", "n dx dy dz"}, {"cxy", "cxy x y"}, {"cspec", "cspec λmin λmax v1 v2 ..."}, {"cct", "cct kelvin"},
+        {"cmix", "cmix w1 colour1 w2 colour2 ..."}, {"rd", "rd ρ"}, {"ed", "ed ε (lm/m²)"}, {"td", "td τ"}, {"rs", "rs ρ α"},
+        {"ts", "ts τ α"}, {"ir", "ir n k"}, {"sides", "sides 1|2"}, {"f", "f v1 v2 v3 ..."}, {"sph", "sph centre radius"},
+        {"cyl", "cyl v1 radius v2"}, {"cone", "cone v1 r1 v2 r2"}, {"ring", "ring centre rmin rmax"}, {"torus", "torus centre rmin rmax"},
+        {"prism", "prism v1 v2 v3 ... length"}, {"i", "i file [xf arguments]"}};
+    auto it = forms.find(k);
+    return it == forms.end() ? std::string() : "; write it as '" + it->second + "'";
+  }
   void expectArgs(std::size_t n) const {
     if (numArgs() != n)
-      fail(keyword() + " takes " + std::to_string(n) + (n == 1 ? " argument" : " arguments") + ", not " + std::to_string(numArgs()));
+      fail(keyword() + " takes " + std::to_string(n) + (n == 1 ? " argument" : " arguments") + ", not " + std::to_string(numArgs()) + usage(keyword()));
   }
   void expectAtLeast(std::size_t n) const {
-    if (numArgs() < n) fail(keyword() + " takes at least " + std::to_string(n) + " arguments, not " + std::to_string(numArgs()));
+    if (numArgs() < n) fail(keyword() + " takes at least " + std::to_string(n) + " arguments, not " + std::to_string(numArgs()) + usage(keyword()));
   }
 
   double number(const std::string& word) const {
@@ -399,14 +410,14 @@ class Reader {
     const char* end = begin + word.size();
     if (begin != end && *begin == '+') ++begin;
     auto [ptr, ec] = std::from_chars(begin, end, value);
-    if (ec == std::errc::result_out_of_range) fail(keyword() + ": '" + word + "' is not a finite number");
-    if (ec != std::errc() || ptr != end) fail(keyword() + ": expected a number, got '" + word + "'");
-    if (!std::isfinite(value)) fail(keyword() + ": '" + word + "' is not a finite number");
+    if (ec == std::errc::result_out_of_range) fail(keyword() + ": '" + word + "' is not a finite number (beyond double's range)" + usage(keyword()));
+    if (ec != std::errc() || ptr != end) fail(keyword() + ": expected a number, got '" + word + "'" + usage(keyword()));
+    if (!std::isfinite(value)) fail(keyword() + ": '" + word + "' is not a finite number" + usage(keyword()));
     return value;
   }
   int integer(const std::string& word) const {
     const double value = number(word);
-    if (value != std::floor(value) || std::fabs(value) > 1e6) fail(keyword() + ": expected an integer, got '" + word + "'");
+    if (value != std::floor(value) || std::fabs(value) > 1e6) fail(keyword() + ": expected a whole number, got '" + word + "'");
     return static_cast<int>(value);
   }
 
@@ -512,7 +523,7 @@ class Reader {
     for (std::size_t i = first; i < w.size(); ++i) {
       const std::string& flag = w[i];
       auto need = [&](std::size_t n) {
-        if (i + n >= w.size()) fail("xf: " + flag + " needs " + std::to_string(n) + (n == 1 ? " value" : " values"));
+        if (i + n >= w.size()) fail("xf: " + flag + " needs " + std::to_string(n) + (n == 1 ? " value" : " values") + (n == 3 ? " (-t dx dy dz)" : ""));
       };
       if (flag == "-t") {
         need(3);
@@ -531,7 +542,7 @@ class Reader {
       } else if (flag == "-i" || flag == "-a") {
         need(1);
         const int n = integer(w[++i]);
-        if (n < (flag == "-i" ? 0 : 1)) fail("xf: " + flag + " " + w[i] + " is not a valid count");
+        if (n < (flag == "-i" ? 0 : 1)) fail("xf: " + flag + " " + w[i] + " is not a valid count (" + flag + (flag == "-i" ? " takes 0 or more" : " takes 1 or more") + ")");
         closeRepeat();
         if (flag == "-i") {
           repeat = n;
@@ -539,7 +550,7 @@ class Reader {
           spec.parts.push_back({Affine{}, n});
         }
       } else {
-        fail("xf: unknown transformation argument '" + flag + "'");
+        fail("xf: unknown transformation argument '" + flag + "' (MGF's are -t dx dy dz, -rx/-ry/-rz degrees, -s f, -mx/-my/-mz, -i N, -a N)");
       }
     }
     closeRepeat();
@@ -563,9 +574,10 @@ class Reader {
     if (!fs::is_regular_file(target, ec))
       fail("cannot open include '" + name + "' (looked for " + fs::absolute(target).lexically_normal().string() +
            ", relative to the including file; check the name, or put the file there)");
-    if (std::find(active_.begin(), active_.end(), canonical) != active_.end()) fail("include cycle: '" + name + "' is already being read");
+    if (std::find(active_.begin(), active_.end(), canonical) != active_.end())
+      fail("include cycle: '" + name + "' is already being read (it would include itself forever); remove the include that closes the cycle");
     if (static_cast<int>(active_.size()) > kMaxIncludeDepth)
-      fail("includes nested deeper than " + std::to_string(kMaxIncludeDepth) + " levels");
+      fail("includes nested deeper than " + std::to_string(kMaxIncludeDepth) + " levels; include the innermost files from a shallower one");
     std::optional<SourceFile> file = loadSource(target, target.string());
     if (!file) fail("cannot open include '" + name + "'");
     const XfSpec spec = parseXf(2);
@@ -582,7 +594,7 @@ class Reader {
 
   VertexContext& vertex(const std::string& name) {
     auto it = vertices_.find(name);
-    if (it == vertices_.end()) fail(keyword() + ": undefined vertex '" + name + "'");
+    if (it == vertices_.end()) fail(keyword() + ": undefined vertex '" + name + "'; define it before it is used (v " + name + " =, then p x y z)");
     return it->second;
   }
   Xyz& currentColour() { return currentColour_.empty() ? unnamedColour_ : colours_.at(currentColour_); }
@@ -597,13 +609,13 @@ class Reader {
     if (numArgs() == 0) return false;
     const std::string& name = arg(0);
     if (numArgs() == 1) {
-      if (!table.count(name)) fail(keyword() + ": undefined " + what + " '" + name + "'");
+      if (!table.count(name)) fail(keyword() + ": undefined " + what + " '" + name + "'; define it before it is used (" + keyword() + " " + name + " = ...), or include the library that does");
     } else {
       if (arg(1) != "=" || numArgs() > 3) fail(keyword() + ": expected '" + keyword() + " name', '" + keyword() + " name =' or '" + keyword() + " name = template'");
       T value = fresh;
       if (numArgs() == 3) {
         auto it = table.find(arg(2));
-        if (it == table.end()) fail(keyword() + ": undefined " + what + " '" + arg(2) + "'");
+        if (it == table.end()) fail(keyword() + ": undefined " + what + " '" + arg(2) + "' (the template); define it before it is used, or include the library that does");
         value = it->second;
       }
       // A redefinition is a new context: keep versions rising so earlier snapshots stay apart.
@@ -620,11 +632,11 @@ class Reader {
   void entity() {
     const std::string& k = keyword();
     if (k == "v") {
-      if (numArgs() == 0) fail("v needs a vertex name");
+      if (numArgs() == 0) fail("v needs a vertex name (v name =, then p x y z)");
       context(vertices_, currentVertex_, VertexContext{}, "vertex");
     } else if (k == "p" || k == "n") {
       expectArgs(3);
-      if (currentVertex_.empty()) fail(k + " outside a vertex context (v name =)");
+      if (currentVertex_.empty()) fail(k + " outside a vertex context; begin one with 'v name =' above it");
       const Vec3 value{number(arg(0)), number(arg(1)), number(arg(2))};
       (k == "p" ? vertices_[currentVertex_].position : vertices_[currentVertex_].normal) = value;
     } else if (k == "c") {
@@ -640,7 +652,7 @@ class Reader {
     } else if (k == "cspec") {
       expectAtLeast(4);
       const double lo = number(arg(0)), hi = number(arg(1));
-      if (!(lo > 0 && hi > lo)) fail("cspec: the wavelength range must be 0 < λmin < λmax (nm)");
+      if (!(lo > 0 && hi > lo)) fail("cspec: the wavelength range must be 0 < λmin < λmax (nm)" + usage(k));
       std::vector<double> values;
       for (std::size_t i = 2; i < numArgs(); ++i) values.push_back(number(arg(i)));
       const double step = (hi - lo) / static_cast<double>(values.size() - 1);
@@ -658,12 +670,12 @@ class Reader {
         fail("cct " + arg(0) + ": a black body below 100 K gives no visible light; give the colour temperature in kelvin (2856 for an incandescent lamp, 6504 for daylight)");
       setColour(integrateSpectrum([&](double lambda) { return planck(lambda, kelvin); }));
     } else if (k == "cmix") {
-      if (numArgs() < 2 || numArgs() % 2 != 0) fail("cmix takes pairs of weight and colour name");
+      if (numArgs() < 2 || numArgs() % 2 != 0) fail("cmix takes pairs of weight and colour name" + usage(k));
       Xyz sum{0, 0, 0, {}};
       for (std::size_t i = 0; i < numArgs(); i += 2) {
         const double w = number(arg(i));  // negative ones too: the sum is checked where it is used
         auto it = colours_.find(arg(i + 1));
-        if (it == colours_.end()) fail("cmix: undefined colour '" + arg(i + 1) + "'");
+        if (it == colours_.end()) fail("cmix: undefined colour '" + arg(i + 1) + "'; define it before it is used (c " + arg(i + 1) + " =, then cxy, cspec, cct or cmix)");
         sum.x += w * it->second.x;
         sum.y += w * it->second.y;
         sum.z += w * it->second.z;
@@ -703,9 +715,11 @@ class Reader {
       const char* what = k == "td" ? "diffuse transmittance" : k == "rs" ? "specular reflectance" : k == "ts" ? "specular transmittance" : "index of refraction";
       warnOnce(k, k + " (" + what + ") is ignored: lambert's surfaces are opaque and diffuse");
     } else if (k == "o") {
-      if (numArgs() > 1) fail("o takes one name (or none, to end the object)");
-      if (numArgs() == 1) {
-        objects_.push_back(arg(0));
+      if (numArgs() >= 1) {
+        std::string name = arg(0);
+        for (std::size_t i = 1; i < numArgs(); ++i) name += " " + arg(i);
+        if (numArgs() > 1) warning(where() + ": o takes one name, not " + std::to_string(numArgs()) + " words; read as '" + name + "'");
+        objects_.push_back(name);
       } else {
         if (objects_.empty()) {
           warning(where() + ": o: an end with no object to end; ignored");
@@ -894,7 +908,7 @@ class Reader {
   }
 
   Vec3 axisOf(const VertexContext& c) const {
-    if (lengthSquared(c.normal) == 0) fail(keyword() + ": the centre vertex '" + arg(0) + "' has no normal (n dx dy dz)");
+    if (lengthSquared(c.normal) == 0) fail(keyword() + ": the centre vertex '" + arg(0) + "' has no normal, so which way it faces is unknown; give the vertex one (n dx dy dz)");
     return normalize(c.normal);
   }
 

@@ -38,6 +38,7 @@
 //   and ies (one warning each: unsupported); unknown entities (one warning per kind, file:line).
 // What is repaired, with a warning naming file:line: rd above 1 (lowered below 1, as RenderPark
 //   does); a colour that is no real colour (above); an o or xf end with nothing to end (ignored);
+//   an o name of several words (joined);
 //   an xf left open at the end of its file (ended there); a sph, cyl, cone, ring, torus or prism
 //   with no area (zero radii, coincident ends, zero length: skipped); ring or torus radii given
 //   in the wrong order (swapped).

@@ -643,6 +643,8 @@ prism a b c 0
 ring o 2 1
 xf -t 0 0 5
 f a b c
+o two words
+o
 )");
   ASSERT_TRUE(scene.ok()) << scene.error().message;
   EXPECT_EQ(captured.count("t.mgf:12: o: an end with no object to end; ignored"), 1);
@@ -650,7 +652,8 @@ f a b c
   EXPECT_EQ(captured.count("t.mgf:14: sph: a sphere of radius 0, no area; skipped"), 1);
   EXPECT_EQ(captured.count("t.mgf:15: prism: length 0, no area; skipped"), 1);
   EXPECT_EQ(captured.count("t.mgf:16: ring: the radii are in the wrong order (rmin 2 > rmax 1); swapped"), 1);
-  EXPECT_EQ(captured.count("t.mgf:18: unbalanced xf: 1 transformation is not ended; ended at the end of the file"), 1);
+  EXPECT_EQ(captured.count("t.mgf:19: o takes one name, not 2 words; read as 'two words'"), 1);
+  EXPECT_EQ(captured.count("t.mgf:20: unbalanced xf: 1 transformation is not ended; ended at the end of the file"), 1);
   EXPECT_EQ(captured.count("material 'bright': rd: albedo of 1 or more lowered to 0.999"), 1);
   // The ring 1 ≤ r ≤ 2 and the face, lifted by the unended xf.
   EXPECT_NEAR(totalArea(*scene), 0.5 + kPi * (4 - 1) * std::sin(2 * kPi / 16) * 16 / (2 * kPi), 1e-9);
