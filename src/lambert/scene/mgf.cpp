@@ -579,7 +579,7 @@ class Reader {
     if (static_cast<int>(active_.size()) > kMaxIncludeDepth)
       fail("includes nested deeper than " + std::to_string(kMaxIncludeDepth) + " levels; include the innermost files from a shallower one");
     std::optional<SourceFile> file = loadSource(target, target.string());
-    if (!file) fail("cannot open include '" + name + "'");
+    if (!file) fail("cannot open include '" + name + "' (it is there but cannot be read; check its permissions)");
     const XfSpec spec = parseXf(2);
     const SourceFile* savedFile = file_;
     const Line* savedLine = line_;
