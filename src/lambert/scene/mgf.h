@@ -39,7 +39,7 @@
 // What is repaired, with a warning naming file:line: rd above 1 (lowered below 1, as RenderPark
 //   does); a colour that is no real colour (above); an o or xf end with nothing to end (ignored);
 //   an o name of several words (joined);
-//   an xf left open at the end of its file (ended there); a sph, cyl, cone, ring, torus or prism
+//   an xf (or xf -a array) left open at the end of its file (ended there); a sph, cyl, cone, ring, torus or prism
 //   with no area (zero radii, coincident ends, zero length: skipped); ring or torus radii given
 //   in the wrong order (swapped).
 // Units: MGF is in metres (the spec's default coordinate system), so metresPerUnit = 1; a file
@@ -61,8 +61,7 @@
 // vertex, material or colour; wrong number or type of arguments; a non-finite number; negative
 // rd or ed (a sign cannot be guessed); a cone or torus whose radii differ in sign; a ring or
 // torus without a normal; a missing include ("cannot open include 'x.mgf'"), an include cycle,
-// nesting over 32, an include outside MgfOptions::includeRoot; an xf -a array with no end in its
-// file; no faces at all.
+// nesting over 32, an include outside MgfOptions::includeRoot; no faces at all.
 #include <string>
 
 #include "lambert/core/error.h"

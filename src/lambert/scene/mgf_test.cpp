@@ -658,6 +658,14 @@ o
   // The ring 1 ≤ r ≤ 2 and the face, lifted by the unended xf.
   EXPECT_NEAR(totalArea(*scene), 0.5 + kPi * (4 - 1) * std::sin(2 * kPi / 16) * 16 / (2 * kPi), 1e-9);
   EXPECT_TRUE(hasVertex(*scene, fromMgf({1, 0, 5})));
+
+  // An array left open repeats what follows it to the end of its file.
+  WarningCapture array;
+  Result<Scene> repeated = readText("open-array", std::string(kTriangle) + "xf -a 3 -t 0 0 2\nf a b c\n");
+  ASSERT_TRUE(repeated.ok()) << repeated.error().message;
+  EXPECT_EQ(array.count("t.mgf:7: unbalanced xf: no xf ends this array (-a) in its file; it ends at the end of the file"), 1);
+  EXPECT_NEAR(totalArea(*repeated), 3 * 0.5, 1e-12);
+  EXPECT_TRUE(hasVertex(*repeated, fromMgf({1, 0, 4})));
 }
 
 }  // namespace
