@@ -19,9 +19,8 @@ namespace lambert {
 namespace {
 
 // Estimated: K and visibility known. Inadmissible: too close for the estimate, to be split.
-// Occluded: every ray blocked, or no sampled pair of points facing each other; a few rays are
-// weak evidence (a mostly shadowed element would lose its sliver of light every time), so it is
-// split where it could carry too much unoccluded.
+// Occluded: every ray blocked; a few rays are weak evidence (a mostly shadowed element would lose
+// its sliver of light every time), so it is split where it could carry too much unoccluded.
 // Empty: the two cannot exchange light (back to back, coplanar, or the same element).
 enum class Verdict : std::uint8_t { Estimated, Inadmissible, Occluded, Empty };
 
@@ -209,16 +208,8 @@ class Refiner {
       }
       const int open = seen.open, facing = seen.facing;
       if (facing == 0 && seen.covered == 0) {
-        // Only slivers face each other (r's points see s, no sampled pair does): what the link
-        // carries is unmeasured and at most its unoccluded K. Judged as an occluded link is, it
-        // is split while that bound could carry more than the link error allows, and dropped
-        // below. Split regardless, a luminaire's reflector whose end meets an end cap's sliver
-        // triangles was cut to the smallest elements along its whole 1.2 m for light far
-        // below the link error.
-        c.uncertainty = static_cast<float>(k);
-        c.formFactor = 0;
-        c.verdict = Verdict::Occluded;
-        return seen.rays();
+        c.verdict = Verdict::Inadmissible;  // only slivers face each other: look closer
+        return 0;
       }
       // Every point that faces s is covered: as if every ray were blocked (the rest of r may be open).
       c.formFactor = facing > 0 ? static_cast<float>(k * open / facing) : 0.0f;
