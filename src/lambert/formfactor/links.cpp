@@ -28,7 +28,10 @@ struct Candidate {
   std::uint32_t receiver, source;
   float formFactor = 0;        // K with visibility
   float uncertainty = 0;       // how far K may be from the truth over the receiver (the oracle's factor)
-  bool receiverSide = false;   // the uncertainty is the factor's spread over the receiver: split it
+  bool receiverSide = false;   // the uncertainty is the factor's spread over the receiver, or r's
+                               // points see nothing of s: split the receiver
+  bool openSource = false;     // inadmissible until the source (a cluster) opens: split it first
+  bool openReceiver = false;   // inadmissible until the receiver (a cluster) opens: split it first
   Verdict verdict = Verdict::Estimated;
   bool estimated = false;      // already estimated (a previous link judged again)
 };
@@ -182,8 +185,14 @@ class Refiner {
       const ElementFactor factor = meanFormFactor(r, s);
       const double k = std::fmin(1.0, factor.mean);
       if (!(k > 0)) {
-        // The points of r see nothing of s although parts of the two face each other.
-        c.verdict = Verdict::Inadmissible;
+        // The points of r see nothing of s although parts of the two face each other: r's
+        // children may, so r is split, never s: no part of s can show r's points anything (the
+        // point factor to s is the sum of those to its parts, none negative). Where r is as
+        // small as elements get, the link is empty. Split by area instead, a luminaire's sliver
+        // end-cap triangles, each with a corner just above a reflector's plane, cut the whole
+        // 1.2 m reflector down to the smallest elements for nothing.
+        c.verdict = splittable(c.receiver) ? Verdict::Inadmissible : Verdict::Empty;
+        c.receiverSide = true;
         return 0;
       }
       // Visibility: the share of unoccluded rays between stratified points on the two, among
@@ -222,6 +231,13 @@ class Refiner {
     const Vec3 d = s.centre - r.centre;
     if (!boxesApart(r, s) || cutsThrough(r, s) || cutsThrough(s, r)) {
       c.verdict = Verdict::Inadmissible;
+      // An element's plane that cuts through a cluster's box cuts through it however finely the
+      // element is split: only opening the cluster makes the pair admissible. Split by area (the
+      // larger first), the element went first wherever the cluster's faces summed to less area:
+      // a luminaire's 1.2 m reflectors and casing, each cutting through the box of the lamp's or
+      // the vanes' cluster, were split down to the smallest elements (30,000 leaves of 294 faces).
+      c.openSource = s.isCluster() && cutsThrough(r, s);
+      c.openReceiver = r.isCluster() && cutsThrough(s, r);
       return 0;
     }
     const double distance = length(d);
@@ -433,7 +449,9 @@ class Refiner {
       std::span<const std::uint32_t> kids = h_.children(c.receiver);
       for (std::uint32_t a : kids)
         for (std::uint32_t b : kids) next.push_back({a, b});
-    } else if (canR && (!canS || r.area >= s.area || c.receiverSide)) {
+    } else if (c.openSource && canS) {
+      for (std::uint32_t k : childrenOf(c.source)) next.push_back({c.receiver, k});
+    } else if (canR && (!canS || r.area >= s.area || c.receiverSide || c.openReceiver)) {
       // The larger node, as HSA'91 splits, unless the error is the factor's spread over the
       // receiver: splitting the source would not make that smaller.
       for (std::uint32_t k : childrenOf(c.receiver)) next.push_back({k, c.source});

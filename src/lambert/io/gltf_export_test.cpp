@@ -5,10 +5,14 @@
 #include <gtest/gtest.h>
 #include <tiny_gltf.h>
 
+#include <array>
 #include <cmath>
 #include <cstring>
+#include <fstream>
+#include <optional>
 
 #include "lambert/engine/radiosity.h"
+#include "lambert/io/png.h"
 #include "lambert/scene/builtin.h"
 #include "lambert/scene/scene_file.h"
 #include "tests/support/files.h"
@@ -21,7 +25,7 @@ std::vector<float> floats(const tinygltf::Model& model, int accessorIndex) {
   const tinygltf::BufferView& view = model.bufferViews.at(static_cast<std::size_t>(a.bufferView));
   EXPECT_EQ(a.componentType, TINYGLTF_COMPONENT_TYPE_FLOAT);
   EXPECT_EQ(view.byteOffset % 4, 0u);
-  std::vector<float> values(a.count * 3);
+  std::vector<float> values(a.count * static_cast<std::size_t>(tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(a.type))));
   std::memcpy(values.data(), model.buffers[0].data.data() + view.byteOffset + a.byteOffset, values.size() * sizeof(float));
   return values;
 }
@@ -188,6 +192,273 @@ TEST(GltfExportTest, TexturedTwoSidedSceneRoundTrips) {
   const Vec3 forward = normalize(scene->camera.target - scene->camera.eye);
   EXPECT_NEAR(dot(normalize(back->camera.target - back->camera.eye), forward), 1, 1e-6);
   EXPECT_NEAR(back->camera.verticalFovDegrees, scene->camera.verticalFovDegrees, 1e-5);
+}
+
+// --- Texture coordinates through meshing and export -------------------------------------------
+// Every exported textured vertex is looked up in the input's own triangles (read from the input
+// here, not through lambert's loaders), and the input's UVs are interpolated there by barycentric
+// weights from sub-triangle areas: the exported UV must be that value.
+
+// One input triangle in scene units with its corners' UVs.
+struct UvTriangle {
+  std::array<Vec3, 3> p;
+  std::array<Uv, 3> uv;
+};
+
+// The input's UV at q on a triangle lying in q's plane (normal parallel to `normal`, either way:
+// a two-sided face's back has the front's UVs) and holding q, or nothing.
+std::optional<Uv> inputUvAt(const std::vector<UvTriangle>& input, const Vec3& q, const Vec3& normal) {
+  for (const UvTriangle& t : input) {
+    const Vec3 n = cross(t.p[1] - t.p[0], t.p[2] - t.p[0]);
+    const double twiceArea = length(n);
+    if (std::fabs(dot(n / twiceArea, normalize(normal))) < 0.999) continue;
+    const double extent = std::fmax(length(t.p[1] - t.p[0]), length(t.p[2] - t.p[0]));
+    if (std::fabs(dot(q - t.p[0], n / twiceArea)) > 1e-5 * extent) continue;
+    // Signed areas of the sub-triangles opposite each corner, over the whole.
+    std::array<double, 3> w;
+    for (int k = 0; k < 3; ++k) w[k] = dot(cross(t.p[(k + 1) % 3] - q, t.p[(k + 2) % 3] - q), n) / (twiceArea * twiceArea);
+    if (std::fmin(w[0], std::fmin(w[1], w[2])) < -1e-6) continue;
+    return Uv{w[0] * t.uv[0].u + w[1] * t.uv[1].u + w[2] * t.uv[2].u, w[0] * t.uv[0].v + w[1] * t.uv[1].v + w[2] * t.uv[2].v};
+  }
+  return std::nullopt;
+}
+
+// The exported model's textured vertices carry the input's UVs at their points; returns how many.
+std::size_t expectInputUvs(const tinygltf::Model& model, const std::vector<UvTriangle>& input, double metresPerUnit, const std::string& what) {
+  std::size_t checked = 0, wrong = 0;
+  for (const tinygltf::Primitive& primitive : model.meshes.at(0).primitives) {
+    if (!primitive.attributes.count("TEXCOORD_0")) continue;
+    const std::vector<float> position = floats(model, primitive.attributes.at("POSITION"));
+    const std::vector<float> normal = floats(model, primitive.attributes.at("NORMAL"));
+    const std::vector<float> uv = floats(model, primitive.attributes.at("TEXCOORD_0"));
+    EXPECT_EQ(uv.size() / 2, position.size() / 3) << what;
+    for (std::size_t v = 0; v < position.size() / 3 && v < uv.size() / 2; ++v) {
+      const Vec3 q = Vec3{position[3 * v], position[3 * v + 1], position[3 * v + 2]} / metresPerUnit;
+      const std::optional<Uv> expected = inputUvAt(input, q, {normal[3 * v], normal[3 * v + 1], normal[3 * v + 2]});
+      ++checked;
+      if (!expected) {
+        ADD_FAILURE() << what << ": exported vertex (" << q.x << ", " << q.y << ", " << q.z << ") lies on no textured input triangle";
+        continue;
+      }
+      const bool same = std::fabs(uv[2 * v] - expected->u) <= 1e-5 && std::fabs(uv[2 * v + 1] - expected->v) <= 1e-5;
+      if (!same && ++wrong <= 5)
+        ADD_FAILURE() << what << ": vertex (" << q.x << ", " << q.y << ", " << q.z << ") exported UV (" << uv[2 * v] << ", " << uv[2 * v + 1]
+                      << "), the input's there (" << expected->u << ", " << expected->v << ")";
+    }
+  }
+  EXPECT_EQ(wrong, 0u) << what << ": of " << checked;
+  return checked;
+}
+
+std::unique_ptr<Radiosity> solvedWith(const Scene& scene, MeshStrategy strategy, std::size_t uniformPatches, double linkError) {
+  RadiosityOptions options;
+  options.meshing = strategy;
+  options.uniform.targetPatches = uniformPatches;
+  options.hierarchical.links.linkError = linkError;
+  options.formFactors.showProgress = false;
+  auto engine = Radiosity::create(scene, options);
+  EXPECT_TRUE(engine.ok()) << engine.error().message;
+  if (!engine.ok()) return nullptr;
+  EXPECT_TRUE((*engine)->solve().ok());
+  return std::move(*engine);
+}
+
+const char* strategyName(MeshStrategy strategy) {
+  return strategy == MeshStrategy::Hierarchical ? "hierarchical" : strategy == MeshStrategy::Uniform ? "uniform" : "adaptive";
+}
+
+// Blender's room (glTF): its floor is two triangles of one quad, and the export must give the
+// whole floor the checker's UVs, the first triangle as much as the second.
+TEST(GltfExportTest, ExportedUvsAreTheGltfInputsAtTheSamePoints) {
+  const std::string path = std::string(LAMBERT_SOURCE_DIR) + "/tests/data/blender_room.glb";
+  // The input's textured triangles, read with tinygltf and placed by their nodes (scale and
+  // translation: the file's textured node has no rotation).
+  tinygltf::TinyGLTF reader;
+  tinygltf::Model input;
+  std::string error, warn;
+  ASSERT_TRUE(reader.LoadBinaryFromFile(&input, &error, &warn, path)) << error;
+  std::vector<UvTriangle> triangles;
+  for (const tinygltf::Node& node : input.nodes) {
+    if (node.mesh < 0) continue;
+    for (const tinygltf::Primitive& primitive : input.meshes.at(static_cast<std::size_t>(node.mesh)).primitives) {
+      if (input.materials.at(static_cast<std::size_t>(primitive.material)).pbrMetallicRoughness.baseColorTexture.index < 0) continue;
+      ASSERT_TRUE(node.rotation.empty()) << node.name;
+      const Vec3 scale = node.scale.empty() ? Vec3{1, 1, 1} : Vec3{node.scale[0], node.scale[1], node.scale[2]};
+      const Vec3 offset = node.translation.empty() ? Vec3{} : Vec3{node.translation[0], node.translation[1], node.translation[2]};
+      const std::vector<float> xyz = floats(input, primitive.attributes.at("POSITION"));
+      const std::vector<float> uv = floats(input, primitive.attributes.at("TEXCOORD_0"));
+      const tinygltf::Accessor& a = input.accessors.at(static_cast<std::size_t>(primitive.indices));
+      ASSERT_EQ(a.componentType, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
+      const tinygltf::BufferView& view = input.bufferViews.at(static_cast<std::size_t>(a.bufferView));
+      std::vector<std::uint16_t> index(a.count);
+      std::memcpy(index.data(), input.buffers[0].data.data() + view.byteOffset + a.byteOffset, index.size() * 2);
+      for (std::size_t t = 0; t + 2 < index.size(); t += 3) {
+        UvTriangle triangle;
+        for (int k = 0; k < 3; ++k) {
+          const std::size_t i = index[t + static_cast<std::size_t>(k)];
+          triangle.p[static_cast<std::size_t>(k)] = Vec3{xyz[3 * i] * scale.x, xyz[3 * i + 1] * scale.y, xyz[3 * i + 2] * scale.z} + offset;
+          triangle.uv[static_cast<std::size_t>(k)] = {uv[2 * i], uv[2 * i + 1]};
+        }
+        triangles.push_back(triangle);
+      }
+    }
+  }
+  ASSERT_EQ(triangles.size(), 2u);  // the floor
+
+  Result<Scene> scene = loadScene(path);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  // Only the floor (both sides) and the ceiling panel lighting it, for time: the walls, block and
+  // sphere have no texture.
+  {
+    std::vector<Surface> kept;
+    std::vector<int> newIndex(scene->surfaces.size(), -1);
+    for (std::size_t i = 0; i < scene->surfaces.size(); ++i) {
+      const Surface& surface = scene->surfaces[i];
+      if (!scene->materials.at(static_cast<std::size_t>(surface.material)).texture && !(surface.emittedRadiance.maxComponent() > 0)) continue;
+      newIndex[i] = static_cast<int>(kept.size());
+      kept.push_back(surface);
+    }
+    for (Surface& surface : kept)
+      if (surface.twin >= 0) surface.twin = newIndex[static_cast<std::size_t>(surface.twin)];
+    scene->surfaces = std::move(kept);
+  }
+  // The adaptive quad-tree takes single quads only, and a glTF file holds triangles.
+  for (MeshStrategy strategy : {MeshStrategy::Hierarchical, MeshStrategy::Uniform}) {
+    std::unique_ptr<Radiosity> engine = solvedWith(*scene, strategy, 2000, 2e-5);  // leaves finer than the checker's squares
+    ASSERT_TRUE(engine);
+    const SolutionView& solution = engine->solution();
+    const tinygltf::Model model = exportAndRead(solution, {}, std::string("room-uv-") + strategyName(strategy));
+    EXPECT_GT(expectInputUvs(model, triangles, scene->metresPerUnit, strategyName(strategy)), 50u);
+
+    // What lambert draws: a patch of the floor inside one checker square (its centroid's, by the
+    // input's UVs), every corner more than half a texel from the square's edges, so that the
+    // bilinear filter reads that square's texels only, has that square's albedo, on both
+    // triangles. A patch whose UVs were lost reads one place of the texture all over the floor.
+    // (The hierarchical leaves, the default mesh: the uniform one at any size this test can
+    // afford has a corner of every patch on a square's edge. Both take albedos through the
+    // corner UVs checked above.)
+    if (strategy != MeshStrategy::Hierarchical) continue;
+    const Material& floor = scene->materials.at(static_cast<std::size_t>(solution.scene().surfaces.at(0).material));
+    ASSERT_TRUE(floor.texture) << "the first surface is the floor";
+    const Mesh& mesh = solution.vertexMesh();
+    const double squares = 8, halfTexel = 0.5 * squares / floor.texture->width;  // in squares
+    std::array<std::array<int, 2>, 2> inSquare{};  // per input triangle: patches of dark, light squares
+    for (std::size_t p = 0; p < mesh.numPatches(); ++p) {
+      const Surface& surface = solution.scene().surfaces[mesh.patches[p].surface];
+      if (surface.material != solution.scene().surfaces[0].material) continue;
+      const std::optional<Uv> centre = inputUvAt(triangles, mesh.patches[p].centroid, mesh.patches[p].normal);
+      ASSERT_TRUE(centre);
+      const double su = std::floor(centre->u * squares), sv = std::floor(centre->v * squares);
+      bool deepInside = true;
+      for (const Vec3& corner : mesh.corners(p)) {
+        const std::optional<Uv> uv = inputUvAt(triangles, corner, mesh.patches[p].normal);
+        ASSERT_TRUE(uv);
+        const double du = uv->u * squares - su, dv = uv->v * squares - sv;  // within the square: (0, 1)
+        deepInside = deepInside && std::fmin(std::fmin(du, 1 - du), std::fmin(dv, 1 - dv)) > halfTexel * 1.01;
+      }
+      if (!deepInside) continue;
+      const Rgb texel = floor.texture->sample((su + 0.5) / squares, (sv + 0.5) / squares);
+      const double expected = floor.albedo.g * texel.g;
+      EXPECT_NEAR(solution.vertexMeshAlbedo()[p].g, expected, 1e-6 * expected) << strategyName(strategy) << " patch " << p;
+      std::size_t triangle = 0;
+      while (triangle < 2 && !inputUvAt({triangles[triangle]}, mesh.patches[p].centroid, mesh.patches[p].normal)) ++triangle;
+      ASSERT_LT(triangle, 2u);
+      ++inSquare[triangle][texel.g > floor.texture->mean.g];
+    }
+    for (std::size_t t = 0; t < 2; ++t)
+      for (int light = 0; light < 2; ++light) EXPECT_GE(inSquare[t][light], 3) << strategyName(strategy) << " triangle " << t << (light ? " light" : " dark");
+  }
+}
+
+// Writes a 4×4 texture whose texels all differ, so that a wrong UV reads a wrong albedo.
+void writeTestTexture(const std::filesystem::path& path) {
+  std::vector<std::uint8_t> rgb;
+  for (int k = 0; k < 16; ++k)
+    for (int c = 0; c < 3; ++c) rgb.push_back(static_cast<std::uint8_t>(20 + 12 * k + 3 * c));
+  ASSERT_TRUE(writePng(path.string(), 4, 4, rgb).ok());
+}
+
+// Two textured quads that are not parallelograms, with UVs that are not affine over them (so a
+// patch straddling a quad's fan diagonal needs each corner's own fan triangle), and a lamp.
+struct QuadScene {
+  std::array<std::array<Vec3, 4>, 2> quads = {{
+      {{{0, 0, 0}, {0, 0, 1}, {1.2, 0, 1.1}, {1, 0, 0}}},             // floor, facing +y
+      {{{-0.1, 0.1, 0}, {-0.1, 0.9, 0}, {-0.1, 1, 1}, {-0.1, 0.2, 1.2}}},  // wall, facing +x
+  }};
+  std::array<std::array<Uv, 4>, 2> uvs = {{
+      {{{0, 0}, {0, 1}, {1, 1}, {1, 0}}},
+      {{{0.1, 0.2}, {0.3, 0.9}, {1.4, 1.0}, {1.0, -0.2}}},
+  }};
+  std::array<Vec3, 4> lamp = {{{0, 1.2, 0}, {1, 1.2, 0}, {1, 1.2, 1}, {0, 1.2, 1}}};  // facing −y
+
+  // Each quad as its fan's two triangles, UVs linear over each.
+  std::vector<UvTriangle> triangles() const {
+    std::vector<UvTriangle> out;
+    for (std::size_t q = 0; q < quads.size(); ++q)
+      for (std::size_t k : {1, 2}) out.push_back({{quads[q][0], quads[q][k], quads[q][k + 1]}, {uvs[q][0], uvs[q][k], uvs[q][k + 1]}});
+    return out;
+  }
+};
+
+void expectInputUvsForEveryStrategy(const std::string& path, const QuadScene& quads, const std::string& what) {
+  Result<Scene> scene = loadScene(path);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  for (MeshStrategy strategy : {MeshStrategy::Hierarchical, MeshStrategy::Uniform, MeshStrategy::Adaptive}) {
+    std::unique_ptr<Radiosity> engine = solvedWith(*scene, strategy, 300, 2e-3);
+    ASSERT_TRUE(engine);
+    const tinygltf::Model model = exportAndRead(engine->solution(), {}, what + "-uv-" + strategyName(strategy));
+    EXPECT_GT(expectInputUvs(model, quads.triangles(), scene->metresPerUnit, what + " " + strategyName(strategy)), 20u);
+  }
+}
+
+// OBJ: `vt` per face corner (OBJ's v runs up the image, lambert's down it).
+TEST(GltfExportTest, ExportedUvsAreTheObjInputsAtTheSamePoints) {
+  const std::filesystem::path dir = testing::scratchDirectory("gltf-export", "obj-uv-input");
+  writeTestTexture(dir / "texels.png");
+  std::ofstream(dir / "quads.mtl") << "newmtl textured\nKd 0.9 0.9 0.9\nmap_Kd texels.png\nnewmtl lamp\nKd 0 0 0\nKe 5 5 5\n";
+  const QuadScene quads;
+  std::ofstream obj(dir / "quads.obj");
+  obj << "mtllib quads.mtl\nusemtl textured\n";
+  int vertex = 1;
+  for (std::size_t q = 0; q < quads.quads.size(); ++q) {
+    for (const Vec3& v : quads.quads[q]) obj << "v " << v.x << " " << v.y << " " << v.z << "\n";
+    for (const Uv& uv : quads.uvs[q]) obj << "vt " << uv.u << " " << 1 - uv.v << "\n";
+    obj << "f";
+    for (int k = 0; k < 4; ++k, ++vertex) obj << " " << vertex << "/" << vertex;
+    obj << "\n";
+  }
+  obj << "usemtl lamp\n";
+  for (const Vec3& v : quads.lamp) obj << "v " << v.x << " " << v.y << " " << v.z << "\n";
+  obj << "f " << vertex << " " << vertex + 1 << " " << vertex + 2 << " " << vertex + 3 << "\n";
+  obj.close();
+  expectInputUvsForEveryStrategy((dir / "quads.obj").string(), quads, "obj");
+}
+
+// A scene file's inline polygons with "uvs".
+TEST(GltfExportTest, ExportedUvsAreTheSceneFilePolygonsAtTheSamePoints) {
+  const std::filesystem::path dir = testing::scratchDirectory("gltf-export", "json-uv-input");
+  writeTestTexture(dir / "texels.png");
+  const QuadScene quads;
+  std::ofstream json(dir / "quads.json");
+  json << R"({"materials": [{"name": "textured", "albedo": [0.9, 0.9, 0.9], "texture": "texels.png"},)"
+       << R"( {"name": "lamp", "albedo": [0, 0, 0], "emittedRadiance": [5, 5, 5]}], "surfaces": [)";
+  auto polygon = [&](const std::array<Vec3, 4>& vertices) {
+    json << "[";
+    for (std::size_t k = 0; k < 4; ++k) json << (k ? ", [" : "[") << vertices[k].x << ", " << vertices[k].y << ", " << vertices[k].z << "]";
+    json << "]";
+  };
+  for (std::size_t q = 0; q < quads.quads.size(); ++q) {
+    json << R"({"material": "textured", "vertices": )";
+    polygon(quads.quads[q]);
+    json << R"(, "uvs": [)";
+    for (std::size_t k = 0; k < 4; ++k) json << (k ? ", [" : "[") << quads.uvs[q][k].u << ", " << quads.uvs[q][k].v << "]";
+    json << "]}, ";
+  }
+  json << R"({"material": "lamp", "vertices": )";
+  polygon(quads.lamp);
+  json << "}]}";
+  json.close();
+  expectInputUvsForEveryStrategy((dir / "quads.json").string(), quads, "scene-file");
 }
 
 }  // namespace
