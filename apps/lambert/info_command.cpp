@@ -10,6 +10,7 @@
 #include "commands.h"
 #include "lambert/core/memory.h"
 #include "lambert/engine/radiosity.h"
+#include "lambert/light/emission.h"
 #include "options.h"
 
 namespace lambert::cli {
@@ -32,7 +33,7 @@ int runInfo(const InfoCommandOptions& o) {
     faces += surfaceFaces(s).size();
     const double a = surfaceArea(s);
     area += a;
-    emittedWatts += a * m2 * kPi * s.emittedRadiance.sum();
+    emittedWatts += a * m2 * kPi * meanEmittedRadiance(*scene, s).sum();
   }
   const auto [lo, hi] = sceneBounds(*scene);
   int emitters = 0;
