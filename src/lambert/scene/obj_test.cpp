@@ -92,7 +92,10 @@ TEST(ObjTest, MapKeScalesTheEmissionPerPatch) {
   obj += "o strip\nusemtl lamp\n";
   for (std::size_t t = 0; t < 12; t += 3) {
     obj += "f";
-    for (std::size_t k = 0; k < 3; ++k) obj += " " + std::to_string(testing::kStripTriangles[t + k] + 1) + "/" + std::to_string(testing::kStripTriangles[t + k] + 1);
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::string index = std::to_string(testing::kStripTriangles[t + k] + 1);
+      obj.append(" ").append(index).append("/").append(index);  // (not " " + …: GCC 12's false -Wrestrict)
+    }
     obj += "\n";
   }
   write(dir / "strip.obj", obj);
