@@ -27,18 +27,21 @@ std::array<Uv, 4> patchCornerUvs(const Scene& scene, const Mesh& mesh, std::size
   if (surface.faceUvs.empty()) return uvs;
   const std::vector<std::uint32_t> face = surfaceFace(surface, p.face);
   const std::vector<Uv>& faceUvs = surface.faceUvs[p.face];
-  // The fan triangle of the face that holds the patch: the mesher splits faces along their fans,
-  // so one holds each patch whole; the centroid is the point least likely to sit on its edge.
-  std::size_t best = 1;
-  double bestInside = -INFINITY;
-  for (std::size_t k = 1; k + 1 < face.size(); ++k) {
-    auto w = barycentric(p.centroid, surface.vertices[face[0]], surface.vertices[face[k]], surface.vertices[face[k + 1]]);
-    const double inside = std::fmin(w[0], std::fmin(w[1], w[2]));
-    if (inside > bestInside) bestInside = inside, best = k;
-  }
+  // Each corner's UV from the fan triangle of the face that holds that corner: UVs are linear over
+  // each fan triangle (as glTF and OBJ interpolate them), and a patch of a quad face (a
+  // hierarchical leaf, a quad-tree cell) may straddle the fan's diagonal, where a non-affine
+  // mapping bends.
   const PatchCorners corners = mesh.corners(patch);
   for (std::size_t c = 0; c < corners.size(); ++c) {
-    auto w = barycentric(corners[c], surface.vertices[face[0]], surface.vertices[face[best]], surface.vertices[face[best + 1]]);
+    std::size_t best = 1;
+    std::array<double, 3> bestWeights{1, 0, 0};
+    double bestInside = -INFINITY;
+    for (std::size_t k = 1; k + 1 < face.size(); ++k) {
+      auto w = barycentric(corners[c], surface.vertices[face[0]], surface.vertices[face[k]], surface.vertices[face[k + 1]]);
+      const double inside = std::fmin(w[0], std::fmin(w[1], w[2]));
+      if (inside > bestInside) bestInside = inside, best = k, bestWeights = w;
+    }
+    const auto& w = bestWeights;
     uvs[c] = {w[0] * faceUvs[0].u + w[1] * faceUvs[best].u + w[2] * faceUvs[best + 1].u,
               w[0] * faceUvs[0].v + w[1] * faceUvs[best].v + w[2] * faceUvs[best + 1].v};
   }

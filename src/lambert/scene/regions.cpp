@@ -265,12 +265,15 @@ DroppedFaces addSmoothRegions(Scene& scene, const PolygonMesh& mesh, const std::
         }
         v = local[v];  // the piece is not needed after this: its vertex list becomes the face
       }
-      // UVs for every face of the surface once one has them (zero for faces without).
-      if (!piece.uvs.empty() && surface.faceUvs.empty()) {
+      // UVs for every face of the surface once one has them (zero for faces without): the faces
+      // before the first with UVs get zeros, and from that face on every face gets its own.
+      const bool uvsSoFar = !surface.faceUvs.empty();
+      if (!piece.uvs.empty() && !uvsSoFar) {
         surface.faceUvs.resize(surface.faces.size());
         for (std::size_t f = 0; f < surface.faces.size(); ++f) surface.faceUvs[f].resize(surface.faces[f].size());
       }
-      if (!surface.faceUvs.empty()) surface.faceUvs.push_back(piece.uvs.empty() ? std::vector<Uv>(piece.vertices.size()) : std::move(piece.uvs));
+      if (uvsSoFar || !piece.uvs.empty())
+        surface.faceUvs.push_back(piece.uvs.empty() ? std::vector<Uv>(piece.vertices.size()) : std::move(piece.uvs));
       surface.faces.push_back(std::move(piece.vertices));
     }
   }
