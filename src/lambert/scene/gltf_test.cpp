@@ -167,7 +167,7 @@ std::string writeEmissiveStrip(const std::filesystem::path& dir, const std::stri
 // sRGB-decoded emissiveTexture. Helmet-like: the texture is black over half the strip.
 TEST(GltfTest, EmissiveTextureScalesTheEmissionPerPatch) {
   const std::filesystem::path dir = testing::scratchDirectory("gltf", "emissive-texture");
-  const std::string path = writeEmissiveStrip(dir, R"({"name": "lamp", "emissiveFactor": [1, 0.5, 0.25], "emissiveTexture": {"index": 0},
+  const std::string path = writeEmissiveStrip(dir, R"({"name": "lamp", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1]}, "emissiveFactor": [1, 0.5, 0.25], "emissiveTexture": {"index": 0},
       "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 4}}})");
   WarningCapture warnings;
   Result<Scene> scene = loadScene(path);
