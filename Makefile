@@ -27,8 +27,11 @@ run: build
 test: build
 	@cd $(BUILD_DIR) && ctest --output-on-failure -j$(JOBS)
 
-# Benchmarks: one JSON document on stdout, {"pipeline": …, "dynamic": …, "load": …, "hierarchical": …, "viewer": …}, each part also in
-# out/bench/; the micro-benchmarks' table goes to stderr and their JSON to out/bench/micro.json.
+# Benchmarks: one JSON document on stdout, {"pipeline": …, "dynamic": …, "load": …, "hierarchical": …, "viewer": …, "corpus": …},
+# each part also in out/bench/; the micro-benchmarks' table goes to stderr and their JSON to out/bench/micro.json.
+# The corpus part fetches the third-party scenes of bench/corpus/manifest.json into real-scenes/ where the network
+# (or LAMBERT_CORPUS_MIRROR) allows, says which it skipped and why, and runs RenderPark beside lambert where
+# RENDERPARK names its binary.
 bench: build
 	@mkdir -p out/bench
 	@$(BUILD_DIR)/bin/micro_bench --benchmark_format=console --benchmark_out_format=json \
@@ -38,9 +41,10 @@ bench: build
 	@$(BUILD_DIR)/bin/load_bench --scenes scenes > out/bench/load.json
 	@$(BUILD_DIR)/bin/hierarchical_bench > out/bench/hierarchical.json
 	@$(BUILD_DIR)/bin/viewer_bench > out/bench/viewer.json
+	@python3 bench/corpus_bench.py --lambert $(LAMBERT) > out/bench/corpus.json
 	@printf '{"pipeline": ' && cat out/bench/pipeline.json && printf ', "dynamic": ' && cat out/bench/dynamic.json && \
 	  printf ', "load": ' && cat out/bench/load.json && printf ', "hierarchical": ' && cat out/bench/hierarchical.json && \
-	  printf ', "viewer": ' && cat out/bench/viewer.json && printf '}\n'
+	  printf ', "viewer": ' && cat out/bench/viewer.json && printf ', "corpus": ' && cat out/bench/corpus.json && printf '}\n'
 
 # The whole suite under AddressSanitizer (leaks included) and UndefinedBehaviorSanitizer, in
 # build-sanitize/; the CLI runs the tests start are instrumented too. Any report fails its test.

@@ -6,7 +6,7 @@ set -euo pipefail
 exec 1>&2
 
 packages=(
-  build-essential cmake pkg-config
+  build-essential cmake pkg-config python3
   libembree-dev libtbb-dev libeigen3-dev
   libcli11-dev nlohmann-json3-dev libstb-dev libtinyobjloader-dev libtinygltf-dev libtinyexr-dev
   libgtest-dev libgmock-dev libbenchmark-dev

@@ -50,6 +50,9 @@ void addMeshOptions(CLI::App& cmd, MeshCommandOptions& o) {
   cmd.add_option("--mgf-divisions", o.mgfDivisions, "MGF files: segments per full circle of sph, cyl, cone, ring and torus")
       ->check(CLI::Range(3, 1024))
       ->capture_default_str();
+  cmd.add_option("--include-root", o.includeRoot,
+                 "MGF files: refuse includes that resolve outside this folder (default: follow them wherever they lead)")
+      ->check(CLI::ExistingDirectory);
 }
 
 void addSolveOptions(CLI::App& cmd, SolveCommandOptions& o) {
@@ -189,15 +192,21 @@ std::optional<Scene> findScene(const std::string& command, const MeshCommandOpti
       fail(command, s.error().message);
       return std::nullopt;
     }
-  if (lowercaseExtension(o.scene) != ".mgf")
+  if (lowercaseExtension(o.scene) != ".mgf") {
     if (Status s = refuseGiven(o, {"--mgf-divisions"}, "it is for MGF files, and '" + o.scene + "' is not one (a scene file's meshes entry takes \"mgfDivisions\")"); !s) {
       fail(command, s.error().message);
       return std::nullopt;
     }
+    if (Status s = refuseGiven(o, {"--include-root"}, "it confines the includes of MGF files, and '" + o.scene + "' is not one"); !s) {
+      fail(command, s.error().message);
+      return std::nullopt;
+    }
+  }
   LoadOptions load;
   load.metresPerUnit = o.metresPerUnit;
   load.creaseAngleDegrees = o.creaseAngleDegrees;
   load.mgfDivisions = o.mgfDivisions;
+  load.includeRoot = o.includeRoot;
   Result<Scene> scene = loadScene(o.scene, load);
   if (!scene) {
     fail(command, scene.error().message);

@@ -33,6 +33,7 @@ struct MeshCommandOptions : GivenOptions {
   double metresPerUnit = 0;       // --units for OBJ files; 0: metres
   double creaseAngleDegrees = 20; // --crease-angle for mesh files
   int mgfDivisions = 16;          // --mgf-divisions for MGF files
+  std::string includeRoot;        // --include-root: MGF includes confined to this folder
 };
 
 struct SolveCommandOptions : MeshCommandOptions {

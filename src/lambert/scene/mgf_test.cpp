@@ -242,7 +242,7 @@ struct Primitive {
 };
 
 TEST(MgfTest, CurvedPrimitivesAreaAndOrientation) {
-  const MgfOptions options{.divisions = 64, .regions = {}};
+  const MgfOptions options{.divisions = 64, .regions = {}, .includeRoot = {}};
   const std::string vertices = R"(v o =
 	p 0 0 0
 	n 0 0 1
@@ -297,7 +297,7 @@ v p3 =
 }
 
 TEST(MgfTest, RingFacesAlongItsVertexNormal) {
-  const MgfOptions options{.divisions = 64, .regions = {}};
+  const MgfOptions options{.divisions = 64, .regions = {}, .includeRoot = {}};
   Result<Scene> scene = readText("ring", R"(v up =
 	p 0 0 0
 	n 0 0 1
@@ -414,17 +414,15 @@ TEST(MgfTest, BadInputIsAnErrorWithFileAndLine) {
       {"argument-type", "m x =\n\trd half\n", "t.mgf:2: rd: expected a number, got 'half'"},
       {"non-finite", "v a =\n\tp 1e999 0 0\n", "t.mgf:2: p: '1e999' is not a finite number"},
       {"nan", "v a =\n\tp nan 0 0\n", "t.mgf:2: p: 'nan' is not a finite number"},
-      {"negative-rd", "m x =\n\trd -0.1\n", "t.mgf:2: rd -0.1: a reflectance must be between 0 and 1"},
-      {"negative-ed", "m x =\n\ted -5\n", "t.mgf:2: ed -5: an emittance must not be negative"},
+      {"negative-rd", "m x =\n\trd -0.1\n", "t.mgf:2: rd -0.1: a reflectance must not be negative; give one between 0 and 1"},
+      {"negative-ed", "m x =\n\ted -5\n", "t.mgf:2: ed -5: an emittance must not be negative; give it in lm/m²"},
+      {"cold-cct", "c\n\tcct 50\n", "t.mgf:2: cct 50: a black body below 100 K gives no visible light; give the colour temperature"},
+      {"ring-negative", "v c =\n\tp 0 0 0\n\tn 0 0 1\nring c -1 1\n", "t.mgf:4: ring: the radii must not be negative"},
       {"undefined-material", "m nope\n", "t.mgf:1: m: undefined material 'nope'"},
       {"undefined-colour", "c\n\tcmix 1 nope\n", "t.mgf:2: cmix: undefined colour 'nope'"},
-      {"sides", "m x =\n\tsides 3\n", "t.mgf:2: sides 3: must be 1 or 2"},
-      {"unended-xf", "xf -t 1 0 0\n# nothing\nxf -s 2\nxf\n", "t.mgf:4: unbalanced xf: 1 transformation is not ended"},
-      {"extra-xf-end", "xf\n", "t.mgf:1: unbalanced xf"},
-      {"unended-array", "xf -a 2 -t 1 0 0\n", "t.mgf:1: unbalanced xf: an array"},
+      {"sides", "m x =\n\tsides 3\n", "t.mgf:2: sides 3: must be 1 (one-sided) or 2 (two-sided)"},
       {"bad-xf-flag", "xf -q 1\nxf\n", "t.mgf:1: xf: unknown transformation argument '-q'"},
-      {"missing-include", "\n\ni nothere.mgf\n", "t.mgf:3: cannot open include 'nothere.mgf'"},
-      {"escaping-include", "i ../outside.mgf\n", "t.mgf:1: include '../outside.mgf' is outside the top file's folder"},
+      {"missing-include", "\n\ni nothere.mgf\n", "t.mgf:3: cannot open include 'nothere.mgf' (looked for "},
       {"cycle", "i t.mgf\n", "t.mgf:1: include cycle: 't.mgf' is already being read"},
       {"ring-without-normal", "v c =\n\tp 0 0 0\nring c 0 1\n", "t.mgf:3: ring: the centre vertex 'c' has no normal"},
       {"cone-signs", "v a =\n\tp 0 0 0\nv b =\n\tp 0 0 1\ncone a 1 b -1\n", "t.mgf:5: cone: the radii must not have different signs"},
@@ -478,6 +476,196 @@ TEST(MgfTest, ShippedFloorScene) {
   EXPECT_GE(emitters, 4u);
   const Bounds bounds = sceneBounds(*scene);
   EXPECT_GT(bounds.hi.y - bounds.lo.y, 5.0);  // two storeys, y up
+}
+
+// RenderPark's hospital: hospital/hosp.mgf → parts of it → ../Materials/, a folder beside the
+// top file's. Includes are relative to the including file wherever they lead; includeRoot
+// confines them, links resolved.
+TEST(MgfTest, IncludesGoUpFoldersUnlessConfinedToARoot) {
+  const fs::path dir = testing::scratchDirectory("mgf", "include-up");
+  write(dir / "hospital" / "hosp.mgf", "i parts/structure.mgf\n");
+  write(dir / "hospital" / "parts" / "structure.mgf", "i ./../../Materials/lib.mgf\nm tile\n" + std::string(kTriangle) + "f a b c\n");
+  write(dir / "Materials" / "lib.mgf", "m tile =\n\trd .25\n");
+  const std::string top = (dir / "hospital" / "hosp.mgf").string();
+
+  WarningCapture captured;
+  Result<Scene> scene = readMgf(top);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  EXPECT_EQ(captured.messages(), std::vector<std::string>{});
+  const Material& tile = scene->materials[scene->surfaces.at(0).material];
+  EXPECT_EQ(tile.name, "tile");
+  expectRgbNear(tile.albedo, Rgb::gray(0.25), 1e-12);  // the included file's material
+
+  MgfOptions confined;
+  confined.includeRoot = (dir / "hospital").string();
+  Result<Scene> refused = readMgf(top, confined);
+  ASSERT_FALSE(refused.ok());
+  const std::string& message = refused.error().message;
+  EXPECT_TRUE(testing::contains(message, "structure.mgf:1: include './../../Materials/lib.mgf' is ")) << message;
+  EXPECT_TRUE(testing::contains(message, "lib.mgf, outside the folder includes are confined to (" + confined.includeRoot + ")")) << message;
+  EXPECT_TRUE(testing::contains(message, "give a root that holds it")) << message;
+
+  confined.includeRoot = dir.string();  // a root holding both folders
+  EXPECT_TRUE(readMgf(top, confined).ok());
+
+  // A symbolic link inside the root that leads out of it is outside.
+  write(dir / "hospital" / "linked.mgf", "i parts/via-link.mgf\n");
+  std::error_code ec;
+  fs::create_symlink(dir / "Materials" / "lib.mgf", dir / "hospital" / "parts" / "via-link.mgf", ec);
+  if (!ec) {
+    confined.includeRoot = (dir / "hospital").string();
+    Result<Scene> linked = readMgf((dir / "hospital" / "linked.mgf").string(), confined);
+    ASSERT_FALSE(linked.ok());
+    EXPECT_TRUE(testing::contains(linked.error().message, "linked.mgf:1: include 'parts/via-link.mgf' is ")) << linked.error().message;
+  }
+}
+
+// CIE 1931 2° colour matching functions x̄, ȳ, z̄ at 380, 390, ..., 780 nm (the CIE's table),
+// independent of the reader's analytic fit.
+constexpr double kCie1931[41][3] = {
+    {0.001368, 0.000039, 0.006450}, {0.004243, 0.000120, 0.020050}, {0.014310, 0.000396, 0.067850}, {0.043510, 0.001210, 0.207400},
+    {0.134380, 0.004000, 0.645600}, {0.283900, 0.011600, 1.385600}, {0.348280, 0.023000, 1.747060}, {0.336200, 0.038000, 1.772110},
+    {0.290800, 0.060000, 1.669200}, {0.195360, 0.090980, 1.287640}, {0.095640, 0.139020, 0.812950}, {0.032010, 0.208020, 0.465180},
+    {0.004900, 0.323000, 0.272000}, {0.009300, 0.503000, 0.158200}, {0.063270, 0.710000, 0.078250}, {0.165500, 0.862000, 0.042160},
+    {0.290400, 0.954000, 0.020300}, {0.433450, 0.994950, 0.008750}, {0.594500, 0.995000, 0.003900}, {0.762100, 0.952000, 0.002100},
+    {0.916300, 0.870000, 0.001650}, {1.026300, 0.757000, 0.001100}, {1.062200, 0.631000, 0.000800}, {1.002600, 0.503000, 0.000340},
+    {0.854450, 0.381000, 0.000190}, {0.642400, 0.265000, 0.000050}, {0.447900, 0.175000, 0.000020}, {0.283500, 0.107000, 0},
+    {0.164900, 0.061000, 0},        {0.087400, 0.032000, 0},        {0.046770, 0.017000, 0},        {0.022700, 0.008210, 0},
+    {0.011359, 0.004102, 0},        {0.005790, 0.002091, 0},        {0.002899, 0.001047, 0},        {0.001440, 0.000520, 0},
+    {0.000690, 0.000249, 0},        {0.000332, 0.000120, 0},        {0.000166, 0.000060, 0},        {0.000083, 0.000030, 0},
+    {0.000042, 0.000015, 0}};
+
+// (x, y) of a spectrum sampled at 380, 390, ..., 780 nm, by the table.
+std::pair<double, double> chromaticityByTable(const std::vector<double>& samples) {
+  double xyz[3] = {0, 0, 0};
+  for (std::size_t i = 0; i < 41; ++i)
+    for (int k = 0; k < 3; ++k) xyz[k] += samples[i] * kCie1931[i][k];
+  const double sum = xyz[0] + xyz[1] + xyz[2];
+  return {xyz[0] / sum, xyz[1] / sum};
+}
+
+std::string cxyText(const std::pair<double, double>& xy) {
+  return "\tc\n\t\tcxy " + std::to_string(xy.first) + " " + std::to_string(xy.second);
+}
+
+TEST(MgfTest, NegativeSpectralSamplesCountAsTheyIntegrate) {
+  // Flat, but -0.2 at 440–460 nm, where z̄ peaks: a real (yellowish) colour whose integral
+  // depends on the negative samples' sign.
+  std::vector<double> samples(41, 1.0);
+  for (int i = 6; i <= 8; ++i) samples[i] = -0.2;
+  std::string cspec = "\tc\n\t\tcspec 380 780";
+  for (double v : samples) cspec.append(" ").append(std::to_string(v));
+  WarningCapture captured;
+  const Rgb read = albedoOf("cspec-negative", cspec, 0.5);
+  EXPECT_EQ(captured.messages(), std::vector<std::string>{});  // a real colour: nothing to repair
+  const Rgb expected = albedoOf("cspec-negative-by-table", cxyText(chromaticityByTable(samples)), 0.5);
+  expectRgbNear(read, expected, 0.01);
+  // Clipping the negative samples to 0 would give a colour the tolerance tells apart.
+  std::vector<double> clipped = samples;
+  for (double& v : clipped) v = std::fmax(v, 0.0);
+  const Rgb wrong = albedoOf("cspec-clipped-by-table", cxyText(chromaticityByTable(clipped)), 0.5);
+  EXPECT_GT(std::fabs(wrong.b - expected.b), 0.05);
+
+  // MGF's standard illuminant library's daylight basis functions are spectra of this kind: one
+  // that integrates to no real colour loads, and is repaired only where a material uses it.
+  std::string basis = "c day2 =\n\tcspec 380 780";
+  for (int i = 0; i < 41; ++i) basis += i < 20 ? " -1" : " 0.01";
+  Result<Scene> unused = readText("basis-unused", basis + "\nc\n" + std::string(kTriangle) + "m x =\n\trd .5\nf a b c\n");
+  ASSERT_TRUE(unused.ok()) << unused.error().message;
+  EXPECT_EQ(captured.messages(), std::vector<std::string>{});
+}
+
+// The corner of the CIE chromaticity diagram's purple line nearest (x, y) along the line from
+// white (1/3, 1/3), for (x, y) below it; the line's ends are the spectral locus at 380 nm
+// (0.1741, 0.0050) and 780 nm (0.7347, 0.2653).
+std::pair<double, double> ontoPurpleLine(double x, double y) {
+  const double ax = 0.1741, ay = 0.0050, bx = 0.7347, by = 0.2653, ex = 1.0 / 3, ey = 1.0 / 3;
+  // e + t (p − e) = a + s (b − a)
+  const double dx = x - ex, dy = y - ey, mx = bx - ax, my = by - ay;
+  const double t = ((ax - ex) * my - (ay - ey) * mx) / (dx * my - dy * mx);
+  return {ex + t * dx, ey + t * dy};
+}
+
+TEST(MgfTest, ColoursThatAreNotRealAreRepairedWhereUsed) {
+  // cxy 0.4 0 (an RGB-to-xy conversion's purple: no luminance) → the most saturated real
+  // colour of its hue, on the purple line.
+  WarningCapture captured;
+  Result<Scene> scene = readText("cxy-y0", "c purple =\n\tcxy 0.400000 0.000000\n" + std::string(kTriangle) + "m x =\n\tc purple\n\trd .1\nf a b c\n");
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_EQ(captured.messages().size(), 1u);
+  EXPECT_EQ(captured.count("t.mgf:2: cxy 0.400000 0.000000: no real colour (CIE XYZ ∝ (0.6667, 0, 1), no luminance): read as chromaticity ("), 1)
+      << captured.messages()[0];
+  EXPECT_EQ(captured.count("the most saturated real colour of its hue"), 1);
+  EXPECT_EQ(captured.count("(first used by rd of material 'x' at "), 1) << captured.messages()[0];
+  EXPECT_EQ(captured.count("t.mgf:12)"), 1) << captured.messages()[0];  // the face that uses it
+  const Rgb repaired = scene->materials[scene->surfaces.at(0).material].albedo;
+  const auto purple = ontoPurpleLine(0.4, 0);
+  expectRgbNear(repaired, albedoOf("purple-by-hand", cxyText(purple), 0.1), 0.01);
+  EXPECT_NEAR(repaired.luminance(), 0.1, 1e-9);  // rd is kept
+  EXPECT_GT(repaired.r, repaired.g);
+  EXPECT_GT(repaired.b, repaired.g);
+
+  // cxy 0 0 (pure blue, by the same converters): where x = y meets the spectral locus, between
+  // its 470 nm (0.1241, 0.0578) and 480 nm (0.0913, 0.1327) points.
+  const double t = (0.1241 - 0.0578) / ((0.1327 - 0.0578) + (0.1241 - 0.0913)), onLocus = 0.1241 - t * (0.1241 - 0.0913);
+  WarningCapture blue;
+  expectRgbNear(albedoOf("cxy-00", "\tc\n\t\tcxy 0 0", 0.05), albedoOf("cxy-00-by-hand", cxyText({onLocus, onLocus}), 0.05), 0.01);
+  EXPECT_EQ(blue.count("read as chromaticity (0.1039, 0.1039)"), 1) << (blue.messages().empty() ? "" : blue.messages()[0]);
+
+  // Not used with a nonzero rd or ed: nothing to say.
+  WarningCapture quiet;
+  Result<Scene> unused = readText("cxy-y0-unused", "c blue =\n\tcxy 0 0\n" + std::string(kTriangle) + "m x =\n\tc blue\n\trd 0\nf a b c\n");
+  ASSERT_TRUE(unused.ok()) << unused.error().message;
+  EXPECT_EQ(quiet.messages(), std::vector<std::string>{});
+
+  // x + y > 1: Z < 0 clipped; a mixture with a negative weight whose sum has no colour: white.
+  WarningCapture clipped;
+  EXPECT_GT(albedoOf("cxy-sum", "\tc\n\t\tcxy 0.7 0.4", 0.2).r, 0);
+  EXPECT_EQ(clipped.count("t.mgf:"), 1);
+  EXPECT_EQ(clipped.count("negative components clipped to 0"), 1);
+  WarningCapture mixed;
+  expectRgbNear(albedoOf("cmix-negative", "c r =\n\tcxy 0.64 0.33\nc\n\tcmix 1 r -1 r", 0.3), Rgb::gray(0.3), 1e-12);
+  EXPECT_EQ(mixed.count("t.mgf:11: cmix 1 r -1 r: no real colour (CIE XYZ ∝ (0, 0, 0), nothing positive): read as white"), 1)
+      << (mixed.messages().empty() ? "" : mixed.messages()[0]);
+}
+
+TEST(MgfTest, WhatCanBeUnderstoodIsRepairedWithAWarning) {
+  WarningCapture captured;
+  Result<Scene> scene = readText("repairs", std::string(kTriangle) + R"(v o =
+	p 0 0 0
+	n 0 0 1
+m bright =
+	rd 1.5
+o
+xf
+sph o 0
+prism a b c 0
+ring o 2 1
+xf -t 0 0 5
+f a b c
+o two words
+o
+)");
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  EXPECT_EQ(captured.count("t.mgf:12: o: an end with no object to end; ignored"), 1);
+  EXPECT_EQ(captured.count("t.mgf:13: xf: an end with no transformation to end; ignored"), 1);
+  EXPECT_EQ(captured.count("t.mgf:14: sph: a sphere of radius 0, no area; skipped"), 1);
+  EXPECT_EQ(captured.count("t.mgf:15: prism: length 0, no area; skipped"), 1);
+  EXPECT_EQ(captured.count("t.mgf:16: ring: the radii are in the wrong order (rmin 2 > rmax 1); swapped"), 1);
+  EXPECT_EQ(captured.count("t.mgf:19: o takes one name, not 2 words; read as 'two words'"), 1);
+  EXPECT_EQ(captured.count("t.mgf:20: unbalanced xf: 1 transformation is not ended; ended at the end of the file"), 1);
+  EXPECT_EQ(captured.count("material 'bright': rd: albedo of 1 or more lowered to 0.999"), 1);
+  // The ring 1 ≤ r ≤ 2 and the face, lifted by the unended xf.
+  EXPECT_NEAR(totalArea(*scene), 0.5 + kPi * (4 - 1) * std::sin(2 * kPi / 16) * 16 / (2 * kPi), 1e-9);
+  EXPECT_TRUE(hasVertex(*scene, fromMgf({1, 0, 5})));
+
+  // An array left open repeats what follows it to the end of its file.
+  WarningCapture array;
+  Result<Scene> repeated = readText("open-array", std::string(kTriangle) + "xf -a 3 -t 0 0 2\nf a b c\n");
+  ASSERT_TRUE(repeated.ok()) << repeated.error().message;
+  EXPECT_EQ(array.count("t.mgf:7: unbalanced xf: no xf ends this array (-a) in its file; it ends at the end of the file"), 1);
+  EXPECT_NEAR(totalArea(*repeated), 3 * 0.5, 1e-12);
+  EXPECT_TRUE(hasVertex(*repeated, fromMgf({1, 0, 4})));
 }
 
 }  // namespace

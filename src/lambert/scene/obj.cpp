@@ -70,21 +70,26 @@ Result<Scene> readObj(const std::string& path, const ObjOptions& options) {
     Rgb albedo{m.diffuse[0], m.diffuse[1], m.diffuse[2]};
     Rgb emitted{m.emission[0], m.emission[1], m.emission[2]};
     for (int c = 0; c < 3; ++c) {
-      if (!(albedo[c] >= 0)) return Error{path + ": material '" + m.name + "': Kd must not be negative"};
-      if (!(emitted[c] >= 0)) return Error{path + ": material '" + m.name + "': Ke must not be negative"};
+      if (!(albedo[c] >= 0)) return Error{path + ": material '" + m.name + "': Kd must not be negative; give each channel between 0 and 1 in its MTL"};
+      if (!(emitted[c] >= 0)) return Error{path + ": material '" + m.name + "': Ke must not be negative; give each channel 0 or more in its MTL"};
     }
     Material material{m.name, albedo};
     if (!m.diffuse_texname.empty()) {
       Result<std::shared_ptr<const Texture>> texture = readTexture((std::filesystem::path(config.mtl_search_path) / m.diffuse_texname).string());
-      if (!texture) return Error{path + ": material '" + m.name + "': map_Kd: " + texture.error().message};
-      material.texture = *texture;
+      // As a missing MTL is, and as Blender's importer does: the material without its texture.
+      if (texture)
+        material.texture = *texture;
+      else
+        warning(path + ": material '" + m.name + "': map_Kd: " + texture.error().message + "; the material is drawn with its Kd alone");
     }
     // map_Ke multiplies Ke (sRGB decoded, as Blender's OBJ exporter and importer take it); under a
     // black Ke it changes nothing and is not read.
     if (!m.emissive_texname.empty() && emitted.maxComponent() > 0) {
       Result<std::shared_ptr<const Texture>> texture = readTexture((std::filesystem::path(config.mtl_search_path) / m.emissive_texname).string());
-      if (!texture) return Error{path + ": material '" + m.name + "': map_Ke: " + texture.error().message};
-      material.emissionTexture = *texture;
+      if (texture)
+        material.emissionTexture = *texture;
+      else
+        warning(path + ": material '" + m.name + "': map_Ke: " + texture.error().message + "; the material emits its Ke alone");
     }
     const std::string where = path + ": material '" + m.name + "': Kd";
     material.albedo = material.texture ? boundedAlbedo(albedo, *material.texture, where) : boundedAlbedo(albedo, where);

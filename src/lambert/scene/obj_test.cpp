@@ -110,11 +110,16 @@ TEST(ObjTest, MapKeScalesTheEmissionPerPatch) {
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(mean[c], radiance[c] / 2, 0.005 * radiance[c]);
   testing::expectEmissionFollowsHalfWhiteTexture(*scene, radiance);
 
-  // A missing map_Ke is refused naming it, as a missing map_Kd is.
+  // A missing map_Ke is a warning naming it, and Ke alone emits, as a missing map_Kd leaves Kd.
   fs::remove(dir / "emit.png");
+  WarningCapture warnings;
   Result<Scene> missing = readObj(path);
-  ASSERT_FALSE(missing.ok());
-  EXPECT_EQ(missing.error().message, path + ": material 'lamp': map_Ke: " + (dir / "emit.png").string() + ": no such texture file");
+  ASSERT_TRUE(missing.ok()) << missing.error().message;
+  EXPECT_EQ(warnings.count(path + ": material 'lamp': map_Ke: " + (dir / "emit.png").string() +
+                           ": no such texture file; the material emits its Ke alone"), 1);
+  EXPECT_EQ(missing->materials[0].emissionTexture, nullptr);
+  const Rgb uniform = meanEmittedRadiance(*missing, missing->surfaces[0]);
+  for (int c = 0; c < 3; ++c) EXPECT_DOUBLE_EQ(uniform[c], radiance[c]);
 }
 
 TEST(ObjTest, BadFilesAreErrorsNamingTheFile) {

@@ -617,7 +617,13 @@ Result<Scene> loadScene(const std::string& nameOrPath, const LoadOptions& option
   };
   if (extension == ".json") return withTwins(readSceneFile(nameOrPath));
   if (extension == ".gltf" || extension == ".glb") return withTwins(readGltf(nameOrPath, {options.creaseAngleDegrees}));
-  if (extension == ".mgf") return withTwins(readMgf(nameOrPath, {options.mgfDivisions, {options.creaseAngleDegrees}}));
+  if (extension == ".mgf") {
+    MgfOptions mgf;
+    mgf.divisions = options.mgfDivisions;
+    mgf.regions.creaseAngleDegrees = options.creaseAngleDegrees;
+    mgf.includeRoot = options.includeRoot;
+    return withTwins(readMgf(nameOrPath, mgf));
+  }
   if (extension == ".ply")
     return withTwins(readPly(nameOrPath, options.metresPerUnit > 0 ? options.metresPerUnit : 1, {options.creaseAngleDegrees}));
   if (extension == ".obj") {
