@@ -10,6 +10,7 @@
 #include "commands.h"
 #include "lambert/core/memory.h"
 #include "lambert/engine/radiosity.h"
+#include "lambert/light/emission.h"
 #include "options.h"
 
 namespace lambert::cli {
@@ -27,16 +28,18 @@ int runInfo(const InfoCommandOptions& o) {
   stats.add("scene", "scene", scene->name);
   std::size_t faces = 0;
   double area = 0, emittedWatts = 0;
+  int emitters = 0;
   const double m2 = scene->metresPerUnit * scene->metresPerUnit;
   for (const Surface& s : scene->surfaces) {
     faces += surfaceFaces(s).size();
     const double a = surfaceArea(s);
     area += a;
-    emittedWatts += a * m2 * kPi * s.emittedRadiance.sum();
+    // Through the emission texture: a surface where it is black emits nothing.
+    const Rgb radiance = meanEmittedRadiance(*scene, s);
+    emittedWatts += a * m2 * kPi * radiance.sum();
+    emitters += radiance.maxComponent() > 0;
   }
   const auto [lo, hi] = sceneBounds(*scene);
-  int emitters = 0;
-  for (const Surface& s : scene->surfaces) emitters += s.emittedRadiance.maxComponent() > 0;
   stats.add("surfaces", "surfaces (smooth regions)", static_cast<std::int64_t>(scene->surfaces.size()));
   stats.add("faces", "faces", static_cast<std::int64_t>(faces));
   stats.add("materials", "materials", static_cast<std::int64_t>(scene->materials.size()));

@@ -5,6 +5,7 @@
 
 #include "lambert/core/parallel.h"
 #include "lambert/core/timer.h"
+#include "lambert/light/emission.h"
 #include "lambert/light/lights.h"
 #include "lambert/mesh/vertex_radiosity.h"
 
@@ -169,6 +170,7 @@ std::shared_ptr<const Snapshot> previewSnapshot(const Scene& scene) {
   snapshot->preview = true;
   for (const Surface& surface : scene.surfaces) {
     const Rgb albedo = scene.materials.at(static_cast<std::size_t>(surface.material)).albedo;
+    const Rgb emitted = meanEmittedRadiance(scene, surface) * kPi;
     for (const std::vector<std::uint32_t>& face : surfaceFaces(surface)) {
       std::vector<Vec3> corners = facePositions(surface, face);
       if (corners.size() < 3) continue;
@@ -179,8 +181,8 @@ std::shared_ptr<const Snapshot> previewSnapshot(const Scene& scene) {
           put(v.position, corners[k]);
           put(v.normal, normal);
           put(v.albedo, albedo);
-          put(v.emitted, surface.emittedRadiance * kPi);
-          put(v.indirect, surface.emittedRadiance * kPi);
+          put(v.emitted, emitted);
+          put(v.indirect, emitted);
           v.twinned = surface.twin >= 0 ? 1.0f : 0.0f;
           std::fill_n(v.visibility, kMaxPixelLights, 1.0f);
           snapshot->triangles.push_back(v);

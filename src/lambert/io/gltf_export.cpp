@@ -159,12 +159,13 @@ Status writeGlb(const std::string& path, const SolutionView& solution, const Glt
 
   std::map<const Texture*, int> textureIndex;
   std::size_t clipped = 0, values = 0;
-  // One primitive per (material, emitting) pair, each with its own vertices.
+  // One primitive per (material, emitting) pair, each with its own vertices. Whether a patch
+  // emits is its own emission's (an emission texture dark over most of a material leaves the
+  // rest of it reflecting, under its base colour texture).
+  const std::vector<Rgb> emitted = emittedRadiosity(scene, mesh);
   std::map<std::pair<int, bool>, std::vector<std::uint32_t>> groups;
-  for (std::uint32_t p = 0; p < mesh.numPatches(); ++p) {
-    const Surface& surface = scene.surfaces[mesh.patches[p].surface];
-    groups[{surface.material, surface.emittedRadiance.maxComponent() > 0}].push_back(p);
-  }
+  for (std::uint32_t p = 0; p < mesh.numPatches(); ++p)
+    groups[{scene.surfaces[mesh.patches[p].surface].material, emitted[p].maxComponent() > 0}].push_back(p);
   for (const auto& [key, patches] : groups) {
     const auto [materialIndex, emitting] = key;
     const bool radiance = emitting || options.bake == GltfBake::Radiance;

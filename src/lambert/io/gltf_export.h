@@ -8,7 +8,8 @@
 //     viewer's base colour × COLOR_0 is the reflected radiance ρH/π, and the texture (later) can
 //     stay sharp over smooth light.
 //   Radiance bake: COLOR_0 = L × 2^exposure, the final radiance, over a white base colour.
-//   Emitting surfaces always carry their radiance L (emission included) over white.
+//   Emitting patches always carry their radiance L (emission included) over white (a patch emits
+//   where its own emission, through an emission texture, is not black).
 // COLOR_0 is clipped to [0, 1], as glTF requires, with a warning that counts the clipped values.
 // Every primitive also has _RADIANCE, the unscaled linear radiance L = B/π in W/(m²·sr), and
 // the file holds the scene's camera; lights are not written (their light is in COLOR_0).

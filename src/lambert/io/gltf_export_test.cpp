@@ -15,6 +15,7 @@
 #include "lambert/io/png.h"
 #include "lambert/scene/builtin.h"
 #include "lambert/scene/scene_file.h"
+#include "tests/support/emissive_strip.h"
 #include "tests/support/files.h"
 
 namespace lambert {
@@ -459,6 +460,49 @@ TEST(GltfExportTest, ExportedUvsAreTheSceneFilePolygonsAtTheSamePoints) {
   json << "}]}";
   json.close();
   expectInputUvsForEveryStrategy((dir / "quads.json").string(), quads, "scene-file");
+// An emission texture black over half a material: the patches that emit nothing are exported as
+// reflecting surfaces under the base colour texture, the rest as emitters (radiance over white).
+TEST(GltfExportTest, PatchesAnEmissionTextureLeavesDarkKeepTheirBaseColourTexture) {
+  const std::filesystem::path dir = testing::scratchDirectory("gltf-export", "emission-texture");
+  testing::writeHalfWhitePng(dir / "emit.png");
+  const std::string path = (dir / "strip.json").string();
+  std::ofstream(path) << R"({"materials": [{"name": "lamp", "albedo": [0.5, 0.5, 0.5], "texture": "emit.png",
+      "emittedRadiance": [1, 1, 1], "emissionTexture": "emit.png"}], "surfaces": [
+      {"material": "lamp", "vertices": [[0,0,0], [1,0,0], [1,1,0], [0,1,0]], "uvs": [[0,1], [0.5,1], [0.5,0], [0,0]]},
+      {"material": "lamp", "vertices": [[1,0,0], [2,0,0], [2,1,0], [1,1,0]], "uvs": [[0.5,1], [1,1], [1,0], [0.5,0]]}]})";
+  Result<Scene> scene = loadScene(path);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  RadiosityOptions options;
+  options.uniform.targetPatches = 256;
+  options.formFactors.showProgress = false;
+  auto engine = Radiosity::create(*scene, options);
+  ASSERT_TRUE(engine.ok()) << engine.error().message;
+  ASSERT_TRUE((*engine)->solve().ok());
+  const tinygltf::Model model = exportAndRead((*engine)->solution(), {}, "emission-texture");
+  ASSERT_EQ(model.meshes.size(), 1u);
+  double emittingArea = 0, texturedArea = 0;
+  for (const tinygltf::Primitive& primitive : model.meshes[0].primitives) {
+    const std::vector<float> xyz = floats(model, primitive.attributes.at("POSITION"));
+    double area = 0;
+    const std::vector<std::uint32_t> triangles = indices(model, primitive.indices);
+    for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
+      auto at = [&](std::uint32_t v) { return Vec3{xyz[3 * v], xyz[3 * v + 1], xyz[3 * v + 2]}; };
+      area += 0.5 * length(cross(at(triangles[t + 1]) - at(triangles[t]), at(triangles[t + 2]) - at(triangles[t])));
+    }
+    const tinygltf::Material& material = model.materials.at(static_cast<std::size_t>(primitive.material));
+    if (material.name == "lamp (emitting)") {
+      EXPECT_LT(material.pbrMetallicRoughness.baseColorTexture.index, 0);
+      emittingArea += area;
+    } else {
+      EXPECT_EQ(material.name, "lamp");
+      EXPECT_GE(material.pbrMetallicRoughness.baseColorTexture.index, 0);
+      texturedArea += area;
+    }
+  }
+  // The white half emits; patches touching the black half's edge (a column ~0.1 m wide) blend.
+  EXPECT_NEAR(emittingArea + texturedArea, 2, 1e-5);
+  EXPECT_GE(emittingArea, 1 - 1e-5);
+  EXPECT_LT(emittingArea, 1.2);
 }
 
 }  // namespace

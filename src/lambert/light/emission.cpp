@@ -48,11 +48,43 @@ std::array<Uv, 4> patchCornerUvs(const Scene& scene, const Mesh& mesh, std::size
   return uvs;
 }
 
+namespace {
+
+Rgb meanOverPatch(const Texture& texture, const Scene& scene, const Mesh& mesh, std::size_t patch) {
+  const PatchCorners corners = mesh.corners(patch);
+  const std::array<Uv, 4> uvs = patchCornerUvs(scene, mesh, patch);
+  return meanTextureOver(texture, corners, std::span<const Uv>(uvs.data(), corners.size()));
+}
+
+}  // namespace
+
 std::vector<Rgb> emittedRadiosity(const Scene& scene, const Mesh& mesh) {
   std::vector<Rgb> emitted(mesh.numPatches());
-  for (std::size_t i = 0; i < mesh.numPatches(); ++i)
-    emitted[i] = scene.surfaces[mesh.patches[i].surface].emittedRadiance * kPi;
+  for (std::size_t i = 0; i < mesh.numPatches(); ++i) {
+    const Surface& surface = scene.surfaces[mesh.patches[i].surface];
+    emitted[i] = surface.emittedRadiance * kPi;
+    const Texture* texture = scene.materials[static_cast<std::size_t>(surface.material)].emissionTexture.get();
+    if (!texture || !(emitted[i].maxComponent() > 0)) continue;
+    emitted[i] = emitted[i] * (surface.faceUvs.empty() ? texture->mean : meanOverPatch(*texture, scene, mesh, i));
+  }
   return emitted;
+}
+
+Rgb meanEmittedRadiance(const Scene& scene, const Surface& surface) {
+  const Texture* texture = scene.materials[static_cast<std::size_t>(surface.material)].emissionTexture.get();
+  if (!texture || !(surface.emittedRadiance.maxComponent() > 0)) return surface.emittedRadiance;
+  if (surface.faceUvs.empty()) return surface.emittedRadiance * texture->mean;
+  Rgb sum;
+  double totalArea = 0;
+  const std::vector<std::vector<std::uint32_t>> faces = surfaceFaces(surface);
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    const std::vector<Vec3> corners = facePositions(surface, faces[f]);
+    const double area = 0.5 * length(polygonAreaVector(corners));
+    if (!(area > 0) || surface.faceUvs[f].size() != corners.size()) continue;
+    sum += meanTextureOver(*texture, corners, surface.faceUvs[f]) * area;
+    totalArea += area;
+  }
+  return totalArea > 0 ? surface.emittedRadiance * (sum * (1 / totalArea)) : surface.emittedRadiance * texture->mean;
 }
 
 std::vector<Rgb> patchAlbedo(const Scene& scene, const Mesh& mesh) {
@@ -62,9 +94,7 @@ std::vector<Rgb> patchAlbedo(const Scene& scene, const Mesh& mesh) {
     const Material& material = scene.materials[static_cast<std::size_t>(surface.material)];
     albedo[i] = material.albedo;
     if (!material.texture || surface.faceUvs.empty()) continue;
-    const PatchCorners corners = mesh.corners(i);
-    const std::array<Uv, 4> uvs = patchCornerUvs(scene, mesh, i);
-    albedo[i] = albedo[i] * meanTextureOver(*material.texture, corners, std::span<const Uv>(uvs.data(), corners.size()));
+    albedo[i] = albedo[i] * meanOverPatch(*material.texture, scene, mesh, i);
   }
   return albedo;
 }

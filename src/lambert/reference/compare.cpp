@@ -4,6 +4,7 @@
 
 #include "lambert/geometry/coverage.h"
 #include "lambert/geometry/ray_caster.h"
+#include "lambert/light/emission.h"
 
 namespace lambert {
 namespace {
@@ -60,7 +61,7 @@ RadianceError radianceError(std::span<const Rgb> value, std::span<const Rgb> ref
 std::vector<char> awayFromEmitters(const Scene& scene, std::span<const Vec3> points, double distance) {
   std::vector<char> keep(points.size(), 1);
   for (const Surface& surface : scene.surfaces) {
-    if (surface.emittedRadiance.maxComponent() <= 0) continue;
+    if (meanEmittedRadiance(scene, surface).maxComponent() <= 0) continue;  // an emission texture black all over it
     for (const std::vector<std::uint32_t>& face : surfaceFaces(surface)) {
       const std::vector<Vec3> polygon = facePositions(surface, face);
       for (std::size_t i = 0; i < points.size(); ++i)

@@ -8,6 +8,7 @@
 #include "lambert/core/progress.h"
 #include "lambert/core/rng.h"
 #include "lambert/formfactor/kernels.h"
+#include "lambert/light/emission.h"
 #include "lambert/light/lights.h"
 #include "lambert/mesh/vertex_radiosity.h"
 #include "lambert/render/camera.h"
@@ -76,7 +77,7 @@ ReferenceRenderer::ReferenceRenderer(const Scene& scene, const Mesh& geometry, R
     // A texture enters as its mean: the tracer does not look textures up per point.
     const Material& material = scene_.materials[static_cast<std::size_t>(surface.material)];
     albedo_.push_back(material.texture ? material.albedo * material.texture->mean : material.albedo);
-    emitted_.push_back(surface.emittedRadiance);
+    emitted_.push_back(meanEmittedRadiance(scene_, surface));
   }
   for (std::uint32_t i = 0; i < geometry_->numPatches(); ++i) {
     const Patch& patch = geometry_->patches[i];

@@ -109,7 +109,7 @@ class ReferenceRenderer {
   std::unique_ptr<RayCaster> caster_;
   double epsilon_ = 0;
   std::vector<Rgb> albedo_;   // per surface
-  std::vector<Rgb> emitted_;  // L_e per surface
+  std::vector<Rgb> emitted_;  // L_e per surface (an emission texture enters as its mean over the surface)
   std::vector<std::uint32_t> emitterPatches_;  // emissive patches of geometry_
   std::vector<double> emitterCdf_;             // running sum of their areas (scene units²)
   double emitterArea_ = 0;

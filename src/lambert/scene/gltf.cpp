@@ -97,23 +97,37 @@ class Reader {
       Rgb albedo = factor.size() >= 3 ? Rgb{factor[0], factor[1], factor[2]} : Rgb{1, 1, 1};
       Material material{m.name, {}, m.doubleSided};
       const tinygltf::TextureInfo& base = m.pbrMetallicRoughness.baseColorTexture;
+      const std::string where = path_ + ": material '" + m.name + "'";
       if (base.index >= 0) {
-        Result<std::shared_ptr<const Texture>> texture = baseColourTexture(base.index);
+        Result<std::shared_ptr<const Texture>> texture = colourTexture(base.index);
         if (!texture) return texture.error();
         material.texture = *texture;
         if (base.extensions.count("KHR_texture_transform"))
-          warning(path_ + ": material '" + m.name + "': KHR_texture_transform is not read; the texture is placed by its UVs as they are");
+          warning(where + ": KHR_texture_transform is not read; the base colour texture is placed by its UVs as they are");
       }
-      texCoordSet_.push_back(base.texCoord);
       Rgb emitted = m.emissiveFactor.size() == 3 ? Rgb{m.emissiveFactor[0], m.emissiveFactor[1], m.emissiveFactor[2]} : Rgb{};
       if (auto it = m.extensions.find("KHR_materials_emissive_strength"); it != m.extensions.end() && it->second.Has("emissiveStrength"))
         emitted = emitted * it->second.Get("emissiveStrength").GetNumberAsDouble();
-      if (m.emissiveTexture.index >= 0)
-        warning(path_ + ": material '" + m.name + "': its emissive texture is not read yet; emissiveFactor is used");
+      // L_e = emissiveFactor × strength × emissiveTexture (sRGB, as the base colour); a texture
+      // under a black factor (glTF's default) changes nothing and is not read.
+      const tinygltf::TextureInfo& emissive = m.emissiveTexture;
+      const bool emissiveTextured = emissive.index >= 0 && emitted.maxComponent() > 0;
+      if (emissiveTextured) {
+        Result<std::shared_ptr<const Texture>> texture = colourTexture(emissive.index);
+        if (!texture) return texture.error();
+        material.emissionTexture = *texture;
+        if (emissive.extensions.count("KHR_texture_transform"))
+          warning(where + ": KHR_texture_transform is not read; the emissive texture is placed by its UVs as they are");
+      }
+      // A surface carries one set of texture coordinates: the base colour's where there is one.
+      const int set = base.index >= 0 ? base.texCoord : emissiveTextured ? emissive.texCoord : 0;
+      if (base.index >= 0 && emissiveTextured && base.texCoord != emissive.texCoord)
+        warning(where + ": its emissive texture reads TEXCOORD_" + std::to_string(emissive.texCoord) + " and its base colour TEXCOORD_" +
+                std::to_string(base.texCoord) + "; lambert reads one set per material: TEXCOORD_" + std::to_string(set) + " places both");
+      texCoordSet_.push_back(set);
       for (int c = 0; c < 3; ++c)
         if (!(albedo[c] >= 0) || !(emitted[c] >= 0))
           return Error{path_ + ": material '" + m.name + "': base colour and emission must not be negative"};
-      const std::string where = path_ + ": material '" + m.name + "'";
       material.albedo = material.texture ? boundedAlbedo(albedo, *material.texture, where) : boundedAlbedo(albedo, where);
       scene_.materials.push_back(std::move(material));
       emission_.push_back(emitted);
@@ -125,9 +139,9 @@ class Reader {
     return Ok{};
   }
 
-  // A base colour texture, sRGB decoded to linear (glTF's base colour textures are sRGB); one
-  // Texture per image, however many materials use it.
-  Result<std::shared_ptr<const Texture>> baseColourTexture(int textureIndex) {
+  // A base colour or emissive texture, sRGB decoded to linear (glTF's colour textures are sRGB);
+  // one Texture per image, however many materials use it.
+  Result<std::shared_ptr<const Texture>> colourTexture(int textureIndex) {
     if (textureIndex >= static_cast<int>(model_.textures.size())) return Error{path_ + ": texture " + std::to_string(textureIndex) + " does not exist"};
     const tinygltf::Texture& texture = model_.textures[static_cast<std::size_t>(textureIndex)];
     const int source = texture.source;
@@ -143,7 +157,7 @@ class Reader {
     const std::string name = image.uri.empty() ? "image " + std::to_string(source) : image.uri;
     // tinygltf leaves an image it could not load empty (and says why in a warning).
     if (image.image.empty()) return Error{path_ + ": " + name + ": the image could not be loaded (a missing or unreadable file?)"};
-    if (image.bits != 8) return Error{path_ + ": " + name + ": only 8-bit images are read as albedo textures"};
+    if (image.bits != 8) return Error{path_ + ": " + name + ": only 8-bit images are read as colour textures"};
     Result<std::shared_ptr<const Texture>> read =
         textureFromSrgb8(image.image, image.width, image.height, image.component, path_ + ": " + name);
     if (read) textures_[source] = *read;
@@ -256,7 +270,7 @@ class Reader {
         usesDefault_ = true;
       }
       std::vector<Uv> uvs;
-      if (scene_.materials[static_cast<std::size_t>(material)].texture) {
+      if (const Material& m = scene_.materials[static_cast<std::size_t>(material)]; m.texture || m.emissionTexture) {
         Result<std::vector<Uv>> read = readUvs(primitive, texCoordSet_[static_cast<std::size_t>(material)], polygons.positions.size(), mesh.name);
         if (!read) return read.error();
         uvs = std::move(*read);
@@ -284,7 +298,7 @@ class Reader {
     const std::string attribute = "TEXCOORD_" + std::to_string(set);
     auto found = primitive.attributes.find(attribute);
     if (found == primitive.attributes.end())
-      return Error{path_ + ": mesh '" + meshName + "': its material has a base colour texture but the primitive has no " + attribute};
+      return Error{path_ + ": mesh '" + meshName + "': its material has a texture but the primitive has no " + attribute};
     Result<std::vector<double>> read = readAccessor(found->second, 2);
     if (!read) return read.error();
     const tinygltf::Accessor& accessor = model_.accessors[static_cast<std::size_t>(found->second)];
@@ -347,7 +361,7 @@ class Reader {
   RegionOptions regions_;
   Scene scene_;
   std::vector<Rgb> emission_;
-  std::vector<int> texCoordSet_;  // per material: the TEXCOORD set its base colour texture reads
+  std::vector<int> texCoordSet_;  // per material: the TEXCOORD set its textures read
   std::map<int, std::shared_ptr<const Texture>> textures_;  // by image
   int defaultMaterial_ = 0;
   bool usesDefault_ = false;

@@ -5,8 +5,9 @@
 //   set of smooth regions (scene/regions.h);
 //   materials: baseColorFactor × baseColorTexture (sRGB decoded to linear, through TEXCOORD_n,
 //   averaged over each patch; wrap modes other than repeat and KHR_texture_transform are not
-//   read, with a warning) → albedo ρ; emissiveFactor × KHR_materials_emissive_strength →
-//   emitted radiance L_e in W/(m²·sr); doubleSided → two-sided (Material::twoSided);
+//   read, with a warning) → albedo ρ; emissiveFactor × KHR_materials_emissive_strength ×
+//   emissiveTexture (sRGB decoded and averaged per patch as the base colour's, through the same
+//   TEXCOORD_n) → emitted radiance L_e in W/(m²·sr); doubleSided → two-sided (Material::twoSided);
 //   KHR_lights_punctual point, spot and directional lights, photometric → radiometric at
 //   683 lm/W: I [W/sr] = intensity [cd] / 683 × colour, E⊥ [W/m²] = intensity [lx] / 683 × colour;
 //   a spot's outerConeAngle is lambert's cone, outer − inner its falloff;

@@ -14,6 +14,7 @@
 
 #include "lambert/core/warning.h"
 #include "lambert/scene/scene_file.h"
+#include "tests/support/emissive_strip.h"
 #include "tests/support/files.h"
 
 namespace lambert {
@@ -133,6 +134,64 @@ TEST(GltfTest, BlenderExportLoadsWithItsLightsMaterialsAndCamera) {
   EXPECT_NEAR(highest, decode(204 / 255.0), 2e-3);
   EXPECT_NEAR(area, 12, 1e-6);
   EXPECT_NEAR(weighted / area, checkerMean, 0.01);
+}
+
+// The strip of tests/support/emissive_strip.h as glTF: emissiveFactor × emissive strength ×
+// emissiveTexture (the half-white PNG beside it, unless withImage is false); `material` is the
+// material's JSON.
+std::string writeEmissiveStrip(const std::filesystem::path& dir, const std::string& material, bool withImage = true) {
+  if (withImage) testing::writeHalfWhitePng(dir / "emit.png");
+  std::vector<char> bin;
+  auto put = [&](const void* data, std::size_t size) { bin.insert(bin.end(), static_cast<const char*>(data), static_cast<const char*>(data) + size); };
+  for (const Vec3& p : testing::kStripPositions)
+    for (float x : {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)}) put(&x, 4);
+  for (const Vec3& p : testing::kStripPositions)
+    for (float x : {static_cast<float>(testing::stripU(p)), static_cast<float>(1 - p.y)}) put(&x, 4);
+  put(testing::kStripTriangles, sizeof testing::kStripTriangles);
+  testing::writeBytes(dir / "strip.bin", bin);
+  const std::string path = (dir / "strip.gltf").string();
+  std::ofstream(path) << R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+    "nodes": [{"mesh": 0}], "meshes": [{"name": "strip", "primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "indices": 2, "material": 0}]}],
+    "buffers": [{"uri": "strip.bin", "byteLength": 144}],
+    "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 72}, {"buffer": 0, "byteOffset": 72, "byteLength": 48},
+                    {"buffer": 0, "byteOffset": 120, "byteLength": 24}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 6, "type": "VEC3", "min": [0, 0, 0], "max": [2, 1, 0]},
+                  {"bufferView": 1, "componentType": 5126, "count": 6, "type": "VEC2"},
+                  {"bufferView": 2, "componentType": 5123, "count": 12, "type": "SCALAR"}],
+    "textures": [{"source": 0}], "images": [{"uri": "emit.png"}],
+    "materials": [)" << material << "]}";
+  return path;
+}
+
+// Blender, three.js and the glTF spec: emitted radiance = emissiveFactor × strength × the
+// sRGB-decoded emissiveTexture. Helmet-like: the texture is black over half the strip.
+TEST(GltfTest, EmissiveTextureScalesTheEmissionPerPatch) {
+  const std::filesystem::path dir = testing::scratchDirectory("gltf", "emissive-texture");
+  const std::string path = writeEmissiveStrip(dir, R"({"name": "lamp", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1]}, "emissiveFactor": [1, 0.5, 0.25], "emissiveTexture": {"index": 0},
+      "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 4}}})");
+  WarningCapture warnings;
+  Result<Scene> scene = loadScene(path);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  EXPECT_TRUE(warnings.messages().empty()) << warnings.messages().front();
+  ASSERT_EQ(scene->surfaces.size(), 1u);
+  const Rgb radiance{4, 2, 1};
+  EXPECT_EQ(scene->surfaces[0].emittedRadiance, radiance);
+  // What `lambert info` and the path tracer take: the mean over the strip, half of the factor.
+  const Rgb mean = meanEmittedRadiance(*scene, scene->surfaces[0]);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(mean[c], radiance[c] / 2, 0.005 * radiance[c]);
+  testing::expectEmissionFollowsHalfWhiteTexture(*scene, radiance);
+
+  // A missing image is refused, naming it, as a missing base colour texture is.
+  std::filesystem::remove(dir / "emit.png");
+  const std::string lamp = R"({"name": "lamp", "emissiveFactor": [1, 1, 1], "emissiveTexture": {"index": 0}})";
+  Result<Scene> missing = readGltf(writeEmissiveStrip(dir, lamp, false));
+  ASSERT_FALSE(missing.ok());
+  EXPECT_EQ(missing.error().message, path + ": emit.png: the image could not be loaded (a missing or unreadable file?)");
+  // Under a black factor (glTF's default) the texture changes nothing, and is not read.
+  Result<Scene> dark = readGltf(writeEmissiveStrip(dir, R"({"name": "dark", "emissiveTexture": {"index": 0}})", false));
+  ASSERT_TRUE(dark.ok()) << dark.error().message;
+  EXPECT_EQ(dark->surfaces[0].emittedRadiance.maxComponent(), 0);
+  EXPECT_EQ(dark->materials[0].emissionTexture, nullptr);
 }
 
 // Found by fuzz/gltf_fuzz.cpp (a mutated Blender glb whose node named a mesh past the end):

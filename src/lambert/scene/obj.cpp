@@ -82,6 +82,15 @@ Result<Scene> readObj(const std::string& path, const ObjOptions& options) {
       else
         warning(path + ": material '" + m.name + "': map_Kd: " + texture.error().message + "; the material is drawn with its Kd alone");
     }
+    // map_Ke multiplies Ke (sRGB decoded, as Blender's OBJ exporter and importer take it); under a
+    // black Ke it changes nothing and is not read.
+    if (!m.emissive_texname.empty() && emitted.maxComponent() > 0) {
+      Result<std::shared_ptr<const Texture>> texture = readTexture((std::filesystem::path(config.mtl_search_path) / m.emissive_texname).string());
+      if (texture)
+        material.emissionTexture = *texture;
+      else
+        warning(path + ": material '" + m.name + "': map_Ke: " + texture.error().message + "; the material emits its Ke alone");
+    }
     const std::string where = path + ": material '" + m.name + "': Kd";
     material.albedo = material.texture ? boundedAlbedo(albedo, *material.texture, where) : boundedAlbedo(albedo, where);
     scene.materials.push_back(std::move(material));
@@ -126,7 +135,8 @@ Result<Scene> readObj(const std::string& path, const ObjOptions& options) {
       PolygonMesh::Face face;
       const int material = f < m.material_ids.size() ? m.material_ids[f] : -1;
       face.material = material >= 0 && material < defaultMaterial ? material : defaultMaterial;
-      const bool textured = scene.materials[static_cast<std::size_t>(face.material)].texture != nullptr;
+      const Material& faceMaterial = scene.materials[static_cast<std::size_t>(face.material)];
+      const bool textured = faceMaterial.texture || faceMaterial.emissionTexture;
       bool missingVt = false;
       for (unsigned k = 0; k < m.num_face_vertices[f]; ++k, ++index) {
         face.vertices.push_back(localVertex(m.indices[index].vertex_index));
@@ -178,7 +188,7 @@ Status writeObj(const std::string& path, const Scene& scene) {
   char line[160];
   for (std::size_t k = 0; k < kinds.size(); ++k) {
     const Material& m = scene.materials[static_cast<std::size_t>(kinds[k].first)];
-    LAMBERT_CHECK(!m.texture);  // a texture file is not written
+    LAMBERT_CHECK(!m.texture && !m.emissionTexture);  // a texture file is not written
     std::snprintf(line, sizeof line, "newmtl %s_%zu\nKd %.17g %.17g %.17g\n", token(m.name).c_str(), k, m.albedo.r, m.albedo.g, m.albedo.b);
     mtl += line;
     if (kinds[k].second.maxComponent() > 0) {

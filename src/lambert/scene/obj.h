@@ -5,7 +5,8 @@
 //   usemtl with the MTL's Kd → albedo ρ, map_Kd → an albedo texture it multiplies (through the
 //   faces' vt, v counted up from the image's bottom row as OBJ does; a missing or unreadable
 //   texture file is a warning, the material drawn with its Kd alone, as Blender's importer
-//   does), Ke → emitted radiance L_e (W/(m²·sr)).
+//   does), Ke → emitted radiance L_e (W/(m²·sr)), map_Ke → an emission texture it multiplies
+//   (sRGB decoded, through the same vt; missing or unreadable: a warning, Ke alone).
 // What is not: vn (lambert shades from its own mesh), curves and surfaces. OBJ has no sidedness:
 // faces are one-sided, counter-clockwise in front (a scene file's "twoSided" can make them two-sided). Units: OBJ has none; metresPerUnit says what the numbers are
 // (metres unless told). A missing MTL is a warning and its materials a default grey. Kd of 1 or

@@ -5,7 +5,9 @@
 #include <fstream>
 
 #include "lambert/core/warning.h"
+#include "lambert/light/emission.h"
 #include "lambert/scene/scene_file.h"
+#include "tests/support/emissive_strip.h"
 #include "tests/support/files.h"
 
 namespace lambert {
@@ -76,6 +78,48 @@ TEST(ObjTest, MissingMtlIsAWarningAndDefaultGrey) {
   ASSERT_EQ(scene->surfaces.size(), 2u);  // one material now, but two groups: two named regions
   EXPECT_EQ(scene->surfaces[1].name, "lamp");
   EXPECT_EQ(scene->surfaces[1].emittedRadiance, Rgb{});
+}
+
+// MTL's map_Ke (Blender's OBJ exporter writes it beside Ke): the emitted radiance is Ke × the
+// sRGB-decoded texture, as glTF's emissiveTexture; the strip of tests/support/emissive_strip.h.
+TEST(ObjTest, MapKeScalesTheEmissionPerPatch) {
+  const fs::path dir = testing::scratchDirectory("obj", "map-ke");
+  testing::writeHalfWhitePng(dir / "emit.png");
+  std::string obj = "mtllib strip.mtl\n";
+  for (const Vec3& p : testing::kStripPositions) obj += "v " + std::to_string(p.x) + " " + std::to_string(p.y) + " 0\n";
+  // OBJ's v runs up from the image's bottom row; the texture's halves are left and right.
+  for (const Vec3& p : testing::kStripPositions) obj += "vt " + std::to_string(testing::stripU(p)) + " " + std::to_string(p.y) + "\n";
+  obj += "o strip\nusemtl lamp\n";
+  for (std::size_t t = 0; t < 12; t += 3) {
+    obj += "f";
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::string index = std::to_string(testing::kStripTriangles[t + k] + 1);
+      obj.append(" ").append(index).append("/").append(index);  // (not " " + …: GCC 12's false -Wrestrict)
+    }
+    obj += "\n";
+  }
+  write(dir / "strip.obj", obj);
+  write(dir / "strip.mtl", "newmtl lamp\nKd 0 0 0\nKe 3 1.5 0.75\nmap_Ke emit.png\n");
+  const std::string path = (dir / "strip.obj").string();
+  Result<Scene> scene = readObj(path);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_EQ(scene->surfaces.size(), 1u);
+  const Rgb radiance{3, 1.5, 0.75};
+  for (int c = 0; c < 3; ++c) EXPECT_DOUBLE_EQ(scene->surfaces[0].emittedRadiance[c], radiance[c]);
+  const Rgb mean = meanEmittedRadiance(*scene, scene->surfaces[0]);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(mean[c], radiance[c] / 2, 0.005 * radiance[c]);
+  testing::expectEmissionFollowsHalfWhiteTexture(*scene, radiance);
+
+  // A missing map_Ke is a warning naming it, and Ke alone emits, as a missing map_Kd leaves Kd.
+  fs::remove(dir / "emit.png");
+  WarningCapture warnings;
+  Result<Scene> missing = readObj(path);
+  ASSERT_TRUE(missing.ok()) << missing.error().message;
+  EXPECT_EQ(warnings.count(path + ": material 'lamp': map_Ke: " + (dir / "emit.png").string() +
+                           ": no such texture file; the material emits its Ke alone"), 1);
+  EXPECT_EQ(missing->materials[0].emissionTexture, nullptr);
+  const Rgb uniform = meanEmittedRadiance(*missing, missing->surfaces[0]);
+  for (int c = 0; c < 3; ++c) EXPECT_DOUBLE_EQ(uniform[c], radiance[c]);
 }
 
 TEST(ObjTest, BadFilesAreErrorsNamingTheFile) {

@@ -11,13 +11,14 @@
 
 namespace lambert {
 
-// An albedo texture, decoded to linear RGB (sRGB files are decoded on load). Texture coordinate
+// A colour texture (albedo or emission), decoded to linear RGB (sRGB files are decoded on load),
+// that multiplies a material's factor. Texture coordinate
 // (0, 0) is the first pixel of the first row, (1, 1) the far corner of the last, as in glTF;
 // coordinates outside [0, 1] repeat.
 struct Texture {
   std::string path;  // where it was read from, for messages and export
   int width = 0, height = 0;
-  std::vector<Rgb> pixels;  // row by row, linear reflectance factors in [0, 1]
+  std::vector<Rgb> pixels;  // row by row, linear factors in [0, 1]
   double peak = 0;          // the largest channel of any pixel
   Rgb mean;                 // the mean pixel
   // The bilinearly filtered value at (u, v), repeating.
@@ -31,6 +32,9 @@ struct Material {
   // radiosity (Surface::twin); one-sided faces have a black, opaque back.
   bool twoSided = false;
   std::shared_ptr<const Texture> texture = nullptr;  // ρ = albedo × texture(u, v), averaged per patch
+  // L_e = the surface's emittedRadiance × emissionTexture(u, v), averaged per patch (glTF's
+  // emissiveTexture, MTL's map_Ke); none: emittedRadiance is uniform.
+  std::shared_ptr<const Texture> emissionTexture = nullptr;
 };
 
 struct Uv {
@@ -48,7 +52,8 @@ struct Surface {
   std::string name;
   std::vector<Vec3> vertices;
   int material = 0;
-  Rgb emittedRadiance;  // L_e in W/(m²·sr); emitted radiosity E = π·L_e in W/m²
+  Rgb emittedRadiance;  // L_e in W/(m²·sr), times the material's emissionTexture where it has one;
+                        // emitted radiosity E = π·L_e in W/m²
   // Each face's vertex indices; empty: the one polygon of all the vertices in order (the
   // built-in scenes, and a scene file's inline polygons).
   std::vector<std::vector<std::uint32_t>> faces = {};

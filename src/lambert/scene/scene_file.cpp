@@ -345,7 +345,14 @@ Scene readScene(const Json& document, const std::string& path) {
       if (material.albedo.maxComponent() * material.texture->peak >= 1)
         throw FieldError{pointer + "/albedo", "albedo × the texture's brightest texel must stay below 1"};
     }
-    mr.finish("name, albedo, emittedRadiance, twoSided, texture");
+    if (const std::string texture = mr.string("emissionTexture", ""); !texture.empty()) {
+      if (!mr.has("emittedRadiance"))
+        throw FieldError{pointer + "/emissionTexture", "an emission texture multiplies \"emittedRadiance\": give it too ([1, 1, 1] for the texture as it is)"};
+      Result<std::shared_ptr<const Texture>> read = readTexture((std::filesystem::path(path).parent_path() / texture).string());
+      if (!read) throw FieldError{pointer + "/emissionTexture", read.error().message};
+      material.emissionTexture = *read;
+    }
+    mr.finish("name, albedo, emittedRadiance, twoSided, texture, emissionTexture");
     materialIndex[material.name] = static_cast<int>(scene.materials.size());
     scene.materials.push_back(material);
     materialEmission.push_back(emission);
@@ -369,7 +376,7 @@ Scene readScene(const Json& document, const std::string& path) {
       surface.vertices.push_back(ObjectReader::checkedTriple(vertices[k], pointer + "/vertices/" + std::to_string(k), -1e30, 1e30));
     checkPolygon(surface.vertices, pointer + "/vertices");
     const Json& uvs = sr.array("uvs");
-    if (!uvs.empty() || scene.materials[static_cast<std::size_t>(surface.material)].texture) {
+    if (const Material& m = scene.materials[static_cast<std::size_t>(surface.material)]; !uvs.empty() || m.texture || m.emissionTexture) {
       if (uvs.size() != surface.vertices.size())
         throw FieldError{pointer + "/uvs", uvs.empty() ? "its material has a texture: give texture coordinates [u, v] per vertex"
                                                        : "expected one [u, v] per vertex (" + std::to_string(surface.vertices.size()) +
@@ -526,7 +533,7 @@ std::string sceneFileText(const Scene& scene) {
       name = scene.materials[static_cast<std::size_t>(index)].name + " " + std::to_string(copy);
     names.push_back(name);
     const Material& material = scene.materials[static_cast<std::size_t>(index)];
-    LAMBERT_CHECK(!material.texture);  // a texture file is not written back
+    LAMBERT_CHECK(!material.texture && !material.emissionTexture);  // a texture file is not written back
     OrderedJson m{{"name", name}, {"albedo", triple(material.albedo)}};
     if (emission.maxComponent() > 0) m["emittedRadiance"] = triple(emission);
     if (material.twoSided) m["twoSided"] = true;

@@ -7,6 +7,7 @@
 
 #include "lambert/engine/radiosity.h"
 #include "lambert/scene/builtin.h"
+#include "tests/support/emissive_strip.h"
 #include "tests/support/files.h"
 
 namespace lambert {
@@ -230,6 +231,34 @@ TEST(SceneFileTest, BadFilesAreRefusedNamingThePathAndTheRule) {
     Result<Scene> read = parseSceneFile(text, "bad.json");
     ASSERT_FALSE(read.ok()) << text;
     EXPECT_NE(read.error().message.find(message), std::string::npos) << "got: " << read.error().message << "\nwanted: " << message;
+  }
+}
+
+// "emissionTexture" multiplies "emittedRadiance" as glTF's emissiveTexture and MTL's map_Ke do:
+// the strip of tests/support/emissive_strip.h as its two squares.
+TEST(SceneFileTest, EmissionTextureScalesTheEmissionPerPatch) {
+  const std::filesystem::path dir = testing::scratchDirectory("scene_file", "emission-texture");
+  testing::writeHalfWhitePng(dir / "emit.png");
+  const std::string surfaces = R"("surfaces": [
+      {"name": "left", "material": "lamp", "vertices": [[0,0,0], [1,0,0], [1,1,0], [0,1,0]], "uvs": [[0,1], [0.5,1], [0.5,0], [0,0]]},
+      {"name": "right", "material": "lamp", "vertices": [[1,0,0], [2,0,0], [2,1,0], [1,1,0]], "uvs": [[0.5,1], [1,1], [1,0], [0.5,0]]}])";
+  const std::string path = (dir / "strip.json").string();
+  std::ofstream(path) << R"({"materials": [{"name": "lamp", "albedo": [0, 0, 0], "emittedRadiance": [2, 1, 0.5], "emissionTexture": "emit.png"}], )"
+                      << surfaces << "}";
+  Result<Scene> scene = loadScene(path);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  testing::expectEmissionFollowsHalfWhiteTexture(*scene, {2, 1, 0.5}, {MeshStrategy::Uniform, MeshStrategy::Adaptive, MeshStrategy::Hierarchical});
+
+  const std::pair<std::string, std::string> bad[] = {
+      {R"({"materials": [{"name": "lamp", "emissionTexture": "emit.png"}], )", "/materials/0/emissionTexture: an emission texture multiplies \"emittedRadiance\": give it too"},
+      {R"({"materials": [{"name": "lamp", "emittedRadiance": [1, 1, 1], "emissionTexture": "gone.png"}], )",
+       "/materials/0/emissionTexture: " + (dir / "gone.png").string() + ": no such texture file"},
+  };
+  for (const auto& [head, message] : bad) {
+    std::ofstream(path) << head << surfaces << "}";
+    Result<Scene> read = loadScene(path);
+    ASSERT_FALSE(read.ok()) << head;
+    EXPECT_NE(read.error().message.find(message), std::string::npos) << read.error().message;
   }
 }
 

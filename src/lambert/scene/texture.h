@@ -1,7 +1,8 @@
 #pragma once
-// Albedo textures: 8-bit image files decoded from sRGB to linear reflectance (stb_image), so a
-// texture's mean is the physical mean albedo. Used by the OBJ (map_Kd), glTF (baseColorTexture)
-// and scene-file (texture) loaders.
+// Albedo and emission textures: 8-bit image files decoded from sRGB to linear factors (stb_image),
+// so a texture's mean is the physical mean albedo (or the mean fraction of the emission factor).
+// Used by the OBJ (map_Kd, map_Ke), glTF (baseColorTexture, emissiveTexture) and scene-file
+// (texture, emissionTexture) loaders.
 #include <cstdint>
 #include <memory>
 #include <span>
