@@ -126,8 +126,9 @@ TEST_P(BadInputTest, FailsClearlyAndWritesNothing) {
   // The message names the file (a case on an included or referenced file names that one too,
   // through its own expectations).
   // A case that loads cleanly (exit 0, no warning) has no message to name it in.
-  if (c.exitCode != 0 || r.output.find("warning") != std::string::npos)
+  if (c.exitCode != 0 || r.output.find("warning") != std::string::npos) {
     EXPECT_NE(r.output.find(input.filename().string()), std::string::npos) << "the output does not name " << input.filename();
+  }
   for (const std::string& pattern : c.expect)
     EXPECT_TRUE(std::regex_search(r.output, std::regex(pattern))) << "the output does not match /" << pattern << "/";
   // Nothing is left behind but what the case writes on purpose: no image, no temporary file.

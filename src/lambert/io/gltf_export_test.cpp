@@ -460,6 +460,8 @@ TEST(GltfExportTest, ExportedUvsAreTheSceneFilePolygonsAtTheSamePoints) {
   json << "}]}";
   json.close();
   expectInputUvsForEveryStrategy((dir / "quads.json").string(), quads, "scene-file");
+}
+
 // An emission texture black over half a material: the patches that emit nothing are exported as
 // reflecting surfaces under the base colour texture, the rest as emitters (radiance over white).
 TEST(GltfExportTest, PatchesAnEmissionTextureLeavesDarkKeepTheirBaseColourTexture) {

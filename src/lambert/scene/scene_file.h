@@ -34,7 +34,7 @@ struct LoadOptions {
   // Mesh files: every material two-sided (true) or one-sided (false), whatever the file says.
   std::optional<bool> twoSided = std::nullopt;
   int mgfDivisions = 16;  // MGF: segments per full circle of its curved primitives
-  std::string includeRoot;  // MGF: includes must resolve inside this folder (empty: anywhere)
+  std::string includeRoot = {};  // MGF: includes must resolve inside this folder (empty: anywhere)
 };
 
 // A built-in scene by name (scene/builtin.h), or a file by its extension (.json, .obj, .ply,
