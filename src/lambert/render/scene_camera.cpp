@@ -1,0 +1,148 @@
+#include "lambert/render/scene_camera.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "lambert/geometry/ray_caster.h"
+#include "lambert/mesh/mesh.h"
+
+namespace lambert {
+namespace {
+
+constexpr int kGrid = 8;             // candidate points per axis of the bounds
+constexpr int kRays = 128;           // directions cast from each
+constexpr int kMaxEscaping = 1;      // an enclosed point: at most this many rays reach infinity
+constexpr double kMaxBackShare = 0.05;  // … and at most this share meet the back of a one-sided face
+constexpr int kAzimuths = 64;        // horizontal lines of sight tried from the chosen point
+constexpr double kInsideFovDegrees = 60;
+
+// kRays directions spread evenly over the sphere (a spherical Fibonacci lattice), the same for
+// every scene, so the choice is deterministic.
+std::vector<Vec3> sphereDirections() {
+  std::vector<Vec3> d;
+  const double golden = kPi * (3 - std::sqrt(5.0));
+  for (int i = 0; i < kRays; ++i) {
+    const double z = 1 - (2 * i + 1.0) / kRays, r = std::sqrt(std::max(0.0, 1 - z * z)), phi = golden * i;
+    d.push_back({r * std::cos(phi), r * std::sin(phi), z});
+  }
+  return d;
+}
+
+// Distance to the nearest front face along a ray; infinity where the ray escapes or meets a back.
+double freeDistance(const RayCaster& caster, const Vec3& origin, const Vec3& direction) {
+  const std::optional<RayHit> hit = caster.intersect(Ray{origin, direction, 0, INFINITY});
+  return hit && hit->frontFace ? hit->t : INFINITY;
+}
+
+}  // namespace
+
+ChosenCamera defaultCamera(const Scene& scene) {
+  ChosenCamera chosen{cameraViewingScene(scene), DefaultView::Outside};
+  if (scene.surfaces.empty()) return chosen;
+  const auto [lo, hi] = sceneBounds(scene);
+  const double diagonal = length(hi - lo);
+  if (!(diagonal > 0) || !std::isfinite(diagonal)) return chosen;
+  const Mesh mesh = subdivideScene(scene, 2 * diagonal);
+  const std::unique_ptr<RayCaster> caster = makeEmbreeRayCaster(mesh);
+  const std::vector<Vec3> directions = sphereDirections();
+
+  // The enclosed candidate with the longest mean free path.
+  std::optional<Vec3> best;
+  double bestFreePath = 0;
+  for (int i = 0; i < kGrid; ++i)
+    for (int j = 0; j < kGrid; ++j)
+      for (int k = 0; k < kGrid; ++k) {
+        const Vec3 f{(i + 0.5) / kGrid, (j + 0.5) / kGrid, (k + 0.5) / kGrid};
+        const Vec3 p{lo.x + (hi.x - lo.x) * f.x, lo.y + (hi.y - lo.y) * f.y, lo.z + (hi.z - lo.z) * f.z};
+        int escaping = 0, back = 0, front = 0;
+        double distance = 0;
+        for (const Vec3& d : directions) {
+          const std::optional<RayHit> hit = caster->intersect(Ray{p, d, 0, INFINITY});
+          if (!hit) {
+            ++escaping;
+          } else if (!hit->frontFace) {
+            ++back;
+          } else {
+            ++front;
+            distance += hit->t;
+          }
+          if (escaping > kMaxEscaping || back > kMaxBackShare * kRays) break;
+        }
+        if (escaping > kMaxEscaping || back > kMaxBackShare * kRays || front == 0) continue;
+        const double freePath = distance / front;
+        if (freePath > bestFreePath) bestFreePath = freePath, best = p;
+      }
+  if (!best) return chosen;
+
+  // Up is the file's up (y in every loader's scene frame, z-up files included).
+  const Vec3 up = normalize(scene.fileFrame.sceneDirection(scene.fileFrame.up));
+  Vec3 eye = *best;
+  const double down = freeDistance(*caster, eye, -up), above = freeDistance(*caster, eye, up);
+  if (std::isfinite(down) && std::isfinite(above)) eye = eye + up * (0.55 * (down + above) - down);
+
+  // The longest horizontal line of sight through the eye: look along it from near its far end.
+  Vec3 side, ahead;
+  orthonormalBasis(up, side, ahead);
+  double longest = -1, forward = 0, backward = 0;
+  Vec3 look = ahead;
+  for (int a = 0; a < kAzimuths / 2; ++a) {
+    const double angle = 2 * kPi * a / kAzimuths;
+    const Vec3 d = side * std::cos(angle) + ahead * std::sin(angle);
+    double plus = freeDistance(*caster, eye, d), minus = freeDistance(*caster, eye, -d);
+    if (!std::isfinite(plus) || !std::isfinite(minus)) continue;
+    if (plus + minus > longest) {
+      longest = plus + minus;
+      const bool along = plus >= minus;
+      look = along ? d : -d;
+      forward = along ? plus : minus;
+      backward = along ? minus : plus;
+    }
+  }
+  if (longest > 0) eye = eye - look * (0.8 * backward);
+  chosen.camera.eye = eye;
+  chosen.camera.target = eye + look * std::max(forward, 1e-3 * diagonal);
+  chosen.camera.up = up;
+  chosen.camera.verticalFovDegrees = kInsideFovDegrees;
+  chosen.view = DefaultView::Inside;
+  return chosen;
+}
+
+namespace {
+
+bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+}  // namespace
+
+Result<Camera> sceneCamera(const Scene& scene, const CameraRequest& request) {
+  if (request.eye.has_value() != request.target.has_value())
+    return Error{request.eye ? "--eye needs --target: give the point the camera looks at (scene file coordinates)"
+                             : "--target needs --eye: give where the camera stands (scene file coordinates)"};
+  for (const auto& [name, value] : {std::pair{"--eye", request.eye}, std::pair{"--target", request.target}, std::pair{"--up", request.up}})
+    if (value && !finite(*value)) return Error{std::string(name) + " must be three finite numbers X,Y,Z"};
+  if (request.verticalFovDegrees && !(*request.verticalFovDegrees > 0 && *request.verticalFovDegrees < 180))
+    return Error{"--fov must be a vertical field of view between 0 and 180 degrees"};
+
+  Camera camera;
+  if (request.eye) {
+    camera.eye = scene.fileFrame.scenePoint(*request.eye);
+    camera.target = scene.fileFrame.scenePoint(*request.target);
+    camera.up = normalize(scene.fileFrame.sceneDirection(scene.fileFrame.up));
+    camera.verticalFovDegrees = scene.cameraGiven ? scene.camera.verticalFovDegrees : Camera{}.verticalFovDegrees;
+  } else {
+    camera = scene.cameraGiven ? scene.camera : defaultCamera(scene).camera;
+  }
+  if (request.up) {
+    if (!(length(*request.up) > 0)) return Error{"--up must not be zero"};
+    camera.up = normalize(scene.fileFrame.sceneDirection(*request.up));
+  }
+  if (request.verticalFovDegrees) camera.verticalFovDegrees = *request.verticalFovDegrees;
+  const Vec3 view = camera.target - camera.eye;
+  if (!(length(view) > 1e-12 * std::max(1.0, length(camera.eye))))
+    return Error{"--target must differ from --eye (the camera looks from the eye towards the target)"};
+  if (!(length(cross(normalize(view), camera.up)) > 1e-9))
+    return Error{"--up must not be parallel to the view direction from --eye to --target: give another --up X,Y,Z"};
+  return camera;
+}
+
+}  // namespace lambert
