@@ -14,7 +14,9 @@ constexpr int kGrid = 8;             // candidate points per axis of the bounds
 constexpr int kRays = 128;           // directions cast from each
 constexpr int kMaxEscaping = 1;      // an enclosed point: at most this many rays reach infinity
 constexpr double kMaxBackShare = 0.05;  // … and at most this share meet the back of a one-sided face
-constexpr int kAzimuths = 64;        // horizontal lines of sight tried from the chosen point
+constexpr double kMinOpenShare = 0.1;   // an open point: more than this share escapes
+constexpr int kAzimuths = 64;        // horizontal view directions tried from the chosen point
+constexpr int kFanColumns = 9, kFanRows = 7;  // rays over the picture of each, 4:3
 constexpr double kInsideFovDegrees = 60;
 
 // kRays directions spread evenly over the sphere (a spherical Fibonacci lattice), the same for
@@ -50,6 +52,7 @@ ChosenCamera defaultCamera(const Scene& scene) {
   // The enclosed candidate with the longest mean free path.
   std::optional<Vec3> best;
   double bestFreePath = 0;
+  int enclosed = 0, open = 0;
   for (int i = 0; i < kGrid; ++i)
     for (int j = 0; j < kGrid; ++j)
       for (int k = 0; k < kGrid; ++k) {
@@ -67,13 +70,20 @@ ChosenCamera defaultCamera(const Scene& scene) {
             ++front;
             distance += hit->t;
           }
-          if (escaping > kMaxEscaping || back > kMaxBackShare * kRays) break;
+          if (back > kMaxBackShare * kRays) break;
         }
-        if (escaping > kMaxEscaping || back > kMaxBackShare * kRays || front == 0) continue;
+        if (back > kMaxBackShare * kRays || front == 0) continue;  // behind a wall, or in a solid
+        if (escaping > kMaxEscaping) {
+          open += escaping > kMinOpenShare * kRays;
+          continue;
+        }
+        ++enclosed;
         const double freePath = distance / front;
         if (freePath > bestFreePath) bestFreePath = freePath, best = p;
       }
-  if (!best) return chosen;
+  // Pockets inside closed objects (a two-sided sphere) in an open scene do not make it closed:
+  // the open space must not outweigh the enclosed.
+  if (!best || open >= enclosed) return chosen;
 
   // Up is the file's up (y in every loader's scene frame, z-up files included).
   const Vec3 up = normalize(scene.fileFrame.sceneDirection(scene.fileFrame.up));
@@ -81,25 +91,38 @@ ChosenCamera defaultCamera(const Scene& scene) {
   const double down = freeDistance(*caster, eye, -up), above = freeDistance(*caster, eye, up);
   if (std::isfinite(down) && std::isfinite(above)) eye = eye + up * (0.55 * (down + above) - down);
 
-  // The longest horizontal line of sight through the eye: look along it from near its far end.
+  // The longest horizontal line of sight through the eye, among those whose view (a fan of rays
+  // over the picture, from the eye set back along the line) meets the most front faces: look
+  // along it from near its far end.
   Vec3 side, ahead;
   orthonormalBasis(up, side, ahead);
-  double longest = -1, forward = 0, backward = 0;
-  Vec3 look = ahead;
-  for (int a = 0; a < kAzimuths / 2; ++a) {
+  const double tanHalf = std::tan(kInsideFovDegrees * kPi / 360);
+  double bestSeen = -1, longest = -1, forward = 0;
+  Vec3 look = ahead, bestEye = eye;
+  for (int a = 0; a < kAzimuths; ++a) {
     const double angle = 2 * kPi * a / kAzimuths;
     const Vec3 d = side * std::cos(angle) + ahead * std::sin(angle);
-    double plus = freeDistance(*caster, eye, d), minus = freeDistance(*caster, eye, -d);
+    const double plus = freeDistance(*caster, eye, d), minus = freeDistance(*caster, eye, -d);
     if (!std::isfinite(plus) || !std::isfinite(minus)) continue;
-    if (plus + minus > longest) {
+    const Vec3 from = eye - d * (0.8 * minus);
+    const Vec3 right = normalize(cross(d, up));
+    int seen = 0;
+    for (int i = 0; i < kFanColumns; ++i)
+      for (int j = 0; j < kFanRows; ++j) {
+        const double x = (2.0 * i / (kFanColumns - 1) - 1) * tanHalf * 4 / 3, y = (2.0 * j / (kFanRows - 1) - 1) * tanHalf;
+        seen += std::isfinite(freeDistance(*caster, from, d + right * x + up * y));
+      }
+    const double share = static_cast<double>(seen) / (kFanColumns * kFanRows);
+    // A view that sees more walls wins; among views alike within 3% the longer line.
+    if (share > bestSeen + 0.03 || (share > bestSeen - 0.03 && plus + minus > longest)) {
+      if (share > bestSeen) bestSeen = share;
       longest = plus + minus;
-      const bool along = plus >= minus;
-      look = along ? d : -d;
-      forward = along ? plus : minus;
-      backward = along ? minus : plus;
+      look = d;
+      forward = plus;
+      bestEye = from;
     }
   }
-  if (longest > 0) eye = eye - look * (0.8 * backward);
+  eye = bestEye;
   chosen.camera.eye = eye;
   chosen.camera.target = eye + look * std::max(forward, 1e-3 * diagonal);
   chosen.camera.up = up;
