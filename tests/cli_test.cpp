@@ -525,9 +525,10 @@ TEST(CliTest, ShippedScenesRenderLit) {
   }
 }
 
-// A closed room written as MGF (z up): 10 × 4 × 3 m, walls facing in, a lamp under the ceiling.
+// A closed room written as MGF (z up): 10 × 4 × 3 m, one-sided walls facing in, a lamp under the
+// ceiling.
 std::string mgfRoom() {
-  std::string mgf = "m wall =\n\tc\n\t\tcxy .3333333333 .3333333333\n\trd .5\n";
+  std::string mgf = "m wall =\n\tc\n\t\tcxy .3333333333 .3333333333\n\trd .5\n\tsides 1\n";
   const double corners[8][3] = {{0, 0, 0}, {10, 0, 0}, {10, 4, 0}, {0, 4, 0}, {0, 0, 3}, {10, 0, 3}, {10, 4, 3}, {0, 4, 3}};
   for (int i = 0; i < 8; ++i)
     mgf += "v c" + std::to_string(i) + " =\n\tp " + std::to_string(corners[i][0]) + " " + std::to_string(corners[i][1]) + " " +
