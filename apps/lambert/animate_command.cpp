@@ -58,7 +58,8 @@ int runAnimate(const AnimateCommandOptions& o) {
   std::optional<Scene> scene = findScene("animate", o.solve);
   if (!scene) return 2;
   if (Status ok = checkImageOptions(*scene, o.image); !ok) return fail("animate", ok.error().message);
-  if (Status ok = chooseCamera(*scene, o.camera); !ok) return fail("animate", ok.error().message);
+  Stats cameraStats;
+  if (Status ok = chooseCamera(*scene, o.camera, cameraStats); !ok) return fail("animate", ok.error().message);
   // The budget suits the solver (which the scene file may choose) before anything is computed.
   Result<RadiosityOptions> chosen = radiosityOptions(*scene, o.solve);
   if (!chosen) return fail("animate", chosen.error().message);
@@ -117,6 +118,7 @@ int runAnimate(const AnimateCommandOptions& o) {
   // totals over all frames; the per-frame figures follow.
   Stats stats = engine->stats();
   stats.add("frames", "frames", static_cast<std::int64_t>(o.frames));
+  stats.append(cameraStats);
   stats.append(exposureStats);
   stats.add("iterations_all_frames", solver == SolverKind::Shooting ? "shots (all frames)" : "iterations (all frames)",
             static_cast<std::int64_t>(iterations));

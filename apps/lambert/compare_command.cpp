@@ -79,8 +79,9 @@ int runCompare(const CompareCommandOptions& o) {
   if (!scene) return 2;
   if (Status ok = checkSources(o); !ok) return fail("compare", ok.error().message);
   if (Status ok = checkImageOptions(*scene, o.image); !ok) return fail("compare", ok.error().message);
+  Stats cameraStats;
   if (o.radiosityVertices.empty() && !o.noImage)
-    if (Status ok = chooseCamera(*scene, o.camera); !ok) return fail("compare", ok.error().message);
+    if (Status ok = chooseCamera(*scene, o.camera, cameraStats); !ok) return fail("compare", ok.error().message);
   for (const std::string& path : {o.radiosityImage, o.referenceImage})
     if (!path.empty())
       if (Status ok = checkImagePath(path, o.image); !ok) return fail("compare", ok.error().message);
@@ -137,6 +138,7 @@ int runCompare(const CompareCommandOptions& o) {
     Image mine = renderSolution(engine->solution(), o.image.image);
     Image truth = tracer().render(o.image.image.width, o.image.image.height);
     addError(stats, "image", "image", radianceError(mine.pixels, truth.pixels));
+    stats.append(cameraStats);
     // Both images at the radiosity image's exposure, so that they compare by eye.
     const double exposure = imageExposureStops(o.image, o.image.exposure, *scene, mine, stats);
     for (auto [path, image] : {std::pair{o.radiosityImage, &mine}, std::pair{o.referenceImage, &truth}}) {

@@ -192,7 +192,7 @@ Result<Vec3> parseTriple(const std::string& option, const std::string& text) {
 
 }  // namespace
 
-Status chooseCamera(Scene& scene, const CameraCommandOptions& o) {
+Status chooseCamera(Scene& scene, const CameraCommandOptions& o, Stats& stats) {
   CameraRequest request;
   for (auto [option, text, slot] : {std::tuple{"--eye", &o.eye, &request.eye}, std::tuple{"--target", &o.target, &request.target},
                                     std::tuple{"--up", &o.up, &request.up}}) {
@@ -202,10 +202,21 @@ Status chooseCamera(Scene& scene, const CameraCommandOptions& o) {
     *slot = *v;
   }
   if (o.given("--fov")) request.verticalFovDegrees = o.fovDegrees;
-  Result<Camera> camera = sceneCamera(scene, request);
-  if (!camera) return camera.error();
-  scene.camera = *camera;
+  Result<ChosenCamera> chosen = sceneCamera(scene, request);
+  if (!chosen) return chosen.error();
+  scene.camera = chosen->camera;
   scene.cameraGiven = true;
+  auto triple = [](const Vec3& v) {
+    char text[96];
+    std::snprintf(text, sizeof text, "%.6g,%.6g,%.6g", v.x, v.y, v.z);
+    return std::string(text);
+  };
+  const FileFrame& frame = scene.fileFrame;
+  stats.add("camera", "camera from", std::string(cameraSourceName(chosen->source)));
+  stats.add("camera_eye", "camera eye (file coordinates)", triple(frame.filePoint(scene.camera.eye)));
+  stats.add("camera_target", "camera target (file coordinates)", triple(frame.filePoint(scene.camera.target)));
+  stats.add("camera_up", "camera up (file coordinates)", triple(frame.filePoint(frame.offset + scene.camera.up)));
+  stats.add("camera_fov", "camera vertical field of view", scene.camera.verticalFovDegrees, "degrees");
   return Ok{};
 }
 

@@ -96,7 +96,8 @@ void addCameraOptions(CLI::App& command, CameraCommandOptions& options);
 // Sets scene.camera to the camera to draw from: --eye/--target/--up/--fov over the scene's own
 // camera, or the library's default view where the scene has none (render/scene_camera.h). An
 // error for a value that is not a camera.
-Status chooseCamera(Scene& scene, const CameraCommandOptions& options);
+// Where it came from and where it is (file coordinates) go into the stats.
+Status chooseCamera(Scene& scene, const CameraCommandOptions& options, Stats& stats);
 
 // The exposure (stops) an image is written at: --exposure where given, else the scene's own, else
 // automatic from the image (render/tonemap.h); how it was chosen goes into the stats.

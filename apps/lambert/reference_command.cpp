@@ -41,8 +41,9 @@ int runReference(const ReferenceCommandOptions& o) {
                                "they shape the image, and no -o IMAGE.png is asked for");
         !s)
       return fail("reference", s.error().message);
+  Stats cameraStats;
   if (!o.output.empty())
-    if (Status s = chooseCamera(*scene, o.camera); !s) return fail("reference", s.error().message);
+    if (Status s = chooseCamera(*scene, o.camera, cameraStats); !s) return fail("reference", s.error().message);
   ReferenceOptions options = o.reference;
   options.seed = o.mesh.seed;
   options.showProgress = !o.quiet && !o.json;
@@ -52,6 +53,7 @@ int runReference(const ReferenceCommandOptions& o) {
 
   Stats stats;
   stats.add("scene", "scene", scene->name);
+  stats.append(cameraStats);
   if (!o.exportVertices.empty()) {
     Timer timer;
     Mesh mesh = uniformMesh(*scene, uniformMeshOptions(*scene, o.mesh));

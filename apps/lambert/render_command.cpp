@@ -25,7 +25,8 @@ int runRender(const RenderCommandOptions& o) {
   if (Status ok = checkImageOptions(*scene, o.image); !ok) return fail("render", ok.error().message);
   if (Status ok = checkImagePath(o.output, o.image); !ok) return fail("render", ok.error().message);
   if (Status ok = checkExportOptions(o.exported); !ok) return fail("render", ok.error().message);
-  if (Status ok = chooseCamera(*scene, o.camera); !ok) return fail("render", ok.error().message);
+  Stats cameraStats;
+  if (Status ok = chooseCamera(*scene, o.camera, cameraStats); !ok) return fail("render", ok.error().message);
   std::unique_ptr<Radiosity> engine = makeEngine("render", *scene, o.solve);
   if (!engine) return 2;
   if (Result<SolveCallReport> solved = engine->solve(); !solved) return fail("render", solved.error().message);
@@ -38,6 +39,7 @@ int runRender(const RenderCommandOptions& o) {
   double renderSeconds = renderTimer.seconds();
 
   Stats stats = engine->stats();
+  stats.append(cameraStats);
   const double exposure = imageExposureStops(o.image, o.image.exposure, *scene, image, stats);
   Status written = writeImageFile(o.output, image, exposure);
   if (!written) {

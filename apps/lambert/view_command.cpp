@@ -31,7 +31,8 @@ int runView(const ViewCommandOptions& o) {
   if (!scene) return 2;
   Result<RadiosityOptions> radiosity = radiosityOptions(*scene, o.solve);
   if (!radiosity) return fail("view", radiosity.error().message);
-  if (Status ok = chooseCamera(*scene, o.camera); !ok) return fail("view", ok.error().message);
+  Stats cameraStats;
+  if (Status ok = chooseCamera(*scene, o.camera, cameraStats); !ok) return fail("view", ok.error().message);
 
   viewer::ViewerOptions v;
   v.width = o.width;
@@ -79,6 +80,7 @@ int runView(const ViewCommandOptions& o) {
     std::fprintf(stderr, "lambert view: %s\n", ran.error().message.c_str());
     return 1;
   }
+  stats.append(cameraStats);
   printStats(stats, o.solve.json, o.solve.quiet, "");
   return 0;
 }

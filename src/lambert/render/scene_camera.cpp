@@ -40,7 +40,7 @@ double freeDistance(const RayCaster& caster, const Vec3& origin, const Vec3& dir
 }  // namespace
 
 ChosenCamera defaultCamera(const Scene& scene) {
-  ChosenCamera chosen{cameraViewingScene(scene), DefaultView::Outside};
+  ChosenCamera chosen{cameraViewingScene(scene), CameraSource::Outside};
   if (scene.surfaces.empty()) return chosen;
   const auto [lo, hi] = sceneBounds(scene);
   const double diagonal = length(hi - lo);
@@ -113,9 +113,10 @@ ChosenCamera defaultCamera(const Scene& scene) {
         seen += std::isfinite(freeDistance(*caster, from, d + right * x + up * y));
       }
     const double share = static_cast<double>(seen) / (kFanColumns * kFanRows);
-    // A view that sees more walls wins; among views alike within 3% the longer line.
-    if (share > bestSeen + 0.03 || (share > bestSeen - 0.03 && plus + minus > longest)) {
-      if (share > bestSeen) bestSeen = share;
+    // A view that sees more faces (less background through openings) wins; among views alike,
+    // the longer line.
+    if (share > bestSeen || (share == bestSeen && plus + minus > longest)) {
+      bestSeen = share;
       longest = plus + minus;
       look = d;
       forward = plus;
@@ -127,7 +128,7 @@ ChosenCamera defaultCamera(const Scene& scene) {
   chosen.camera.target = eye + look * std::max(forward, 1e-3 * diagonal);
   chosen.camera.up = up;
   chosen.camera.verticalFovDegrees = kInsideFovDegrees;
-  chosen.view = DefaultView::Inside;
+  chosen.source = CameraSource::Inside;
   return chosen;
 }
 
@@ -137,7 +138,17 @@ bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && 
 
 }  // namespace
 
-Result<Camera> sceneCamera(const Scene& scene, const CameraRequest& request) {
+const char* cameraSourceName(CameraSource source) {
+  switch (source) {
+    case CameraSource::Request: return "--eye/--target";
+    case CameraSource::Scene: return "scene";
+    case CameraSource::Inside: return "default, inside (closed scene)";
+    case CameraSource::Outside: return "default, outside (open scene)";
+  }
+  return "";
+}
+
+Result<ChosenCamera> sceneCamera(const Scene& scene, const CameraRequest& request) {
   if (request.eye.has_value() != request.target.has_value())
     return Error{request.eye ? "--eye needs --target: give the point the camera looks at (scene file coordinates)"
                              : "--target needs --eye: give where the camera stands (scene file coordinates)"};
@@ -146,14 +157,15 @@ Result<Camera> sceneCamera(const Scene& scene, const CameraRequest& request) {
   if (request.verticalFovDegrees && !(*request.verticalFovDegrees > 0 && *request.verticalFovDegrees < 180))
     return Error{"--fov must be a vertical field of view between 0 and 180 degrees"};
 
-  Camera camera;
+  ChosenCamera chosen{{}, CameraSource::Request};
+  Camera& camera = chosen.camera;
   if (request.eye) {
     camera.eye = scene.fileFrame.scenePoint(*request.eye);
     camera.target = scene.fileFrame.scenePoint(*request.target);
     camera.up = normalize(scene.fileFrame.sceneDirection(scene.fileFrame.up));
     camera.verticalFovDegrees = scene.cameraGiven ? scene.camera.verticalFovDegrees : Camera{}.verticalFovDegrees;
   } else {
-    camera = scene.cameraGiven ? scene.camera : defaultCamera(scene).camera;
+    chosen = scene.cameraGiven ? ChosenCamera{scene.camera, CameraSource::Scene} : defaultCamera(scene);
   }
   if (request.up) {
     if (!(length(*request.up) > 0)) return Error{"--up must not be zero"};
@@ -165,7 +177,7 @@ Result<Camera> sceneCamera(const Scene& scene, const CameraRequest& request) {
     return Error{"--target must differ from --eye (the camera looks from the eye towards the target)"};
   if (!(length(cross(normalize(view), camera.up)) > 1e-9))
     return Error{"--up must not be parallel to the view direction from --eye to --target: give another --up X,Y,Z"};
-  return camera;
+  return chosen;
 }
 
 }  // namespace lambert

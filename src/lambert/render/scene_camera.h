@@ -31,15 +31,18 @@ struct CameraRequest {
   std::optional<double> verticalFovDegrees;  // degrees, in (0, 180)
 };
 
-// How the default camera was found, for tests and stats.
-enum class DefaultView {
-  Inside,   // the scene is closed: the eye is in its largest open space
-  Outside,  // the scene is open: the eye is outside its bounds (cameraViewingScene)
+// Where the camera came from, for tests and stats.
+enum class CameraSource {
+  Request,  // eye and target given (CameraRequest)
+  Scene,    // the scene's own camera
+  Inside,   // default view of a closed scene: the eye is in its largest open space
+  Outside,  // default view of an open scene: the eye is outside its bounds (cameraViewingScene)
 };
+const char* cameraSourceName(CameraSource source);
 
 struct ChosenCamera {
   Camera camera;
-  DefaultView view = DefaultView::Outside;
+  CameraSource source = CameraSource::Outside;
 };
 
 // A camera for a scene that gives none, in scene coordinates (see the head of this file).
@@ -49,6 +52,6 @@ ChosenCamera defaultCamera(const Scene& scene);
 // the scene gives none). An error, naming the option, for a request that cannot be a camera: an
 // eye without a target, the target on the eye, an up that is zero or along the view, a field of
 // view outside (0°, 180°), a coordinate that is not finite.
-Result<Camera> sceneCamera(const Scene& scene, const CameraRequest& request);
+Result<ChosenCamera> sceneCamera(const Scene& scene, const CameraRequest& request);
 
 }  // namespace lambert

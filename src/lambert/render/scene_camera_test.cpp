@@ -149,9 +149,10 @@ TEST(SceneCameraTest, EyeAndTargetInAnMgfFilesZUpFrameLandWhereExpected) {
   request.eye = Vec3{1, 2, 1.5};
   request.target = Vec3{9, 2, 1.5};
   request.verticalFovDegrees = 50;
-  Result<Camera> camera = sceneCamera(scene, request);
-  ASSERT_TRUE(camera.ok()) << camera.error().message;
-  const PinholeCamera pinhole(*camera, 200, 100);
+  Result<ChosenCamera> chosen = sceneCamera(scene, request);
+  ASSERT_TRUE(chosen.ok()) << chosen.error().message;
+  EXPECT_EQ(chosen->source, CameraSource::Request);
+  const PinholeCamera pinhole(chosen->camera, 200, 100);
   // The target at the centre; a point 0.8 m above it in the file (z) above the centre by
   // f·0.8/8 pixels, f = 50 / tan(25°); a point 1 m to the file's +y (the camera's left, looking
   // along +x with z up) left of the centre.
@@ -167,9 +168,9 @@ TEST(SceneCameraTest, EyeAndTargetInAnMgfFilesZUpFrameLandWhereExpected) {
   EXPECT_NEAR(left.y, 50, 1e-9);
   // --up given in the file's frame: x up turns the picture a quarter.
   request.up = Vec3{0, 1, 0};
-  Result<Camera> turned = sceneCamera(scene, request);
+  Result<ChosenCamera> turned = sceneCamera(scene, request);
   ASSERT_TRUE(turned.ok());
-  const ScreenPoint sideways = *PinholeCamera(*turned, 200, 100).project(scene.fileFrame.scenePoint({9, 3, 1.5}));
+  const ScreenPoint sideways = *PinholeCamera(turned->camera, 200, 100).project(scene.fileFrame.scenePoint({9, 3, 1.5}));
   EXPECT_NEAR(sideways.x, 100, 1e-9);
   EXPECT_NEAR(sideways.y, 50 - focal * 1.0 / 8, 1e-9);
 }
@@ -177,7 +178,7 @@ TEST(SceneCameraTest, EyeAndTargetInAnMgfFilesZUpFrameLandWhereExpected) {
 TEST(SceneCameraTest, RequestsThatAreNoCameraAreRefused) {
   const Scene scene = quadScene(boxWalls({0, 0, 0}, {1, 1, 1}, true));
   auto refused = [&](CameraRequest r, const std::string& part) {
-    Result<Camera> c = sceneCamera(scene, r);
+    Result<ChosenCamera> c = sceneCamera(scene, r);
     ASSERT_FALSE(c.ok());
     EXPECT_NE(c.error().message.find(part), std::string::npos) << c.error().message;
   };
@@ -189,9 +190,10 @@ TEST(SceneCameraTest, RequestsThatAreNoCameraAreRefused) {
   refused({Vec3{0, 0, 0}, Vec3{1, 0, 0}, std::nullopt, 180.0}, "--fov");
   refused({Vec3{NAN, 0, 0}, Vec3{1, 0, 0}, std::nullopt, std::nullopt}, "--eye must be three finite numbers");
   // Only a field of view: the scene's own camera, narrowed.
-  Result<Camera> narrowed = sceneCamera(scene, {std::nullopt, std::nullopt, std::nullopt, 10.0});
+  Result<ChosenCamera> narrowed = sceneCamera(scene, {std::nullopt, std::nullopt, std::nullopt, 10.0});
   ASSERT_TRUE(narrowed.ok());
-  EXPECT_EQ(narrowed->verticalFovDegrees, 10);
+  EXPECT_EQ(narrowed->camera.verticalFovDegrees, 10);
+  EXPECT_EQ(narrowed->source, CameraSource::Inside);  // the closed cube has no camera of its own
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -201,7 +203,7 @@ TEST(SceneCameraTest, DefaultViewStandsInsideAClosedRoomAndSeesItLit) {
   const Scene scene = loadMgfRoom("inside", {10, 4, 3});
   ASSERT_FALSE(scene.surfaces.empty());
   const ChosenCamera chosen = defaultCamera(scene);
-  ASSERT_EQ(chosen.view, DefaultView::Inside);
+  ASSERT_EQ(chosen.source, CameraSource::Inside);
   const Vec3 eye = scene.fileFrame.filePoint(chosen.camera.eye);
   EXPECT_TRUE(eye.x > 0 && eye.x < 10 && eye.y > 0 && eye.y < 4 && eye.z > 0 && eye.z < 3) << eye.x << " " << eye.y << " " << eye.z;
   // Level, down the room's length (file x): within 25° of it (its longest lines of sight run
@@ -230,19 +232,19 @@ TEST(SceneCameraTest, OpenScenesAndObjectsKeepTheOutsideView) {
   walls.erase(std::remove_if(walls.begin(), walls.end(), [](const auto& q) { return q[0].z == 0 && q[2].z == 0; }), walls.end());
   ASSERT_EQ(walls.size(), 5u);
   const Scene open = quadScene(walls);
-  EXPECT_EQ(defaultCamera(open).view, DefaultView::Outside);
+  EXPECT_EQ(defaultCamera(open).source, CameraSource::Outside);
   EXPECT_LT(defaultCamera(open).camera.eye.z, 0);
   // A closed cube facing out (an object): every point inside sees backs.
-  EXPECT_EQ(defaultCamera(quadScene(boxWalls({0, 0, 0}, {1, 1, 1}, false))).view, DefaultView::Outside);
+  EXPECT_EQ(defaultCamera(quadScene(boxWalls({0, 0, 0}, {1, 1, 1}, false))).source, CameraSource::Outside);
   // The same cube facing in is a room.
-  EXPECT_EQ(defaultCamera(quadScene(boxWalls({0, 0, 0}, {1, 1, 1}, true))).view, DefaultView::Inside);
+  EXPECT_EQ(defaultCamera(quadScene(boxWalls({0, 0, 0}, {1, 1, 1}, true))).source, CameraSource::Inside);
   // A floor under the sky with a two-sided box standing on it: the box's inside is enclosed (its
   // twins face in), but the open space around it outweighs it.
   Scene floor = quadScene({facing({Vec3{-5, 0, -5}, Vec3{5, 0, -5}, Vec3{5, 0, 5}, Vec3{-5, 0, 5}}, {0, 1, 0})});
   floor.materials.push_back({"box", Rgb::gray(0.5), true});
   for (const auto& q : boxWalls({-1, 0.01, -1}, {1, 3, 1}, false)) floor.surfaces.push_back({"box", {q.begin(), q.end()}, 1, {}});
   addTwins(floor);
-  EXPECT_EQ(defaultCamera(floor).view, DefaultView::Outside);
+  EXPECT_EQ(defaultCamera(floor).source, CameraSource::Outside);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -296,7 +298,7 @@ TEST(SceneCameraTest, AutoExposureIsTheLogAverageKey) {
 TEST(SceneCameraTest, AutoExposureGivesTheSamePictureWhateverTheEmissionScale) {
   Scene scene = corridor(300);
   const ChosenCamera chosen = defaultCamera(scene);
-  ASSERT_EQ(chosen.view, DefaultView::Inside);
+  ASSERT_EQ(chosen.source, CameraSource::Inside);
   scene.camera = chosen.camera;
   SolutionImageOptions options;
   options.width = 80;
