@@ -12,9 +12,9 @@ namespace {
 
 constexpr int kGrid = 8;             // candidate points per axis of the bounds
 constexpr int kRays = 128;           // directions cast from each
-constexpr int kMaxEscaping = 1;      // an enclosed point: at most this many rays reach infinity
+constexpr int kMaxEscaping = 6;      // an enclosed point: at most this many rays (5%) reach infinity
 constexpr double kMaxBackShare = 0.05;  // … and at most this share meet the back of a one-sided face
-constexpr double kMinOpenShare = 0.1;   // an open point: more than this share escapes
+constexpr double kMinEnclosedShare = 0.1;  // a closed scene: at least this share of the points enclosed
 constexpr int kAzimuths = 64;        // horizontal view directions tried from the chosen point
 constexpr int kFanColumns = 9, kFanRows = 7;  // rays over the picture of each, 4:3
 constexpr double kInsideFovDegrees = 60;
@@ -37,6 +37,19 @@ double freeDistance(const RayCaster& caster, const Vec3& origin, const Vec3& dir
   return hit && hit->frontFace ? hit->t : INFINITY;
 }
 
+// How far a ray from a point inside the box [lo, hi] runs before it leaves it.
+double boundsExit(const Vec3& lo, const Vec3& hi, const Vec3& origin, const Vec3& direction) {
+  double t = INFINITY;
+  for (int axis = 0; axis < 3; ++axis) {
+    const double o = axis == 0 ? origin.x : axis == 1 ? origin.y : origin.z;
+    const double d = axis == 0 ? direction.x : axis == 1 ? direction.y : direction.z;
+    const double l = axis == 0 ? lo.x : axis == 1 ? lo.y : lo.z, h = axis == 0 ? hi.x : axis == 1 ? hi.y : hi.z;
+    if (d > 0) t = std::min(t, (h - o) / d);
+    if (d < 0) t = std::min(t, (l - o) / d);
+  }
+  return std::isfinite(t) ? std::max(t, 0.0) : 0.0;
+}
+
 }  // namespace
 
 ChosenCamera defaultCamera(const Scene& scene) {
@@ -52,7 +65,7 @@ ChosenCamera defaultCamera(const Scene& scene) {
   // The enclosed candidate with the longest mean free path.
   std::optional<Vec3> best;
   double bestFreePath = 0;
-  int enclosed = 0, open = 0;
+  int enclosed = 0;
   for (int i = 0; i < kGrid; ++i)
     for (int j = 0; j < kGrid; ++j)
       for (int k = 0; k < kGrid; ++k) {
@@ -73,17 +86,13 @@ ChosenCamera defaultCamera(const Scene& scene) {
           if (back > kMaxBackShare * kRays) break;
         }
         if (back > kMaxBackShare * kRays || front == 0) continue;  // behind a wall, or in a solid
-        if (escaping > kMaxEscaping) {
-          open += escaping > kMinOpenShare * kRays;
-          continue;
-        }
+        if (escaping > kMaxEscaping) continue;
         ++enclosed;
         const double freePath = distance / front;
         if (freePath > bestFreePath) bestFreePath = freePath, best = p;
       }
-  // Pockets inside closed objects (a two-sided sphere) in an open scene do not make it closed:
-  // the open space must not outweigh the enclosed.
-  if (!best || open >= enclosed) return chosen;
+  // Pockets inside closed objects (a two-sided sphere) in an open scene do not make it closed.
+  if (!best || enclosed < kMinEnclosedShare * kGrid * kGrid * kGrid) return chosen;
 
   // Up is the file's up (y in every loader's scene frame, z-up files included).
   const Vec3 up = normalize(scene.fileFrame.sceneDirection(scene.fileFrame.up));
@@ -102,8 +111,11 @@ ChosenCamera defaultCamera(const Scene& scene) {
   for (int a = 0; a < kAzimuths; ++a) {
     const double angle = 2 * kPi * a / kAzimuths;
     const Vec3 d = side * std::cos(angle) + ahead * std::sin(angle);
-    const double plus = freeDistance(*caster, eye, d), minus = freeDistance(*caster, eye, -d);
-    if (!std::isfinite(plus) || !std::isfinite(minus)) continue;
+    const double plus = freeDistance(*caster, eye, d);
+    if (!std::isfinite(plus)) continue;  // looking out through an opening
+    // Behind the eye an opening (a box open on one side): back to the scene's bounds.
+    double minus = freeDistance(*caster, eye, -d);
+    if (!std::isfinite(minus)) minus = boundsExit(lo, hi, eye, -d);
     const Vec3 from = eye - d * (0.8 * minus);
     const Vec3 right = normalize(cross(d, up));
     int seen = 0;

@@ -6,10 +6,11 @@
 // The chosen camera stands inside a closed scene (a building, a room: its walls face in) and
 // outside an open one (a box with an open side, an object). Closed is decided by casting rays
 // from a grid of points over the scene's bounds: a point is enclosed when its rays hit the fronts
-// of faces all round, almost none escaping to infinity or meeting the back of a one-sided face (a
-// point behind a wall, outside the building or inside a solid). The scene is closed when its
-// enclosed points outnumber its open ones (more than 10% of their rays escape), so that the
-// inside of a closed two-sided object in an open scene does not count. Among enclosed points the one
+// of faces all round, at most 5% escaping to infinity (through windows) and 5% meeting the back of
+// a one-sided face (a point behind a wall, outside the building or inside a solid). The scene is
+// closed when at least 10% of the points are enclosed, so that the inside of a closed two-sided
+// object in an open scene does not count (nor does the back of a box open on one side, as the
+// Cornell box). Among enclosed points the one
 // with the longest mean free path (the largest open space) is taken and raised to 55% of the
 // floor-to-ceiling height. Of 64 horizontal directions, the camera looks down the one whose view
 // (a 9 × 7 fan of rays over the picture, from the eye set back to 80% of the free distance

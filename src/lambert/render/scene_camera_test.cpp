@@ -226,14 +226,21 @@ TEST(SceneCameraTest, DefaultViewStandsInsideAClosedRoomAndSeesItLit) {
 }
 
 TEST(SceneCameraTest, OpenScenesAndObjectsKeepTheOutsideView) {
-  // A box with its front (z = 0) open, as the Cornell box: from inside, a sixth of every
-  // direction escapes.
-  std::vector<std::array<Vec3, 4>> walls = boxWalls({0, 0, 0}, {5, 5, 5}, true);
-  walls.erase(std::remove_if(walls.begin(), walls.end(), [](const auto& q) { return q[0].z == 0 && q[2].z == 0; }), walls.end());
-  ASSERT_EQ(walls.size(), 5u);
-  const Scene open = quadScene(walls);
-  EXPECT_EQ(defaultCamera(open).source, CameraSource::Outside);
-  EXPECT_LT(defaultCamera(open).camera.eye.z, 0);
+  // A stage: a box 5 wide and high, 1 deep, its front (z = 0) open: from anywhere inside, much
+  // of every direction escapes.
+  auto openBox = [](double depth) {
+    std::vector<std::array<Vec3, 4>> walls = boxWalls({0, 0, 0}, {5, 5, depth}, true);
+    walls.erase(std::remove_if(walls.begin(), walls.end(), [](const auto& q) { return q[0].z == 0 && q[2].z == 0; }), walls.end());
+    EXPECT_EQ(walls.size(), 5u);
+    return quadScene(walls);
+  };
+  const ChosenCamera stage = defaultCamera(openBox(1));
+  EXPECT_EQ(stage.source, CameraSource::Outside);
+  EXPECT_LT(stage.camera.eye.z, 0);
+  // As deep as it is wide (the Cornell box's proportions): still open, seen from in front.
+  const ChosenCamera box = defaultCamera(openBox(5));
+  EXPECT_EQ(box.source, CameraSource::Outside);
+  EXPECT_LT(box.camera.eye.z, 0);
   // A closed cube facing out (an object): every point inside sees backs.
   EXPECT_EQ(defaultCamera(quadScene(boxWalls({0, 0, 0}, {1, 1, 1}, false))).source, CameraSource::Outside);
   // The same cube facing in is a room.
