@@ -50,6 +50,27 @@ double boundsExit(const Vec3& lo, const Vec3& hi, const Vec3& origin, const Vec3
   return std::isfinite(t) ? std::max(t, 0.0) : 0.0;
 }
 
+// Which way is up for the default view: the file's up axis, unless the emitters' mean normal (by
+// area; ceiling lights face down) lies within 30° of another axis of the file's frame pointing
+// down, as in MGF files written y-up. Back twins are left out (they would cancel their fronts).
+Vec3 viewUp(const Scene& scene) {
+  const Vec3 fileUp = normalize(scene.fileFrame.sceneDirection(scene.fileFrame.up));
+  Vec3 facing;
+  for (std::size_t s = 0; s < scene.surfaces.size(); ++s) {
+    const Surface& surface = scene.surfaces[s];
+    if (surface.emittedRadiance.maxComponent() <= 0 || (surface.twin >= 0 && static_cast<std::size_t>(surface.twin) < s)) continue;
+    facing = facing + surfaceNormal(surface) * surfaceArea(surface);
+  }
+  if (!(length(facing) > 0)) return fileUp;
+  const Vec3 down = normalize(facing);
+  for (const Vec3& axis : {Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}})
+    for (double sign : {1.0, -1.0}) {
+      const Vec3 up = normalize(scene.fileFrame.sceneDirection(axis * sign));
+      if (dot(down, -up) > std::cos(30 * kPi / 180)) return up;
+    }
+  return fileUp;
+}
+
 }  // namespace
 
 ChosenCamera defaultCamera(const Scene& scene) {
@@ -94,8 +115,7 @@ ChosenCamera defaultCamera(const Scene& scene) {
   // Pockets inside closed objects (a two-sided sphere) in an open scene do not make it closed.
   if (!best || enclosed < kMinEnclosedShare * kGrid * kGrid * kGrid) return chosen;
 
-  // Up is the file's up (y in every loader's scene frame, z-up files included).
-  const Vec3 up = normalize(scene.fileFrame.sceneDirection(scene.fileFrame.up));
+  const Vec3 up = viewUp(scene);
   Vec3 eye = *best;
   const double down = freeDistance(*caster, eye, -up), above = freeDistance(*caster, eye, up);
   if (std::isfinite(down) && std::isfinite(above)) eye = eye + up * (0.55 * (down + above) - down);

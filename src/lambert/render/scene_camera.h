@@ -12,7 +12,8 @@
 // object in an open scene does not count (nor does the back of a box open on one side, as the
 // Cornell box). Among enclosed points the one
 // with the longest mean free path (the largest open space) is taken and raised to 55% of the
-// floor-to-ceiling height. Of 64 horizontal directions, the camera looks down the one whose view
+// floor-to-ceiling height. Up is the file's up axis, unless the emitters' mean normal points down
+// another axis of the file's frame (ceiling lights; MGF files written y-up). Of 64 horizontal directions, the camera looks down the one whose view
 // (a 9 × 7 fan of rays over the picture, from the eye set back to 80% of the free distance
 // behind it) meets the most front faces, the longest line of sight among views alike. Cost: one
 // BVH over the scene and about 8³ × 128 + 64 × 65 rays, milliseconds for 10⁵ faces.

@@ -225,6 +225,23 @@ TEST(SceneCameraTest, DefaultViewStandsInsideAClosedRoomAndSeesItLit) {
   EXPECT_EQ(lit, 64 * 48);
 }
 
+// A file written with another axis up (MGF files y-up): the ceiling light, facing down that axis,
+// says which way is up for the default view.
+TEST(SceneCameraTest, DefaultViewTakesUpFromTheCeilingLights) {
+  Scene scene = quadScene(boxWalls({0, 0, 0}, {3, 4, 6}, true));
+  scene.materials.push_back({"lamp", Rgb::gray(0.2)});
+  scene.surfaces.push_back({"lamp", {{2.95, 1.5, 2.5}, {2.95, 2.5, 2.5}, {2.95, 2.5, 3.5}, {2.95, 1.5, 3.5}}, 1, Rgb::gray(10)});
+  if (surfaceNormal(scene.surfaces.back()).x > 0) std::reverse(scene.surfaces.back().vertices.begin(), scene.surfaces.back().vertices.end());
+  const ChosenCamera chosen = defaultCamera(scene);
+  ASSERT_EQ(chosen.source, CameraSource::Inside);
+  EXPECT_NEAR(length(chosen.camera.up - Vec3{1, 0, 0}), 0, 1e-12);
+  // Level with respect to that up: the view runs across x.
+  EXPECT_NEAR(chosen.camera.target.x - chosen.camera.eye.x, 0, 1e-9);
+  // Without the light, the file's own up (y).
+  scene.surfaces.pop_back();
+  EXPECT_NEAR(length(defaultCamera(scene).camera.up - Vec3{0, 1, 0}), 0, 1e-12);
+}
+
 TEST(SceneCameraTest, OpenScenesAndObjectsKeepTheOutsideView) {
   // A stage: a box 5 wide and high, 1 deep, its front (z = 0) open: from anywhere inside, much
   // of every direction escapes.
