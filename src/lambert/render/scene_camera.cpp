@@ -79,6 +79,14 @@ ChosenCamera defaultCamera(const Scene& scene) {
   const auto [lo, hi] = sceneBounds(scene);
   const double diagonal = length(hi - lo);
   if (!(diagonal > 0) || !std::isfinite(diagonal)) return chosen;
+  // Outside: from in front (−z), raised 25° above the horizon, so that a floor and what stands on
+  // it are seen from above rather than edge-on.
+  const Vec3 up = viewUp(scene);
+  Vec3 front = Vec3{0, 0, -1} - up * dot(Vec3{0, 0, -1}, up);
+  front = length(front) > 1e-6 ? normalize(front) : normalize(Vec3{1, 0, 0} - up * dot(Vec3{1, 0, 0}, up));
+  const double elevation = 25 * kPi / 180;
+  chosen.camera.eye = chosen.camera.target + (front * std::cos(elevation) + up * std::sin(elevation)) * (1.5 * diagonal);
+  chosen.camera.up = up;
   const Mesh mesh = subdivideScene(scene, 2 * diagonal);
   const std::unique_ptr<RayCaster> caster = makeEmbreeRayCaster(mesh);
   const std::vector<Vec3> directions = sphereDirections();
@@ -115,7 +123,6 @@ ChosenCamera defaultCamera(const Scene& scene) {
   // Pockets inside closed objects (a two-sided sphere) in an open scene do not make it closed.
   if (!best || enclosed < kMinEnclosedShare * kGrid * kGrid * kGrid) return chosen;
 
-  const Vec3 up = viewUp(scene);
   Vec3 eye = *best;
   const double down = freeDistance(*caster, eye, -up), above = freeDistance(*caster, eye, up);
   if (std::isfinite(down) && std::isfinite(above)) eye = eye + up * (0.55 * (down + above) - down);

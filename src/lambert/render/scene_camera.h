@@ -38,7 +38,7 @@ enum class CameraSource {
   Request,  // eye and target given (CameraRequest)
   Scene,    // the scene's own camera
   Inside,   // default view of a closed scene: the eye is in its largest open space
-  Outside,  // default view of an open scene: the eye is outside its bounds (cameraViewingScene)
+  Outside,  // default view of an open scene: from in front (−z), 25° above the horizon, 1.5 diagonals away
 };
 const char* cameraSourceName(CameraSource source);
 

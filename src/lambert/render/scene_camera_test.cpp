@@ -268,7 +268,12 @@ TEST(SceneCameraTest, OpenScenesAndObjectsKeepTheOutsideView) {
   floor.materials.push_back({"box", Rgb::gray(0.5), true});
   for (const auto& q : boxWalls({-1, 0.01, -1}, {1, 3, 1}, false)) floor.surfaces.push_back({"box", {q.begin(), q.end()}, 1, {}});
   addTwins(floor);
-  EXPECT_EQ(defaultCamera(floor).source, CameraSource::Outside);
+  const ChosenCamera outside = defaultCamera(floor);
+  EXPECT_EQ(outside.source, CameraSource::Outside);
+  // From in front and above (25°), not edge-on to the floor.
+  const Vec3 view = normalize(outside.camera.target - outside.camera.eye);
+  EXPECT_NEAR(view.y, -std::sin(25 * kPi / 180), 1e-9);
+  EXPECT_GT(view.z, 0);
 }
 
 // ---------------------------------------------------------------------------------------------
