@@ -520,10 +520,94 @@ TEST(CliTest, ShippedScenesRenderLit) {
     ASSERT_TRUE(image.ok());
     double sum = 0;
     for (std::uint8_t v : image->rgb8) sum += v;
-    if (scene != "floor/floor.mgf") {  // the .mgf has no camera: the default one sees its outside
-      EXPECT_GT(sum / image->rgb8.size(), 20) << scene << " is dark";
-    }
+    // floor.mgf has no camera: the default one stands inside the storey.
+    EXPECT_GT(sum / image->rgb8.size(), 20) << scene << " is dark";
   }
+}
+
+// A closed room written as MGF (z up): 10 × 4 × 3 m, one-sided walls facing in, a lamp under the
+// ceiling.
+std::string mgfRoom() {
+  std::string mgf = "m wall =\n\tc\n\t\tcxy .3333333333 .3333333333\n\trd .5\n\tsides 1\n";
+  const double corners[8][3] = {{0, 0, 0}, {10, 0, 0}, {10, 4, 0}, {0, 4, 0}, {0, 0, 3}, {10, 0, 3}, {10, 4, 3}, {0, 4, 3}};
+  for (int i = 0; i < 8; ++i)
+    mgf += "v c" + std::to_string(i) + " =\n\tp " + std::to_string(corners[i][0]) + " " + std::to_string(corners[i][1]) + " " +
+           std::to_string(corners[i][2]) + "\n";
+  // Counter-clockwise seen from inside.
+  mgf += "f c0 c1 c2 c3\nf c4 c7 c6 c5\nf c0 c4 c5 c1\nf c3 c2 c6 c7\nf c0 c3 c7 c4\nf c1 c5 c6 c2\n";
+  mgf += "m lamp =\n\tc\n\t\tcxy .3333333333 .3333333333\n\ted 300\n\trd .2\n";
+  mgf += "v l0 =\n\tp 4.5 1.5 2.95\nv l1 =\n\tp 5.5 1.5 2.95\nv l2 =\n\tp 5.5 2.5 2.95\nv l3 =\n\tp 4.5 2.5 2.95\n";
+  mgf += "f l0 l3 l2 l1\n";  // facing down
+  return mgf;
+}
+
+double meanValue(const fs::path& png) {
+  Result<PngImage> image = readPng(png.string());
+  EXPECT_TRUE(image.ok());
+  if (!image.ok()) return 0;
+  double sum = 0;
+  for (std::uint8_t v : image->rgb8) sum += v;
+  return sum / static_cast<double>(image->rgb8.size());
+}
+
+// --eye/--target/--up/--fov in the file's own frame on every command that draws, their
+// refusals, info's bounds in that frame, and the exposure each picture was taken at.
+TEST(CliTest, CameraOptionsInTheFilesFrameAndAutomaticExposure) {
+  fs::path dir = outputDir("camera");
+  const std::string room = (dir / "room.mgf").string();
+  std::ofstream(room) << mgfRoom();
+  auto json = [](const CommandResult& r) { return nlohmann::json::parse(r.output.substr(r.output.find('{'))); };
+
+  CommandResult info = run("info --scene " + room + " --json");
+  ASSERT_EQ(info.exitCode, 0) << info.output;
+  EXPECT_EQ(json(info)["bounds_file"], "(0, 0, 0) to (10, 4, 3)");
+  EXPECT_EQ(json(info)["up_file"], "0,0,1");
+
+  const std::string common = " --scene " + room + " --method flat --patches 300 --width 48 --height 36 --json";
+  // No camera anywhere: the default view is inside the room, exposed automatically.
+  CommandResult inside = run("render" + common + " -o " + (dir / "default.png").string());
+  ASSERT_EQ(inside.exitCode, 0) << inside.output;
+  EXPECT_EQ(json(inside)["exposure_source"], "automatic (log-average luminance)");
+  EXPECT_GT(meanValue(dir / "default.png"), 60);
+  // RenderPark's way: from outside the room, through the (culled) near wall.
+  CommandResult outside = run("render" + common + " --eye -3,2,1.5 --target 5,2,1.5 --fov 50 -o " + (dir / "outside.png").string());
+  ASSERT_EQ(outside.exitCode, 0) << outside.output;
+  EXPECT_GT(meanValue(dir / "outside.png"), 40);
+  CommandResult fixed = run("render" + common + " --eye 1,2,1.5 --target 9,2,1.5 --exposure -2 -o " + (dir / "fixed.png").string());
+  ASSERT_EQ(fixed.exitCode, 0) << fixed.output;
+  EXPECT_EQ(json(fixed)["exposure_source"], "--exposure");
+  EXPECT_EQ(json(fixed)["exposure_stops"], -2);
+  // The calibrated built-in scene keeps its exposure.
+  CommandResult cornell = run("render --scene cornell --patches 64 --width 16 --height 16 --json -o " + (dir / "cornell.png").string());
+  ASSERT_EQ(cornell.exitCode, 0) << cornell.output;
+  EXPECT_EQ(json(cornell)["exposure_source"], "scene");
+  EXPECT_EQ(json(cornell)["exposure_stops"], 0);
+  // The path tracer takes the same camera.
+  CommandResult traced = run("reference --scene " + room + " --eye 1,2,1.5 --target 9,2,1.5 --spp 2 --width 24 --height 18 -q -o " +
+                             (dir / "traced.png").string());
+  ASSERT_EQ(traced.exitCode, 0) << traced.output;
+  EXPECT_GT(meanValue(dir / "traced.png"), 30);
+
+  for (const auto& [options, message] : std::vector<std::pair<std::string, std::string>>{
+           {"--eye 1,2 --target 9,2,1.5", "--eye '1,2': expected X,Y,Z"},
+           {"--eye 1,2,x --target 9,2,1.5", "expected X,Y,Z"},
+           {"--eye 1,2,1.5", "--eye needs --target"},
+           {"--target 1,2,1.5", "--target needs --eye"},
+           {"--eye 1,2,1.5 --target 1,2,1.5", "--target must differ from --eye"},
+           {"--eye 1,2,1.5 --target 1,2,3", "--up must not be parallel"},
+           {"--eye 1,2,1.5 --target 9,2,1.5 --up 0,0,0", "--up must not be zero"},
+           {"--eye 1,2,1.5 --target 9,2,1.5 --fov 180", "--fov must be a vertical field of view"}}) {
+    CommandResult r = run("render" + common + " " + options + " -o " + (dir / "never.png").string());
+    EXPECT_EQ(r.exitCode, 2) << options << ": " << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << options << ": " << r.output;
+  }
+  EXPECT_FALSE(fs::exists(dir / "never.png"));
+  CommandResult noImage = run("reference --scene " + room + " --eye 1,2,1.5 --target 9,2,1.5 --export-vertices " + (dir / "v.csv").string());
+  EXPECT_EQ(noImage.exitCode, 2);
+  EXPECT_NE(noImage.output.find("--eye has no effect"), std::string::npos) << noImage.output;
+  CommandResult animated = run("animate --scene " + room + " --method flat --patches 200 --frames 1 --width 16 --height 12 -q --fov 70 -o " +
+                               (dir / "frames").string());
+  EXPECT_EQ(animated.exitCode, 0) << animated.output;
 }
 
 // The Khronos glTF-Validator (installed by scripts/install-deps.sh from npm where npm is) finds no

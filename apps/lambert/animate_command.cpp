@@ -21,6 +21,7 @@ namespace {
 struct AnimateCommandOptions {
   SolveCommandOptions solve;
   ImageCommandOptions image;
+  CameraCommandOptions camera;
   int frames = 120;
   double fps = 30;
   long long shotsPerFrame = 0;    // shoot
@@ -57,6 +58,8 @@ int runAnimate(const AnimateCommandOptions& o) {
   std::optional<Scene> scene = findScene("animate", o.solve);
   if (!scene) return 2;
   if (Status ok = checkImageOptions(*scene, o.image); !ok) return fail("animate", ok.error().message);
+  Stats cameraStats;
+  if (Status ok = chooseCamera(*scene, o.camera, cameraStats); !ok) return fail("animate", ok.error().message);
   // The budget suits the solver (which the scene file may choose) before anything is computed.
   Result<RadiosityOptions> chosen = radiosityOptions(*scene, o.solve);
   if (!chosen) return fail("animate", chosen.error().message);
@@ -75,6 +78,9 @@ int runAnimate(const AnimateCommandOptions& o) {
   std::filesystem::path directory(o.output);
   Summary inject, solve, render, frameTime, unshot, elements;
   long long iterations = 0;
+  // Every frame at the first frame's exposure, so that what changes is the light, not the camera.
+  std::optional<double> exposure;
+  Stats exposureStats;
   Progress progress("frames", static_cast<std::uint64_t>(o.frames), !o.solve.quiet && !o.solve.json);
   for (int frame = 0; frame < o.frames; ++frame) {
     Timer frameTimer;
@@ -91,9 +97,10 @@ int runAnimate(const AnimateCommandOptions& o) {
 
     Timer renderTimer;
     Image image = renderSolution(engine->solution(), o.image.image);
+    if (!exposure) exposure = imageExposureStops(o.image, o.image.exposure, *scene, image, exposureStats);
     char name[32];
     std::snprintf(name, sizeof name, "frame_%04d.png", frame + 1);
-    Status written = writePng((directory / name).string(), image.width, image.height, toSrgb8(image, o.image.exposure));
+    Status written = writePng((directory / name).string(), image.width, image.height, toSrgb8(image, *exposure));
     if (!written) {
       std::fprintf(stderr, "lambert animate: %s\n", written.error().message.c_str());
       (void)engine->saveCache();  // the form factors computed so far are still good
@@ -111,6 +118,8 @@ int runAnimate(const AnimateCommandOptions& o) {
   // totals over all frames; the per-frame figures follow.
   Stats stats = engine->stats();
   stats.add("frames", "frames", static_cast<std::int64_t>(o.frames));
+  stats.append(cameraStats);
+  stats.append(exposureStats);
   stats.add("iterations_all_frames", solver == SolverKind::Shooting ? "shots (all frames)" : "iterations (all frames)",
             static_cast<std::int64_t>(iterations));
   if (o.solve.adaptive) {
@@ -147,6 +156,7 @@ std::function<int()> addAnimateCommand(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("animate", "Render a PNG sequence (and an MP4 with ffmpeg) of a scene's moving lights");
   addSolveOptions(*cmd, options->solve);
   addImageOptions(*cmd, options->image);
+  addCameraOptions(*cmd, options->camera);
   cmd->add_option("--frames", options->frames, "Number of frames")->check(CLI::Range(1, 100000))->capture_default_str();
   cmd->add_option("--fps", options->fps, "Frames per second of scene time")->check(CLI::Range(0.001, 10000.0))->capture_default_str();
   cmd->add_option("--shots-per-frame", options->shotsPerFrame, "Radiosity budget per frame in shots (shoot; 0: to the tolerance)")

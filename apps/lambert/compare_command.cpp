@@ -18,6 +18,7 @@ namespace {
 struct CompareCommandOptions {
   SolveCommandOptions solve;
   ImageCommandOptions image;
+  CameraCommandOptions camera;
   ReferenceOptions reference;
   double rimDistance = -1;  // scene units; negative: 5% of the scene's diagonal
   std::string radiosityVertices, referenceVertices;
@@ -50,7 +51,8 @@ void addError(Stats& stats, const std::string& prefix, const std::string& what, 
 Status checkSources(const CompareCommandOptions& o) {
   const bool radiosityFile = !o.radiosityVertices.empty(), referenceFile = !o.referenceVertices.empty();
   const std::initializer_list<const char*> imageOptions = {"--width", "--height", "--shading", "--lighting", "--supersample",
-                                                           "--exposure", "--radiosity-image", "--reference-image"};
+                                                           "--exposure", "--radiosity-image", "--reference-image",
+                                                           "--eye", "--target", "--up", "--fov"};
   if (radiosityFile) {
     if (Status s = refuseGiven(o.solve, solveOnlyOptions(), "the radiosity side comes from --radiosity-vertices"); !s) return s;
     const std::string why = "images are compared only when compare solves (not with --radiosity-vertices)";
@@ -77,6 +79,9 @@ int runCompare(const CompareCommandOptions& o) {
   if (!scene) return 2;
   if (Status ok = checkSources(o); !ok) return fail("compare", ok.error().message);
   if (Status ok = checkImageOptions(*scene, o.image); !ok) return fail("compare", ok.error().message);
+  Stats cameraStats;
+  if (o.radiosityVertices.empty() && !o.noImage)
+    if (Status ok = chooseCamera(*scene, o.camera, cameraStats); !ok) return fail("compare", ok.error().message);
   for (const std::string& path : {o.radiosityImage, o.referenceImage})
     if (!path.empty())
       if (Status ok = checkImagePath(path, o.image); !ok) return fail("compare", ok.error().message);
@@ -133,9 +138,12 @@ int runCompare(const CompareCommandOptions& o) {
     Image mine = renderSolution(engine->solution(), o.image.image);
     Image truth = tracer().render(o.image.image.width, o.image.image.height);
     addError(stats, "image", "image", radianceError(mine.pixels, truth.pixels));
+    stats.append(cameraStats);
+    // Both images at the radiosity image's exposure, so that they compare by eye.
+    const double exposure = imageExposureStops(o.image, o.image.exposure, *scene, mine, stats);
     for (auto [path, image] : {std::pair{o.radiosityImage, &mine}, std::pair{o.referenceImage, &truth}}) {
       if (path.empty()) continue;
-      Status written = writeImageFile(path, *image, o.image.exposure);
+      Status written = writeImageFile(path, *image, exposure);
       if (!written) {
         std::fprintf(stderr, "lambert compare: %s\n", written.error().message.c_str());
         return 1;
@@ -158,6 +166,7 @@ std::function<int()> addCompareCommand(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("compare", "Measure a radiosity solution against the path-traced reference");
   addSolveOptions(*cmd, options->solve);
   addImageOptions(*cmd, options->image);
+  addCameraOptions(*cmd, options->camera);
   addReferenceOptions(*cmd, options->reference);
   cmd->add_option("--rim-distance", options->rimDistance,
                   "Leave out vertices this close to an emitter, scene units (default 5% of the scene's diagonal)");

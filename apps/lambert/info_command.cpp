@@ -49,6 +49,19 @@ int runInfo(const InfoCommandOptions& o) {
   char bounds[160];
   std::snprintf(bounds, sizeof bounds, "(%g, %g, %g) to (%g, %g, %g)", lo.x, lo.y, lo.z, hi.x, hi.y, hi.z);
   stats.add("bounds", "bounds (scene units)", std::string(bounds));
+  // The same box in the file's own coordinates, the frame --eye and --target are given in.
+  Bounds file{{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
+  for (const Surface& s : scene->surfaces)
+    for (const Vec3& p : s.vertices) {
+      const Vec3 q = scene->fileFrame.filePoint(p);
+      file.lo = componentMin(file.lo, q);
+      file.hi = componentMax(file.hi, q);
+    }
+  std::snprintf(bounds, sizeof bounds, "(%g, %g, %g) to (%g, %g, %g)", file.lo.x, file.lo.y, file.lo.z, file.hi.x, file.hi.y, file.hi.z);
+  stats.add("bounds_file", "bounds (file coordinates, for --eye/--target)", std::string(bounds));
+  const Vec3 up = scene->fileFrame.up;
+  std::snprintf(bounds, sizeof bounds, "%g,%g,%g", up.x, up.y, up.z);
+  stats.add("up_file", "up axis (file coordinates)", std::string(bounds));
   stats.add("area_m2", "surface area", area * m2, "m2");
   stats.add("emitted_watts", "power emitted by surfaces (RGB summed)", emittedWatts, "W");
 

@@ -3,13 +3,16 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <cmath>
 #include <map>
+#include <tuple>
 
 #include "lambert/core/text.h"
 #include "lambert/core/warning.h"
 #include "lambert/io/exr.h"
 #include "lambert/io/png.h"
 #include "lambert/mesh/mesh.h"
+#include "lambert/render/scene_camera.h"
 #include "lambert/render/tonemap.h"
 #include "lambert/scene/scene_file.h"
 #include "lambert/version.h"
@@ -159,7 +162,73 @@ void addImageOptions(CLI::App& cmd, ImageCommandOptions& o) {
       ->transform(CLI::CheckedTransformer(std::map<std::string, Lighting>{{"hybrid", Lighting::Hybrid}, {"radiosity", Lighting::Radiosity}}))
       ->default_str("hybrid");
   cmd.add_option("--supersample", o.image.supersample, "Samples per pixel along each axis")->check(CLI::Range(1, 8))->capture_default_str();
-  cmd.add_option("--exposure", o.exposure, "Exposure in stops (radiance × 2^stops before sRGB)")->capture_default_str();
+  cmd.add_option("--exposure", o.exposure, "Exposure in stops (radiance × 2^stops before sRGB)")
+      ->default_str("the scene's, else automatic (log-average luminance to middle grey)");
+}
+
+void addCameraOptions(CLI::App& cmd, CameraCommandOptions& o) {
+  o.command = &cmd;
+  cmd.add_option("--eye", o.eye, "Camera position X,Y,Z in the scene file's own coordinates and unit (an MGF file's z-up metres)");
+  cmd.add_option("--target", o.target, "Point X,Y,Z the camera looks at (with --eye), scene file coordinates");
+  cmd.add_option("--up", o.up, "Camera up direction X,Y,Z in scene file coordinates (default: the file's up axis)");
+  cmd.add_option("--fov", o.fovDegrees, "Vertical field of view in degrees (default: the scene camera's, else 40; 60 inside)")
+      ->check(CLI::Range(0.0, 180.0));
+}
+
+namespace {
+
+// "X,Y,Z" as three finite numbers, or an error naming the option.
+Result<Vec3> parseTriple(const std::string& option, const std::string& text) {
+  double v[3];
+  std::size_t at = 0;
+  for (int i = 0; i < 3; ++i) {
+    const std::size_t end = i < 2 ? text.find(',', at) : text.size();
+    const std::string part = end == std::string::npos ? "" : text.substr(at, end - at);
+    char* stop = nullptr;
+    v[i] = part.empty() ? NAN : std::strtod(part.c_str(), &stop);
+    if (part.empty() || stop != part.c_str() + part.size() || !std::isfinite(v[i]) || (i == 2 && text.find(',', at) != std::string::npos))
+      return Error{option + " '" + text + "': expected X,Y,Z, three finite numbers separated by commas (e.g. " + option + " 0,1.5,-2)"};
+    at = end + 1;
+  }
+  return Vec3{v[0], v[1], v[2]};
+}
+
+}  // namespace
+
+Status chooseCamera(Scene& scene, const CameraCommandOptions& o, Stats& stats) {
+  CameraRequest request;
+  for (auto [option, text, slot] : {std::tuple{"--eye", &o.eye, &request.eye}, std::tuple{"--target", &o.target, &request.target},
+                                    std::tuple{"--up", &o.up, &request.up}}) {
+    if (!o.given(option)) continue;
+    Result<Vec3> v = parseTriple(option, *text);
+    if (!v) return v.error();
+    *slot = *v;
+  }
+  if (o.given("--fov")) request.verticalFovDegrees = o.fovDegrees;
+  Result<ChosenCamera> chosen = sceneCamera(scene, request);
+  if (!chosen) return chosen.error();
+  scene.camera = chosen->camera;
+  scene.cameraGiven = true;
+  auto triple = [](const Vec3& v) {
+    char text[96];
+    std::snprintf(text, sizeof text, "%.6g,%.6g,%.6g", v.x, v.y, v.z);
+    return std::string(text);
+  };
+  const FileFrame& frame = scene.fileFrame;
+  stats.add("camera", "camera from", std::string(cameraSourceName(chosen->source)));
+  stats.add("camera_eye", "camera eye (file coordinates)", triple(frame.filePoint(scene.camera.eye)));
+  stats.add("camera_target", "camera target (file coordinates)", triple(frame.filePoint(scene.camera.target)));
+  stats.add("camera_up", "camera up (file coordinates)", triple(frame.filePoint(frame.offset + scene.camera.up)));
+  stats.add("camera_fov", "camera vertical field of view", scene.camera.verticalFovDegrees, "degrees");
+  return Ok{};
+}
+
+double imageExposureStops(const GivenOptions& given, double exposureOption, const Scene& scene, const Image& image, Stats& stats) {
+  const double stops = given.given("--exposure") ? exposureOption : sceneExposureStops(scene, image);
+  stats.add("exposure_stops", "exposure", stops, "stops");
+  stats.add("exposure_source", "exposure from",
+            std::string(given.given("--exposure") ? "--exposure" : scene.exposureStops ? "scene" : "automatic (log-average luminance)"));
+  return stops;
 }
 
 namespace {

@@ -71,6 +71,13 @@ struct ImageCommandOptions : GivenOptions {
   double exposure = 0;
 };
 
+// --eye, --target, --up, --fov: the camera, in the scene file's own frame and unit
+// (render/scene_camera.h), each "X,Y,Z" or degrees.
+struct CameraCommandOptions : GivenOptions {
+  std::string eye, target, up;
+  double fovDegrees = 0;
+};
+
 // --export FILE.glb and --bake: the solved scene for Blender and engines (io/gltf_export.h).
 struct ExportCommandOptions : GivenOptions {
   std::string glb;
@@ -85,6 +92,17 @@ Status checkExportOptions(const ExportCommandOptions& options);
 Status exportSolution(const ExportCommandOptions& options, const SolutionView& solution, double exposureStops);
 void addSolveOptions(CLI::App& command, SolveCommandOptions& options);
 void addImageOptions(CLI::App& command, ImageCommandOptions& options);
+void addCameraOptions(CLI::App& command, CameraCommandOptions& options);
+
+// Sets scene.camera to the camera to draw from: --eye/--target/--up/--fov over the scene's own
+// camera, or the library's default view where the scene has none (render/scene_camera.h). An
+// error for a value that is not a camera.
+// Where it came from and where it is (file coordinates) go into the stats.
+Status chooseCamera(Scene& scene, const CameraCommandOptions& options, Stats& stats);
+
+// The exposure (stops) an image is written at: --exposure where given, else the scene's own, else
+// automatic from the image (render/tonemap.h); how it was chosen goes into the stats.
+double imageExposureStops(const GivenOptions& given, double exposureOption, const Scene& scene, const Image& image, Stats& stats);
 
 // The options that only a solve reads (form factors, lights, solver, cache, meshing), for
 // commands that may take their solution from a file instead.

@@ -17,6 +17,7 @@ namespace {
 struct ReferenceCommandOptions {
   MeshCommandOptions mesh;
   ReferenceOptions reference;
+  CameraCommandOptions camera;
   int width = 512, height = 512;
   double exposure = 0;
   std::string output;          // image; none unless asked for
@@ -36,8 +37,13 @@ int runReference(const ReferenceCommandOptions& o) {
   if (!o.output.empty())
     if (Status s = checkImagePath(o.output, o.mesh); !s) return fail("reference", s.error().message);
   if (o.output.empty())
-    if (Status s = refuseGiven(o.mesh, {"--spp", "--width", "--height", "--exposure"}, "they shape the image, and no -o IMAGE.png is asked for"); !s)
+    if (Status s = refuseGiven(o.mesh, {"--spp", "--width", "--height", "--exposure", "--eye", "--target", "--up", "--fov"},
+                               "they shape the image, and no -o IMAGE.png is asked for");
+        !s)
       return fail("reference", s.error().message);
+  Stats cameraStats;
+  if (!o.output.empty())
+    if (Status s = chooseCamera(*scene, o.camera, cameraStats); !s) return fail("reference", s.error().message);
   ReferenceOptions options = o.reference;
   options.seed = o.mesh.seed;
   options.showProgress = !o.quiet && !o.json;
@@ -47,6 +53,7 @@ int runReference(const ReferenceCommandOptions& o) {
 
   Stats stats;
   stats.add("scene", "scene", scene->name);
+  stats.append(cameraStats);
   if (!o.exportVertices.empty()) {
     Timer timer;
     Mesh mesh = uniformMesh(*scene, uniformMeshOptions(*scene, o.mesh));
@@ -64,7 +71,8 @@ int runReference(const ReferenceCommandOptions& o) {
   if (!o.output.empty()) {
     Timer timer;
     Image image = renderer.render(o.width, o.height);
-    Status written = writeImageFile(o.output, image, o.exposure);
+    const double exposure = imageExposureStops(o.mesh, o.exposure, *scene, image, stats);
+    Status written = writeImageFile(o.output, image, exposure);
     if (!written) {
       std::fprintf(stderr, "lambert reference: %s\n", written.error().message.c_str());
       return 1;
@@ -98,7 +106,9 @@ std::function<int()> addReferenceCommand(CLI::App& app) {
   addReferenceOptions(*cmd, options->reference);
   cmd->add_option("--width", options->width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
   cmd->add_option("--height", options->height, "Image height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
-  cmd->add_option("--exposure", options->exposure, "Exposure in stops")->capture_default_str();
+  cmd->add_option("--exposure", options->exposure, "Exposure in stops (radiance × 2^stops before sRGB)")
+      ->default_str("the scene's, else automatic (log-average luminance to middle grey)");
+  addCameraOptions(*cmd, options->camera);
   cmd->add_option("-o,--output", options->output, "Image to write: .png or .exr (linear float radiance)");
   cmd->add_option("--export-vertices", options->exportVertices,
                   "Write outgoing radiance at every vertex of the mesh --patches/--max-edge builds (.csv or .ply)");

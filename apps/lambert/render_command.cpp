@@ -13,6 +13,7 @@ namespace {
 struct RenderCommandOptions {
   SolveCommandOptions solve;
   ImageCommandOptions image;
+  CameraCommandOptions camera;
   ExportCommandOptions exported;
   std::string output = "out/cornell.png";
 };
@@ -24,6 +25,8 @@ int runRender(const RenderCommandOptions& o) {
   if (Status ok = checkImageOptions(*scene, o.image); !ok) return fail("render", ok.error().message);
   if (Status ok = checkImagePath(o.output, o.image); !ok) return fail("render", ok.error().message);
   if (Status ok = checkExportOptions(o.exported); !ok) return fail("render", ok.error().message);
+  Stats cameraStats;
+  if (Status ok = chooseCamera(*scene, o.camera, cameraStats); !ok) return fail("render", ok.error().message);
   std::unique_ptr<Radiosity> engine = makeEngine("render", *scene, o.solve);
   if (!engine) return 2;
   if (Result<SolveCallReport> solved = engine->solve(); !solved) return fail("render", solved.error().message);
@@ -35,17 +38,19 @@ int runRender(const RenderCommandOptions& o) {
   Image image = renderSolution(engine->solution(), o.image.image);
   double renderSeconds = renderTimer.seconds();
 
-  Status written = writeImageFile(o.output, image, o.image.exposure);
+  Stats stats = engine->stats();
+  stats.append(cameraStats);
+  const double exposure = imageExposureStops(o.image, o.image.exposure, *scene, image, stats);
+  Status written = writeImageFile(o.output, image, exposure);
   if (!written) {
     std::fprintf(stderr, "lambert render: %s\n", written.error().message.c_str());
     return 1;
   }
 
-  if (Status exported = exportSolution(o.exported, engine->solution(), o.image.exposure); !exported) {
+  if (Status exported = exportSolution(o.exported, engine->solution(), exposure); !exported) {
     std::fprintf(stderr, "lambert render: %s\n", exported.error().message.c_str());
     return 1;
   }
-  Stats stats = engine->stats();
   if (!o.exported.glb.empty()) stats.add("export", "glTF written to", o.exported.glb);
   stats.add("image_width", "image width", static_cast<std::int64_t>(image.width), "px");
   stats.add("image_height", "image height", static_cast<std::int64_t>(image.height), "px");
@@ -64,6 +69,7 @@ std::function<int()> addRenderCommand(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("render", "Solve a scene's radiosity and render it to a PNG");
   addSolveOptions(*cmd, options->solve);
   addImageOptions(*cmd, options->image);
+  addCameraOptions(*cmd, options->camera);
   addExportOptions(*cmd, options->exported);
   cmd->add_option("-o,--output", options->output, "Output image: .png (tone mapped) or .exr (linear float radiance)")->capture_default_str();
   return [options] { return runRender(*options); };

@@ -15,6 +15,7 @@ struct ViewCommandOptions : GivenOptions {
   SolveCommandOptions solve;
   int width = 1280, height = 720;
   int msaa = 0;  // Mesa's software OpenGL halves its frame rate at 4 samples
+  CameraCommandOptions camera;
   double exposure = 0;
   Shading shading = Shading::Gouraud;
   std::string script;
@@ -30,12 +31,16 @@ int runView(const ViewCommandOptions& o) {
   if (!scene) return 2;
   Result<RadiosityOptions> radiosity = radiosityOptions(*scene, o.solve);
   if (!radiosity) return fail("view", radiosity.error().message);
+  Stats cameraStats;
+  if (Status ok = chooseCamera(*scene, o.camera, cameraStats); !ok) return fail("view", ok.error().message);
 
   viewer::ViewerOptions v;
   v.width = o.width;
   v.height = o.height;
   v.msaaSamples = o.msaa;
-  v.display.exposure = o.exposure;
+  // --exposure, else the scene's, else the automatic exposure of each solution (render's policy).
+  v.display.exposure = o.given("--exposure") ? o.exposure : scene->exposureStops.value_or(0);
+  v.display.autoExposure = !o.given("--exposure") && !scene->exposureStops;
   v.display.flat = o.shading == Shading::Flat;
   // Each update solves within a budget so that the picture follows the solve (the direct solver
   // takes none: it is one step).
@@ -75,6 +80,7 @@ int runView(const ViewCommandOptions& o) {
     std::fprintf(stderr, "lambert view: %s\n", ran.error().message.c_str());
     return 1;
   }
+  stats.append(cameraStats);
   printStats(stats, o.solve.json, o.solve.quiet, "");
   return 0;
 }
@@ -97,7 +103,9 @@ std::function<int()> addViewCommand(CLI::App& app) {
   cmd->add_option("--width", options->width, "Window width")->check(CLI::Range(64, 16384))->capture_default_str();
   cmd->add_option("--height", options->height, "Window height")->check(CLI::Range(64, 16384))->capture_default_str();
   cmd->add_option("--msaa", options->msaa, "Multisample anti-aliasing samples per pixel (0: off)")->check(CLI::Range(0, 16))->capture_default_str();
-  cmd->add_option("--exposure", options->exposure, "Exposure in stops (radiance × 2^stops before sRGB)")->capture_default_str();
+  cmd->add_option("--exposure", options->exposure, "Exposure in stops (radiance × 2^stops before sRGB)")
+      ->default_str("the scene's, else automatic (log-average luminance to middle grey)");
+  addCameraOptions(*cmd, options->camera);
   cmd->add_option("--shading", options->shading, "gouraud (interpolated) or flat (one value per element)")
       ->transform(CLI::CheckedTransformer(std::map<std::string, Shading>{{"gouraud", Shading::Gouraud}, {"flat", Shading::Flat}}))
       ->default_str("gouraud");

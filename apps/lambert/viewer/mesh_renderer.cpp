@@ -99,11 +99,9 @@ vec3 srgb(vec3 c) {
 }
 
 void main() {
-  if (!gl_FrontFacing) {
-    if (vTwinned > 0.5) discard;  // its twin's front is drawn here
-    colour = vec4(0.0, 0.0, 0.0, 1.0);
-    return;
-  }
+  // Back faces are culled, as the software renderer draws (render/rasterizer.h): the camera
+  // sees through the back of a one-sided face, and a two-sided face's twin is drawn there.
+  if (!gl_FrontFacing) discard;
   vec3 n = normalize(vNormal);
   if (preview) {
     float facing = abs(dot(n, normalize(eye - vPosition)));
@@ -264,7 +262,7 @@ void MeshRenderer::draw(const Snapshot& snapshot, const Eigen::Matrix4f& viewPro
                         const DisplaySettings& settings, double metresPerUnit, int selectedLight, double markerSize) {
   upload(snapshot);
   glEnable(GL_DEPTH_TEST);
-  glDisable(GL_CULL_FACE);  // back faces are drawn black (or left to a twin), as the software renderer does
+  glDisable(GL_CULL_FACE);  // the fragment shader culls back faces, as the software renderer does
   const int lightCount = static_cast<int>(std::min<std::size_t>(snapshot.lights.size(), kMaxPixelLights));
   const GLuint program = meshPrograms_[static_cast<std::size_t>(lightCount)];
   glUseProgram(program);

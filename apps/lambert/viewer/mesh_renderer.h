@@ -24,6 +24,9 @@ struct DisplaySettings {
   bool srgb = true;
   bool ambient = true;       // add progressive refinement's ambient term mid-solve (seed 001)
   double exposure = 0;       // stops: radiance × 2^exposure before encoding
+  // Follow each solution's automatic exposure (Snapshot::autoExposureStops) until the user or a
+  // script sets one: for scenes that set none, without --exposure.
+  bool autoExposure = false;
   bool lightMarkers = true;  // not in screenshots
 };
 

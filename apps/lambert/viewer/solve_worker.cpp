@@ -8,6 +8,8 @@
 #include "lambert/light/emission.h"
 #include "lambert/light/lights.h"
 #include "lambert/mesh/vertex_radiosity.h"
+#include "lambert/render/solution_image.h"
+#include "lambert/render/tonemap.h"
 
 namespace lambert::viewer {
 namespace {
@@ -397,6 +399,20 @@ void SolveWorker::publish(const Radiosity& engine, const SolveCallReport& report
   snapshot->settled = report.converged && (gathered || flat);
   snapshot->elements = view.mesh().numPatches();
   snapshot->iterations = iterationsForLights_;
+  // Measured on a small flat-shaded image (the exposure hardly depends on the shading), at most
+  // a few times a second while the solve runs and once more when it converges.
+  const double now = steadyClockSeconds();
+  if (!scene_.exposureStops && (report.converged || autoExposureAt_ < 0 || now - autoExposureAt_ > 0.25)) {
+    SolutionImageOptions small;
+    small.width = 96;
+    small.height = 54;
+    small.supersample = 1;
+    small.shading = Shading::Flat;
+    small.camera = scene_.camera;
+    autoExposureStops_ = autoExposureStops(renderSolution(view, small));
+    autoExposureAt_ = now;
+  }
+  snapshot->autoExposureStops = autoExposureStops_;
   std::lock_guard lock(mutex_);
   snapshot->version = ++version_;
   latest_ = std::move(snapshot);

@@ -48,6 +48,9 @@ struct Snapshot {
   bool settled = false;               // converged, and the vertex values are the final ones
   std::size_t elements = 0;
   long long iterations = 0;           // shots or sweeps so far for these lights
+  // The automatic exposure in stops (render/tonemap.h) of a small software image of this
+  // solution from the scene's camera: the policy `lambert render` applies to its picture.
+  double autoExposureStops = 0;
 };
 
 // The scene's faces as they are before any solve (albedo, emitters in their emission), so the
@@ -142,6 +145,8 @@ class SolveWorker {
   std::vector<Rgb> emitted_;
   std::vector<float> visibility_;
   long long iterationsForLights_ = 0;
+  double autoExposureStops_ = 0;
+  double autoExposureAt_ = -1;  // steadyClockSeconds() when it was last measured
   std::uint64_t version_ = 0;
   std::thread thread_;
 };

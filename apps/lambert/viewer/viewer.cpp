@@ -211,7 +211,7 @@ Status applyCommand(const ScriptStep& step, ViewerState& state, ScriptPlayer& pl
           else if (s.setting == "false-colour") d.falseColour = on;
           else if (s.setting == "srgb") d.srgb = on;
           else if (s.setting == "ambient") d.ambient = on;
-          else if (s.setting == "exposure") d.exposure = std::strtod(s.value.c_str(), nullptr);
+          else if (s.setting == "exposure") d.exposure = std::strtod(s.value.c_str(), nullptr), d.autoExposure = false;
         } else if constexpr (std::is_same_v<T, SelectLight>) {
           state.selectedLight = s.light;
         } else if constexpr (std::is_same_v<T, SetPlaying>) {
@@ -261,8 +261,8 @@ void drawPanel(ViewerState& state, const Snapshot& snapshot, const SolveWorker& 
     ImGui::Checkbox("sRGB", &d.srgb);
     if (options.radiosity.solver == SolverKind::Shooting) ImGui::Checkbox("ambient term (Cohen et al. 1988)", &d.ambient);
     float exposure = static_cast<float>(d.exposure);
-    ImGui::SliderFloat("exposure (stops)", &exposure, -10, 10, "%.1f");
-    d.exposure = exposure;
+    if (ImGui::SliderFloat(d.autoExposure ? "exposure (stops, auto)" : "exposure (stops)", &exposure, -20, 20, "%.1f"))
+      d.exposure = exposure, d.autoExposure = false;
     if (ImGui::Button("screenshot (F12)")) state.screenshotRequested = true;
   }
   if (ImGui::CollapsingHeader("Camera", ImGuiTreeNodeFlags_DefaultOpen)) {
@@ -411,6 +411,7 @@ Status runViewer(const ViewerOptions& options, Stats& stats) {
           shown = latest;
           if (!firstSolutionShown) firstSolutionShown = true, firstSolutionSeconds = clock.seconds();
         }
+        if (state.display.autoExposure && !shown->preview) state.display.exposure = shown->autoExposureStops;
         const bool upToDate = !shown->preview && shown->lights == state.animation.lightsAt(steadyClockSeconds());
         if (upToDate && shown->settled && convergedSeconds == 0) convergedSeconds = clock.seconds();
 

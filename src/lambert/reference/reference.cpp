@@ -18,6 +18,9 @@ namespace {
 
 // Pixel streams start here, so they never coincide with vertex streams (vertex indices).
 constexpr std::uint64_t kPixelStreamBase = std::uint64_t{1} << 40;
+// A primary ray passes through at most this many culled backs (walls behind walls); beyond, the
+// pixel is black.
+constexpr int kMaxCulledBacks = 64;
 
 // Cosine-weighted unit direction about n (pdf cosθ/π), by Shirley & Chiu's concentric map of the
 // square onto the disc, which keeps the (0,2)-sequence's stratification.
@@ -254,7 +257,12 @@ Image ReferenceRenderer::render(int width, int height) const {
         double px = col + offset.u, py = static_cast<double>(row) + offset.v;
         Vec3 d = normalize(camera.forward * camera.focalPixels + camera.right * (px - 0.5 * width) +
                            camera.up * (0.5 * height - py));
-        auto hit = caster_->intersect(Ray{camera.eye, d, 0, INFINITY});
+        // The camera culls back faces as the rasterizer does (render/rasterizer.h): a primary
+        // ray passes through the backs of one-sided faces. Every later ray meets them as they
+        // are, black and opaque.
+        std::optional<RayHit> hit = caster_->intersect(Ray{camera.eye, d, 0, INFINITY});
+        for (int passed = 0; hit && !hit->frontFace && passed < kMaxCulledBacks; ++passed)
+          hit = caster_->intersect(Ray{camera.eye, d, hit->t + epsilon_, INFINITY});
         if (!hit || !hit->frontFace) continue;
         const Patch& patch = geometry_->patches[hit->patch];
         Vertex z{camera.eye + d * hit->t, patch.normal, patch.surface};

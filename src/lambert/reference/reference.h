@@ -81,7 +81,8 @@ class ReferenceRenderer {
   // (a) Linear radiance image from scene.camera, width × height, samplesPerPixel paths per pixel
   // (pixel positions, first emitter sample and first bounce each a (0,2)-sequence, paired through
   // random permutations of their indices so the pixel estimate converges as spp grows). Camera
-  // rays see L_e of the emitter they hit; back faces and the background are black. Parallel over
+  // rays see L_e of the emitter they hit and pass through the backs of one-sided faces (culled,
+  // as the rasterizer draws); the background is black. Parallel over
   // rows; deterministic per (seed, pixel).
   Image render(int width, int height) const;
 

@@ -30,7 +30,7 @@ constexpr int kBandRows = 8;
 // With the guard band this keeps snapped coordinates within 2^25 and edge functions within
 // 2^52, exact in int64 (and in the doubles the barycentrics are taken from).
 constexpr int kMaxSamplesPerAxis = 1 << 16;
-// The patch of samples that see no front face: the background, or the back of a surface.
+// The patch of samples that see no face: the background.
 constexpr std::uint32_t kNoPatch = UINT32_MAX;
 
 struct ClipVertex {
@@ -302,18 +302,19 @@ Image render(const Camera& camera, const Mesh& mesh, const std::vector<Rgb>& rad
     for (std::size_t i = c * kChunk; i < end; ++i) {
       PatchCorners corners = mesh.corners(i);
       std::span<const std::uint32_t> indices = mesh.cornerIndices(i);
-      // The back of a surface is opaque and black, so it hides what is behind it.
-      bool front = dot(cross(corners[1] - corners[0], corners[2] - corners[0]), pinhole.eye - corners[0]) > 0;
-      if (!front && mesh.patches[i].twinned) continue;  // its twin's front is drawn in its place
-      bool constant = !front || !perVertex;
-      std::uint32_t patch = front ? static_cast<std::uint32_t>(i) : kNoPatch;
+      // Back faces are culled, as RenderPark, game engines and Blender's "Backface Culling" draw:
+      // a camera outside a room sees in through the near wall. A two-sided face's back is its
+      // twin's front, drawn in its place. (Light transport still treats backs as black and
+      // opaque; this is only what the camera shows.)
+      const bool front = dot(cross(corners[1] - corners[0], corners[2] - corners[0]), pinhole.eye - corners[0]) > 0;
+      if (!front) continue;
+      const bool constant = !perVertex;
+      const auto patch = static_cast<std::uint32_t>(i);
       // A convex patch is a fan of triangles around its first corner.
       for (std::size_t k = 1; k + 1 < corners.size(); ++k) {
         std::array<Vec3, 3> world{corners[0], corners[k], corners[k + 1]};
         std::array<Rgb, 3> vertexRadiance;
-        if (!front) {
-          vertexRadiance.fill(Rgb{});
-        } else if (!perVertex) {
+        if (!perVertex) {
           vertexRadiance.fill(radiance[i]);
         } else {
           vertexRadiance = {radiance[indices[0]], radiance[indices[k]], radiance[indices[k + 1]]};

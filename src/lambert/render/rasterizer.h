@@ -32,7 +32,8 @@ struct RenderOptions {
 };
 
 // Renders every patch of the mesh as seen by the camera, in radiance L = B/π. Back faces are
-// drawn black (they occlude, as the back of a surface is opaque); the background is black.
+// culled (not drawn: the camera sees through the back of a one-sided face, as with back-face
+// culling in RenderPark, engines and Blender); the background is black.
 // patchRadiosity holds B in W/m², one per patch. With options.directRadiance, every sample that
 // sees the front of a patch adds what it returns there before the samples are box-filtered.
 Image renderRadiance(const Camera& camera, const Mesh& mesh, const std::vector<Rgb>& patchRadiosity,

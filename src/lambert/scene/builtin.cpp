@@ -45,6 +45,9 @@ Scene cornellBox() {
   addBlockSides(scene, "tall block", tallTop, kWhite);
 
   scene.camera = {{278, 273, -800}, {278, 273, 0}, {0, 1, 0}, 39.3};
+  scene.cameraGiven = true;
+  // Calibrated: the light's radiance is about white at 0 stops, as in the published images.
+  scene.exposureStops = 0.0;
   return scene;
 }
 

@@ -87,6 +87,7 @@ class Reader {
       warning(path_ + ": " + std::to_string(skippedPrimitives_) + " point or line primitives skipped (lambert solves surfaces)");
     if (scene_.surfaces.empty()) return Error{path_ + ": no triangles in the default scene"};
     if (!haveCamera_) scene_.camera = cameraViewingScene(scene_);
+    scene_.cameraGiven = haveCamera_;
     return std::move(scene_);  // read() is called once; a copy would duplicate every face
   }
 

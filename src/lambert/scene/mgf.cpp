@@ -345,6 +345,11 @@ class Reader {
     if (dropped.total() > 0) warning(top.string() + ": " + dropped.describe());
     if (scene.surfaces.empty()) throw ParseError{top.string() + ": every face is degenerate (" + dropped.describe() + ")"};
     scene.camera = cameraViewingScene(scene);
+    // The file's own frame: z up, in metres; every point read went through zUpToYUp.
+    const Affine toScene = zUpToYUp();
+    for (int axis = 0; axis < 3; ++axis) scene.fileFrame.axes[axis] = {toScene.a[0][axis], toScene.a[1][axis], toScene.a[2][axis]};
+    scene.fileFrame.offset = toScene.t;
+    scene.fileFrame.up = {0, 0, 1};
     return scene;
   }
 

@@ -77,7 +77,8 @@ struct MgfOptions {
   std::string includeRoot;
 };
 
-// The scene is named after the file, lit by its emissive materials, seen by cameraViewingScene.
+// The scene is named after the file, lit by its emissive materials; it gives no camera
+// (cameraGiven is false: render/scene_camera.h chooses the view).
 // Warnings (ignored entities, dropped faces, clamped albedo) go through warning().
 Result<Scene> readMgf(const std::string& path, const MgfOptions& options = {});
 

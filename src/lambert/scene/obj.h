@@ -25,7 +25,8 @@ struct ObjOptions {
   RegionOptions regions;
 };
 
-// The scene is named after the file, lit by its emissive materials, seen by cameraViewingScene.
+// The scene is named after the file, lit by its emissive materials; it gives no camera
+// (cameraGiven is false: render/scene_camera.h chooses the view).
 // Warnings (missing MTL, dropped faces, textures, clamped albedo) go through warning().
 Result<Scene> readObj(const std::string& path, const ObjOptions& options = {});
 

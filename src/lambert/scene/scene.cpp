@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "lambert/core/error.h"
+
 namespace lambert {
 
 std::vector<std::vector<std::uint32_t>> surfaceFaces(const Surface& surface) {
@@ -84,6 +86,14 @@ Bounds sceneBounds(const Scene& scene) {
       b.hi = componentMax(b.hi, p);
     }
   return b;
+}
+
+Vec3 FileFrame::filePoint(const Vec3& scenePoint) const {
+  // Solve [a0 a1 a2]·p = q by Cramer's rule.
+  const Vec3 q = scenePoint - offset;
+  const double det = dot(axes[0], cross(axes[1], axes[2]));
+  LAMBERT_CHECK(det != 0);
+  return {dot(q, cross(axes[1], axes[2])) / det, dot(axes[0], cross(q, axes[2])) / det, dot(axes[0], cross(axes[1], q)) / det};
 }
 
 Camera cameraViewingScene(const Scene& scene) {

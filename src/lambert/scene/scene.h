@@ -3,6 +3,7 @@
 // Geometry is in scene units (metresPerUnit converts them to metres, for power in watts).
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -102,13 +103,40 @@ struct SolveDefaults {
   double tolerance = 0;        // iterative solvers' relative tolerance; 0: the program's default
 };
 
+// The coordinates a scene's file writes, and where the loader put them: an MGF file is z-up and
+// lambert is y-up, so its loader turns every point it reads. A camera or a point given in the
+// file's own terms (`--eye`, `lambert info`'s bounds) goes through this frame, so that it lands
+// where the file means it.
+struct FileFrame {
+  // File point p lies at scene point offset + axes[0]·p.x + axes[1]·p.y + axes[2]·p.z (an
+  // invertible linear map: a rotation times a scale).
+  Vec3 axes[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  Vec3 offset;
+  Vec3 up{0, 1, 0};  // the file's up direction, in file coordinates
+
+  Vec3 sceneDirection(const Vec3& fileDirection) const {
+    return axes[0] * fileDirection.x + axes[1] * fileDirection.y + axes[2] * fileDirection.z;
+  }
+  Vec3 scenePoint(const Vec3& filePoint) const { return offset + sceneDirection(filePoint); }
+  // The file point at a scene point (the inverse map, by Cramer's rule).
+  Vec3 filePoint(const Vec3& scenePoint) const;
+};
+
 struct Scene {
   std::string name;
   std::vector<Material> materials;
   std::vector<Surface> surfaces;
   std::vector<Light> lights;
   Camera camera;
+  // Whether `camera` was given (by the scene file, the glTF, the built-in scene), rather than a
+  // placeholder the loader made up (cameraViewingScene); a camera that is not given is chosen by
+  // render/default_camera.h.
+  bool cameraGiven = false;
+  // Exposure in stops that images of the scene are taken at (radiance × 2^stops before sRGB);
+  // empty: automatic, from each image (render/tonemap.h). The built-in scenes are calibrated to 0.
+  std::optional<double> exposureStops;
   double metresPerUnit = 1;  // 0.001 for a scene in millimetres
+  FileFrame fileFrame;       // identity except for loaders that turn or scale what they read
   SolveDefaults defaults;
 };
 

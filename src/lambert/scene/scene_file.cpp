@@ -401,8 +401,10 @@ Scene readScene(const Json& document, const std::string& path) {
   for (std::size_t m = 0; m < meshes.size(); ++m) addMesh(scene, meshes[m], "/meshes/" + std::to_string(m), path, meshCamera);
   if (scene.surfaces.empty()) throw FieldError{"/surfaces", "the scene has no surfaces (give \"surfaces\" or \"meshes\")"};
   scene.camera = r.has("camera") ? readCamera(r.require("camera"), "/camera") : meshCamera ? *meshCamera : cameraViewingScene(scene);
+  scene.cameraGiven = r.has("camera") || meshCamera.has_value();
+  if (r.has("exposure")) scene.exposureStops = r.number("exposure", 0, -64, 64);
   if (r.has("defaults")) scene.defaults = readDefaults(r.require("defaults"), "/defaults");
-  r.finish("version, name, unit, metresPerUnit, materials, surfaces, meshes, lights, camera, defaults");
+  r.finish("version, name, unit, metresPerUnit, materials, surfaces, meshes, lights, camera, exposure, defaults");
   return scene;
 }
 
@@ -577,10 +579,12 @@ std::string sceneFileText(const Scene& scene) {
     lights.push_back(std::move(l));
   }
   doc["lights"] = std::move(lights);
-  doc["camera"] = {{"eye", triple(scene.camera.eye)},
-                   {"target", triple(scene.camera.target)},
-                   {"up", triple(scene.camera.up)},
-                   {"verticalFovDegrees", scene.camera.verticalFovDegrees}};
+  if (scene.cameraGiven)
+    doc["camera"] = {{"eye", triple(scene.camera.eye)},
+                     {"target", triple(scene.camera.target)},
+                     {"up", triple(scene.camera.up)},
+                     {"verticalFovDegrees", scene.camera.verticalFovDegrees}};
+  if (scene.exposureStops) doc["exposure"] = *scene.exposureStops;
   const SolveDefaults& d = scene.defaults;
   OrderedJson defaults = OrderedJson::object();
   if (d.patches > 0) defaults["patches"] = d.patches;

@@ -28,6 +28,8 @@ void expectSameScene(const Scene& a, const Scene& b) {
   EXPECT_EQ(a.camera.target, b.camera.target);
   EXPECT_EQ(a.camera.up, b.camera.up);
   EXPECT_EQ(a.camera.verticalFovDegrees, b.camera.verticalFovDegrees);
+  EXPECT_EQ(a.cameraGiven, b.cameraGiven);
+  EXPECT_EQ(a.exposureStops, b.exposureStops);
 }
 
 TEST(SceneFileTest, BuiltInScenesRoundTripBitForBit) {
