@@ -41,7 +41,7 @@ HierarchicalMeshing::HierarchicalMeshing(const Scene& scene, const RadiosityOpti
   auto none = std::make_shared<Links>();
   none->start.assign(hierarchy_.nodes().size() + 1, 0);
   links_ = none;
-  transport_ = std::make_shared<HierarchicalTransport>(hierarchy_, links_, openFractions(leaves_.mesh));
+  transport_ = std::make_shared<HierarchicalTransport>(hierarchy_, links_, openFractions(leaves_.mesh), patchAlbedo(scene_, leaves_.mesh));
 }
 
 // Splits leaves, breadth first, while the direct light of some light varies across one by more
@@ -175,7 +175,7 @@ Result<bool> HierarchicalMeshing::refine(const std::vector<Light>& lights, std::
   report.formFactorSeconds += pass.seconds;
 
   rebuildLeaves();
-  transport_ = std::make_shared<HierarchicalTransport>(hierarchy_, links_, openFractions(leaves_.mesh));
+  transport_ = std::make_shared<HierarchicalTransport>(hierarchy_, links_, openFractions(leaves_.mesh), patchAlbedo(scene_, leaves_.mesh));
   // Warm start: each leaf from the nearest ancestor that was a leaf before (B stays as solved).
   radiosity.assign(hierarchy_.leafNodes().size(), Rgb{});
   if (!old.empty()) {
@@ -243,6 +243,8 @@ void HierarchicalMeshing::addStats(Stats& stats) const {
   stats.add("refine_passes", "refinement passes", count(passesDone_));
   stats.add("links", "links", count(links_->size()));
   stats.add("cluster_links", "links with a cluster end", count(refinement_.clusterLinks));
+  stats.add("largest_row_sum", "largest Σ K over a leaf's links and its ancestors'", transport_->largestRowSum());
+  stats.add("rows_scaled", "leaves whose Σ K was scaled down (the bound)", count(transport_->rowsScaled()));
   stats.add("initial_links", "initial links", count(refinement_.initialLinks));
   stats.add("links_estimated", "links estimated", count(refinement_.estimated));
   stats.add("visibility_rays", "visibility rays", count(refinement_.rays));
