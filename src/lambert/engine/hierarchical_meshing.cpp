@@ -34,6 +34,8 @@ HierarchicalMeshing::HierarchicalMeshing(const Scene& scene, const RadiosityOpti
   buildSeconds_ = created_.seconds();
   Timer bvh;
   caster_ = makeEmbreeRayCaster(leaves_.mesh);
+  casterFace_.reserve(leaves_.mesh.numPatches());
+  for (const Patch& p : leaves_.mesh.patches) casterFace_.push_back(static_cast<std::uint64_t>(p.surface) << 32 | p.face);
   epsilon_ = rayEpsilon(leaves_.mesh);
   bvhSeconds_ = bvh.seconds();
   measureOpenFractions(leaves_.mesh, *caster_);
@@ -158,7 +160,7 @@ Result<bool> HierarchicalMeshing::refine(const std::vector<Light>& lights, std::
   RefinementReport pass;
   LinkOptions linkOptions = options_.links;
   linkOptions.memoryLimitBytes = memoryLimitBytes_;
-  links_ = std::make_shared<Links>(refineLinks(hierarchy_, *caster_, epsilon_, passesDone_ > 0 ? links_.get() : nullptr,
+  links_ = std::make_shared<Links>(refineLinks(hierarchy_, *caster_, epsilon_, casterFace_, passesDone_ > 0 ? links_.get() : nullptr,
                                                largestChannel(estimate), openFractions(leaves_.mesh), linkOptions, pass));
   if (pass.memoryNeeded > 0)
     return Error{memoryExceeded("the hierarchical refinement, unfinished at " + std::to_string(hierarchy_.nodes().size()) + " nodes,",
