@@ -329,9 +329,9 @@ class Refiner {
   };
   static std::uint64_t faceKey(const HierarchyNode& e) { return static_cast<std::uint64_t>(e.surface) << 32 | e.face; }
   // The ray runs to a ray epsilon behind the source point: anything it meets first other than
-  // the source's own face blocks it, a face lying on the source included. Run only to a point in
-  // front of the source, as before, every face of a stack was seen whole (a binder ring in
-  // office1/graz.mgf gathered K = 0.99 from each of three stacked faces).
+  // the source's own face blocks it, a face lying on the source included. A ray run only to a
+  // point in front of the source never meets a face lying on it, and every face of a stack is
+  // then seen whole (a binder ring in office1/graz.mgf gathered K = 0.99 from each of three).
   void trace(const Vec3& x, const Vec3& xNormal, bool xMayBeCovered, const Vec3& y, const Vec3& yNormal,
              std::uint64_t sourceFace, Visibility& seen) const {
     const Vec3 from = x + xNormal * epsilon_, to = y - yNormal * epsilon_;

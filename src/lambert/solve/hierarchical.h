@@ -30,9 +30,10 @@ class HierarchicalTransport final : public Transport {
                     bool inPlace) const override;
 
   const Links& links() const { return *links_; }
-  // The largest Σ K a leaf gathers over its own links and its ancestors' before the bound below,
-  // and how many leaves the bound scaled down.
+  // The bound on ρ·Σ K above which a leaf's Σ K is scaled to 1 (leafGain_ below).
   static constexpr double kContraction = 0.95;
+  // The largest Σ K a leaf gathers over its own links and its ancestors' before the bound, and
+  // how many leaves the bound scaled down.
   double largestRowSum() const { return largestRowSum_; }
   std::size_t rowsScaled() const { return rowsScaled_; }
   // The radiosity every node shows to what its links reach, HSA'91's pull: the power of the
