@@ -6,6 +6,7 @@
 #include "lambert/core/timer.h"
 #include "lambert/core/warning.h"
 #include "lambert/formfactor/cache_file.h"
+#include "lambert/light/emission.h"
 
 namespace lambert {
 namespace {
@@ -238,11 +239,12 @@ Result<bool> AdaptiveMeshing::refine(const std::vector<Light>& lights, std::vect
                    "; lower --max-level, raise --base-edge or --gradient-threshold, or --memory-limit to allow more"};
     auto F = std::make_shared<FormFactorMatrix>(table_->matrix(active));
     if (normalizeRows_) normalizeRows(*F);
+    activeMesh_ = mesh_.activeMesh();
+    rowsBounded_ = boundRowSums(*F, patchAlbedo(scene_, activeMesh_));
     report.pairsEstimated += table_->pairsEstimated() - estimatedBefore;
     report.pairsReused += table_->pairsReused() - reusedBefore;
     report.pairsLoaded += table_->pairsLoaded() - loadedBefore;
     transport_ = std::make_shared<DenseTransport>(std::move(F));
-    activeMesh_ = mesh_.activeMesh();
     lastActive_ = active;
     report.formFactorSeconds += ffTimer.seconds();
   }
@@ -265,6 +267,7 @@ void AdaptiveMeshing::addStats(Stats& stats) const {
   stats.add("pairs_estimated", "cell pairs estimated (master table)", static_cast<std::int64_t>(table_->pairsEstimated()));
   stats.add("pairs_reused", "cell pairs reused from the table", static_cast<std::int64_t>(table_->pairsReused()));
   stats.add("pairs_loaded", "cell pairs loaded from the table file", static_cast<std::int64_t>(table_->pairsLoaded()));
+  stats.add("rows_bounded", "form-factor rows scaled down to sum 1 (last matrix)", static_cast<std::int64_t>(rowsBounded_));
   std::string cache;
   if (tableFile_.path.empty()) {
     cache = "off";

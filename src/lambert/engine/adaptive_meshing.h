@@ -74,6 +74,7 @@ class AdaptiveMeshing final : public Meshing {
   double memoryLimitBytes_ = 0;  // RadiosityOptions::memoryLimitBytes
   FormFactorOptions formFactorOptions_;
   bool normalizeRows_;
+  std::size_t rowsBounded_ = 0;  // rows of the last matrix that formfactor/table.h's boundRowSums scaled
   std::string cacheDirectory_;
   AdaptiveMesh mesh_;
   Mesh baseMesh_;  // the level-0 cells, for visibility

@@ -34,6 +34,8 @@ HierarchicalMeshing::HierarchicalMeshing(const Scene& scene, const RadiosityOpti
   buildSeconds_ = created_.seconds();
   Timer bvh;
   caster_ = makeEmbreeRayCaster(leaves_.mesh);
+  casterFace_.reserve(leaves_.mesh.numPatches());
+  for (const Patch& p : leaves_.mesh.patches) casterFace_.push_back(static_cast<std::uint64_t>(p.surface) << 32 | p.face);
   epsilon_ = rayEpsilon(leaves_.mesh);
   bvhSeconds_ = bvh.seconds();
   measureOpenFractions(leaves_.mesh, *caster_);
@@ -41,7 +43,7 @@ HierarchicalMeshing::HierarchicalMeshing(const Scene& scene, const RadiosityOpti
   auto none = std::make_shared<Links>();
   none->start.assign(hierarchy_.nodes().size() + 1, 0);
   links_ = none;
-  transport_ = std::make_shared<HierarchicalTransport>(hierarchy_, links_, openFractions(leaves_.mesh));
+  transport_ = std::make_shared<HierarchicalTransport>(hierarchy_, links_, openFractions(leaves_.mesh), patchAlbedo(scene_, leaves_.mesh));
 }
 
 // Splits leaves, breadth first, while the direct light of some light varies across one by more
@@ -158,7 +160,7 @@ Result<bool> HierarchicalMeshing::refine(const std::vector<Light>& lights, std::
   RefinementReport pass;
   LinkOptions linkOptions = options_.links;
   linkOptions.memoryLimitBytes = memoryLimitBytes_;
-  links_ = std::make_shared<Links>(refineLinks(hierarchy_, *caster_, epsilon_, passesDone_ > 0 ? links_.get() : nullptr,
+  links_ = std::make_shared<Links>(refineLinks(hierarchy_, *caster_, epsilon_, casterFace_, passesDone_ > 0 ? links_.get() : nullptr,
                                                largestChannel(estimate), openFractions(leaves_.mesh), linkOptions, pass));
   if (pass.memoryNeeded > 0)
     return Error{memoryExceeded("the hierarchical refinement, unfinished at " + std::to_string(hierarchy_.nodes().size()) + " nodes,",
@@ -175,7 +177,7 @@ Result<bool> HierarchicalMeshing::refine(const std::vector<Light>& lights, std::
   report.formFactorSeconds += pass.seconds;
 
   rebuildLeaves();
-  transport_ = std::make_shared<HierarchicalTransport>(hierarchy_, links_, openFractions(leaves_.mesh));
+  transport_ = std::make_shared<HierarchicalTransport>(hierarchy_, links_, openFractions(leaves_.mesh), patchAlbedo(scene_, leaves_.mesh));
   // Warm start: each leaf from the nearest ancestor that was a leaf before (B stays as solved).
   radiosity.assign(hierarchy_.leafNodes().size(), Rgb{});
   if (!old.empty()) {
@@ -243,6 +245,8 @@ void HierarchicalMeshing::addStats(Stats& stats) const {
   stats.add("refine_passes", "refinement passes", count(passesDone_));
   stats.add("links", "links", count(links_->size()));
   stats.add("cluster_links", "links with a cluster end", count(refinement_.clusterLinks));
+  stats.add("largest_row_sum", "largest Σ K over a leaf's links and its ancestors'", transport_->largestRowSum());
+  stats.add("rows_scaled", "leaves whose Σ K was scaled down (the bound)", count(transport_->rowsScaled()));
   stats.add("initial_links", "initial links", count(refinement_.initialLinks));
   stats.add("links_estimated", "links estimated", count(refinement_.estimated));
   stats.add("visibility_rays", "visibility rays", count(refinement_.rays));

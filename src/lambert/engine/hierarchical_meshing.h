@@ -55,6 +55,7 @@ class HierarchicalMeshing final : public Meshing {
   std::unique_ptr<RayCaster> caster_;  // over the faces: elements only split them
   double epsilon_ = 0;
   std::shared_ptr<const Links> links_;
+  std::vector<std::uint64_t> casterFace_;  // per patch of the mesh caster_ was built from: surface << 32 | face
   std::shared_ptr<const HierarchicalTransport> transport_;
   int passesDone_ = 0;
   RefinementReport refinement_;

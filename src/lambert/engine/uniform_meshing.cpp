@@ -1,10 +1,12 @@
 #include "lambert/engine/uniform_meshing.h"
 
+
 #include "lambert/core/memory.h"
 #include "lambert/core/timer.h"
 #include "lambert/formfactor/cache.h"
 #include "lambert/formfactor/table.h"
 #include "lambert/geometry/coverage.h"
+#include "lambert/light/emission.h"
 #include "lambert/mesh/vertex_radiosity.h"
 
 namespace lambert {
@@ -32,10 +34,10 @@ Result<std::unique_ptr<UniformMeshing>> UniformMeshing::create(const Scene& scen
                                 options.memoryLimitBytes) +
                  "; use the hierarchical method (--method hierarchical: memory near-linear in the faces), fewer patches, or "
                  "--memory-limit to allow more"};
-  return std::make_unique<UniformMeshing>(std::move(mesh), maxEdge, meshTimer.seconds(), options);
+  return std::make_unique<UniformMeshing>(scene, std::move(mesh), maxEdge, meshTimer.seconds(), options);
 }
 
-UniformMeshing::UniformMeshing(Mesh mesh, double maxEdge, double meshSeconds, const RadiosityOptions& options) : mesh_(std::move(mesh)) {
+UniformMeshing::UniformMeshing(const Scene& scene, Mesh mesh, double maxEdge, double meshSeconds, const RadiosityOptions& options) : mesh_(std::move(mesh)) {
   const FormFactorOptions& ff = options.formFactors;
   stats_.add("mesh", "mesh", std::string("uniform bisection"));
   stats_.add("patches", "patches", static_cast<std::int64_t>(mesh_.numPatches()));
@@ -53,6 +55,7 @@ UniformMeshing::UniformMeshing(Mesh mesh, double maxEdge, double meshSeconds, co
   CachedFormFactors cached = cachedFormFactors(mesh_, *caster_, ff, options.cacheDirectory, &ffStats);
   auto F = std::make_shared<FormFactorMatrix>(std::move(cached.matrix));
   if (options.normalizeRows) normalizeRows(*F);
+  const std::size_t rowsBounded = boundRowSums(*F, patchAlbedo(scene, mesh_));
   transport_ = std::make_shared<DenseTransport>(std::move(F));
   stats_.add("formfactor_method", "form-factor method", formFactorMethodName(ff.method));
   stats_.add("formfactor_cache", "form-factor cache",
@@ -65,6 +68,7 @@ UniformMeshing::UniformMeshing(Mesh mesh, double maxEdge, double meshSeconds, co
     stats_.add("hemisphere_rays", "rays per patch", static_cast<std::int64_t>(ff.hemisphereRays));
   stats_.add("pairs_evaluated", "patch pairs evaluated", static_cast<std::int64_t>(ffStats.pairsEvaluated));
   stats_.add("pairs_culled", "patch pairs culled", static_cast<std::int64_t>(ffStats.pairsCulled));
+  stats_.add("rows_bounded", "form-factor rows scaled down to sum 1", static_cast<std::int64_t>(rowsBounded));
   stats_.add("visibility_rays", "visibility rays", static_cast<std::int64_t>(ffStats.visibilityRays));
   stats_.add("formfactor_seconds", "form-factor time", ffStats.seconds, "s");
   stats_.add("rays_per_second", "visibility rays per second",

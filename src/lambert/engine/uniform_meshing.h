@@ -21,7 +21,7 @@ class UniformMeshing final : public Meshing {
   const Mesh& vertexMesh() const override { return mesh_; }
   std::vector<Rgb> vertexValues(const std::vector<Rgb>& perElement) const override;
   void addStats(Stats& stats) const override { stats.append(stats_); }
-  UniformMeshing(Mesh mesh, double maxEdge, double meshSeconds, const RadiosityOptions& options);
+  UniformMeshing(const Scene& scene, Mesh mesh, double maxEdge, double meshSeconds, const RadiosityOptions& options);
   Status saveCache() override { return Ok{}; }  // the matrix was saved when it was computed
 
  private:

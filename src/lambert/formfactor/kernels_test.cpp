@@ -52,6 +52,37 @@ TEST(KernelTest, BackFacingAndBelowHorizonGiveZero) {
   EXPECT_EQ(pointToPolygonFormFactor({0.5, 0.5, 0}, {0, 0, 1}, down, {0, 0, 1}), 0);
 }
 
+// A point in a polygon's own plane sees none of it: the back twin of a two-sided face, a
+// duplicate of the face and a face lying on it are all in that plane, where the rounding of
+// rotated coordinates puts the point a hair in front of the plane or behind it at random. Counted
+// as in front, the contour integral from inside the polygon is the whole hemisphere (F = 1).
+// Lifted by a thousandth of its size, the point sees nearly all of a polygon facing it.
+TEST(KernelTest, APointInThePolygonsPlaneSeesNoneOfIt) {
+  // A unit square turned about an oblique axis, so that no coordinate is exact.
+  const Vec3 axis = normalize(Vec3{0.3, 0.7, 0.2});
+  const double angle = 0.7;
+  const auto turn = [&](Vec3 p) {  // Rodrigues' rotation
+    return p * std::cos(angle) + cross(axis, p) * std::sin(angle) + axis * (dot(axis, p) * (1 - std::cos(angle)));
+  };
+  std::vector<Vec3> square;
+  for (Vec3 p : {Vec3{0, 0, 0}, Vec3{1, 0, 0}, Vec3{1, 1, 0}, Vec3{0, 1, 0}}) square.push_back(turn(p + Vec3{0.1, 0.2, 0.3}));
+  const Vec3 n = turn({0, 0, 1});
+  Pcg32 rng(7, 1);
+  int nearlyAll = 0;
+  for (int k = 0; k < 2000; ++k) {
+    const double u = 0.05 + 0.9 * rng.nextDouble(), v = 0.05 + 0.9 * rng.nextDouble();
+    const Vec3 x = lerp(lerp(square[0], square[1], u), lerp(square[3], square[2], u), v);
+    // The back twin's point (normal −n) and a duplicate's or a face-on-face point (normal ±n).
+    for (const Vec3& xNormal : {n * -1.0, n}) {
+      ASSERT_EQ(pointToPolygonFormFactor(x, xNormal, square, n), 0) << "point " << k;
+      std::vector<Vec3> reversed(square.rbegin(), square.rend());
+      ASSERT_EQ(pointToPolygonFormFactor(x, xNormal, reversed, n * -1.0), 0) << "point " << k;
+    }
+    nearlyAll += pointToPolygonFormFactor(x + n * 1e-3, n * -1.0, square, n) > 0.99;
+  }
+  EXPECT_GT(nearlyAll, 1900);
+}
+
 // A polygon cut by the tangent plane contributes only its upper part: a unit wall standing on the
 // receiver's plane equals the perpendicular-rectangle formula whether or not it extends below.
 TEST(KernelTest, HorizonClippingKeepsTheUpperPart) {

@@ -22,7 +22,9 @@
 //                       mean to every face inside it.
 // Visibility is the share of unoccluded rays between stratified points on the two nodes,
 // leaving out receiving points that are covered (the floor under a block): K is the irradiance
-// of the receiver's open part.
+// of the receiver's open part. A ray is open where the first face it meets, run to just behind
+// the source point, is the source's own face: of faces lying on one another (a two-sided face's
+// back twin under a drawer front, a binder cover's lining), each point shows one.
 //
 // Refinement is breadth-first and deterministic: starting from the root cluster's link to itself
 // (or, unclustered, from every pair of faces, HSA'91's O(n²) start), each candidate link is
@@ -91,7 +93,11 @@ struct RefinementReport {
 // With `previous` (links of the same hierarchy before more splits), those links are judged again
 // with the new radiosities and refined further where they now carry too much; without, the
 // refinement starts afresh. Numbers the new leaves before returning.
-Links refineLinks(ElementHierarchy& hierarchy, const RayCaster& caster, double rayEpsilon, const Links* previous,
+// casterFace: per patch of the mesh `caster` was built from, its face as surface << 32 | face:
+// a visibility ray counts as open only where the first face it meets at the source point is the
+// source's own, so of faces lying on one another only the one a ray meets first is seen.
+Links refineLinks(ElementHierarchy& hierarchy, const RayCaster& caster, double rayEpsilon,
+                  std::span<const std::uint64_t> casterFace, const Links* previous,
                   std::span<const double> leafRadiosity, std::span<const double> leafOpenFraction, const LinkOptions& options,
                   RefinementReport& report);
 

@@ -283,4 +283,17 @@ void normalizeRows(FormFactorMatrix& F) {
   }
 }
 
+std::size_t boundRowSums(FormFactorMatrix& F, std::span<const Rgb> albedo) {
+  LAMBERT_CHECK(albedo.size() == static_cast<std::size_t>(F.rows()));
+  std::size_t scaled = 0;
+  for (Eigen::Index i = 0; i < F.rows(); ++i) {
+    const double sum = F.row(i).cast<double>().sum();
+    if (!(albedo[static_cast<std::size_t>(i)].maxComponent() * sum > kRowContraction)) continue;
+    // Rounded down, so that the float row sums to at most 1.
+    F.row(i) *= std::nextafter(static_cast<float>(1 / sum), 0.0f);
+    ++scaled;
+  }
+  return scaled;
+}
+
 }  // namespace lambert

@@ -100,4 +100,16 @@ std::string formFactorTablePath(const std::string& directory, std::uint64_t key)
 // breaks reciprocity and, where rows rightly sum to less than one (openings), adds energy.
 void normalizeRows(FormFactorMatrix& F);
 
+// Bounds what each patch i gathers so that B = E + ρFB is a contraction: a row summing to S
+// with ρ_i·S above kRowContraction (ρ_i: the largest channel of the patch's albedo) is an
+// estimate far above the truth (a patch gathers at most its whole hemisphere, S ≤ 1) and is
+// scaled to sum 1; the others are left alone. Hemi-cube and hemisphere-ray rows sum to at most 1
+// by construction; seed 000's point estimate (cos cos / π r² × A_j, unbounded close by) and pair
+// estimates filled in by reciprocity (F_ji = F_ij A_i / A_j, a small patch close to large ones)
+// do not, and a row with ρS ≥ 1 can make every solver diverge. Rows above 1 by less are
+// estimation noise around a true sum of at most 1, balanced by rows below it: scaling them too
+// would bias closed scenes dark. Returns how many rows it scaled.
+inline constexpr double kRowContraction = 0.95;
+std::size_t boundRowSums(FormFactorMatrix& F, std::span<const Rgb> albedo);
+
 }  // namespace lambert

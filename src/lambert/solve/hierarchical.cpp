@@ -15,11 +15,12 @@ double largestChange(const Rgb& a, const Rgb& b) {
 }  // namespace
 
 HierarchicalTransport::HierarchicalTransport(const ElementHierarchy& hierarchy, std::shared_ptr<const Links> links,
-                                             std::span<const double> leafOpenFraction)
+                                             std::span<const double> leafOpenFraction, std::span<const Rgb> leafAlbedo)
     : nodeOfLeaf_(hierarchy.leafNodes()), links_(std::move(links)) {
   const auto& nodes = hierarchy.nodes();
   LAMBERT_CHECK(links_ && links_->start.size() == nodes.size() + 1);
   LAMBERT_CHECK(leafOpenFraction.size() == nodeOfLeaf_.size());
+  LAMBERT_CHECK(leafAlbedo.size() == nodeOfLeaf_.size());
   parent_.resize(nodes.size());
   area_.resize(nodes.size());
   openArea_.assign(nodes.size(), 0.0);
@@ -29,7 +30,21 @@ HierarchicalTransport::HierarchicalTransport(const ElementHierarchy& hierarchy, 
     area_[i] = nodes[i].area;
     leafOfNode_[i] = nodes[i].leaf;
   }
-  leafOpenFraction_.assign(leafOpenFraction.begin(), leafOpenFraction.end());
+  // Σ K over each node's links and its ancestors' (parents have smaller indices).
+  std::vector<double> rowSum(nodes.size(), 0.0);
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    if (parent_[i] != kNoNode) rowSum[i] = rowSum[parent_[i]];
+    for (std::uint32_t k = links_->start[i]; k < links_->start[i + 1]; ++k) rowSum[i] += links_->formFactor[k];
+  }
+  leafGain_.resize(nodeOfLeaf_.size());
+  for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l) {
+    const double sum = rowSum[nodeOfLeaf_[l]];
+    LAMBERT_CHECK(std::isfinite(sum) && sum >= 0);
+    largestRowSum_ = std::fmax(largestRowSum_, sum);
+    const bool scale = leafAlbedo[l].maxComponent() * sum > kContraction;
+    rowsScaled_ += scale;
+    leafGain_[l] = leafOpenFraction[l] * (scale ? 1 / sum : 1.0);
+  }
   for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l) openArea_[nodeOfLeaf_[l]] = area_[nodeOfLeaf_[l]] * leafOpenFraction[l];
   for (std::size_t i = nodes.size(); i-- > 1;)
     if (parent_[i] != kNoNode) openArea_[parent_[i]] += openArea_[i];
@@ -71,7 +86,7 @@ void HierarchicalTransport::gather(const std::vector<Rgb>& radiosity, std::vecto
   for (std::size_t i = 1; i < n; ++i)
     if (parent_[i] != kNoNode) gathered[i] += gathered[parent_[i]];
   irradiance.resize(size());
-  for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l) irradiance[l] = gathered[nodeOfLeaf_[l]] * leafOpenFraction_[l];
+  for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l) irradiance[l] = gathered[nodeOfLeaf_[l]] * leafGain_[l];
 }
 
 SweepChange HierarchicalTransport::sweep(const std::vector<Rgb>& emitted, const std::vector<Rgb>& albedo,
@@ -96,7 +111,7 @@ SweepChange HierarchicalTransport::sweep(const std::vector<Rgb>& emitted, const 
     if (parent_[i] != kNoNode) pushed[i] += pushed[parent_[i]];
     const std::uint32_t l = leafOfNode_[i];
     if (l == kNoNode) continue;
-    Rgb updated = emitted[l] + albedo[l] * pushed[i] * leafOpenFraction_[l];
+    Rgb updated = emitted[l] + albedo[l] * pushed[i] * leafGain_[l];
     const Rgb delta = updated - radiosity[l];
     change.change = std::fmax(change.change, largestChange(updated, radiosity[l]));
     change.magnitude = std::fmax(change.magnitude, updated.maxComponent());
