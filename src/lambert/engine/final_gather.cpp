@@ -1,5 +1,7 @@
 #include "lambert/engine/final_gather.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "lambert/core/error.h"
@@ -44,7 +46,8 @@ FinalGather::FinalGather(const ElementHierarchy& hierarchy, const ElementHierarc
   }
 }
 
-double FinalGather::visibility(std::uint32_t vertex, std::uint32_t link, const HierarchyNode& source) const {
+double FinalGather::visibility(std::uint32_t vertex, std::uint32_t link, const HierarchyNode& source,
+                               std::uint32_t& raysCast) const {
   const VertexSite& site = sites_[vertex];
   Pcg32 rng(seed_, (static_cast<std::uint64_t>(vertex) << 32) ^ link);
   const std::uint32_t su = rng.nextUint(), sv = rng.nextUint();
@@ -55,6 +58,7 @@ double FinalGather::visibility(std::uint32_t vertex, std::uint32_t link, const H
     const Vec3 y = sampleConvexPolygon(source.polygon(), u, v);
     if (!(pointToPointKernel(site.point, site.normal, y, source.normal) > 0)) continue;
     ++facing;
+    ++raysCast;
     const Vec3 to = y + source.normal * epsilon_;
     open += !caster_.occluded(Ray{from, to - from, 0, 1});
   }
@@ -63,9 +67,11 @@ double FinalGather::visibility(std::uint32_t vertex, std::uint32_t link, const H
   return static_cast<double>(open) / facing;
 }
 
-std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean) const {
+std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean, FinalGatherCounts* counts) const {
   LAMBERT_CHECK(mean.size() == hierarchy_.nodes().size());
   std::vector<Rgb> out(sites_.size());
+  // Per vertex: sources gathered, sources opened, visibility rays.
+  std::vector<std::array<std::uint32_t, 3>> work(counts ? sites_.size() : 0, {0, 0, 0});
   const std::vector<std::uint32_t>& leafNodes = hierarchy_.leafNodes();
   parallelFor(0, sites_.size(), [&](std::size_t v) {
     if (leaf_[v] == kNoNode) return;
@@ -91,9 +97,11 @@ std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean) const {
           // link reached is lit further out. Its children's means, already pulled, say how it
           // varies (Barnes–Hut's opening criterion on the source's bounding sphere).
           if (!source.isLeaf() && source.radius > kOpeningRatio * distance) {
+            if (counts) ++work[v][1];
             for (std::uint32_t child : hierarchy_.children(s)) open.push_back(child);
             continue;
           }
+          if (counts) ++work[v][0];
           double factor = 0;
           if (!source.isCluster()) {
             factor = pointToPolygonFormFactor(site.point, site.normal, source.polygon(), source.normal);
@@ -103,13 +111,29 @@ std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean) const {
           }
           if (!(factor > 0)) continue;
           double seen = linkVisibility;
-          if (!allVisible && !source.isCluster() && !clusterReceiver) seen = visibility(static_cast<std::uint32_t>(v), k, source);
+          if (!allVisible && !source.isCluster() && !clusterReceiver) {
+            std::uint32_t raysCast = 0;
+            seen = visibility(static_cast<std::uint32_t>(v), k, source, raysCast);
+            if (counts) work[v][2] += raysCast;
+          }
           sum += mean[s] * (factor * seen);
         }
       }
     }
     out[v] = sum;
   }, 64);
+  if (counts) {
+    *counts = {};
+    for (std::size_t v = 0; v < work.size(); ++v) {
+      if (leaf_[v] == kNoNode) continue;
+      ++counts->vertices;
+      counts->sourcesGathered += work[v][0];
+      counts->sourcesOpened += work[v][1];
+      counts->visibilityRays += work[v][2];
+      counts->maxSourcesGathered = std::max<std::uint64_t>(counts->maxSourcesGathered, work[v][0]);
+      counts->maxVisibilityRays = std::max<std::uint64_t>(counts->maxVisibilityRays, work[v][2]);
+    }
+  }
   return out;
 }
 
