@@ -17,7 +17,7 @@ namespace {
 // may be gathered from its children instead (a cluster always is)...
 constexpr double kOpeningRatio = 0.5;
 // ...an element only where that can change the vertex's irradiance by more than this share.
-constexpr double kOpeningTolerance = 0.01;
+constexpr double kOpeningTolerance = 1e-3;
 
 }  // namespace
 
@@ -161,7 +161,7 @@ std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean, FinalGath
       }
     }
     // Then an element seen from close by is taken through its children where that can change
-    // the irradiance here by more than kOpeningTolerance of the whole: by the spread of the
+    // the irradiance here by more than kOpeningTolerance of the whole (first pass): by the spread of the
     // radiosity under it, and where the rays to it disagree, by all it brings (the floor next to
     // a block's base is in the block's shadow while the floor element the link reached is lit
     // further out). The exact polygon factor is additive, so a uniform, uniformly visible
