@@ -11,7 +11,12 @@
 // a wall below the ceiling, a floor's corners, a block's contact shadow. Here the sources are
 // the nodes the oracle chose (their mean radiosity B̄_s), opened to their children (whose means
 // are pulled too) where a node's bounding sphere is wider than half its distance from the
-// vertex, and the receiver is the point:
+// vertex: a cluster always, an element only where its children can change the vertex's
+// irradiance by more than 10⁻³ of what the unopened sources give, F(x → s) × (the spread of the
+// leaf radiosities under s, or its brightest leaf where the rays to s disagree). The polygon
+// factor is additive, so a uniform, uniformly visible element gives the same whole; long thin
+// ones (lamp strips, whose spheres are as long as they are) are not opened to their leaves by
+// every vertex nearby. The receiver is the point:
 //   element source   the exact point-to-polygon factor from the vertex to s (formfactor/kernels.h)
 //                    × visibility: 1 where all the link's rays got through, otherwise the share of
 //                    unoccluded rays from the vertex to stratified points on s;
