@@ -92,7 +92,7 @@ std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean, FinalGath
   parallelFor(0, sites_.size(), [&](std::size_t v) {
     if (leaf_[v] == kNoNode) return;
     const VertexSite& site = sites_[v];
-    std::uint32_t noCount[3];
+    std::uint32_t noCount[3] = {0, 0, 0};
     std::uint32_t* tally = counts ? work[v].data() : noCount;
     // An element source as the vertex sees it: what it brings, and whether the rays to it
     // disagree (a shadow edge crosses it as seen from here).
@@ -161,10 +161,10 @@ std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean, FinalGath
       }
     }
     // Then an element seen from close by is taken through its children where that can change
-    // the irradiance here by more than kOpeningTolerance of the whole (first pass): by the spread of the
-    // radiosity under it, and where the rays to it disagree, by all it brings (the floor next to
-    // a block's base is in the block's shadow while the floor element the link reached is lit
-    // further out). The exact polygon factor is additive, so a uniform, uniformly visible
+    // the irradiance here by more than kOpeningTolerance of the first pass's: by the spread of
+    // the radiosity under it, and where the rays to it disagree, by all it brings (the floor
+    // next to a block's base is in the block's shadow while the floor element the link reached
+    // is lit further out). The exact polygon factor is additive, so a uniform, uniformly visible
     // source gives the same through its children; a long thin one (a lamp strip) would
     // otherwise be opened to its leaves by every vertex its bounding sphere reaches.
     const double threshold = kOpeningTolerance * sum.maxComponent();
