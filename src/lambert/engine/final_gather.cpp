@@ -1,5 +1,7 @@
 #include "lambert/engine/final_gather.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "lambert/core/error.h"
@@ -12,8 +14,10 @@ namespace lambert {
 namespace {
 
 // A source node whose bounding sphere is wider than this share of its distance from the vertex
-// is gathered from its children instead.
+// may be gathered from its children instead (a cluster always is)...
 constexpr double kOpeningRatio = 0.5;
+// ...an element only where that can change the vertex's irradiance by more than this share.
+constexpr double kOpeningTolerance = 1e-3;
 
 }  // namespace
 
@@ -44,7 +48,8 @@ FinalGather::FinalGather(const ElementHierarchy& hierarchy, const ElementHierarc
   }
 }
 
-double FinalGather::visibility(std::uint32_t vertex, std::uint32_t link, const HierarchyNode& source) const {
+double FinalGather::visibility(std::uint32_t vertex, std::uint32_t link, const HierarchyNode& source,
+                               std::uint32_t& raysCast) const {
   const VertexSite& site = sites_[vertex];
   Pcg32 rng(seed_, (static_cast<std::uint64_t>(vertex) << 32) ^ link);
   const std::uint32_t su = rng.nextUint(), sv = rng.nextUint();
@@ -55,6 +60,7 @@ double FinalGather::visibility(std::uint32_t vertex, std::uint32_t link, const H
     const Vec3 y = sampleConvexPolygon(source.polygon(), u, v);
     if (!(pointToPointKernel(site.point, site.normal, y, source.normal) > 0)) continue;
     ++facing;
+    ++raysCast;
     const Vec3 to = y + source.normal * epsilon_;
     open += !caster_.occluded(Ray{from, to - from, 0, 1});
   }
@@ -63,14 +69,62 @@ double FinalGather::visibility(std::uint32_t vertex, std::uint32_t link, const H
   return static_cast<double>(open) / facing;
 }
 
-std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean) const {
+std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean, FinalGatherCounts* counts) const {
   LAMBERT_CHECK(mean.size() == hierarchy_.nodes().size());
+  const std::size_t numNodes = hierarchy_.nodes().size();
+  // The lowest and highest radiosity of the leaves under each node, per channel: children have
+  // larger indices than their parents, so one pass in decreasing order sees them first.
+  std::vector<Rgb> lowest(mean), highest(mean);
+  for (std::size_t i = numNodes; i-- > 0;) {
+    if (hierarchy_.node(static_cast<std::uint32_t>(i)).isLeaf()) continue;
+    Rgb lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+    for (std::uint32_t c : hierarchy_.children(static_cast<std::uint32_t>(i))) {
+      lo = {std::fmin(lo.r, lowest[c].r), std::fmin(lo.g, lowest[c].g), std::fmin(lo.b, lowest[c].b)};
+      hi = {std::fmax(hi.r, highest[c].r), std::fmax(hi.g, highest[c].g), std::fmax(hi.b, highest[c].b)};
+    }
+    lowest[i] = lo;
+    highest[i] = hi;
+  }
   std::vector<Rgb> out(sites_.size());
+  // Per vertex: sources gathered, sources opened, visibility rays.
+  std::vector<std::array<std::uint32_t, 3>> work(counts ? sites_.size() : 0, {0, 0, 0});
   const std::vector<std::uint32_t>& leafNodes = hierarchy_.leafNodes();
   parallelFor(0, sites_.size(), [&](std::size_t v) {
     if (leaf_[v] == kNoNode) return;
     const VertexSite& site = sites_[v];
-    std::vector<std::uint32_t> open;  // the link's source and its descendants still to gather
+    std::uint32_t noCount[3] = {0, 0, 0};
+    std::uint32_t* tally = counts ? work[v].data() : noCount;
+    // An element source as the vertex sees it: what it brings, and whether the rays to it
+    // disagree (a shadow edge crosses it as seen from here).
+    struct Term {
+      std::uint32_t link, source;
+      bool resolvesVisibility;  // the rays to it are cast here, so its children's would be too
+      double factor, seen;
+      bool mixed;
+    };
+    std::vector<Term> terms;
+    std::vector<std::uint32_t> open;  // sources still to gather
+    const auto closeBy = [&](const HierarchyNode& source) {
+      // Barnes–Hut's opening criterion on the source's bounding sphere: only seen from closer
+      // than this can its children's point factors differ from shares of its own by area.
+      return !source.isLeaf() && source.radius > kOpeningRatio * length(source.centre - site.point);
+    };
+    const auto evaluate = [&](std::uint32_t k, std::uint32_t s, bool resolvesVisibility) {
+      const HierarchyNode& source = hierarchy_.node(s);
+      ++tally[0];
+      Term term{k, s, resolvesVisibility, pointToPolygonFormFactor(site.point, site.normal, source.polygon(), source.normal), 0, false};
+      if (!(term.factor > 0)) return term;
+      if (resolvesVisibility) {
+        term.seen = visibility(static_cast<std::uint32_t>(v), k, source, tally[2]);
+        term.mixed = term.seen > 0 && term.seen < 1;
+      } else {
+        const bool allVisible = links_.receiverSide[k] != 0;
+        term.seen = allVisible ? 1.0 : links_.uncertainty[k] > 0 ? links_.formFactor[k] / links_.uncertainty[k] : 0.0;
+      }
+      return term;
+    };
+    // First, every link's source as one element, clusters opened where close by (their kernel
+    // is a far-field one): the irradiance the opening below is judged against.
     Rgb sum;
     for (std::uint32_t r = leafNodes[leaf_[v]]; r != kNoNode; r = hierarchy_.node(r).parent) {
       const bool clusterReceiver = hierarchy_.node(r).isCluster();
@@ -85,31 +139,75 @@ std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean) const {
           const std::uint32_t s = open.back();
           open.pop_back();
           const HierarchyNode& source = hierarchy_.node(s);
-          const double distance = length(source.centre - site.point);
-          // A source seen from close by, for its size, shows the vertex more than its mean: the
-          // floor next to a block's base is in the block's shadow while the floor element the
-          // link reached is lit further out. Its children's means, already pulled, say how it
-          // varies (Barnes–Hut's opening criterion on the source's bounding sphere).
-          if (!source.isLeaf() && source.radius > kOpeningRatio * distance) {
+          if (!source.isCluster()) {
+            const Term term = evaluate(k, s, !allVisible && !clusterReceiver);
+            if (term.factor > 0) {
+              sum += mean[s] * (term.factor * term.seen);
+              terms.push_back(term);
+            }
+            continue;
+          }
+          if (closeBy(source)) {
+            ++tally[1];
             for (std::uint32_t child : hierarchy_.children(s)) open.push_back(child);
             continue;
           }
-          double factor = 0;
-          if (!source.isCluster()) {
-            factor = pointToPolygonFormFactor(site.point, site.normal, source.polygon(), source.normal);
-          } else {
-            const Vec3 w = (source.centre - site.point) / distance;
-            factor = source.projectedArea(-w) * std::fmax(0.0, dot(site.normal, w)) / (kPi * distance * distance);
-          }
-          if (!(factor > 0)) continue;
-          double seen = linkVisibility;
-          if (!allVisible && !source.isCluster() && !clusterReceiver) seen = visibility(static_cast<std::uint32_t>(v), k, source);
-          sum += mean[s] * (factor * seen);
+          ++tally[0];
+          const double distance = length(source.centre - site.point);
+          const Vec3 w = (source.centre - site.point) / distance;
+          const double factor = source.projectedArea(-w) * std::fmax(0.0, dot(site.normal, w)) / (kPi * distance * distance);
+          if (factor > 0) sum += mean[s] * (factor * linkVisibility);
+        }
+      }
+    }
+    // Then an element seen from close by is taken through its children where that can change
+    // the irradiance here by more than kOpeningTolerance of the first pass's: by the spread of
+    // the radiosity under it, and where the rays to it disagree, by all it brings (the floor
+    // next to a block's base is in the block's shadow while the floor element the link reached
+    // is lit further out). The exact polygon factor is additive, so a uniform, uniformly visible
+    // source gives the same through its children; a long thin one (a lamp strip) would
+    // otherwise be opened to its leaves by every vertex its bounding sphere reaches.
+    const double threshold = kOpeningTolerance * sum.maxComponent();
+    const auto opens = [&](const Term& term) {
+      const HierarchyNode& source = hierarchy_.node(term.source);
+      if (!closeBy(source)) return false;
+      const double spread = (highest[term.source] - lowest[term.source]).maxComponent();
+      const double variation = term.mixed ? std::fmax(spread, highest[term.source].maxComponent()) : spread;
+      return term.factor * variation > threshold;
+    };
+    std::vector<Term> pending;
+    for (const Term& top : terms) {
+      if (!opens(top)) continue;
+      sum -= mean[top.source] * (top.factor * top.seen);
+      pending.assign(1, top);
+      while (!pending.empty()) {
+        const Term term = pending.back();
+        pending.pop_back();
+        if (!opens(term)) {
+          sum += mean[term.source] * (term.factor * term.seen);
+          continue;
+        }
+        ++tally[1];
+        for (std::uint32_t child : hierarchy_.children(term.source)) {
+          const Term c = evaluate(term.link, child, term.resolvesVisibility);
+          if (c.factor > 0) pending.push_back(c);
         }
       }
     }
     out[v] = sum;
   }, 64);
+  if (counts) {
+    *counts = {};
+    for (std::size_t v = 0; v < work.size(); ++v) {
+      if (leaf_[v] == kNoNode) continue;
+      ++counts->vertices;
+      counts->sourcesGathered += work[v][0];
+      counts->sourcesOpened += work[v][1];
+      counts->visibilityRays += work[v][2];
+      counts->maxSourcesGathered = std::max<std::uint64_t>(counts->maxSourcesGathered, work[v][0]);
+      counts->maxVisibilityRays = std::max<std::uint64_t>(counts->maxVisibilityRays, work[v][2]);
+    }
+  }
   return out;
 }
 

@@ -11,7 +11,12 @@
 // a wall below the ceiling, a floor's corners, a block's contact shadow. Here the sources are
 // the nodes the oracle chose (their mean radiosity B̄_s), opened to their children (whose means
 // are pulled too) where a node's bounding sphere is wider than half its distance from the
-// vertex, and the receiver is the point:
+// vertex: a cluster always, an element only where its children can change the vertex's
+// irradiance by more than 10⁻³ of what the unopened sources give, F(x → s) × (the spread of the
+// leaf radiosities under s, or its brightest leaf where the rays to s disagree). The polygon
+// factor is additive, so a uniform, uniformly visible element gives the same whole; long thin
+// ones (lamp strips, whose spheres are as long as they are) are not opened to their leaves by
+// every vertex nearby. The receiver is the point:
 //   element source   the exact point-to-polygon factor from the vertex to s (formfactor/kernels.h)
 //                    × visibility: 1 where all the link's rays got through, otherwise the share of
 //                    unoccluded rays from the vertex to stratified points on s;
@@ -30,6 +35,15 @@
 
 namespace lambert {
 
+// What one final gather did, summed over the vertices (and the most at any one vertex).
+struct FinalGatherCounts {
+  std::uint64_t vertices = 0;         // vertices gathered (those with a leaf)
+  std::uint64_t sourcesGathered = 0;  // source nodes whose factor was evaluated at a vertex
+  std::uint64_t sourcesOpened = 0;    // source nodes taken through their children instead
+  std::uint64_t visibilityRays = 0;   // rays cast from the vertices to sources
+  std::uint64_t maxSourcesGathered = 0, maxVisibilityRays = 0;  // at one vertex
+};
+
 class FinalGather {
  public:
   // The references must outlive this object and stay unchanged while it is used.
@@ -38,14 +52,17 @@ class FinalGather {
 
   // Per vertex of the leaf mesh: the irradiance Σ K(x, s) B̄_s the links bring (W/m²), from the
   // radiosity every node shows (HierarchicalTransport::pull, W/m²).
-  std::vector<Rgb> irradiance(const std::vector<Rgb>& nodeMeanRadiosity) const;
+  // counts, if given, receives what the gather did.
+  std::vector<Rgb> irradiance(const std::vector<Rgb>& nodeMeanRadiosity, FinalGatherCounts* counts = nullptr) const;
 
   const std::vector<VertexSite>& sites() const { return sites_; }
   // The leaf each vertex gathers through (its patch index in the leaf mesh); kNoNode if none.
   const std::vector<std::uint32_t>& gatheringLeaf() const { return leaf_; }
 
  private:
-  double visibility(std::uint32_t vertex, std::uint32_t link, const HierarchyNode& source) const;
+  // The share of rays from the vertex to stratified points on the source that get through;
+  // adds the rays cast to raysCast.
+  double visibility(std::uint32_t vertex, std::uint32_t link, const HierarchyNode& source, std::uint32_t& raysCast) const;
 
   const ElementHierarchy& hierarchy_;
   const Links& links_;

@@ -203,7 +203,14 @@ std::vector<std::vector<Rgb>> HierarchicalMeshing::vertexSolution(const ElementS
                            options_.links.visibilityRays, options_.links.seed);
   std::vector<Rgb> mean;
   transport_->pull(solution.radiosity, mean);
-  const std::vector<Rgb> gathered = gather.irradiance(mean);
+  Timer gatherTimer;
+  FinalGatherCounts counts;
+  const std::vector<Rgb> gathered = gather.irradiance(mean, &counts);
+  {
+    const std::lock_guard<std::mutex> lock(gatherMutex_);
+    gatherCounts_ = counts;
+    gatherSeconds_ = gatherTimer.seconds();
+  }
   const std::vector<VertexSite>& sites = gather.sites();
   const std::vector<std::uint32_t>& leaf = gather.gatheringLeaf();
   // The lights' direct irradiance at the vertices, where a quantity includes it.
@@ -264,6 +271,20 @@ void HierarchicalMeshing::addStats(Stats& stats) const {
   stats.add("link_seconds", "link refinement time", refinement_.seconds, "s");
   stats.add("leaf_mesh_seconds", "leaf mesh time", leafSeconds_, "s");
   stats.add("formfactor_seconds", "form-factor time", refinement_.seconds + lightSeconds_, "s");
+  const std::lock_guard<std::mutex> lock(gatherMutex_);
+  if (gatherCounts_.vertices > 0) {
+    const double vertices = static_cast<double>(gatherCounts_.vertices);
+    stats.add("gather_vertices", "final gather: vertices", count(gatherCounts_.vertices));
+    stats.add("gather_sources_per_vertex", "final gather: sources per vertex (mean)",
+              static_cast<double>(gatherCounts_.sourcesGathered) / vertices);
+    stats.add("gather_sources_max", "final gather: sources at one vertex (most)", count(gatherCounts_.maxSourcesGathered));
+    stats.add("gather_opened_per_vertex", "final gather: sources opened per vertex (mean)",
+              static_cast<double>(gatherCounts_.sourcesOpened) / vertices);
+    stats.add("gather_rays_per_vertex", "final gather: visibility rays per vertex (mean)",
+              static_cast<double>(gatherCounts_.visibilityRays) / vertices);
+    stats.add("gather_rays_max", "final gather: visibility rays at one vertex (most)", count(gatherCounts_.maxVisibilityRays));
+    stats.add("gather_seconds", "final gather time (last)", gatherSeconds_, "s");
+  }
 }
 
 }  // namespace lambert

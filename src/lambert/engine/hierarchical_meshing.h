@@ -11,9 +11,11 @@
 // Later solve() calls (lights moved) re-inject the lights on the existing leaves and re-solve
 // warm over the existing links, without refining: the dynamic-light path.
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include "lambert/core/timer.h"
+#include "lambert/engine/final_gather.h"
 #include "lambert/engine/meshing.h"
 #include "lambert/engine/radiosity.h"
 #include "lambert/formfactor/links.h"
@@ -61,6 +63,10 @@ class HierarchicalMeshing final : public Meshing {
   RefinementReport refinement_;
   std::uint64_t lightSplits_ = 0, lightSamples_ = 0;
   double buildSeconds_ = 0, bvhSeconds_ = 0, lightSeconds_ = 0, leafSeconds_ = 0;
+  // The last final gather's work (vertexSolution is const and may run on any thread).
+  mutable std::mutex gatherMutex_;
+  mutable FinalGatherCounts gatherCounts_;
+  mutable double gatherSeconds_ = 0;
 };
 
 }  // namespace lambert
