@@ -4,7 +4,8 @@
 For each scene that scripts/fetch-corpus.py could bring (the others are listed with the reason
 they were skipped) it runs `lambert render --scene FILE --json -o OUT/<id>.png` with the
 manifest's camera (`--eye/--target/--up/--fov`, in the file's own frame; "file" uses the file's
-camera, "default" lambert's own choice) and default options otherwise, and reports:
+camera, "default" lambert's own choice), the manifest's "options" (only `--sides one` where
+RenderPark's own script forces faces one-sided) and default options otherwise, and reports:
 loaded, faces, links, whether the solve converged, the whole process's wall time (process start
 to written PNG) and peak resident memory, and whether the picture is usable: neither black (under a
 quarter of its pixels lit, or their median luminance under 8 of 255) nor blown out (over 10% of
@@ -188,8 +189,10 @@ def main():
             continue
         row["load_seconds"] = loaded["wall"]
         image = os.path.join(args.out, scene["id"] + ".png")
-        command = [args.lambert, "render", "--scene", path, "--json", "-o", image] + camera_arguments(scene.get("camera"))
+        command = ([args.lambert, "render", "--scene", path, "--json", "-o", image] + camera_arguments(scene.get("camera")) +
+                   scene.get("options", []))
         row["camera"] = scene.get("camera", "file")
+        row["options"] = " ".join(scene.get("options", []))
         runs = []
         for run in range(args.runs):
             log(f"{scene['id']}: lambert run {run + 1} of {args.runs}")

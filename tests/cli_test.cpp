@@ -610,6 +610,37 @@ TEST(CliTest, CameraOptionsInTheFilesFrameAndAutomaticExposure) {
   EXPECT_EQ(animated.exitCode, 0) << animated.output;
 }
 
+// --sides: RenderPark forces every face one-sided unless told otherwise, and its cameras stand
+// outside rooms whose MGF materials say two sides. Seen from outside, the two-sided room shows its
+// near wall's unlit outer twin; `--sides one` culls it and the lit room shows through.
+TEST(CliTest, SidesOptionForcesEveryMaterialOneOrTwoSided) {
+  fs::path dir = outputDir("sides");
+  std::string mgf = mgfRoom();
+  mgf.replace(mgf.find("\tsides 1\n"), 9, "\tsides 2\n");
+  const std::string room = (dir / "room.mgf").string();
+  std::ofstream(room) << mgf;
+  const std::string common = " --scene " + room + " --method flat --patches 300 --width 48 --height 36"
+                             " --eye -3,2,1.5 --target 5,2,1.5 --fov 50 --json";
+  auto json = [](const CommandResult& r) { return nlohmann::json::parse(r.output.substr(r.output.find('{'))); };
+  auto patches = [&json](const CommandResult& r) { return json(r)["patches"].get<int>(); };
+  CommandResult one = run("render --sides one" + common + " -o " + (dir / "one.png").string());
+  ASSERT_EQ(one.exitCode, 0) << one.output;
+  EXPECT_GT(meanValue(dir / "one.png"), 40) << "the lit room through the culled near wall";
+  // The same exposure on the room as written: its near wall's outer twin hides it.
+  const double stops = json(one)["exposure_stops"].get<double>();
+  CommandResult asWritten = run("render" + common + " --exposure " + std::to_string(stops) + " -o " + (dir / "two.png").string());
+  ASSERT_EQ(asWritten.exitCode, 0) << asWritten.output;
+  EXPECT_LT(meanValue(dir / "two.png"), 2) << "the near wall's outer twin is unlit";
+  EXPECT_LT(patches(one), patches(asWritten)) << "no twins";
+  CommandResult two = run("render --sides two --scene " + (dir / "room.mgf").string() +
+                          " --method flat --patches 300 --width 16 --height 12 -q -o " + (dir / "forced.png").string());
+  EXPECT_EQ(two.exitCode, 0) << two.output;
+  CommandResult builtin = run("render --sides one --scene cornell -o " + (dir / "never.png").string());
+  EXPECT_EQ(builtin.exitCode, 2);
+  EXPECT_NE(builtin.output.find("--sides has no effect"), std::string::npos) << builtin.output;
+  EXPECT_FALSE(fs::exists(dir / "never.png"));
+}
+
 // The Khronos glTF-Validator (installed by scripts/install-deps.sh from npm where npm is) finds no
 // error, warning or note in the exports of a built-in, Blender's and the textured room.
 TEST(CliTest, ExportsPassTheKhronosGltfValidator) {

@@ -14,6 +14,7 @@
 #include "lambert/mesh/mesh.h"
 #include "lambert/render/scene_camera.h"
 #include "lambert/render/tonemap.h"
+#include "lambert/scene/builtin.h"
 #include "lambert/scene/scene_file.h"
 #include "lambert/version.h"
 
@@ -56,6 +57,11 @@ void addMeshOptions(CLI::App& cmd, MeshCommandOptions& o) {
   cmd.add_option("--include-root", o.includeRoot,
                  "MGF files: refuse includes that resolve outside this folder (default: follow them wherever they lead)")
       ->check(CLI::ExistingDirectory);
+  cmd.add_option("--sides", o.sides,
+                 "Scene files and mesh files: every material one-sided or two-sided, whatever the file says (RenderPark "
+                 "forces one side unless told -dont-force-onesided); file: as each material says")
+      ->check(CLI::IsMember({"file", "one", "two"}))
+      ->capture_default_str();
 }
 
 void addSolveOptions(CLI::App& cmd, SolveCommandOptions& o) {
@@ -271,7 +277,14 @@ std::optional<Scene> findScene(const std::string& command, const MeshCommandOpti
       return std::nullopt;
     }
   }
+  const std::vector<std::string> builtins = builtinSceneNames();
+  if (o.sides != "file" && std::find(builtins.begin(), builtins.end(), o.scene) != builtins.end()) {
+    fail(command, "--sides has no effect: '" + o.scene + "' is a built-in scene, whose sides are part of its definition (export it with "
+                  "`lambert scenes --export DIR` to change them)");
+    return std::nullopt;
+  }
   LoadOptions load;
+  if (o.sides != "file") load.twoSided = o.sides == "two";
   load.metresPerUnit = o.metresPerUnit;
   load.creaseAngleDegrees = o.creaseAngleDegrees;
   load.mgfDivisions = o.mgfDivisions;

@@ -34,6 +34,7 @@ struct MeshCommandOptions : GivenOptions {
   double creaseAngleDegrees = 20; // --crease-angle for mesh files
   int mgfDivisions = 16;          // --mgf-divisions for MGF files
   std::string includeRoot;        // --include-root: MGF includes confined to this folder
+  std::string sides = "file";     // --sides: file (what each material says), one or two
 };
 
 struct SolveCommandOptions : MeshCommandOptions {
