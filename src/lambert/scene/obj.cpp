@@ -48,6 +48,37 @@ Status checkCoordinates(const std::string& path) {
   return Ok{};
 }
 
+// The folder an OBJ's material libraries are read from. OBJ says nothing of what `mtllib` paths
+// are relative to; Blender and tinyobjloader take the OBJ's folder. Files written by programs that
+// ran from a project's root name their libraries from there (`mtllib scenes/box.mtl` inside
+// scenes/), so where the first library is not beside the OBJ, the same path is tried from each
+// folder above it; the folder that holds it is used, with a warning naming the line. With none
+// found, the OBJ's folder (tinyobjloader then warns that the library is missing).
+std::filesystem::path materialFolder(const std::string& path) {
+  namespace fs = std::filesystem;
+  const fs::path objFolder = fs::path(path).parent_path();
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    std::istringstream words(line);
+    std::string keyword, library;
+    words >> keyword >> library;
+    if (keyword != "mtllib" || library.empty()) continue;
+    std::error_code ec;
+    if (fs::is_regular_file(objFolder / library, ec)) return objFolder;
+    const std::string where = path + ":" + std::to_string(number) + ": mtllib '" + library + "' is not beside the OBJ; ";
+    for (fs::path folder = fs::absolute(objFolder, ec).parent_path(); !folder.empty(); folder = folder.parent_path()) {
+      if (fs::is_regular_file(folder / library, ec)) {
+        warning(where + "read " + (folder / library).string() + " (a path from a folder above it, as the program that wrote it ran)");
+        return folder;
+      }
+      if (folder == folder.parent_path()) break;
+    }
+    return objFolder;
+  }
+  return objFolder;
+}
+
 }  // namespace
 
 Result<Scene> readObj(const std::string& path, const ObjOptions& options) {
@@ -57,7 +88,7 @@ Result<Scene> readObj(const std::string& path, const ObjOptions& options) {
   tinyobj::ObjReaderConfig config;
   config.triangulate = false;  // lambert triangulates (ear clipping) only what is not convex
   config.vertex_color = false;
-  config.mtl_search_path = std::filesystem::path(path).parent_path().string();
+  config.mtl_search_path = materialFolder(path).string();
   tinyobj::ObjReader reader;
   if (!reader.ParseFromFile(path, config)) return Error{path + ": " + singleLine(reader.Error())};
   if (!reader.Warning().empty()) warning(path + ": " + singleLine(reader.Warning()));

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 
 #include "lambert/core/warning.h"
@@ -78,6 +79,31 @@ TEST(ObjTest, MissingMtlIsAWarningAndDefaultGrey) {
   ASSERT_EQ(scene->surfaces.size(), 2u);  // one material now, but two groups: two named regions
   EXPECT_EQ(scene->surfaces[1].name, "lamp");
   EXPECT_EQ(scene->surfaces[1].emittedRadiance, Rgb{});
+}
+
+// An OBJ written by a program that ran from its project's root names its library from there
+// (McGuire's Cornell box as shipped with pathed: `mtllib scenes/CornellBox-Original.mtl` inside
+// scenes/): the path is found from the folder above, with a warning naming the line, and the
+// materials (here the lamp's Ke) are read.
+TEST(ObjTest, MtllibRelativeToAFolderAboveIsFound) {
+  const fs::path root = testing::scratchDirectory("obj", "mtllib-from-root");
+  fs::create_directories(root / "scenes");
+  std::string room = kRoom;
+  room.replace(room.find("mtllib room.mtl"), std::string("mtllib room.mtl").size(), "mtllib scenes/room.mtl");
+  write(root / "scenes" / "room.obj", room);
+  write(root / "scenes" / "room.mtl", "newmtl wall\nKd 0.7 0.6 0.5\nnewmtl lamp\nKd 0.8 0.8 0.8\nKe 5 4.5 4\n");
+  WarningCapture captured;
+  Result<Scene> scene = readObj((root / "scenes" / "room.obj").string());
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  EXPECT_GE(captured.count("mtllib 'scenes/room.mtl' is not beside the OBJ; read " + (root / "scenes/room.mtl").string()), 1u);
+  const auto lamp = std::find_if(scene->surfaces.begin(), scene->surfaces.end(), [](const Surface& s) { return s.name == "lamp"; });
+  ASSERT_NE(lamp, scene->surfaces.end());
+  EXPECT_EQ(lamp->emittedRadiance, (Rgb{5, 4.5, 4}));
+  // Where no folder holds it, the materials are the default grey, as for a missing library.
+  write(root / "scenes" / "lost.obj", std::string(room).replace(room.find("scenes/room.mtl"), 15, "nowhere/x.mtl"));
+  Result<Scene> lost = readObj((root / "scenes" / "lost.obj").string());
+  ASSERT_TRUE(lost.ok()) << lost.error().message;
+  EXPECT_EQ(lost->materials.at(0).name, "default");
 }
 
 // MTL's map_Ke (Blender's OBJ exporter writes it beside Ke): the emitted radiance is Ke × the
