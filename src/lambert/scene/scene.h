@@ -130,7 +130,7 @@ struct Scene {
   Camera camera;
   // Whether `camera` was given (by the scene file, the glTF, the built-in scene), rather than the
   // outside view the loader computed from the bounds (cameraViewingScene); a camera that is not
-  // given is chosen by render/default_camera.h.
+  // given is chosen by defaultCamera (render/scene_camera.h).
   bool cameraGiven = false;
   // Exposure in stops that images of the scene are taken at (radiance × 2^stops before sRGB);
   // empty: automatic, from each image (render/tonemap.h). The built-in scenes are calibrated to 0.
