@@ -49,7 +49,7 @@ HierarchicalMeshing::HierarchicalMeshing(const Scene& scene, const RadiosityOpti
   for (const Patch& p : leaves_.mesh.patches) casterFace_.push_back(static_cast<std::uint64_t>(p.surface) << 32 | p.face);
   epsilon_ = rayEpsilon(leaves_.mesh);
   bvhSeconds_ = bvh.seconds();
-  measureOpenFractions(leaves_.mesh, *caster_);
+  // The faces' open fractions are measured by the first refine(), unless the link cache holds them.
   // Until the first refinement, the leaves (the faces) exchange nothing.
   auto none = std::make_shared<Links>();
   none->start.assign(hierarchy_.nodes().size() + 1, 0);
@@ -85,7 +85,8 @@ bool HierarchicalMeshing::loadLinks(const std::vector<Light>& lights, std::vecto
     linkCache_.seconds += timer.seconds();
     return false;
   }
-  if (!loaded->splits.empty()) rebuildLeaves();
+  if (!loaded->splits.empty()) leaves_ = hierarchy_.leaves(scene_);
+  for (std::size_t i = 0; i < leaves_.mesh.numPatches(); ++i) leaves_.mesh.patches[i].openFraction = loaded->openFraction[i];
   links_ = loaded->links;
   transport_ = std::make_shared<HierarchicalTransport>(hierarchy_, links_, openFractions(leaves_.mesh), patchAlbedo(scene_, leaves_.mesh));
   radiosity = std::move(loaded->warmStart);
@@ -107,6 +108,7 @@ void HierarchicalMeshing::saveLinks(const std::vector<Rgb>& warmStart) {
   refinement.numNodes = hierarchy_.nodes().size();
   refinement.links = links_;
   refinement.warmStart = warmStart;
+  refinement.openFraction = openFractions(leaves_.mesh);
   refinement.initialLinks = refinement_.initialLinks;
   refinement.clusterLinks = refinement_.clusterLinks;
   refinement.lightSplits = lightSplits_;
@@ -186,7 +188,12 @@ void HierarchicalMeshing::rebuildLeaves() {
 
 Result<bool> HierarchicalMeshing::refine(const std::vector<Light>& lights, std::vector<Rgb>& radiosity, SolveCallReport& report) {
   if (passesDone_ >= options_.refinePasses) return false;
-  if (passesDone_ == 0 && !linkCache_.directory.empty() && loadLinks(lights, radiosity)) return true;
+  if (passesDone_ == 0) {
+    if (!linkCache_.directory.empty() && loadLinks(lights, radiosity)) return true;
+    Timer timer;
+    measureOpenFractions(leaves_.mesh, *caster_);
+    leafSeconds_ += timer.seconds();
+  }
   // Which node each current leaf is, to hand the new leaves their ancestor's radiosity.
   std::vector<std::uint32_t> oldLeafOfNode(hierarchy_.nodes().size(), kNoNode);
   for (std::size_t l = 0; l < hierarchy_.leafNodes().size(); ++l) oldLeafOfNode[hierarchy_.leafNodes()[l]] = static_cast<std::uint32_t>(l);

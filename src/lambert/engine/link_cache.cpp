@@ -15,6 +15,7 @@
 //                       L         u8 0 or 1 (Links::receiverSide)
 //                       0–7       zero bytes, to a multiple of 8
 //                       24·V      float64 r, g, b of each leaf's warm start, leaves in node order
+//                       8·V       float64 each leaf's open fraction, in [0, 1]
 //   32+P    8         u64 checksum: XXH64 (seed 0) of every byte before it
 //
 // Each array is one contiguous block, copied to memory as it is: loading 8 × 10⁵ links is a read
@@ -105,7 +106,7 @@ void hashLight(KeyHasher& h, const Light& light) {
 
 // Overflow-safe payload arithmetic: every count is checked against what the file can hold.
 struct Layout {
-  std::uint64_t splits = 0, starts = 0, links = 0, side = 0, padded = 0, warm = 0, total = 0;
+  std::uint64_t splits = 0, starts = 0, links = 0, side = 0, padded = 0, warm = 0, open = 0, total = 0;
 };
 
 // Offsets of each block for the counts, or false when they would not fit in the address space.
@@ -118,7 +119,8 @@ bool layout(std::uint64_t nodes, std::uint64_t splits, std::uint64_t links, std:
   out.side = out.links + 12 * links;
   out.padded = out.side + links;
   out.warm = (out.padded + 7) / 8 * 8;
-  out.total = out.warm + 24 * leaves;
+  out.open = out.warm + 24 * leaves;
+  out.total = out.open + 8 * leaves;
   return out.total <= std::numeric_limits<std::size_t>::max() - cachefile::kHeaderBytes - cachefile::kChecksumBytes;
 }
 
@@ -209,7 +211,8 @@ Result<std::uint64_t> saveRefinement(const std::string& path, std::uint64_t key,
   const Links& links = *r.links;
   const std::uint64_t numLinks = links.size();
   LAMBERT_CHECK(links.start.size() == r.numNodes + 1 && links.formFactor.size() == numLinks &&
-                links.uncertainty.size() == numLinks && links.receiverSide.size() == numLinks);
+                links.uncertainty.size() == numLinks && links.receiverSide.size() == numLinks &&
+                r.openFraction.size() == r.warmStart.size());
   Layout at;
   if (!layout(r.numNodes, r.splits.size(), numLinks, r.warmStart.size(), at))
     return Error{path + ": " + std::to_string(numLinks) + " links over " + std::to_string(r.numNodes) + " nodes are too many to store"};
@@ -225,6 +228,7 @@ Result<std::uint64_t> saveRefinement(const std::string& path, std::uint64_t key,
   copyIn(q, links.uncertainty);
   copyIn(p + at.side, links.receiverSide);
   copyIn(p + at.warm, r.warmStart);
+  copyIn(p + at.open, r.openFraction);
   if (Status written = cachefile::writeFile(path, kFormat, key, at.total, std::span<const unsigned char>(p, at.total)); !written)
     return written.error();
   return at.total + cachefile::kHeaderBytes + cachefile::kChecksumBytes;
@@ -265,6 +269,7 @@ Result<CachedRefinement> loadRefinement(const std::string& path, std::uint64_t k
   copyOut(loaded->uncertainty, p + at.links + 8 * numLinks, numLinks);
   copyOut(loaded->receiverSide, p + at.side, numLinks);
   copyOut(r.warmStart, p + at.warm, numLeaves);
+  copyOut(r.openFraction, p + at.open, numLeaves);
   r.links = loaded;
 
   // The checksum says the bytes are the ones written; these say they make links a solve can use.
@@ -281,6 +286,8 @@ Result<CachedRefinement> loadRefinement(const std::string& path, std::uint64_t k
   }
   for (const Rgb& b : r.warmStart)
     if (!std::isfinite(b.r) || !std::isfinite(b.g) || !std::isfinite(b.b)) return Error{path + ": its warm start is not finite"};
+  for (double f : r.openFraction)
+    if (!(f >= 0 && f <= 1)) return Error{path + ": an open fraction is not in [0, 1]"};
   return r;
 }
 

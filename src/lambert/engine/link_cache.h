@@ -11,7 +11,9 @@
 //   - the links (Links, compressed rows over those nodes);
 //   - the radiosity the last pass handed the solve as its warm start (each new leaf from its old
 //     ancestor), so the one solve of a loading run starts where the computing run's last solve
-//     started and takes the same sweeps.
+//     started and takes the same sweeps;
+//   - the leaves' open fractions (geometry/coverage.h: 16 rays a leaf, a fifth of a loading run's
+//     time on a 10⁵-face building when measured again).
 // Everything the refinement reads is in the key (linkCacheKey): the scene's geometry, materials
 // (albedo and emission judge links through the BF oracle's radiosity estimate) and textures, the
 // lights at the first solve (their direct light is in that estimate, and they split elements at
@@ -60,6 +62,7 @@ struct CachedRefinement {
   std::uint64_t numNodes = 0;         // nodes after the splits (checked when replaying)
   std::shared_ptr<const Links> links;
   std::vector<Rgb> warmStart;         // per leaf (after the splits), W/m²
+  std::vector<double> openFraction;   // per leaf: Patch::openFraction (geometry/coverage.h)
   // Descriptions of the links carried over to the stats of a loading run.
   std::uint64_t initialLinks = 0, clusterLinks = 0, lightSplits = 0;
 };
@@ -71,7 +74,8 @@ std::vector<std::uint32_t> splitOrder(const ElementHierarchy& hierarchy);
 
 // Replays cached.splits on a hierarchy just built from the scene and numbers its leaves. Checks
 // every split before making it (a leaf element, in range) and the node and leaf counts after, and
-// the links and warm start against them; an Error (hierarchy then unusable) otherwise.
+// the links, warm start and open fractions against them; an Error (hierarchy then unusable)
+// otherwise.
 Status replaySplits(ElementHierarchy& hierarchy, const CachedRefinement& cached);
 
 // Writes the file atomically (formfactor/cache_file.h); the Error names the path. Returns the

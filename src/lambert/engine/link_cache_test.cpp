@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -267,6 +268,9 @@ TEST(LinkCacheTest, InconsistentContentsAreRefusedNotTrusted) {
   ASSERT_FALSE(loaded->splits.empty());
   EXPECT_EQ(loaded->links->size(), static_cast<std::size_t>(first.count("links")));
   EXPECT_EQ(loaded->warmStart.size(), static_cast<std::size_t>(first.count("patches")));
+  EXPECT_EQ(loaded->openFraction.size(), loaded->warmStart.size());
+  // The Cornell box's blocks cover part of the floor: open fractions below 1 are kept.
+  EXPECT_LT(*std::min_element(loaded->openFraction.begin(), loaded->openFraction.end()), 1.0);
 
   auto rewritten = [&](auto change) {
     CachedRefinement bad = *loaded;
@@ -289,7 +293,10 @@ TEST(LinkCacheTest, InconsistentContentsAreRefusedNotTrusted) {
     EXPECT_EQ(again.cache().rfind("saved ", 0), 0u) << again.cache();
   }
   // A warm start for other leaves.
-  rewritten([](CachedRefinement& r, Links&) { r.warmStart.pop_back(); });
+  rewritten([](CachedRefinement& r, Links&) {
+    r.warmStart.pop_back();
+    r.openFraction.pop_back();
+  });
   SolvedRun again = solve(options(dir));
   EXPECT_TRUE(contains(again.stderrText, "leaves, the file's warm start")) << again.stderrText;
   EXPECT_EQ(again.radiosity, first.radiosity);
