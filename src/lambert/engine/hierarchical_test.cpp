@@ -358,6 +358,7 @@ TEST(HierarchicalTest, LoweringTheLinkErrorNeverMovesAwayFromTheFineFlatSolution
   // The closed Cornell box's per-surface mean radiosity from a fine flat solve is the reference.
   const Scene scene = closedCornellBox();
   RadiosityOptions flat;
+  flat.meshing = MeshStrategy::Uniform;
   flat.uniform.targetPatches = 3000;
   flat.formFactors.showProgress = false;
   flat.solver = SolverKind::GaussSeidel;
