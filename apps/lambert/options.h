@@ -85,7 +85,10 @@ struct ExportCommandOptions : GivenOptions {
   GltfBake bake = GltfBake::Irradiance;
 };
 
-void addMeshOptions(CLI::App& command, MeshCommandOptions& options);
+// What --patches and --max-edge are for: sizing the flat method's mesh (giving one chooses the
+// flat method), or the dense estimate of `info`.
+enum class PatchOptions { FlatMethod, DenseEstimate };
+void addMeshOptions(CLI::App& command, MeshCommandOptions& options, PatchOptions role);
 void addExportOptions(CLI::App& command, ExportCommandOptions& options);
 // Refuses a path that is not .glb, and --bake without --export.
 Status checkExportOptions(const ExportCommandOptions& options);

@@ -102,7 +102,7 @@ void addReferenceOptions(CLI::App& cmd, ReferenceOptions& o) {
 std::function<int()> addReferenceCommand(CLI::App& app) {
   auto options = std::make_shared<ReferenceCommandOptions>();
   CLI::App* cmd = app.add_subcommand("reference", "Path-trace the ground truth: an image and/or per-vertex radiance");
-  addMeshOptions(*cmd, options->mesh);
+  addMeshOptions(*cmd, options->mesh, PatchOptions::FlatMethod);
   addReferenceOptions(*cmd, options->reference);
   cmd->add_option("--width", options->width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
   cmd->add_option("--height", options->height, "Image height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
