@@ -1,7 +1,9 @@
 // End-to-end: the `lambert` binary as a user runs it.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -14,6 +16,7 @@
 #include "lambert/io/exr.h"
 #include "lambert/io/png.h"
 #include "lambert/io/vertices.h"
+#include "lambert/light/lights.h"
 #include "lambert/render/camera.h"
 #include "lambert/scene/builtin.h"
 #include "lambert/version.h"
@@ -219,6 +222,104 @@ TEST(CliTest, AnimateWritesAFrameSequence) {
     (frame == 1 ? first : last) = image->rgb8;
   }
   EXPECT_NE(first, last);  // the spots moved
+}
+
+// The empty Cornell box lit by one narrow spot only (the ceiling panel does not emit), tilted from the
+// vertical and turning about it by pi / 5 rad/s, as a scene file; returns its path.
+std::string turningSpotScene(const fs::path& dir, Light& spot) {
+  CommandResult exported = run("scenes --export " + (dir / "scenes").string());
+  EXPECT_EQ(exported.exitCode, 0) << exported.output;
+  std::ifstream in(dir / "scenes" / "cornell.json");
+  nlohmann::json scene = nlohmann::json::parse(in);
+  for (nlohmann::json& material : scene["materials"]) material.erase("emittedRadiance");
+  nlohmann::json room = nlohmann::json::array();  // the blocks out, so that the floor is clear
+  for (const nlohmann::json& surface : scene["surfaces"])
+    if (surface["name"].get<std::string>().find("block") == std::string::npos) room.push_back(surface);
+  scene["surfaces"] = room;
+  spot.kind = LightKind::Spot;
+  spot.position = {278, 540, 280};
+  spot.direction = normalize(Vec3{-0.25, -1, 0});
+  spot.coneAngleDegrees = 10;
+  spot.falloffDegrees = 2;
+  spot.angularVelocity = {0, kPi / 5, 0};
+  scene["lights"] = nlohmann::json::array({{{"name", "turning spot"}, {"type", "spot"},
+                                            {"position", {spot.position.x, spot.position.y, spot.position.z}},
+                                            {"direction", {spot.direction.x, spot.direction.y, spot.direction.z}},
+                                            {"intensity", {2, 2, 2}}, {"coneAngleDegrees", spot.coneAngleDegrees},
+                                            {"falloffDegrees", spot.falloffDegrees},
+                                            {"angularVelocity", {0, kPi / 5, 0}}}});
+  const fs::path path = dir / "turning-spot.json";
+  std::ofstream(path) << scene.dump();
+  return path.string();
+}
+
+// Where the brightest part of an image is: the luminance-weighted centre of the pixels within 80%
+// of the brightest, in pixels.
+std::array<double, 2> brightestRegion(const PngImage& image) {
+  auto luminance = [&](std::size_t i) { return 0.2126 * image.rgb8[3 * i] + 0.7152 * image.rgb8[3 * i + 1] + 0.0722 * image.rgb8[3 * i + 2]; };
+  const std::size_t pixels = static_cast<std::size_t>(image.width) * image.height;
+  double brightest = 0;
+  for (std::size_t i = 0; i < pixels; ++i) brightest = std::max(brightest, luminance(i));
+  double x = 0, y = 0, weight = 0;
+  for (std::size_t i = 0; i < pixels; ++i)
+    if (const double l = luminance(i); l >= 0.8 * brightest) {
+      x += l * (static_cast<double>(i % image.width) + 0.5);
+      y += l * (static_cast<double>(i / image.width) + 0.5);
+      weight += l;
+    }
+  return {x / weight, y / weight};
+}
+
+// The default (hierarchical) method animates: the first frame refines the links, later frames
+// re-solve warm over them within --sweeps-per-frame, and each frame's spot lands on the floor
+// where the turning light points at that frame's time (projected through the scene camera).
+// --shots-per-frame, progressive refinement's budget, is refused with what to use instead.
+TEST(CliTest, AnimateWithTheDefaultMethodFollowsTheMovingLight) {
+  fs::path dir = outputDir("animate-hierarchical");
+  Light spot;
+  const std::string scene = turningSpotScene(dir, spot);
+  const int frames = 6, width = 80, height = 60;
+  const std::string common = "animate --scene " + scene + " --link-error 1e-3 --fps 1 --lighting radiosity --width " +
+                             std::to_string(width) + " --height " + std::to_string(height) + " --json";
+  CommandResult animated = run(common + " --frames " + std::to_string(frames) + " --sweeps-per-frame 1 -o " + (dir / "frames").string());
+  ASSERT_EQ(animated.exitCode, 0) << animated.output;
+  nlohmann::json stats = nlohmann::json::parse(animated.output);
+  EXPECT_EQ(stats["mesh"], "hierarchical, clustered");
+  EXPECT_EQ(stats["solver"], "gs");
+  EXPECT_EQ(stats["solves"], frames);
+  EXPECT_EQ(stats["iterations"], 1) << "the last frame's budget is one sweep";
+  // The first frame alone, solved in full: every later frame adds its one sweep.
+  CommandResult first = run(common + " --frames 1 -o " + (dir / "first").string());
+  ASSERT_EQ(first.exitCode, 0) << first.output;
+  const int firstSweeps = nlohmann::json::parse(first.output)["iterations_all_frames"].get<int>();
+  EXPECT_GT(firstSweeps, 2) << "both refinement passes solved";
+  EXPECT_EQ(stats["iterations_all_frames"].get<int>(), firstSweeps + frames - 1);
+
+  EXPECT_EQ(stats["camera"], "scene");
+  PinholeCamera camera(cornellBox().camera, width, height);  // the scene file's, exported from the built-in box
+  std::array<double, 2> spotAt[2];
+  for (int k = 0; k < 2; ++k) {
+    const int frame = k == 0 ? 0 : frames - 1;
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%04d.png", frame + 1);
+    Result<PngImage> image = readPng((dir / "frames" / name).string());
+    ASSERT_TRUE(image.ok()) << name;
+    // Where the light points at this frame's time (frame / fps) meets the floor, y = 0.
+    const Light moved = lightAtTime(spot, frame);
+    const Vec3 floor = moved.position + moved.direction * (-moved.position.y / moved.direction.y);
+    std::optional<ScreenPoint> expected = camera.project(floor);
+    ASSERT_TRUE(expected);
+    spotAt[k] = brightestRegion(*image);
+    EXPECT_NEAR(spotAt[k][0], expected->x, 0.06 * width) << name;
+    EXPECT_NEAR(spotAt[k][1], expected->y, 0.06 * height) << name;
+  }
+  EXPECT_GT(std::abs(spotAt[1][0] - spotAt[0][0]), 0.25 * width) << "the spot crossed the floor";
+
+  CommandResult shots = run(common + " --frames 2 --shots-per-frame 300 -o " + (dir / "shots").string());
+  EXPECT_EQ(shots.exitCode, 2);
+  EXPECT_NE(shots.output.find("--shots-per-frame has no effect"), std::string::npos) << shots.output;
+  EXPECT_NE(shots.output.find("--sweeps-per-frame"), std::string::npos) << shots.output;
+  EXPECT_FALSE(fs::exists(dir / "shots" / "frame_0001.png"));
 }
 
 TEST(CliTest, SpotsRenderHybridAndRadiosityOnly) {
