@@ -34,9 +34,11 @@ using testing::shell;
 CommandResult run(const std::string& arguments) {
   // Tests never touch the user's cache: every run that does not choose one gets no cache.
   const bool choosesCache = arguments.find("--cache-dir") != std::string::npos || arguments.find("--no-cache") != std::string::npos ||
-                            arguments.find("--radiosity-vertices") != std::string::npos;  // compare solves nothing then
+                            (arguments.find("--radiosity-vertices") != std::string::npos &&
+                             arguments.find("--reference-vertices") != std::string::npos);  // compare solves nothing then
   const bool solves = arguments.rfind("render", 0) == 0 || arguments.rfind("animate", 0) == 0 ||
-                      arguments.rfind("solve", 0) == 0 || arguments.rfind("compare", 0) == 0;
+                      arguments.rfind("solve", 0) == 0 || arguments.rfind("compare", 0) == 0 ||
+                      (arguments.rfind("reference", 0) == 0 && arguments.find("--export-vertices") != std::string::npos);
   return shell(std::string(LAMBERT_CLI_PATH) + " " + arguments + (solves && !choosesCache ? " --no-cache" : ""));
 }
 
@@ -421,6 +423,50 @@ TEST(CliTest, NormalisedRowsKeepLightInAndAddEnergy) {
   EXPECT_NEAR(absorbed + escaped, emitted, 1e-6 * emitted);
 }
 
+// The default method can be checked against the truth at its own vertices: `reference
+// --export-vertices` traces at the vertices `solve` exports with the same options (the hierarchy's
+// leaves, which follow the solve), point for point, and so does `compare --radiosity-vertices`
+// without a reference file. A reference made for other options (another link error, other leaves)
+// does not line up, and is refused.
+TEST(CliTest, ReferenceTracesAtTheDefaultMethodsOwnVertices) {
+  fs::path dir = outputDir("compare-hierarchical");
+  const std::string radiosity = (dir / "radiosity.csv").string(), reference = (dir / "reference.csv").string();
+  CommandResult solved = run("solve --link-error 1e-3 --json --export-vertices " + radiosity);
+  ASSERT_EQ(solved.exitCode, 0) << solved.output;
+  EXPECT_EQ(nlohmann::json::parse(solved.output)["mesh"], "hierarchical, clustered");
+  CommandResult traced = run("reference --link-error 1e-3 --vertex-samples 64 --json --export-vertices " + reference);
+  ASSERT_EQ(traced.exitCode, 0) << traced.output;
+  Result<std::vector<VertexSample>> mine = readVertices(radiosity), truth = readVertices(reference);
+  ASSERT_TRUE(mine.ok() && truth.ok());
+  ASSERT_EQ(mine->size(), truth->size());
+  EXPECT_EQ(static_cast<std::size_t>(nlohmann::json::parse(traced.output)["vertices"].get<int>()), mine->size());
+  for (std::size_t v = 0; v < mine->size(); ++v) {
+    ASSERT_LT(length((*mine)[v].position - (*truth)[v].position), 1e-3) << "vertex " << v;
+    ASSERT_LT(length((*mine)[v].normal - (*truth)[v].normal), 1e-6) << "vertex " << v;
+  }
+
+  CommandResult fromFiles = run("compare --json --radiosity-vertices " + radiosity + " --reference-vertices " + reference);
+  ASSERT_EQ(fromFiles.exitCode, 0) << fromFiles.output;
+  nlohmann::json files = nlohmann::json::parse(fromFiles.output);
+  EXPECT_GT(files["vertex_compared"].get<int>(), 300);
+  EXPECT_LT(files["vertex_relative_rmse"].get<double>(), 0.5);
+  // compare traces the reference itself at the file's vertices when given the solve's options.
+  CommandResult tracedByCompare = run("compare --json --link-error 1e-3 --vertex-samples 64 --radiosity-vertices " + radiosity);
+  ASSERT_EQ(tracedByCompare.exitCode, 0) << tracedByCompare.output;
+  EXPECT_EQ(nlohmann::json::parse(tracedByCompare.output)["vertex_all_compared"], files["vertex_all_compared"]);
+
+  CommandResult other = run("reference --vertex-samples 4 --export-vertices " + (dir / "other.csv").string());
+  ASSERT_EQ(other.exitCode, 0) << other.output;
+  CommandResult refused = run("compare --radiosity-vertices " + radiosity + " --reference-vertices " + (dir / "other.csv").string());
+  EXPECT_NE(refused.exitCode, 0);
+  EXPECT_NE(refused.output.find("vertices"), std::string::npos) << refused.output;
+  // On the flat mesh, options that do not move its vertices are refused by name.
+  CommandResult flat = run("reference --patches 64 --formfactor hemicube --export-vertices " + (dir / "flat.csv").string());
+  EXPECT_EQ(flat.exitCode, 2);
+  EXPECT_NE(flat.output.find("--formfactor has no effect"), std::string::npos) << flat.output;
+  EXPECT_FALSE(fs::exists(dir / "flat.csv"));
+}
+
 TEST(CliTest, SolveReferenceAndCompareMeasureTheSameVertices) {
   fs::path dir = outputDir("compare");
   const std::string radiosity = (dir / "radiosity.csv").string(), reference = (dir / "reference.ply").string();
@@ -486,7 +532,7 @@ TEST(CliTest, OptionsThePathDoesNotUseAreRefused) {
       {"animate --patches 64 --frames 1 --solver gs --shots-per-frame 3", "a budget of shots is for the shoot solver"},
       {"animate --patches 64 --frames 1 --solver direct --frame-ms 5", "the direct solver solves exactly"},
       {"reference --patches 64 -o " + (dir / "r.png").string(), "--patches has no effect"},
-      {"compare --radiosity-vertices x.csv --solver jacobi", "--solver has no effect: the radiosity side comes from"},
+      {"compare --radiosity-vertices x.csv --reference-vertices y.csv --solver jacobi", "--solver has no effect: both sides come from vertex files"},
       {"compare --patches 64 --no-image --width 10", "--width has no effect: --no-image"},
   };
   for (const auto& [arguments, message] : cases) {

@@ -445,6 +445,19 @@ Result<RadiosityOptions> radiosityOptions(const Scene& scene, const SolveCommand
   return r;
 }
 
+Result<Mesh> exportedVertexMesh(const Scene& scene, const SolveCommandOptions& o) {
+  Result<RadiosityOptions> options = radiosityOptions(scene, o);
+  if (!options) return options.error();
+  // --no-cache is not refused: it asks for nothing to be read or written, which the uniform mesh needs.
+  if (options->meshing == MeshStrategy::Uniform)
+    if (Status s = refuseGiven(o, {"--formfactor", "--samples", "--hemicube-resolution", "--hemisphere-rays", "--normalize-rows",
+                                   "--light-samples", "--solver", "--tolerance", "--max-iterations", "--cache-dir", "--memory-limit"},
+                               "the uniform mesh's vertices depend on --patches or --max-edge alone (--method flat chooses it)");
+        !s)
+      return s.error();
+  return solutionVertexMesh(scene, std::move(*options));
+}
+
 Status checkImageOptions(const Scene& scene, const ImageCommandOptions& o) {
   if (scene.lights.empty())
     return refuseGiven(o, {"--lighting"}, "scene '" + scene.name + "' has no point, spot or directional lights to draw per pixel");

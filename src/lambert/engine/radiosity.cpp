@@ -75,6 +75,14 @@ Result<std::unique_ptr<Radiosity>> Radiosity::create(Scene scene, RadiosityOptio
   return engine;
 }
 
+Result<Mesh> solutionVertexMesh(const Scene& scene, RadiosityOptions options) {
+  if (options.meshing == MeshStrategy::Uniform) return uniformMesh(scene, options.uniform);
+  Result<std::unique_ptr<Radiosity>> engine = Radiosity::create(scene, std::move(options));
+  if (!engine) return engine.error();
+  if (Result<SolveCallReport> solved = (*engine)->solve(); !solved) return solved.error();
+  return (*engine)->solution().vertexMesh();
+}
+
 Radiosity::Radiosity(Scene scene, RadiosityOptions options)
     : scene_(std::move(scene)),
       options_(std::move(options)),

@@ -100,6 +100,14 @@ struct SolveBudget {
 // without solving (the reference path tracer).
 Mesh uniformMesh(const Scene& scene, const UniformMeshOptions& options);
 
+// The vertex mesh an engine with these options exports after its first solve()
+// (SolutionView::vertexMesh, what `lambert solve --export-vertices` writes), vertex for vertex in
+// the same order, for tools that evaluate something else at those vertices (the reference path
+// tracer). The uniform mesh is made directly, without form factors. The hierarchical and adaptive
+// elements follow the lights and the solution, so an engine is created and solved with these
+// options (no final gather): that solve's cost, and its errors.
+Result<Mesh> solutionVertexMesh(const Scene& scene, RadiosityOptions options);
+
 // Whether a solver can honour the budget: shots are for shoot, sweeps for gs and jacobi, time for
 // all three; the direct solver takes none. The Error says which budget fits instead.
 Status checkSolveBudget(SolverKind solver, const SolveBudget& budget);
