@@ -19,6 +19,7 @@ namespace {
 
 std::unique_ptr<Radiosity> solved(const Scene& scene, std::size_t patches, FormFactorMethod method) {
   RadiosityOptions options;
+  options.meshing = MeshStrategy::Uniform;
   options.uniform.targetPatches = patches;
   options.formFactors.method = method;
   options.formFactors.showProgress = false;

@@ -75,6 +75,14 @@ Result<std::unique_ptr<Radiosity>> Radiosity::create(Scene scene, RadiosityOptio
   return engine;
 }
 
+Result<Mesh> solutionVertexMesh(const Scene& scene, RadiosityOptions options) {
+  if (options.meshing == MeshStrategy::Uniform) return uniformMesh(scene, options.uniform);
+  Result<std::unique_ptr<Radiosity>> engine = Radiosity::create(scene, std::move(options));
+  if (!engine) return engine.error();
+  if (Result<SolveCallReport> solved = (*engine)->solve(); !solved) return solved.error();
+  return (*engine)->solution().vertexMesh();
+}
+
 Radiosity::Radiosity(Scene scene, RadiosityOptions options)
     : scene_(std::move(scene)),
       options_(std::move(options)),
@@ -186,7 +194,7 @@ Status Radiosity::solvePass(const SolveBudget& budget, SolveCallReport& report) 
     const long long limit = static_cast<long long>(options_.maxIterations) * static_cast<long long>(n);
     const long long maxShots = budget.maxShots > 0 ? std::min(budget.maxShots, limit) : limit;
     ProgressiveShooter::Outcome outcome = shooter_->shoot(maxShots, options_.tolerance, budget.maxMilliseconds / 1e3);
-    report.iterations = outcome.shots;
+    report.iterations += outcome.shots;
     report.converged = outcome.converged;
     report.unshotFraction = shooter_->unshotFraction();
     radiosity_ = shooter_->radiosity();
@@ -197,7 +205,7 @@ Status Radiosity::solvePass(const SolveBudget& budget, SolveCallReport& report) 
     solve.maxSeconds = budget.maxMilliseconds / 1e3;
     if (!solved_) radiosity_.clear();  // start from B = E
     SolveReport solved = makeSolver(options_.solver, solve)->solve(problem_, radiosity_);
-    report.iterations = solved.iterations;
+    report.iterations += solved.iterations;
     report.converged = solved.converged;
   }
   solved_ = true;
@@ -229,7 +237,8 @@ Stats Radiosity::stats() const {
   }
   stats.add("solver", "solver", solverName(options_.solver));
   stats.add("solves", "solves", static_cast<std::int64_t>(solves_));
-  stats.add("iterations", options_.meshing == MeshStrategy::Adaptive ? "iterations (last pass)" : "iterations",
+  // Every pass of the last solve(): the hierarchy's refine-then-solve passes, the adaptive mesh's.
+  stats.add("iterations", options_.solver == SolverKind::Shooting ? "shots (last solve, every pass)" : "iterations (last solve, every pass)",
             static_cast<std::int64_t>(last_.iterations));
   stats.add("residual", "relative residual", solves_ > 0 ? relativeResidual(problem_, radiosity_) : 1.0);
   stats.add("converged", "converged", std::string(solves_ > 0 && last_.converged ? "yes" : "no"));

@@ -14,6 +14,7 @@ namespace {
 
 RadiosityOptions uniformOptions(std::size_t patches, SolverKind solver, double tolerance) {
   RadiosityOptions options;
+  options.meshing = MeshStrategy::Uniform;
   options.uniform.targetPatches = patches;
   options.formFactors.showProgress = false;
   options.solver = solver;
@@ -431,6 +432,7 @@ TEST(RadiosityTest, FlatRowsAboveOneAreBoundedSoNoSolverDiverges) {
   addTwins(scene);
   for (SolverKind solver : {SolverKind::GaussSeidel, SolverKind::Jacobi, SolverKind::Direct}) {
     RadiosityOptions options;
+    options.meshing = MeshStrategy::Uniform;
     options.uniform.targetPatches = 300;
     options.formFactors.method = FormFactorMethod::PointToPoint;
     options.formFactors.showProgress = false;
