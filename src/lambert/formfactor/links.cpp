@@ -22,7 +22,9 @@ namespace {
 // Occluded: every ray blocked; a few rays are weak evidence (a mostly shadowed element would lose
 // its sliver of light every time), so it is split where it could carry too much unoccluded.
 // Empty: the two cannot exchange light (back to back, coplanar, or the same element).
-enum class Verdict : std::uint8_t { Estimated, Inadmissible, Occluded, Empty };
+// Coarse: the oracle refines it, and splits the same node, whatever its K and visibility come out
+// as (its bound is known before any ray): it is not estimated, since judge() would not read it.
+enum class Verdict : std::uint8_t { Estimated, Inadmissible, Occluded, Empty, Coarse };
 
 struct Candidate {
   std::uint32_t receiver, source;
@@ -196,6 +198,15 @@ class Refiner {
         c.receiverSide = true;
         return 0;
       }
+      // The oracle's factor is the unoccluded K or its spread, whatever the rays give: above the
+      // threshold as both, the link is refined, and the node split does not depend on the rays
+      // (receiverSide) unless both could split and the source is the larger.
+      const float unoccludedBound = static_cast<float>(k), spreadBound = static_cast<float>(factor.spread);
+      const bool canR = splittable(c.receiver), canS = splittable(c.source);
+      if ((canR || canS) && (!canR || !canS || r.area >= s.area) && tooCoarse(c, std::fmin(unoccludedBound, spreadBound))) {
+        c.verdict = Verdict::Coarse;
+        return 0;
+      }
       // Visibility: the share of unoccluded rays between stratified points on the two, among
       // the pairs of points that face each other. Where the elements cross each other's planes
       // K already leaves out the part behind, and a ray to it would count it out twice.
@@ -248,6 +259,11 @@ class Refiner {
     // (dropping such links lost 2.5% of what the clustering test's receivers gather).
     if (distance > r.radius + s.radius && (!(s.projectedArea(-w) > 0) || !(r.projectedArea(w) > 0))) {
       c.verdict = Verdict::Empty;
+      return 0;
+    }
+    // A cluster link is judged by the transfer between the centres alone (judge()).
+    if ((splittable(c.receiver) || splittable(c.source)) && tooCoarse(c, centreTransfer(r, s))) {
+      c.verdict = Verdict::Coarse;
       return 0;
     }
     // K = 1/A_r ∫_r Σ_f F(x→f) V(x, f) B_f / B̄_s, by Monte Carlo over the link's own sample pairs:
@@ -414,6 +430,11 @@ class Refiner {
     return {node, weight};
   }
 
+  // The BF oracle: B_s · ΔK · A_r above the threshold.
+  bool tooCoarse(const Candidate& c, double uncertainty) const {
+    return radiosity_[c.source] * uncertainty * h_.node(c.receiver).area > threshold_;
+  }
+
   bool splittable(std::uint32_t node) const {
     const HierarchyNode& n = h_.node(node);
     return n.isCluster() || !n.isLeaf() || n.area * 0.25 >= minArea_;
@@ -437,14 +458,14 @@ class Refiner {
     const HierarchyNode& r = h_.node(c.receiver);
     const HierarchyNode& s = h_.node(c.source);
     if (c.verdict == Verdict::Empty) return;
-    bool refine = c.verdict == Verdict::Inadmissible;
+    bool refine = c.verdict == Verdict::Inadmissible || c.verdict == Verdict::Coarse;
     if (!refine) {
       // A cluster link's K is a Monte Carlo estimate. Judged by it (alone or as the larger of it
       // and another bound), the links it happens to underestimate are kept and those it
       // overestimates refined: the clustered solutions came out 3–14% dark. The point-to-point
       // transfer between the centres does not depend on the samples, so it judges alone.
       const double uncertainty = r.isCluster() || s.isCluster() ? centreTransfer(r, s) : c.uncertainty;
-      refine = radiosity_[c.source] * uncertainty * r.area > threshold_;
+      refine = tooCoarse(c, uncertainty);
     }
     if (!refine && c.verdict == Verdict::Occluded) return;
     const bool canR = splittable(c.receiver), canS = splittable(c.source);
