@@ -33,6 +33,7 @@ HierarchicalMeshing::HierarchicalMeshing(const Scene& scene, const RadiosityOpti
   buildSeconds_ = created_.seconds();
   Timer leafTimer;
   leaves_ = hierarchy_.leaves(scene_);
+  leafMeshNodes_ = hierarchy_.nodes().size();
   leafSeconds_ += leafTimer.seconds();
   Timer bvh;
   caster_ = makeEmbreeRayCaster(leaves_.mesh);
@@ -114,6 +115,8 @@ void HierarchicalMeshing::rebuildLeaves() {
   // depend on its corners and index only (geometry/coverage.h), so measuring again would repeat
   // its 16 rays exactly. Leaves are numbered in node order, so those before the first split keep
   // their index.
+  // Nodes are only ever added, by splitting a leaf: as many as before, the leaves are the same.
+  if (hierarchy_.nodes().size() == leafMeshNodes_) return;
   Timer timer;
   const std::vector<std::uint32_t>& leafNodes = hierarchy_.leafNodes();
   std::vector<std::uint8_t> measure(leafNodes.size(), 1);
@@ -124,6 +127,7 @@ void HierarchicalMeshing::rebuildLeaves() {
       open[l] = leaves_.mesh.patches[l].openFraction;
     }
   leaves_ = hierarchy_.leaves(scene_);
+  leafMeshNodes_ = hierarchy_.nodes().size();
   leafSeconds_ += timer.seconds();
   Timer coverage;
   for (std::size_t l = 0; l < open.size(); ++l) leaves_.mesh.patches[l].openFraction = open[l];

@@ -54,6 +54,7 @@ class HierarchicalMeshing final : public Meshing {
   Timer created_;  // started before the hierarchy is built
   ElementHierarchy hierarchy_;
   ElementHierarchy::LeafMesh leaves_;
+  std::size_t leafMeshNodes_ = 0;  // the hierarchy's nodes when leaves_ was made
   std::vector<std::uint32_t> measuredLeafNodes_;  // per leaf, its node when its open fraction was measured
   std::unique_ptr<RayCaster> caster_;  // over the faces: elements only split them
   double epsilon_ = 0;

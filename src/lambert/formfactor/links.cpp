@@ -145,29 +145,62 @@ class Refiner {
     progress.finish();
     h_.numberLeaves();
 
-    std::sort(kept.begin(), kept.end(), [](const Candidate& a, const Candidate& b) {
-      return a.receiver != b.receiver ? a.receiver < b.receiver : a.source < b.source;
-    });
-    Links links;
-    links.start.assign(h_.nodes().size() + 1, 0);
-    links.source.reserve(kept.size());
-    links.formFactor.reserve(kept.size());
-    links.uncertainty.reserve(kept.size());
-    links.receiverSide.reserve(kept.size());
-    for (const Candidate& c : kept) {
-      ++links.start[c.receiver + 1];
-      links.source.push_back(c.source);
-      links.formFactor.push_back(c.formFactor);
-      links.uncertainty.push_back(c.uncertainty);
-      links.receiverSide.push_back(c.receiverSide);
-      report.clusterLinks += h_.node(c.receiver).isCluster() || h_.node(c.source).isCluster();
-    }
-    for (std::size_t i = 0; i + 1 < links.start.size(); ++i) links.start[i + 1] += links.start[i];
+    Links links = groupByReceiver(kept, report);
     report.seconds += timer.seconds();
     return links;
   }
 
  private:
+  // The kept links as compressed rows: placed by receiver (a counting sort, linear in the links),
+  // then each receiver's few links ordered by source. Each (receiver, source) pair is kept at most
+  // once (refinement partitions the pairs of leaves), so the order is the pairs' order.
+  Links groupByReceiver(std::vector<Candidate>& kept, RefinementReport& report) const {
+    Links links;
+    links.start.assign(h_.nodes().size() + 1, 0);
+    for (const Candidate& c : kept) {
+      ++links.start[c.receiver + 1];
+      report.clusterLinks += h_.node(c.receiver).isCluster() || h_.node(c.source).isCluster();
+    }
+    for (std::size_t i = 0; i + 1 < links.start.size(); ++i) links.start[i + 1] += links.start[i];
+    links.source.resize(kept.size());
+    links.formFactor.resize(kept.size());
+    links.uncertainty.resize(kept.size());
+    links.receiverSide.resize(kept.size());
+    {
+      std::vector<std::uint32_t> next(links.start.begin(), links.start.end() - 1);
+      for (const Candidate& c : kept) {
+        const std::uint32_t k = next[c.receiver]++;
+        links.source[k] = c.source;
+        links.formFactor[k] = c.formFactor;
+        links.uncertainty[k] = c.uncertainty;
+        links.receiverSide[k] = c.receiverSide;
+      }
+    }
+    kept = {};
+    struct Row {
+      std::uint32_t source;
+      float formFactor, uncertainty;
+      std::uint8_t receiverSide;
+    };
+    std::vector<Row> row;
+    for (std::size_t r = 0; r + 1 < links.start.size(); ++r) {
+      const std::uint32_t begin = links.start[r], end = links.start[r + 1];
+      if (std::is_sorted(links.source.begin() + begin, links.source.begin() + end)) continue;
+      row.clear();
+      for (std::uint32_t k = begin; k < end; ++k)
+        row.push_back({links.source[k], links.formFactor[k], links.uncertainty[k], links.receiverSide[k]});
+      std::sort(row.begin(), row.end(), [](const Row& a, const Row& b) { return a.source < b.source; });
+      for (std::uint32_t k = begin; k < end; ++k) {
+        const Row& link = row[k - begin];
+        links.source[k] = link.source;
+        links.formFactor[k] = link.formFactor;
+        links.uncertainty[k] = link.uncertainty;
+        links.receiverSide[k] = link.receiverSide;
+      }
+    }
+    return links;
+  }
+
   // Fills in the candidate's verdict, K and visibility; returns the rays it cast.
   std::uint8_t estimate(Candidate& c) const {
     const HierarchyNode& r = h_.node(c.receiver);
