@@ -3,6 +3,7 @@
 #include "lambert/core/memory.h"
 #include <algorithm>
 #include <cmath>
+#include <deque>
 
 #include "lambert/core/error.h"
 #include "lambert/core/memory.h"
@@ -37,6 +38,9 @@ struct Candidate {
   Verdict verdict = Verdict::Estimated;
   bool estimated = false;      // already estimated (a previous link judged again)
 };
+// Chunked, not one array: the kept links and the waves reach 10⁷ candidates on 10⁶ faces, and a
+// vector's doubling would hold up to twice that (and three times while it moves).
+using Candidates = std::deque<Candidate>;
 
 // Whether any corner of polygon a lies in front of the plane of element b.
 bool anyCornerInFront(const HierarchyNode& a, const HierarchyNode& b, double epsilon) {
@@ -117,12 +121,35 @@ class Refiner {
     threshold_ = options_.linkError * power;
   }
 
-  Links run(std::vector<Candidate> frontier, RefinementReport& report) {
+  // previous: links of the same hierarchy, judged again in their order as the first wave (they
+  // were estimated when they were made), read in place rather than copied into the frontier.
+  Links run(const Links* previous, Candidates frontier, RefinementReport& report) {
     Timer timer;
     Progress progress("links judged", 0, options_.showProgress);
-    std::vector<Candidate> kept;
-    std::vector<Candidate> next;
-    while (!frontier.empty()) {
+    Candidates kept, next;
+    // What the refinement holds now, and will hold at least: kept and pending links, and the
+    // hierarchy's nodes. Checked every wave, so a refinement that cannot fit stops early.
+    const auto fits = [&] {
+      const double bytes = static_cast<double>(kept.size() + frontier.size()) * sizeof(Candidate) +
+                           static_cast<double>(h_.nodes().size()) * sizeof(HierarchyNode);
+      if (const double budget = memoryBudgetBytes(options_.memoryLimitBytes); budget > 0 && bytes > budget) {
+        report.memoryNeeded = bytes;
+        return false;
+      }
+      return true;
+    };
+    bool fitting = true;
+    if (previous) {
+      for (std::uint32_t r = 0; r + 1 < previous->start.size(); ++r)
+        for (std::uint32_t k = previous->start[r]; k < previous->start[r + 1]; ++k) {
+          Candidate c{r, previous->source[k], previous->formFactor[k], previous->uncertainty[k], previous->receiverSide[k] != 0};
+          c.estimated = true;
+          judge(c, kept, frontier, report);
+        }
+      progress.advance(previous->size());
+      fitting = fits();
+    }
+    while (fitting && !frontier.empty()) {
       std::vector<std::uint8_t> rays(frontier.size(), 0);
       for (const Candidate& c : frontier) report.estimated += !c.estimated;
       parallelFor(0, frontier.size(), [&](std::size_t i) {
@@ -133,14 +160,7 @@ class Refiner {
       next.clear();
       for (const Candidate& c : frontier) judge(c, kept, next, report);
       frontier.swap(next);
-      // What the refinement holds now, and will hold at least: kept and pending links, and the
-      // hierarchy's nodes. Checked every wave, so a refinement that cannot fit stops early.
-      const double bytes = static_cast<double>(kept.size() + frontier.size()) * sizeof(Candidate) +
-                           static_cast<double>(h_.nodes().size()) * sizeof(HierarchyNode);
-      if (const double budget = memoryBudgetBytes(options_.memoryLimitBytes); budget > 0 && bytes > budget) {
-        report.memoryNeeded = bytes;
-        break;
-      }
+      fitting = fits();
     }
     progress.finish();
     h_.numberLeaves();
@@ -154,7 +174,7 @@ class Refiner {
   // The kept links as compressed rows: placed by receiver (a counting sort, linear in the links),
   // then each receiver's few links ordered by source. Each (receiver, source) pair is kept at most
   // once (refinement partitions the pairs of leaves), so the order is the pairs' order.
-  Links groupByReceiver(std::vector<Candidate>& kept, RefinementReport& report) const {
+  Links groupByReceiver(Candidates& kept, RefinementReport& report) const {
     Links links;
     links.start.assign(h_.nodes().size() + 1, 0);
     for (const Candidate& c : kept) {
@@ -487,7 +507,7 @@ class Refiner {
     return h_.children(node);
   }
 
-  void judge(const Candidate& c, std::vector<Candidate>& kept, std::vector<Candidate>& next, RefinementReport& report) {
+  void judge(const Candidate& c, Candidates& kept, Candidates& next, RefinementReport& report) {
     const HierarchyNode& r = h_.node(c.receiver);
     const HierarchyNode& s = h_.node(c.source);
     if (c.verdict == Verdict::Empty) return;
@@ -550,14 +570,9 @@ Links refineLinks(ElementHierarchy& hierarchy, const RayCaster& caster, double r
                   std::span<const std::uint64_t> casterFace, const Links* previous, std::span<const double> leafRadiosity,
                   std::span<const double> leafOpenFraction, const LinkOptions& options, RefinementReport& report) {
   Refiner refiner(hierarchy, caster, rayEpsilon, casterFace, options, leafRadiosity, leafOpenFraction);
-  std::vector<Candidate> initial;
+  Candidates initial;
   if (previous) {
-    for (std::uint32_t r = 0; r + 1 < previous->start.size(); ++r)
-      for (std::uint32_t k = previous->start[r]; k < previous->start[r + 1]; ++k) {
-        Candidate c{r, previous->source[k], previous->formFactor[k], previous->uncertainty[k], previous->receiverSide[k] != 0};
-        c.estimated = true;
-        initial.push_back(c);
-      }
+    report.initialLinks += previous->size();  // judged again by run()
   } else if (options.clusters) {
     initial.push_back({0, 0});
   } else {
@@ -567,13 +582,12 @@ Links refineLinks(ElementHierarchy& hierarchy, const RayCaster& caster, double r
       const HierarchyNode& n = hierarchy.node(i);
       if (!n.isCluster() && n.parent != kNoNode && hierarchy.node(n.parent).isCluster()) faces.push_back(i);
     }
-    initial.reserve(faces.size() * (faces.size() - 1));
     for (std::uint32_t a : faces)
       for (std::uint32_t b : faces)
         if (a != b) initial.push_back({a, b});
   }
   report.initialLinks += initial.size();
-  return refiner.run(std::move(initial), report);
+  return refiner.run(previous, std::move(initial), report);
 }
 
 }  // namespace lambert
