@@ -93,8 +93,8 @@ void addSolveOptions(CLI::App& cmd, SolveCommandOptions& o) {
   cmd.add_option("--max-iterations", o.maxIterations, "Sweep limit (shots per patch for shoot)")
       ->check(CLI::Range(1, 1000000))
       ->capture_default_str();
-  cmd.add_option("--cache-dir", o.cacheDir, "Form-factor cache directory (default $XDG_CACHE_HOME/lambert or ~/.cache/lambert)");
-  cmd.add_flag("--no-cache", o.noCache, "Neither read nor write the form-factor cache");
+  cmd.add_option("--cache-dir", o.cacheDir, "Cache directory for form factors and hierarchical links (default $XDG_CACHE_HOME/lambert or ~/.cache/lambert)");
+  cmd.add_flag("--no-cache", o.noCache, "Neither read nor write the form-factor or link cache");
   cmd.add_flag("--normalize-rows", o.normalizeRows,
                "Divide each row of F by its sum (seed 003): hides estimation error, adds energy where light should escape");
   cmd.add_option("--method", o.method,
@@ -341,7 +341,7 @@ const std::initializer_list<const char*>& solveOnlyOptions() {
 const std::initializer_list<const char*>& flatMethodOptions() {
   static const std::initializer_list<const char*> options = {
       "--patches", "--max-edge", "--adaptive", "--formfactor", "--samples", "--hemicube-resolution", "--hemisphere-rays",
-      "--normalize-rows", "--cache-dir"};
+      "--normalize-rows"};
   return options;
 }
 
@@ -363,8 +363,8 @@ Result<RadiosityOptions> radiosityOptions(const Scene& scene, const SolveCommand
   const bool solverNamed = o.given("--solver") || !scene.defaults.solver.empty();
   const bool needsMatrix = solver == SolverKind::Shooting || solver == SolverKind::Direct;
   // The method: --method, or hierarchical unless something asks for a flat one: a mesh size
-  // (on the command line or in the scene file), a form-factor or cache option, or a solver that
-  // needs the dense matrix.
+  // (on the command line or in the scene file), a form-factor option, or a solver that needs the
+  // dense matrix. Options every method reads (the cache, threads, budgets, outputs) choose none.
   bool hierarchical = o.method == MeshStrategy::Hierarchical;
   if (!o.given("--method")) {
     bool flatAsked = scene.defaults.patches > 0 || scene.defaults.maxEdgeLength > 0 || (solverNamed && needsMatrix);
@@ -379,7 +379,7 @@ Result<RadiosityOptions> radiosityOptions(const Scene& scene, const SolveCommand
   const std::string method = formFactorMethodName(o.formFactor);
   const Rule rules[] = {
       {hierarchical, flatMethodOptions(),
-       "it is for --method flat; the hierarchical method sizes its elements by --link-error and --min-area and caches no links"},
+       "it is for --method flat; the hierarchical method sizes its elements by --link-error and --min-area"},
       {!hierarchical, {"--link-error", "--min-area", "--visibility-rays", "--no-clusters", "--refine-passes"},
        "it applies to --method hierarchical only"},
       {o.adaptive, {"--patches", "--max-edge"}, "they size the uniform mesh; --adaptive cells are sized by --base-edge and --max-level"},
@@ -422,7 +422,7 @@ Result<RadiosityOptions> radiosityOptions(const Scene& scene, const SolveCommand
   r.tolerance = tolerance;
   r.maxIterations = o.maxIterations;
   r.memoryLimitBytes = o.memoryLimitBytes;
-  r.cacheDirectory = o.noCache || hierarchical ? "" : (o.cacheDir.empty() ? defaultCacheDirectory() : o.cacheDir);
+  r.cacheDirectory = o.noCache ? "" : (o.cacheDir.empty() ? defaultCacheDirectory() : o.cacheDir);
   return r;
 }
 

@@ -132,9 +132,13 @@ Result<SolveCallReport> Radiosity::solve(const SolveBudget& budget) {
   const int passes = options_.meshing == MeshStrategy::Adaptive                  ? options_.adaptive.passesPerSolve
                      : options_.meshing == MeshStrategy::Hierarchical && solves_ == 0 ? options_.hierarchical.refinePasses
                                                                                    : 1;
+  meshing_->startSolve(budget);
   for (int pass = 0; pass < passes; ++pass) {
     Result<bool> refined = meshing_->refine(lights_, radiosity_, report);
     if (!refined) return refined.error();
+    // A hierarchy that loaded every pass's refinement from its link cache in the first pass
+    // (engine/link_cache.h) refines no more: its one solve is the computing run's last one.
+    if (!*refined && pass > 0 && options_.meshing == MeshStrategy::Hierarchical) break;
     if (*refined) {
       solved_ = true;  // radiosity_ now holds the refinement's warm start
       rebuildProblem();

@@ -73,8 +73,9 @@ struct RadiosityOptions {
   SolverKind solver = SolverKind::GaussSeidel;
   double tolerance = 1e-7;       // relative change (gs, jacobi) or unshot power fraction (shoot)
   int maxIterations = 1000;      // sweeps (gs, jacobi); shots per element (shoot)
-  // Where form factors (uniform: the matrix, .lff) or the master table (adaptive, .lft) are read
-  // and written; empty: always computed, never saved.
+  // Where form factors (uniform: the matrix, .lff), the master table (adaptive, .lft) or the
+  // hierarchy's links (hierarchical, .lhl: engine/link_cache.h) are read and written; empty:
+  // always computed, never saved.
   std::string cacheDirectory;
   // Bytes a solve may use for its large structures (core/memory.h); 0: the machine's available
   // memory. A solve whose estimate exceeds it is refused (create or solve returns the Error).
