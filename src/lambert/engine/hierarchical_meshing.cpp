@@ -41,8 +41,11 @@ std::vector<double> openFractions(const Mesh& mesh) {
 
 HierarchicalMeshing::HierarchicalMeshing(const Scene& scene, const RadiosityOptions& options)
     : scene_(scene), options_(options.hierarchical), memoryLimitBytes_(options.memoryLimitBytes), hierarchy_(scene) {
-  leaves_ = hierarchy_.leaves(scene_);
   buildSeconds_ = created_.seconds();
+  Timer leafTimer;
+  leaves_ = hierarchy_.leaves(scene_);
+  leafMeshNodes_ = hierarchy_.nodes().size();
+  leafSeconds_ += leafTimer.seconds();
   Timer bvh;
   caster_ = makeEmbreeRayCaster(leaves_.mesh);
   casterFace_.reserve(leaves_.mesh.numPatches());
@@ -54,7 +57,9 @@ HierarchicalMeshing::HierarchicalMeshing(const Scene& scene, const RadiosityOpti
   auto none = std::make_shared<Links>();
   none->start.assign(hierarchy_.nodes().size() + 1, 0);
   links_ = none;
+  Timer transport;
   transport_ = std::make_shared<HierarchicalTransport>(hierarchy_, links_, openFractions(leaves_.mesh), patchAlbedo(scene_, leaves_.mesh));
+  transportSeconds_ += transport.seconds();
   linkCache_.directory = options.cacheDirectory;
   linkCache_.options = options;
 }
@@ -86,7 +91,9 @@ bool HierarchicalMeshing::loadLinks(const std::vector<Light>& lights, std::vecto
     return false;
   }
   if (!loaded->splits.empty()) leaves_ = hierarchy_.leaves(scene_);
+  leafMeshNodes_ = hierarchy_.nodes().size();
   for (std::size_t i = 0; i < leaves_.mesh.numPatches(); ++i) leaves_.mesh.patches[i].openFraction = loaded->openFraction[i];
+  measuredLeafNodes_ = hierarchy_.leafNodes();
   links_ = loaded->links;
   transport_ = std::make_shared<HierarchicalTransport>(hierarchy_, links_, openFractions(leaves_.mesh), patchAlbedo(scene_, leaves_.mesh));
   radiosity = std::move(loaded->warmStart);
@@ -180,19 +187,39 @@ void HierarchicalMeshing::splitAtLightEdges(const std::vector<Light>& lights, do
 }
 
 void HierarchicalMeshing::rebuildLeaves() {
+  // Nodes are only ever added, by splitting a leaf: as many as before, the leaves are the same.
+  if (hierarchy_.nodes().size() == leafMeshNodes_) return;
+  // A leaf that was a leaf at the same index before keeps its open fraction: its sample points
+  // depend on its corners and index only (geometry/coverage.h), so measuring again would repeat
+  // its 16 rays exactly. Leaves are numbered in node order, so those before the first split keep
+  // their index.
   Timer timer;
+  const std::vector<std::uint32_t>& leafNodes = hierarchy_.leafNodes();
+  std::vector<std::uint8_t> measure(leafNodes.size(), 1);
+  std::vector<double> open(leafNodes.size(), 1.0);
+  for (std::size_t l = 0; l < std::min(leafNodes.size(), measuredLeafNodes_.size()); ++l)
+    if (leafNodes[l] == measuredLeafNodes_[l]) {
+      measure[l] = 0;
+      open[l] = leaves_.mesh.patches[l].openFraction;
+    }
   leaves_ = hierarchy_.leaves(scene_);
-  measureOpenFractions(leaves_.mesh, *caster_);
+  leafMeshNodes_ = hierarchy_.nodes().size();
   leafSeconds_ += timer.seconds();
+  Timer coverage;
+  for (std::size_t l = 0; l < open.size(); ++l) leaves_.mesh.patches[l].openFraction = open[l];
+  measureOpenFractions(leaves_.mesh, *caster_, measure);
+  measuredLeafNodes_ = leafNodes;
+  coverageSeconds_ += coverage.seconds();
 }
 
 Result<bool> HierarchicalMeshing::refine(const std::vector<Light>& lights, std::vector<Rgb>& radiosity, SolveCallReport& report) {
   if (passesDone_ >= options_.refinePasses) return false;
   if (passesDone_ == 0) {
     if (!linkCache_.directory.empty() && loadLinks(lights, radiosity)) return true;
-    Timer timer;
+    Timer coverage;
     measureOpenFractions(leaves_.mesh, *caster_);
-    leafSeconds_ += timer.seconds();
+    measuredLeafNodes_ = hierarchy_.leafNodes();
+    coverageSeconds_ += coverage.seconds();
   }
   // Which node each current leaf is, to hand the new leaves their ancestor's radiosity.
   std::vector<std::uint32_t> oldLeafOfNode(hierarchy_.nodes().size(), kNoNode);
@@ -260,7 +287,9 @@ Result<bool> HierarchicalMeshing::refine(const std::vector<Light>& lights, std::
   report.formFactorSeconds += pass.seconds;
 
   rebuildLeaves();
+  Timer transport;
   transport_ = std::make_shared<HierarchicalTransport>(hierarchy_, links_, openFractions(leaves_.mesh), patchAlbedo(scene_, leaves_.mesh));
+  transportSeconds_ += transport.seconds();
   // Warm start: each leaf from the nearest ancestor that was a leaf before (B stays as solved).
   radiosity.assign(hierarchy_.leafNodes().size(), Rgb{});
   if (!old.empty()) {
@@ -283,18 +312,13 @@ std::vector<Rgb> HierarchicalMeshing::vertexValues(const std::vector<Rgb>& perEl
 std::vector<std::vector<Rgb>> HierarchicalMeshing::vertexSolution(const ElementSolution& solution,
                                                                    std::span<const VertexQuantity> quantities) const {
   LAMBERT_CHECK(solution.radiosity.size() == leaves_.mesh.numPatches());
+  Timer gatherTimer;
   const FinalGather gather(hierarchy_, leaves_, *links_, *caster_, epsilon_, 1e-4 * sceneDiagonal(scene_),
                            options_.links.visibilityRays, options_.links.seed);
   std::vector<Rgb> mean;
   transport_->pull(solution.radiosity, mean);
-  Timer gatherTimer;
   FinalGatherCounts counts;
   const std::vector<Rgb> gathered = gather.irradiance(mean, &counts);
-  {
-    const std::lock_guard<std::mutex> lock(gatherMutex_);
-    gatherCounts_ = counts;
-    gatherSeconds_ = gatherTimer.seconds();
-  }
   const std::vector<VertexSite>& sites = gather.sites();
   const std::vector<std::uint32_t>& leaf = gather.gatheringLeaf();
   // The lights' direct irradiance at the vertices, where a quantity includes it.
@@ -319,6 +343,9 @@ std::vector<std::vector<Rgb>> HierarchicalMeshing::vertexSolution(const ElementS
     constrainHangingVertices(leaves_, values);
     out.push_back(std::move(values));
   }
+  const std::lock_guard<std::mutex> lock(gatherMutex_);
+  gatherCounts_ = counts;
+  gatherSeconds_ = gatherTimer.seconds();
   return out;
 }
 
@@ -354,6 +381,8 @@ void HierarchicalMeshing::addStats(Stats& stats) const {
   stats.add("light_edge_seconds", "light-edge refinement time", lightSeconds_, "s");
   stats.add("link_seconds", "link refinement time", refinement_.seconds, "s");
   stats.add("leaf_mesh_seconds", "leaf mesh time", leafSeconds_, "s");
+  stats.add("coverage_seconds", "open-fraction (coverage) time", coverageSeconds_, "s");
+  stats.add("transport_seconds", "transport setup time", transportSeconds_, "s");
   stats.add("formfactor_seconds", "form-factor time", refinement_.seconds + lightSeconds_, "s");
   stats.add("formfactor_cache", "link cache", linkCache_.status);
   if (linkCache_.bytes > 0) stats.add("link_cache_bytes", "link cache file size", static_cast<std::int64_t>(linkCache_.bytes), "B");
@@ -371,7 +400,7 @@ void HierarchicalMeshing::addStats(Stats& stats) const {
     stats.add("gather_rays_per_vertex", "final gather: visibility rays per vertex (mean)",
               static_cast<double>(gatherCounts_.visibilityRays) / vertices);
     stats.add("gather_rays_max", "final gather: visibility rays at one vertex (most)", count(gatherCounts_.maxVisibilityRays));
-    stats.add("gather_seconds", "final gather time (last)", gatherSeconds_, "s");
+    stats.add("gather_seconds", "final gather time (last: sites, gather, direct light at the vertices)", gatherSeconds_, "s");
   }
 }
 

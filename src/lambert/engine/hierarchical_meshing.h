@@ -63,6 +63,8 @@ class HierarchicalMeshing final : public Meshing {
   Timer created_;  // started before the hierarchy is built
   ElementHierarchy hierarchy_;
   ElementHierarchy::LeafMesh leaves_;
+  std::size_t leafMeshNodes_ = 0;  // the hierarchy's nodes when leaves_ was made
+  std::vector<std::uint32_t> measuredLeafNodes_;  // per leaf, its node when its open fraction was measured
   std::unique_ptr<RayCaster> caster_;  // over the faces: elements only split them
   double epsilon_ = 0;
   std::shared_ptr<const Links> links_;
@@ -71,7 +73,7 @@ class HierarchicalMeshing final : public Meshing {
   int passesDone_ = 0;
   RefinementReport refinement_;
   std::uint64_t lightSplits_ = 0, lightSamples_ = 0;
-  double buildSeconds_ = 0, bvhSeconds_ = 0, lightSeconds_ = 0, leafSeconds_ = 0;
+  double buildSeconds_ = 0, bvhSeconds_ = 0, lightSeconds_ = 0, leafSeconds_ = 0, coverageSeconds_ = 0, transportSeconds_ = 0;
   struct LinkCacheFile {
     std::string directory;        // RadiosityOptions::cacheDirectory; empty: off
     RadiosityOptions options;     // what the key reads of them
