@@ -18,8 +18,11 @@
 // ones (lamp strips, whose spheres are as long as they are) are not opened to their leaves by
 // every vertex nearby. The receiver is the point:
 //   element source   the exact point-to-polygon factor from the vertex to s (formfactor/kernels.h)
-//                    × visibility: 1 where all the link's rays got through, otherwise the share of
-//                    unoccluded rays from the vertex to stratified points on s;
+//                    × visibility: the share of unoccluded rays from the vertex to stratified
+//                    points on s (the link's own rays start elsewhere on the receiver: a vertex
+//                    on its rim may be in a penumbra they all missed, or lit where they were all
+//                    blocked; refinement keeps element links whose rays were all blocked, with
+//                    K = 0, for this);
 //   cluster source   P_s(−ω) max(0, n·ω) / (π d²) × the link's visibility.
 // A vertex is evaluated where the path tracer's reference evaluates it (vertexSites: nudged
 // into its own surface) and gathers through the adjacent leaf with the largest open fraction,
