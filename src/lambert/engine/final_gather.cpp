@@ -18,6 +18,8 @@ namespace {
 constexpr double kOpeningRatio = 0.5;
 // ...an element only where that can change the vertex's irradiance by more than this share.
 constexpr double kOpeningTolerance = 1e-3;
+// Rays from a vertex to a source, as a multiple of the link's, where the first ones disagree.
+constexpr int kPenumbraRays = 4;
 
 }  // namespace
 
@@ -53,20 +55,29 @@ double FinalGather::visibility(std::uint32_t vertex, std::uint32_t link, const H
   const VertexSite& site = sites_[vertex];
   Pcg32 rng(seed_, (static_cast<std::uint64_t>(vertex) << 32) ^ link);
   const std::uint32_t su = rng.nextUint(), sv = rng.nextUint();
-  int open = 0, facing = 0;
+  // Each ray counts with the point-to-point kernel at its end: the visibility the factor needs is
+  // ∫ k V dA / ∫ k dA over the source, not the share of its area in view. Counted by area, a
+  // vertex that sees only the near strip of a source (a floor corner beside a block, the lamp
+  // through a gap) is given that strip's share of the whole factor, far below the strip's own.
+  // Where the first rays disagree (a penumbra), kPenumbraRays times as many in all, continuing
+  // the same (0,2)-sequence so that they stay stratified: the vertices in a penumbra carry most
+  // of the gather's noise, and they are few.
+  double open = 0, facing = 0;
   const Vec3 from = site.point + site.normal * epsilon_;
-  for (int i = 0; i < rays_; ++i) {
+  for (int i = 0; i < kPenumbraRays * rays_; ++i) {
+    if (i == rays_ && !(open > 0 && open < facing)) break;
     auto [u, v] = scrambledZeroTwo(static_cast<std::uint32_t>(i), su, sv);
     const Vec3 y = sampleConvexPolygon(source.polygon(), u, v);
-    if (!(pointToPointKernel(site.point, site.normal, y, source.normal) > 0)) continue;
-    ++facing;
+    const double kernel = pointToPointKernel(site.point, site.normal, y, source.normal);
+    if (!(kernel > 0)) continue;
+    facing += kernel;
     ++raysCast;
     const Vec3 to = y + source.normal * epsilon_;
-    open += !caster_.occluded(Ray{from, to - from, 0, 1});
+    if (!caster_.occluded(Ray{from, to - from, 0, 1})) open += kernel;
   }
   // No ray pair faces (a source seen edge-on from here): keep what the link measured.
-  if (facing == 0) return links_.uncertainty[link] > 0 ? links_.formFactor[link] / links_.uncertainty[link] : 0.0;
-  return static_cast<double>(open) / facing;
+  if (!(facing > 0)) return links_.uncertainty[link] > 0 ? links_.formFactor[link] / links_.uncertainty[link] : 0.0;
+  return open / facing;
 }
 
 std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean, FinalGatherCounts* counts) const {
