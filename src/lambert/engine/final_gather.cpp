@@ -18,6 +18,9 @@ namespace {
 constexpr double kOpeningRatio = 0.5;
 // ...an element only where that can change the vertex's irradiance by more than this share.
 constexpr double kOpeningTolerance = 1e-3;
+// A source whose link's rays all got through has its visibility resolved at the vertex where it
+// brings at least this share of the vertex's irradiance.
+constexpr double kResolveShare = 0.01;
 // Rays from a vertex to a source, as a multiple of the link's, where the first ones disagree.
 constexpr int kPenumbraRays = 4;
 
@@ -51,7 +54,7 @@ FinalGather::FinalGather(const ElementHierarchy& hierarchy, const ElementHierarc
 }
 
 double FinalGather::visibility(std::uint32_t vertex, std::uint32_t link, const HierarchyNode& source,
-                               std::uint32_t& raysCast) const {
+                               std::uint32_t& raysCast, bool penumbraRays) const {
   const VertexSite& site = sites_[vertex];
   Pcg32 rng(seed_, (static_cast<std::uint64_t>(vertex) << 32) ^ link);
   const std::uint32_t su = rng.nextUint(), sv = rng.nextUint();
@@ -59,12 +62,11 @@ double FinalGather::visibility(std::uint32_t vertex, std::uint32_t link, const H
   // ∫ k V dA / ∫ k dA over the source, not the share of its area in view. Counted by area, a
   // vertex that sees only the near strip of a source (a floor corner beside a block, the lamp
   // through a gap) is given that strip's share of the whole factor, far below the strip's own.
-  // Where the first rays disagree (a penumbra), kPenumbraRays times as many in all, continuing
-  // the same (0,2)-sequence so that they stay stratified: the vertices in a penumbra carry most
-  // of the gather's noise, and they are few.
+  // With penumbraRays, where the first rays disagree, kPenumbraRays times as many in all,
+  // continuing the same (0,2)-sequence so that they stay stratified.
   double open = 0, facing = 0;
   const Vec3 from = site.point + site.normal * epsilon_;
-  for (int i = 0; i < kPenumbraRays * rays_; ++i) {
+  for (int i = 0; i < (penumbraRays ? kPenumbraRays : 1) * rays_; ++i) {
     if (i == rays_ && !(open > 0 && open < facing)) break;
     auto [u, v] = scrambledZeroTwo(static_cast<std::uint32_t>(i), su, sv);
     const Vec3 y = sampleConvexPolygon(source.polygon(), u, v);
@@ -112,6 +114,7 @@ std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean, FinalGath
       bool resolvesVisibility;  // the rays to it are cast here, so its children's would be too
       double factor, seen;
       bool mixed;
+      bool resolvable = false;  // an element receiver's link whose rays all got through: seen = 1 so far
     };
     std::vector<Term> terms;
     std::vector<std::uint32_t> open;  // sources still to gather
@@ -151,15 +154,12 @@ std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean, FinalGath
           open.pop_back();
           const HierarchyNode& source = hierarchy_.node(s);
           if (!source.isCluster()) {
-            // Visibility is resolved at the vertex itself for every element source, also where
-            // the link's rays all got through: those rays start at the receiver's quadrature
-            // points, and a vertex at the receiver's rim may lie in a penumbra they missed (a
-            // floor element's corner beside a block). Taking such links as wholly visible at
-            // every vertex made the Cornell box's floor vertices noisy by 2.7% between seeds
-            // (whether a link in a penumbra happened to see everything), and left half the light
-            // missing at a vertex whose element's rays were all blocked (links.h keeps those
-            // links for this gather).
-            const Term term = evaluate(k, s, !clusterReceiver);
+            // Visibility is resolved at the vertex where the link's rays disagreed or were all
+            // blocked (links.h keeps such element links for this: a vertex at the receiver's rim
+            // may see the source through a gap, and a Cornell floor vertex beside the tall
+            // block's foot lost the lamp, −46%). Where they all got through, below.
+            Term term = evaluate(k, s, !allVisible && !clusterReceiver);
+            term.resolvable = allVisible && !clusterReceiver;
             if (term.factor > 0) {
               sum += mean[s] * (term.factor * term.seen);
               terms.push_back(term);
@@ -186,6 +186,24 @@ std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean, FinalGath
     // is lit further out). The exact polygon factor is additive, so a uniform, uniformly visible
     // source gives the same through its children; a long thin one (a lamp strip) would
     // otherwise be opened to its leaves by every vertex its bounding sphere reaches.
+    // Links whose rays all got through start at the receiver's quadrature points; a vertex on
+    // the receiver's rim may lie in a penumbra they missed (a floor element's corner beside a
+    // block). Taken as wholly visible at every vertex, the Cornell box's floor vertices were
+    // noisy by 2.7% between seeds (whether a link in a penumbra happened to see everything).
+    // Their visibility is resolved here where the source brings at least kResolveShare of the
+    // irradiance: the lamp and the bright walls close by, not the many small sources of a
+    // luminaire's vertex (RenderPark's examp1.mgf took twice the CPU time resolving them all).
+    const double resolveAbove = kResolveShare * sum.maxComponent();
+    // These, and those whose rays disagreed, take kPenumbraRays times the rays where the first
+    // ones disagree: the vertices in a penumbra carry most of the gather's noise, and they are few.
+    for (Term& term : terms) {
+      if (!(term.resolvable || term.mixed) || !(term.factor * mean[term.source].maxComponent() > resolveAbove)) continue;
+      const double seen = visibility(static_cast<std::uint32_t>(v), term.link, hierarchy_.node(term.source), tally[2], true);
+      sum += mean[term.source] * (term.factor * (seen - term.seen));
+      term.seen = seen;
+      term.resolvesVisibility = true;
+      term.mixed = seen > 0 && seen < 1;
+    }
     const double threshold = kOpeningTolerance * sum.maxComponent();
     const auto opens = [&](const Term& term) {
       const HierarchyNode& source = hierarchy_.node(term.source);

@@ -63,9 +63,11 @@ class FinalGather {
   const std::vector<std::uint32_t>& gatheringLeaf() const { return leaf_; }
 
  private:
-  // The share of rays from the vertex to stratified points on the source that get through;
-  // adds the rays cast to raysCast.
-  double visibility(std::uint32_t vertex, std::uint32_t link, const HierarchyNode& source, std::uint32_t& raysCast) const;
+  // The share of rays from the vertex to stratified points on the source that get through, each
+  // weighted by the point-to-point kernel; with penumbraRays, more where the first ones disagree.
+  // Adds the rays cast to raysCast.
+  double visibility(std::uint32_t vertex, std::uint32_t link, const HierarchyNode& source, std::uint32_t& raysCast,
+                    bool penumbraRays = false) const;
 
   const ElementHierarchy& hierarchy_;
   const Links& links_;
