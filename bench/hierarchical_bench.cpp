@@ -147,6 +147,7 @@ Json cornell(bool quick, int referenceSamples) {
   }
   for (std::size_t patches : quick ? std::vector<std::size_t>{784} : std::vector<std::size_t>{784, 3000}) {
     RadiosityOptions flat;
+    flat.meshing = MeshStrategy::Uniform;
     flat.uniform.targetPatches = patches;
     flat.formFactors.showProgress = true;
     auto f = solved(scene, flat, seconds);

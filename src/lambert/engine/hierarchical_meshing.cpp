@@ -2,11 +2,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 
 #include "lambert/core/parallel.h"
 #include "lambert/core/memory.h"
 #include "lambert/core/timer.h"
+#include "lambert/core/warning.h"
 #include "lambert/engine/final_gather.h"
+#include "lambert/engine/link_cache.h"
+#include "lambert/formfactor/cache_file.h"
 #include "lambert/geometry/coverage.h"
 #include "lambert/light/emission.h"
 #include "lambert/light/lights.h"
@@ -18,6 +23,12 @@ std::vector<double> largestChannel(const std::vector<Rgb>& values) {
   std::vector<double> out(values.size());
   for (std::size_t i = 0; i < values.size(); ++i) out[i] = std::fmax(0.0, values[i].maxComponent());
   return out;
+}
+
+std::string mebibytes(std::uint64_t bytes) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f MiB", static_cast<double>(bytes) / (1024.0 * 1024.0));
+  return text;
 }
 
 std::vector<double> openFractions(const Mesh& mesh) {
@@ -38,12 +49,78 @@ HierarchicalMeshing::HierarchicalMeshing(const Scene& scene, const RadiosityOpti
   for (const Patch& p : leaves_.mesh.patches) casterFace_.push_back(static_cast<std::uint64_t>(p.surface) << 32 | p.face);
   epsilon_ = rayEpsilon(leaves_.mesh);
   bvhSeconds_ = bvh.seconds();
-  measureOpenFractions(leaves_.mesh, *caster_);
+  // The faces' open fractions are measured by the first refine(), unless the link cache holds them.
   // Until the first refinement, the leaves (the faces) exchange nothing.
   auto none = std::make_shared<Links>();
   none->start.assign(hierarchy_.nodes().size() + 1, 0);
   links_ = none;
   transport_ = std::make_shared<HierarchicalTransport>(hierarchy_, links_, openFractions(leaves_.mesh), patchAlbedo(scene_, leaves_.mesh));
+  linkCache_.directory = options.cacheDirectory;
+  linkCache_.options = options;
+}
+
+void HierarchicalMeshing::startSolve(const SolveBudget& budget) {
+  if (passesDone_ == 0) linkCache_.firstBudget = budget;
+}
+
+bool HierarchicalMeshing::loadLinks(const std::vector<Light>& lights, std::vector<Rgb>& radiosity) {
+  if (!linkCacheUsable(linkCache_.options, linkCache_.firstBudget)) {
+    linkCache_.status = "off: a time budget stops the solves between refinement passes at no fixed point";
+    return false;
+  }
+  Timer timer;
+  linkCache_.key = linkCacheKey(scene_, lights, linkCache_.options, linkCache_.firstBudget);
+  linkCache_.path = linkCachePath(linkCache_.directory, linkCache_.key);
+  Result<CachedRefinement> loaded = loadRefinement(linkCache_.path, linkCache_.key);
+  if (!loaded) {
+    // No file is the ordinary first run; anything else (unreadable, damaged, stale) is reported
+    // and recomputed, and the file replaced.
+    if (!cachefile::isMissing(linkCache_.path)) warning(loaded.error().message + "; recomputing");
+    linkCache_.seconds += timer.seconds();
+    return false;
+  }
+  if (Status replayed = replaySplits(hierarchy_, *loaded); !replayed) {
+    warning(linkCache_.path + ": " + replayed.error().message + "; recomputing");
+    hierarchy_ = ElementHierarchy(scene_);  // the leaves_ of the constructor still describe it
+    linkCache_.seconds += timer.seconds();
+    return false;
+  }
+  if (!loaded->splits.empty()) leaves_ = hierarchy_.leaves(scene_);
+  for (std::size_t i = 0; i < leaves_.mesh.numPatches(); ++i) leaves_.mesh.patches[i].openFraction = loaded->openFraction[i];
+  links_ = loaded->links;
+  transport_ = std::make_shared<HierarchicalTransport>(hierarchy_, links_, openFractions(leaves_.mesh), patchAlbedo(scene_, leaves_.mesh));
+  radiosity = std::move(loaded->warmStart);
+  refinement_.initialLinks = loaded->initialLinks;
+  refinement_.clusterLinks = loaded->clusterLinks;
+  lightSplits_ = loaded->lightSplits;
+  passesDone_ = options_.refinePasses;
+  std::error_code ec;
+  linkCache_.bytes = std::filesystem::file_size(linkCache_.path, ec);
+  linkCache_.status = "loaded " + linkCache_.path + " (" + mebibytes(linkCache_.bytes) + ")";
+  linkCache_.seconds += timer.seconds();
+  return true;
+}
+
+void HierarchicalMeshing::saveLinks(const std::vector<Rgb>& warmStart) {
+  Timer timer;
+  CachedRefinement refinement;
+  refinement.splits = splitOrder(hierarchy_);
+  refinement.numNodes = hierarchy_.nodes().size();
+  refinement.links = links_;
+  refinement.warmStart = warmStart;
+  refinement.openFraction = openFractions(leaves_.mesh);
+  refinement.initialLinks = refinement_.initialLinks;
+  refinement.clusterLinks = refinement_.clusterLinks;
+  refinement.lightSplits = lightSplits_;
+  Result<std::uint64_t> saved = saveRefinement(linkCache_.path, linkCache_.key, refinement);
+  if (saved) {
+    linkCache_.bytes = *saved;
+    linkCache_.status = "saved " + linkCache_.path + " (" + mebibytes(*saved) + ")";
+  } else {
+    warning(saved.error().message + "; links not cached");
+    linkCache_.status = "not saved: " + saved.error().message;
+  }
+  linkCache_.seconds += timer.seconds();
 }
 
 // Splits leaves, breadth first, while the direct light of some light varies across one by more
@@ -111,6 +188,12 @@ void HierarchicalMeshing::rebuildLeaves() {
 
 Result<bool> HierarchicalMeshing::refine(const std::vector<Light>& lights, std::vector<Rgb>& radiosity, SolveCallReport& report) {
   if (passesDone_ >= options_.refinePasses) return false;
+  if (passesDone_ == 0) {
+    if (!linkCache_.directory.empty() && loadLinks(lights, radiosity)) return true;
+    Timer timer;
+    measureOpenFractions(leaves_.mesh, *caster_);
+    leafSeconds_ += timer.seconds();
+  }
   // Which node each current leaf is, to hand the new leaves their ancestor's radiosity.
   std::vector<std::uint32_t> oldLeafOfNode(hierarchy_.nodes().size(), kNoNode);
   for (std::size_t l = 0; l < hierarchy_.leafNodes().size(); ++l) oldLeafOfNode[hierarchy_.leafNodes()[l]] = static_cast<std::uint32_t>(l);
@@ -189,6 +272,7 @@ Result<bool> HierarchicalMeshing::refine(const std::vector<Light>& lights, std::
     }
   }
   ++passesDone_;
+  if (passesDone_ == options_.refinePasses && !linkCache_.path.empty()) saveLinks(radiosity);
   return true;
 }
 
@@ -284,6 +368,10 @@ void HierarchicalMeshing::addStats(Stats& stats) const {
   stats.add("link_seconds", "link refinement time", refinement_.seconds, "s");
   stats.add("leaf_mesh_seconds", "leaf mesh time", leafSeconds_, "s");
   stats.add("formfactor_seconds", "form-factor time", refinement_.seconds + lightSeconds_, "s");
+  stats.add("formfactor_cache", "link cache", linkCache_.status);
+  if (linkCache_.bytes > 0) stats.add("link_cache_bytes", "link cache file size", static_cast<std::int64_t>(linkCache_.bytes), "B");
+  if (!linkCache_.directory.empty())
+    stats.add("link_cache_seconds", "link cache time (key, load and replay, or save)", linkCache_.seconds, "s");
   const std::lock_guard<std::mutex> lock(gatherMutex_);
   if (gatherCounts_.vertices > 0) {
     const double vertices = static_cast<double>(gatherCounts_.vertices);
