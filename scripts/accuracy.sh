@@ -73,6 +73,13 @@ python3 - "$results" "$work" <<'PY'
 import json, sys
 rows = [json.loads(line) for line in open(sys.argv[1])]
 work = sys.argv[2]
+# What follows the marker (the hierarchical method's figures) is kept.
+marker = "<!-- The table above is written by scripts/accuracy.sh; what follows is kept. -->"
+try:
+    kept = open("docs/accuracy.md").read().split(marker, 1)
+    kept = marker + kept[1] if len(kept) == 2 else ""
+except FileNotFoundError:
+    kept = ""
 with open("docs/accuracy.md", "w") as out:
     out.write("| method | setting | patches | form factors | solve | vertex relative RMSE | bias | max relative |\n")
     out.write("|---|---|---:|---:|---:|---:|---:|---:|\n")
@@ -80,6 +87,8 @@ with open("docs/accuracy.md", "w") as out:
         out.write(f"| {r['method']} | {r['setting']} | {r['patches']:,} | {r['formfactor_seconds']:.3g} s | "
                   f"{r['solve_seconds']:.2g} s | {100 * r['relative_rmse']:.1f}% | {100 * r['bias']:+.1f}% | "
                   f"{100 * r['max_relative']:.0f}% |\n")
+    if kept:
+        out.write("\n" + kept)
 for method in sorted({r["method"] for r in rows}):
     with open(f"{work}/plot-{method}.dat", "w") as data:
         for r in rows:

@@ -18,8 +18,11 @@
 // ones (lamp strips, whose spheres are as long as they are) are not opened to their leaves by
 // every vertex nearby. The receiver is the point:
 //   element source   the exact point-to-polygon factor from the vertex to s (formfactor/kernels.h)
-//                    × visibility: 1 where all the link's rays got through, otherwise the share of
-//                    unoccluded rays from the vertex to stratified points on s;
+//                    × visibility: the share of unoccluded rays from the vertex to stratified
+//                    points on s (the link's own rays start elsewhere on the receiver: a vertex
+//                    on its rim may be in a penumbra they all missed, or lit where they were all
+//                    blocked; refinement keeps element links whose rays were all blocked, with
+//                    K = 0, for this);
 //   cluster source   P_s(−ω) max(0, n·ω) / (π d²) × the link's visibility.
 // A vertex is evaluated where the path tracer's reference evaluates it (vertexSites: nudged
 // into its own surface) and gathers through the adjacent leaf with the largest open fraction,
@@ -60,9 +63,11 @@ class FinalGather {
   const std::vector<std::uint32_t>& gatheringLeaf() const { return leaf_; }
 
  private:
-  // The share of rays from the vertex to stratified points on the source that get through;
-  // adds the rays cast to raysCast.
-  double visibility(std::uint32_t vertex, std::uint32_t link, const HierarchyNode& source, std::uint32_t& raysCast) const;
+  // The share of rays from the vertex to stratified points on the source that get through, each
+  // weighted by the point-to-point kernel; with penumbraRays, more where the first ones disagree.
+  // Adds the rays cast to raysCast.
+  double visibility(std::uint32_t vertex, std::uint32_t link, const HierarchyNode& source, std::uint32_t& raysCast,
+                    bool penumbraRays = false) const;
 
   const ElementHierarchy& hierarchy_;
   const Links& links_;

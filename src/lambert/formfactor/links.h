@@ -38,7 +38,8 @@
 // oracle; not the Monte Carlo K, whose noise would keep the links it underestimates). A link above it is replaced by the
 // links of the larger node's children, or the receiver's where ΔK is its spread (a cluster
 // opens, an element splits four ways while above the minimum area), until it is below or
-// neither node can be split. Links that see nothing are dropped. receiverSide marks the links
+// neither node can be split. Cluster links that see nothing are dropped; element links whose
+// rays were all blocked are kept with K = 0, for the final gather to resolve at the vertices. receiverSide marks the links
 // whose rays all got through (ΔK is the spread), which the final gather
 // (engine/final_gather.h) takes as unoccluded.
 #include <cstdint>
@@ -65,7 +66,7 @@ struct LinkOptions {
 struct Links {
   std::vector<std::uint32_t> start;   // per node, and one past the last: links of node i are [start[i], start[i+1])
   std::vector<std::uint32_t> source;
-  std::vector<float> formFactor;      // K_rs, with visibility
+  std::vector<float> formFactor;      // K_rs, with visibility (0: an element pair whose rays were all blocked)
   std::vector<float> uncertainty;     // ΔK: what the oracle multiplies by B_s A_r (see above); for a cluster link, its unoccluded K
   std::vector<std::uint8_t> receiverSide;  // ΔK is K's spread over the receiver (every ray got through): refining splits the receiver
 

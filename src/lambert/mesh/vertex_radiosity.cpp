@@ -112,12 +112,16 @@ std::vector<Rgb> vertexRadiosity(const Mesh& mesh, const std::vector<Rgb>& radio
 
 std::vector<VertexSite> vertexSites(const Mesh& mesh, double nudge) {
   const std::size_t n = mesh.numVertices();
-  std::vector<Vec3> centroidSum(n), normalSum(n);
+  // Per vertex: the centroids' sum and count over every patch, and weighted by open fraction.
+  std::vector<Vec3> centroidSum(n), openCentroidSum(n), normalSum(n);
   std::vector<std::uint32_t> uses(n, 0);
+  std::vector<double> openWeight(n, 0.0);
   for (std::size_t p = 0; p < mesh.numPatches(); ++p) {
     const Patch& patch = mesh.patches[p];
     for (std::uint32_t corner : mesh.cornerIndices(p)) {
       centroidSum[corner] += patch.centroid;
+      openCentroidSum[corner] += patch.centroid * patch.openFraction;
+      openWeight[corner] += patch.openFraction;
       normalSum[corner] += patch.normal * patch.area;
       ++uses[corner];
     }
@@ -127,7 +131,9 @@ std::vector<VertexSite> vertexSites(const Mesh& mesh, double nudge) {
     sites[i].point = mesh.positions[i];
     if (uses[i] == 0 || !(lengthSquared(normalSum[i]) > 0)) continue;
     sites[i].normal = normalize(normalSum[i]);
-    const Vec3 toCentroid = centroidSum[i] / uses[i] - mesh.positions[i];
+    // Every patch covered (the floor well under a block): the plain mean.
+    const Vec3 centroid = openWeight[i] > 0 ? openCentroidSum[i] / openWeight[i] : centroidSum[i] / uses[i];
+    const Vec3 toCentroid = centroid - mesh.positions[i];
     const double distance = length(toCentroid);
     if (distance > 0) sites[i].point += toCentroid * (std::fmin(nudge, 0.5 * distance) / distance);
   }
