@@ -238,16 +238,22 @@ class References:
 # ---------------------------------------------------------------------------------------------
 # (a) The Cornell box.
 
-def solve_cornell(args, references, scratch, name, options, samples, runs):
+def solve_cornell(args, scratch, name, options, runs):
+    """The timed runs of one setting; its error is added later (measure_error), so that every
+    timing is taken before the references are traced."""
     vertices = os.path.join(args.out, f"cornell-{name}.csv")
     command = [args.lambert, "solve", "--scene", "cornell", *options, "--export-vertices", vertices, "--json"]
     measured, why = timed_runs(command, runs, args.timeout, scratch, f"cornell {name}")
     if measured is None:
         raise RuntimeError(why)
     stats = measured.pop("stats")
-    row = {"setting": name, "options": " ".join(options) or "(defaults)", **measured,
-           "leaves": stats.get("patches"), "links": stats.get("links"), "vertices": stats.get("vertices")}
-    row.update(references.error("cornell", vertices, samples))
+    return {"setting": name, "options": " ".join(options) or "(defaults)", **measured,
+            "leaves": stats.get("patches"), "links": stats.get("links"), "vertices": stats.get("vertices"),
+            "vertices_file": vertices}
+
+
+def measure_error(references, row, samples):
+    row.update(references.error("cornell", row["vertices_file"], samples))
     return row
 
 
@@ -432,7 +438,9 @@ def renderpark_scale(args, mgf, emitted, scratch):
     return brightness, scale
 
 
-def renderpark(args, references, scratch, curve):
+def renderpark(args, scratch):
+    """RenderPark's timed runs and the vertex file of its result at each ε; errors are added by
+    renderpark_errors once every timing is taken."""
     if not args.renderpark:
         return {"skipped": "RenderPark is not built beside the project: give --renderpark PATH or $RENDERPARK "
                            "(its `rpk` binary from OscarChavarro/rpkCpp; ../rpk/src/build/rpk is looked for)"}
@@ -466,16 +474,23 @@ def renderpark(args, references, scratch, curve):
             raise RuntimeError(f"RenderPark: {first_error(w)}")
         vertices = os.path.join(folder, f"cornell-{epsilon:g}.csv")
         write_vertices_atomically(vertices, "x,y,z,nx,ny,nz,r,g,b", read_renderpark_vrml(vrml, scale, metres))
-        row = {"epsilon": epsilon, "wall_seconds": spread(walls), "peak_rss_mib": round(max(rss), 1)}
-        row.update(references.error("cornell", vertices, args.curve_samples))
-        row["shared_corners_averaged"] = averaged_at_shared_corners(references, vertices, args.curve_samples, scratch)
-        rows.append(row)
+        rows.append({"epsilon": epsilon, "wall_seconds": spread(walls), "peak_rss_mib": round(max(rss), 1), "vertices_file": vertices})
+    return {"binary": args.renderpark, "settings": "-radiance-method Galerkin (hierarchical, clustering, Jacobi, lazy linking: "
+            f"its defaults) -iterations {args.renderpark_iterations}, one core",
+            "scene": mgf, "brightness_adjust": round(brightness, 6), "tone_map_scale": [round(s, 8) for s in scale], "runs": rows}
+
+
+def renderpark_errors(args, references, scratch, result, curve):
+    """Each ε's error against its reference, the best ε, and lambert's speed ratio there."""
+    if "skipped" in result:
+        return result
+    rows = result["runs"]
+    for row in rows:
+        row.update(references.error("cornell", row["vertices_file"], args.curve_samples))
+        row["shared_corners_averaged"] = averaged_at_shared_corners(references, row["vertices_file"], args.curve_samples, scratch)
     best = min(rows, key=lambda r: r["vertex_relative_rmse"])
-    result = {"binary": args.renderpark, "settings": "-radiance-method Galerkin (hierarchical, clustering, Jacobi, lazy linking: "
-              f"its defaults) -iterations {args.renderpark_iterations}, one core",
-              "scene": mgf, "brightness_adjust": round(brightness, 6), "tone_map_scale": [round(s, 8) for s in scale], "runs": rows,
-              "best": {"epsilon": best["epsilon"], "vertex_relative_rmse": best["vertex_relative_rmse"],
-                       "wall_seconds_median": best["wall_seconds"]["median"]}}
+    result["best"] = {"epsilon": best["epsilon"], "vertex_relative_rmse": best["vertex_relative_rmse"],
+                      "wall_seconds_median": best["wall_seconds"]["median"]}
     lambert_seconds = interpolate_time(curve, best["vertex_relative_rmse"])
     if lambert_seconds is None:
         result["speed_ratio"] = None
@@ -629,6 +644,14 @@ def beside_project(relative):
     return ""
 
 
+def checkpoint(args, doc):
+    """The document so far, in OUT/partial.json (atomically): what a long run has measured when it is stopped."""
+    fd, temporary = tempfile.mkstemp(prefix=".tmp-", suffix=".json", dir=args.out)
+    with os.fdopen(fd, "w") as f:
+        json.dump(doc, f, indent=1)
+    os.replace(temporary, os.path.join(args.out, "partial.json"))
+
+
 def number_list(kind):
     return lambda text: [kind(v) for v in text.split(",") if v]
 
@@ -685,27 +708,35 @@ def main():
                   "peak RSS of the child (wait4); errors: per-vertex relative RMSE against the path tracer at the "
                   "solution's own vertices (lambert compare), beside the reference's own noise"}
     with tempfile.TemporaryDirectory(prefix="default-method-bench-") as scratch:
+        # Every timing first, then the references (minutes of tracing, cached): a run stopped
+        # early has its times in OUT/partial.json.
+        points = {DEFAULT_LINK_ERROR: ("default", []), args.quality_link_error: ("quality", ["--link-error", f"{args.quality_link_error:g}"])}
+        for link_error in args.curve_link_errors:
+            points.setdefault(link_error, (f"link-error-{link_error:g}", ["--link-error", f"{link_error:g}"]))
+        rows = {e: solve_cornell(args, scratch, name, options, args.runs) for e, (name, options) in points.items()}
+        doc["cornell"] = {"default": rows[DEFAULT_LINK_ERROR], "quality": rows[args.quality_link_error]}
+        checkpoint(args, doc)
+        doc["renderpark"] = renderpark(args, scratch)
+        checkpoint(args, doc)
+        doc["building"] = buildings(args, scratch)
+        checkpoint(args, doc)
+        doc["link_cache"] = link_cache(args, scratch)
+        checkpoint(args, doc)
+
         references = References(args, scratch)
-        default = with_target(solve_cornell(args, references, scratch, "default", [], args.reference_samples, args.runs),
-                              TARGETS["cornell_default"])
-        quality = with_target(solve_cornell(args, references, scratch, "quality", ["--link-error", f"{args.quality_link_error:g}"],
-                                            args.reference_samples, args.runs), TARGETS["cornell_quality"])
-        doc["cornell"] = {"default": default, "quality": quality}
+        with_target(measure_error(references, rows[DEFAULT_LINK_ERROR], args.reference_samples), TARGETS["cornell_default"])
+        with_target(measure_error(references, rows[args.quality_link_error], args.reference_samples), TARGETS["cornell_quality"])
+        checkpoint(args, doc)
         curve = []
         for link_error in args.curve_link_errors:
-            if link_error == DEFAULT_LINK_ERROR:
-                point = default
-            elif link_error == args.quality_link_error:
-                point = quality
-            else:
-                point = solve_cornell(args, references, scratch, f"link-error-{link_error:g}", ["--link-error", f"{link_error:g}"],
-                                      args.curve_samples, args.runs)
+            point = rows[link_error]
+            if "vertex_relative_rmse" not in point:
+                measure_error(references, point, args.curve_samples)
             curve.append({"link_error": link_error, "wall_seconds": point["wall_seconds"], "vertex_relative_rmse": point["vertex_relative_rmse"],
                           "reference_noise": point["reference_noise"], "leaves": point["leaves"], "links": point["links"]})
         doc["cornell"]["curve"] = curve
-        doc["renderpark"] = renderpark(args, references, scratch, curve)
-        doc["building"] = buildings(args, scratch)
-        doc["link_cache"] = link_cache(args, scratch)
+        checkpoint(args, doc)
+        renderpark_errors(args, references, scratch, doc["renderpark"], curve)
     doc["load_average_at_end"] = os.getloadavg()
     doc["bench_seconds"] = round(time.monotonic() - started, 1)
     json.dump(doc, sys.stdout, indent=1)
