@@ -534,12 +534,15 @@ def building_file(args, rooms):
     return path
 
 
-def growth(rows):
-    """Time ∝ faces^k: k by least squares over every run of every size (log-log), with its
-    standard error; and between consecutive sizes, from the medians with the range the runs'
-    min and max allow."""
+def growth(rows, from_faces=1e4):
+    """Time ∝ faces^k: k by least squares over every run of every size from about from_faces up
+    (log-log; below it a process's fixed start-up cost flattens the curve), with its standard
+    error, beside n log n's exponent over the same range; and between consecutive sizes, from the
+    medians with the range the runs' min and max allow."""
+    fitted = [r for r in rows if r["faces"] >= 0.9 * from_faces]
+    fitted = fitted if len(fitted) >= 2 else rows
     xs, ys = [], []
-    for row in rows:
+    for row in fitted:
         for t in row["wall_seconds"]["runs"]:
             xs.append(math.log(row["faces"]))
             ys.append(math.log(t))
@@ -558,7 +561,7 @@ def growth(rows):
         slope = sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sxx
         residuals = [y - (my + slope * (x - mx)) for x, y in zip(xs, ys)]
         se = math.sqrt(sum(r * r for r in residuals) / (len(xs) - 2) / sxx) if len(xs) > 2 else None
-        first, last = rows[0]["faces"], rows[-1]["faces"]
+        first, last = fitted[0]["faces"], fitted[-1]["faces"]
         n_log_n = 1 + math.log(math.log(last) / math.log(first)) / math.log(last / first)
         result["fit"] = {"exponent": round(slope, 3), "standard_error": None if se is None else round(se, 3),
                          "from_faces": first, "to_faces": last, "n_log_n_exponent": round(n_log_n, 3),
