@@ -17,6 +17,15 @@ bench > "$scratch/first.json" 2> "$scratch/first.log" || { cat "$scratch/first.l
 bench > "$scratch/second.json" 2> "$scratch/second.log" || { cat "$scratch/second.log" >&2; fail "the second quick run failed"; }
 grep -q "reference: " "$scratch/second.log" && fail "the second run traced a reference again instead of reading the cache"
 
+# vertex_reference refuses a vertex that lies on no surface of the scene (its albedo would be a guess),
+# naming the file, the vertex and its line, and writes nothing.
+printf 'x,y,z,nx,ny,nz,r,g,b\n278,0,280,0,1,0,0,0,0\n278,-50,280,0,1,0,0,0,0\n' > "$scratch/off.csv"
+status=0; "$vertex_reference" --scene cornell --vertices "$scratch/off.csv" --samples 4 -o "$scratch/off-reference.csv" \
+  2> "$scratch/off.log" || status=$?
+[ "$status" = 2 ] || fail "vertex_reference exited $status on a vertex off every surface (expected 2)"
+grep -q "off.csv: vertex 1 (data line 2) at (278, -50, 280) lies on no face" "$scratch/off.log" || { cat "$scratch/off.log" >&2; fail "the refusal's message"; }
+[ ! -e "$scratch/off-reference.csv" ] || fail "vertex_reference wrote a file for a refused input"
+
 # The Cornell box's error measured by the CLI's own compare (its tracer at the same solve's vertices, in process).
 "$lambert" compare --scene cornell --no-image --vertex-samples 256 --json > "$scratch/compare.json" || fail "lambert compare failed"
 
