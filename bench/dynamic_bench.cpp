@@ -350,6 +350,7 @@ Json runBudget(const Setup& setup, const Options& options, long long budget,
 int main(int argc, char** argv) {
   Options options = parseOptions(argc, argv);
   Setup setup;
+  setup.options.meshing = MeshStrategy::Uniform;  // shooting is for the flat methods
   setup.options.uniform.targetPatches = options.patches;
   setup.options.directLight.samplesPerPatch = options.lightSamples;
   setup.options.formFactors.showProgress = true;  // the defaults otherwise: area Monte Carlo, 16 sample pairs

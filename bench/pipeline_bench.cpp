@@ -94,6 +94,7 @@ std::string statString(const Stats& stats, const std::string& key) {
 
 Json benchSize(const Scene& scene, std::size_t target, int samples) {
   RadiosityOptions options;
+  options.meshing = MeshStrategy::Uniform;
   options.uniform.targetPatches = target;
   options.formFactors.method = FormFactorMethod::AreaMonteCarlo;
   options.formFactors.samplePairs = samples;

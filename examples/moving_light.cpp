@@ -61,6 +61,7 @@ int main() {
   // Progressive shooting keeps the power it has not shot yet between frames, so a budget of
   // shots per frame gives an up-to-date direct light at once and the bounces over the frames.
   lambert::RadiosityOptions options;
+  options.meshing = lambert::MeshStrategy::Uniform;  // shooting is for the flat methods
   options.uniform.targetPatches = 784;
   options.solver = lambert::SolverKind::Shooting;
   auto engine = lambert::Radiosity::create(scene, options);

@@ -5,8 +5,7 @@
 #include "lambert/scene/builtin.h"
 
 int main() {
-  lambert::RadiosityOptions options;             // uniform mesh, area Monte Carlo, Gauss–Seidel
-  options.uniform.targetPatches = 784;
+  lambert::RadiosityOptions options;  // the defaults: hierarchical radiosity, as `lambert solve` runs it
   auto engine = lambert::Radiosity::create(lambert::cornellBox(), options);
   if (!engine) return std::fprintf(stderr, "%s\n", engine.error().message.c_str()), 1;
   if (auto solved = (*engine)->solve(); !solved) return std::fprintf(stderr, "%s\n", solved.error().message.c_str()), 1;

@@ -1,8 +1,12 @@
-// Radiosity against the truth: the default method at ~5,000 patches on the Cornell box agrees
-// with the unbiased path tracer at every vertex (away from the light's rim and not inside the
-// blocks) to a relative RMSE under 5%, and is much closer than seed 000's point-to-point method
-// on the seed's own mesh size.
+// Radiosity against the truth: on the Cornell box, the flat method (area Monte Carlo factors) at
+// ~5,000 patches and the default hierarchical method at its default link error agree with the
+// unbiased path tracer at every vertex (away from the light's rim and not inside the blocks), and
+// the flat method is much closer than seed 000's point-to-point method on the seed's own mesh
+// size.
 #include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
 
 #include "lambert/engine/radiosity.h"
 #include "lambert/io/vertices.h"
@@ -15,6 +19,7 @@ namespace {
 
 std::unique_ptr<Radiosity> solved(const Scene& scene, std::size_t patches, FormFactorMethod method) {
   RadiosityOptions options;
+  options.meshing = MeshStrategy::Uniform;
   options.uniform.targetPatches = patches;
   options.formFactors.method = method;
   options.formFactors.showProgress = false;
@@ -41,6 +46,30 @@ TEST(AgreementTest, CornellBoxRadiosityMatchesThePathTracer) {
   EXPECT_GT(comparison.error.count, 3 * 2500u);
   EXPECT_GT(comparison.covered, 0u);  // the floor under the blocks is left out
   EXPECT_LT(comparison.error.relativeRmse, 0.05);
+}
+
+// The default method (hierarchical, clustered, link error 2e-4, final gather at the vertices) at
+// its own leaves' vertices. The path tracer's 1024 samples a vertex leave it ~2.7% noisy per
+// vertex (issue 23), which adds to the method's error in quadrature: the bound is 8%, the method's
+// 6.1% (measured against a reference of < 0.5% noise) and the noise together with a margin of 1.3
+// points. A method that lost a bounce (the Cornell box's walls get a third of their light from
+// the second and later bounces), kept the elements' means at the vertices (44% off under the lamp,
+// the final-gather test) or mislaid the lamp's light fails it.
+TEST(AgreementTest, TheDefaultHierarchicalMethodMatchesThePathTracer) {
+  Scene scene = cornellBox();
+  RadiosityOptions options;
+  options.meshing = MeshStrategy::Hierarchical;
+  options.formFactors.showProgress = false;
+  auto engine = Radiosity::create(scene, options);
+  ASSERT_TRUE(engine.ok()) << engine.error().message;
+  ASSERT_TRUE((*engine)->solve().ok());
+  VertexComparison comparison = againstReference(scene, (*engine)->solution());
+  std::printf("%zu values compared: relative RMSE %.4f, bias %+.4f\n", comparison.error.count, comparison.error.relativeRmse,
+              comparison.error.meanValue / comparison.error.meanReference - 1);
+  EXPECT_GT(comparison.error.count, 3 * 1000u);
+  EXPECT_GT(comparison.covered, 0u);
+  EXPECT_LT(comparison.error.relativeRmse, 0.08);
+  EXPECT_LT(std::fabs(comparison.error.meanValue / comparison.error.meanReference - 1), 0.03);
 }
 
 TEST(AgreementTest, SeedPointToPointIsFurtherFromTheTruth) {

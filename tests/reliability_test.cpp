@@ -169,25 +169,30 @@ INSTANTIATE_TEST_SUITE_P(
         "--scene " LAMBERT_SOURCE_DIR "/scenes/room/room.gltf", "--scene " LAMBERT_SOURCE_DIR "/tests/data/blender_room.glb",
         "--scene " LAMBERT_SOURCE_DIR "/scenes/floor/floor.mgf --mgf-divisions 8", "--scene {ply}"));
 
-// 20 renders at once on one cache directory, half of them on the uniform mesh (the form-factor
-// matrix, .lff) and half adaptive (the master table, .lft): writers race to rename their caches
-// into place while others read them. Every image must be the one a cacheless render makes, and
-// the cache must be whole afterwards.
+// 21 renders at once on one cache directory, a third of them on the uniform mesh (the form-factor
+// matrix, .lff), a third adaptive (the master table, .lft) and a third hierarchical (the links,
+// .lhl): writers race to rename their caches into place while others read them. Every image must
+// be the one a cacheless render makes, and the cache must be whole afterwards.
 TEST(ReliabilityTest, TwentyConcurrentRendersShareOneCacheDirectory) {
   const fs::path dir = testing::scratchDirectory("reliability", "concurrent-cache");
   const fs::path cache = dir / "cache";
   const std::string cli = LAMBERT_CLI_PATH;
-  const std::string uniform = " render --threads 1 --scene cornell-spots --patches 300 --width 64 --height 64";
-  const std::string adaptive = " render --threads 1 --scene cornell-spots --adaptive --max-level 2 --width 64 --height 64";
+  const std::string kinds[] = {" render --threads 1 --scene cornell-spots --patches 300 --width 64 --height 64",
+                               " render --threads 1 --scene cornell-spots --adaptive --max-level 2 --width 64 --height 64",
+                               " render --threads 1 --scene cornell-spots --link-error 1e-3 --width 64 --height 64"};
   const std::string quiet = " --quiet";
-  ASSERT_EQ(shell(cli + uniform + quiet + " --no-cache -o " + (dir / "uniform.png").string()).exitCode, 0);
-  ASSERT_EQ(shell(cli + adaptive + quiet + " --no-cache -o " + (dir / "adaptive.png").string()).exitCode, 0);
+  std::vector<std::vector<char>> images;
+  for (int k = 0; k < 3; ++k) {
+    const fs::path image = dir / ("cacheless-" + std::to_string(k) + ".png");
+    ASSERT_EQ(shell(cli + kinds[k] + quiet + " --no-cache -o " + image.string()).exitCode, 0);
+    images.push_back(testing::readBytes(image));
+  }
 
   // Two waves, so that the second starts while the first writes its caches.
   std::string script = "pids=''; status=0\n";
-  for (int i = 0; i < 20; ++i) {
-    if (i == 10) script += "sleep 0.3\n";
-    script += cli + (i % 2 ? adaptive : uniform) + quiet + " --cache-dir " + cache.string() + " -o " + (dir / ("run-" + std::to_string(i) + ".png")).string() +
+  for (int i = 0; i < 21; ++i) {
+    if (i == 9) script += "sleep 0.3\n";
+    script += cli + kinds[i % 3] + quiet + " --cache-dir " + cache.string() + " -o " + (dir / ("run-" + std::to_string(i) + ".png")).string() +
               " > " + (dir / ("run-" + std::to_string(i) + ".log")).string() + " 2>&1 & pids=\"$pids $!\"\n";
   }
   script += "for p in $pids; do wait $p || status=1; done; exit $status\n";
@@ -195,21 +200,21 @@ TEST(ReliabilityTest, TwentyConcurrentRendersShareOneCacheDirectory) {
   testing::CommandResult raced = shell("sh " + (dir / "race.sh").string());
   EXPECT_EQ(raced.exitCode, 0) << raced.output;
 
-  const std::vector<char> uniformImage = testing::readBytes(dir / "uniform.png"), adaptiveImage = testing::readBytes(dir / "adaptive.png");
-  for (int i = 0; i < 20; ++i) {
+  for (int i = 0; i < 21; ++i) {
     const std::vector<char> log = testing::readBytes(dir / ("run-" + std::to_string(i) + ".log"));
-    EXPECT_TRUE(testing::readBytes(dir / ("run-" + std::to_string(i) + ".png")) == (i % 2 ? adaptiveImage : uniformImage))
+    EXPECT_TRUE(testing::readBytes(dir / ("run-" + std::to_string(i) + ".png")) == images[i % 3])
         << "run " << i << ": " << std::string(log.begin(), log.end());
   }
   EXPECT_FALSE(hasTemporaryFiles(cache));
+  EXPECT_EQ(std::distance(fs::directory_iterator(cache), fs::directory_iterator()), 3);
   // The caches left behind are whole: the next runs load them and draw the same images.
-  for (const auto& [arguments, expected] : {std::pair{uniform, &uniformImage}, std::pair{adaptive, &adaptiveImage}}) {
+  for (int k = 0; k < 3; ++k) {
     const fs::path image = dir / "after.png";
-    testing::CommandResult after = shell(cli + arguments + " --json --cache-dir " + cache.string() + " -o " + image.string());
+    testing::CommandResult after = shell(cli + kinds[k] + " --json --cache-dir " + cache.string() + " -o " + image.string());
     EXPECT_EQ(after.exitCode, 0) << after.output;
     EXPECT_TRUE(contains(after.output, "loaded")) << after.output;
     EXPECT_FALSE(contains(after.output, "lambert: warning")) << after.output;
-    EXPECT_TRUE(testing::readBytes(image) == *expected) << arguments;
+    EXPECT_TRUE(testing::readBytes(image) == images[k]) << kinds[k];
   }
 }
 

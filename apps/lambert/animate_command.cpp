@@ -64,14 +64,24 @@ int runAnimate(const AnimateCommandOptions& o) {
   Result<RadiosityOptions> chosen = radiosityOptions(*scene, o.solve);
   if (!chosen) return fail("animate", chosen.error().message);
   const SolverKind solver = chosen->solver;
+  if (chosen->meshing == MeshStrategy::Hierarchical)
+    if (Status ok = refuseGiven(o.solve, {"--shots-per-frame"},
+                                "a shot is progressive refinement's unit, on the flat method (--method flat, whose animate solver is "
+                                "shoot); the hierarchical method gathers over its links: give --sweeps-per-frame K (1: each frame "
+                                "carries the moved light one bounce further, the real-time setting) or --frame-ms T");
+        !ok)
+      return fail("animate", ok.error().message);
   const SolveBudget budget{o.shotsPerFrame, o.sweepsPerFrame, o.frameMilliseconds};
   if (Status ok = checkSolveBudget(solver, budget); !ok) return fail("animate", ok.error().message);
   if (scene->lights.empty())
     std::fprintf(stderr, "lambert animate: note: scene '%s' has no point, spot or directional lights; every frame is the same\n",
                  scene->name.c_str());
 
-  // The static part (mesh, form factors, surface emission) is made once; every frame sets the
-  // lights where they are at its time and solves warm from the previous frame, within the budget.
+  // The static part (mesh, form factors or links, surface emission) is made once; every frame sets
+  // the lights where they are at its time and solves warm from the previous frame. The first frame
+  // is solved to the tolerance: it is the warm start the others build on, and the hierarchical
+  // method refines its links in it, from its solution, once for the whole animation. Later frames
+  // solve within the budget, leaving the rest to the frames after.
   std::unique_ptr<Radiosity> engine = makeEngine("animate", *scene, o.solve);
   if (!engine) return 2;
 
@@ -87,7 +97,7 @@ int runAnimate(const AnimateCommandOptions& o) {
     std::vector<Light> lights;
     for (const Light& light : scene->lights) lights.push_back(lightAtTime(light, frame / o.fps));
     engine->setLights(std::move(lights));
-    Result<SolveCallReport> report = engine->solve(budget);
+    Result<SolveCallReport> report = engine->solve(frame == 0 ? SolveBudget{} : budget);
     if (!report) return fail("animate", report.error().message);
     inject.add(report->injectSeconds, o.frames);
     solve.add(report->adaptSeconds + report->formFactorSeconds + report->solveSeconds, o.frames);
@@ -147,9 +157,11 @@ int runAnimate(const AnimateCommandOptions& o) {
 std::function<int()> addAnimateCommand(CLI::App& app) {
   auto options = std::make_shared<AnimateCommandOptions>();
   options->solve.scene = "cornell-spots";
-  options->solve.patches = 3000;
-  // Progressive refinement keeps its unshot power between frames, so a moved light costs the
-  // shots its change needs; 1e-4 of the power left unshot is invisible in an 8-bit frame.
+  options->solve.patches = 3000;  // the flat method's mesh
+  // The flat method's solver: progressive refinement keeps its unshot power between frames, so a
+  // moved light costs the shots its change needs (the hierarchical method, the default, gathers
+  // with gs instead: radiosityOptions). 1e-4 of the power left unsolved is invisible in an 8-bit
+  // frame.
   options->solve.solver = SolverKind::Shooting;
   options->solve.tolerance = 1e-4;
   options->solve.adaptPasses = 1;
@@ -159,13 +171,18 @@ std::function<int()> addAnimateCommand(CLI::App& app) {
   addCameraOptions(*cmd, options->camera);
   cmd->add_option("--frames", options->frames, "Number of frames")->check(CLI::Range(1, 100000))->capture_default_str();
   cmd->add_option("--fps", options->fps, "Frames per second of scene time")->check(CLI::Range(0.001, 10000.0))->capture_default_str();
-  cmd->add_option("--shots-per-frame", options->shotsPerFrame, "Radiosity budget per frame in shots (shoot; 0: to the tolerance)")
+  cmd->add_option("--shots-per-frame", options->shotsPerFrame,
+                  "Flat method's shoot solver only: radiosity budget per frame after the first, in shots (0: to the tolerance); "
+                  "the default method takes --sweeps-per-frame or --frame-ms")
       ->check(CLI::Range(0LL, 1000000000LL))
       ->capture_default_str();
-  cmd->add_option("--sweeps-per-frame", options->sweepsPerFrame, "Radiosity budget per frame in sweeps (gs, jacobi; 0: to the tolerance)")
+  cmd->add_option("--sweeps-per-frame", options->sweepsPerFrame,
+                  "Radiosity budget per frame after the first, in sweeps (gs, jacobi; 0: to the tolerance); 1 is the default "
+                  "method's real-time setting")
       ->check(CLI::Range(0, 1000000))
       ->capture_default_str();
-  cmd->add_option("--frame-ms", options->frameMilliseconds, "Radiosity budget per frame in milliseconds (gs, jacobi, shoot; 0: none)")
+  cmd->add_option("--frame-ms", options->frameMilliseconds,
+                  "Radiosity budget per frame after the first, in milliseconds (gs, jacobi, shoot; 0: none)")
       ->check(CLI::Range(0.0, 1e9))
       ->capture_default_str();
   cmd->add_option("-o,--output", options->output, "Directory for frame_0001.png … (and animation.mp4)")->capture_default_str();

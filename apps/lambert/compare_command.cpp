@@ -46,15 +46,18 @@ void addError(Stats& stats, const std::string& prefix, const std::string& what, 
   stats.add(prefix + "_max_rel", what + " max relative error", e.maxRelative);
 }
 
-// Options that the chosen sources would not use are refused: a solve's options when the
-// radiosity side is a file, the tracer's when the reference side is, images when nothing solves.
+// Options that the chosen sources would not use are refused: a solve's options when both sides
+// are files (with a radiosity file alone they choose the vertices the reference is traced at, as
+// `reference --export-vertices` does), the tracer's when the reference side is a file, images
+// when nothing solves.
 Status checkSources(const CompareCommandOptions& o) {
   const bool radiosityFile = !o.radiosityVertices.empty(), referenceFile = !o.referenceVertices.empty();
   const std::initializer_list<const char*> imageOptions = {"--width", "--height", "--shading", "--lighting", "--supersample",
                                                            "--exposure", "--radiosity-image", "--reference-image",
                                                            "--eye", "--target", "--up", "--fov"};
   if (radiosityFile) {
-    if (Status s = refuseGiven(o.solve, solveOnlyOptions(), "the radiosity side comes from --radiosity-vertices"); !s) return s;
+    if (referenceFile)
+      if (Status s = refuseGiven(o.solve, solveOnlyOptions(), "both sides come from vertex files"); !s) return s;
     const std::string why = "images are compared only when compare solves (not with --radiosity-vertices)";
     if (Status s = refuseGiven(o.image, imageOptions, why); !s) return s;
     if (Status s = refuseGiven(o.solve, {"--no-image"}, why); !s) return s;
@@ -122,8 +125,10 @@ int runCompare(const CompareCommandOptions& o) {
     if (!loaded) return 2;
     reference = std::move(*loaded);
   } else {
-    const Mesh mesh = engine ? engine->solution().vertexMesh() : uniformMesh(*scene, uniformMeshOptions(*scene, o.solve));
-    reference = vertexSamples(mesh, tracer().vertexRadiance(mesh));
+    // The solve's vertices, or, for a radiosity file, those `solve` with these options exports.
+    Result<Mesh> exported = engine ? Result<Mesh>(engine->solution().vertexMesh()) : exportedVertexMesh(*scene, o.solve);
+    if (!exported) return fail("compare", exported.error().message);
+    reference = vertexSamples(*exported, tracer().vertexRadiance(*exported));
   }
   stats.add("reference_seconds", "reference time", referenceTimer.seconds(), "s");
 
@@ -170,7 +175,9 @@ std::function<int()> addCompareCommand(CLI::App& app) {
   addReferenceOptions(*cmd, options->reference);
   cmd->add_option("--rim-distance", options->rimDistance,
                   "Leave out vertices this close to an emitter, scene units (default 5% of the scene's diagonal)");
-  cmd->add_option("--radiosity-vertices", options->radiosityVertices, "Take the radiosity side from this vertex file (from `solve`)");
+  cmd->add_option("--radiosity-vertices", options->radiosityVertices,
+                  "Take the radiosity side from this vertex file (from `solve`; without --reference-vertices, give the same solve "
+                  "options, which choose the vertices the reference is traced at)");
   cmd->add_option("--reference-vertices", options->referenceVertices, "Take the reference side from this vertex file (from `reference`)");
   cmd->add_option("--radiosity-image", options->radiosityImage, "Also write the radiosity image compared (.png or .exr)");
   cmd->add_option("--reference-image", options->referenceImage, "Also write the reference image compared (.png or .exr)");

@@ -81,7 +81,7 @@ int runInfo(const InfoCommandOptions& o) {
 std::function<int()> addInfoCommand(CLI::App& app) {
   auto options = std::make_shared<InfoCommandOptions>();
   CLI::App* cmd = app.add_subcommand("info", "What a scene holds, and the patches and memory a dense solve would take");
-  addMeshOptions(*cmd, options->mesh);
+  addMeshOptions(*cmd, options->mesh, PatchOptions::DenseEstimate);
   cmd->add_flag("--json", options->json, "Print as JSON");
   return [options] { return runInfo(*options); };
 }

@@ -29,19 +29,28 @@ const std::map<std::string, SolverKind>& solverNames() {
 
 }  // namespace
 
+const std::initializer_list<const char*>& flatMethodOptions();
+
 UniformMeshOptions uniformMeshOptions(const Scene& scene, const MeshCommandOptions& o) {
   if (o.given("--patches") || o.given("--max-edge") || (scene.defaults.patches == 0 && scene.defaults.maxEdgeLength == 0))
     return {o.patches, o.maxEdge};
   return {scene.defaults.patches > 0 ? scene.defaults.patches : o.patches, scene.defaults.maxEdgeLength};
 }
 
-void addMeshOptions(CLI::App& cmd, MeshCommandOptions& o) {
+void addMeshOptions(CLI::App& cmd, MeshCommandOptions& o, PatchOptions role) {
   o.command = &cmd;
   cmd.add_option("--scene", o.scene, "Built-in scene name (see `lambert scenes`) or a scene file (.json, docs/scene-format.md)")->capture_default_str();
-  auto* patches = cmd.add_option("--patches", o.patches, "Target patch count; the mesh edge length is chosen to reach it")
-                      ->check(CLI::Range(std::size_t{1}, std::size_t{200000}))
-                      ->capture_default_str();
-  cmd.add_option("--max-edge", o.maxEdge, "Longest patch edge in scene units (instead of --patches)")
+  // The default method never reads a patch count, so no default is shown as if it applied.
+  const std::string patchesHelp =
+      role == PatchOptions::FlatMethod
+          ? "Flat method only, and giving it chooses --method flat: target patch count of the uniform mesh (default " +
+                std::to_string(o.patches) + ", or the scene file's)"
+          : "Target patch count of the uniform mesh the dense estimate is for (default " + std::to_string(o.patches) + ", or the scene file's)";
+  auto* patches = cmd.add_option("--patches", o.patches, patchesHelp)->check(CLI::Range(std::size_t{1}, std::size_t{200000}));
+  cmd.add_option("--max-edge", o.maxEdge,
+                 role == PatchOptions::FlatMethod
+                     ? "Flat method only, and giving it chooses --method flat: longest patch edge in scene units (instead of --patches)"
+                     : "Longest patch edge in scene units (instead of --patches)")
       ->check(CLI::Range(1e-9, 1e12))
       ->excludes(patches);
   cmd.add_option("--seed", o.seed, "Random seed")->capture_default_str();
@@ -65,43 +74,53 @@ void addMeshOptions(CLI::App& cmd, MeshCommandOptions& o) {
 }
 
 void addSolveOptions(CLI::App& cmd, SolveCommandOptions& o) {
-  addMeshOptions(cmd, o);
+  addMeshOptions(cmd, o, PatchOptions::FlatMethod);
+  // The flat method's own options say so, and that giving one chooses it (radiosityOptions); their
+  // defaults are in the text, not shown as the command's defaults, which the default method never reads.
+  const std::string flat = "Flat method only, and giving it chooses --method flat: ";
   cmd.add_option("--formfactor", o.formFactor,
-                 "Form-factor method: mc (area Monte Carlo), point (seed 000), hemicube (seed 001) or hemisphere (ray-cast)")
+                 flat + "form-factor method: mc (area Monte Carlo, the default), point (seed 000), hemicube (seed 001) or "
+                        "hemisphere (ray-cast)")
       ->transform(CLI::CheckedTransformer(std::map<std::string, FormFactorMethod>{
           {"mc", FormFactorMethod::AreaMonteCarlo},
           {"point", FormFactorMethod::PointToPoint},
           {"hemicube", FormFactorMethod::Hemicube},
-          {"hemisphere", FormFactorMethod::HemisphereRays}}))
-      ->default_str("mc");
-  cmd.add_option("--hemicube-resolution", o.hemicubeResolution, "Hemi-cube: pixels along the top face (even)")
-      ->check(CLI::Range(2, 4096) & CLI::Validator([](std::string& v) { return std::stoi(v) % 2 == 0 ? "" : "must be even"; }, "EVEN"))
-      ->capture_default_str();
-  cmd.add_option("--hemisphere-rays", o.hemisphereRays, "Hemisphere: rays per patch")
-      ->check(CLI::Range(1, 1 << 24))
-      ->capture_default_str();
-  cmd.add_option("--samples", o.samples, "Sample pairs per patch pair (mc)")->check(CLI::Range(1, 4096))->capture_default_str();
-  cmd.add_option("--light-samples", o.lightSamples, "Points per patch the lights' direct light is averaged over")
+          {"hemisphere", FormFactorMethod::HemisphereRays}}));
+  cmd.add_option("--hemicube-resolution", o.hemicubeResolution,
+                 flat + "--formfactor hemicube's pixels along the top face, even (default " + std::to_string(o.hemicubeResolution) + ")")
+      ->check(CLI::Range(2, 4096) & CLI::Validator([](std::string& v) { return std::stoi(v) % 2 == 0 ? "" : "must be even"; }, "EVEN"));
+  cmd.add_option("--hemisphere-rays", o.hemisphereRays,
+                 flat + "--formfactor hemisphere's rays per patch (default " + std::to_string(o.hemisphereRays) + ")")
+      ->check(CLI::Range(1, 1 << 24));
+  cmd.add_option("--samples", o.samples, flat + "--formfactor mc's sample pairs per patch pair (default " + std::to_string(o.samples) + ")")
+      ->check(CLI::Range(1, 4096));
+  cmd.add_option("--light-samples", o.lightSamples, "Points per element the lights' direct light is averaged over")
       ->check(CLI::Range(1, 4096))
       ->capture_default_str();
-  cmd.add_option("--solver", o.solver, "Solver: direct, gs (Gauss-Seidel), jacobi or shoot (progressive)")
+  cmd.add_option("--solver", o.solver,
+                 "Solver: gs (Gauss-Seidel) or jacobi; the flat method also direct or shoot (progressive), and naming either "
+                 "chooses --method flat")
       ->transform(CLI::CheckedTransformer(solverNames()))
-      ->default_str("gs");
+      ->default_str(o.solver == SolverKind::Shooting ? "gs; shoot on the flat method" : "gs");
   cmd.add_option("--tolerance", o.tolerance, "Relative stopping tolerance of iterative solvers")
       ->check(CLI::Range(1e-15, 1.0))
       ->capture_default_str();
   cmd.add_option("--max-iterations", o.maxIterations, "Sweep limit (shots per patch for shoot)")
       ->check(CLI::Range(1, 1000000))
       ->capture_default_str();
-  cmd.add_option("--cache-dir", o.cacheDir, "Form-factor cache directory (default $XDG_CACHE_HOME/lambert or ~/.cache/lambert)");
-  cmd.add_flag("--no-cache", o.noCache, "Neither read nor write the form-factor cache");
+  cmd.add_option("--cache-dir", o.cacheDir, "Cache directory for form factors and hierarchical links (default $XDG_CACHE_HOME/lambert or ~/.cache/lambert)");
+  cmd.add_flag("--no-cache", o.noCache, "Neither read nor write the form-factor or link cache");
   cmd.add_flag("--normalize-rows", o.normalizeRows,
-               "Divide each row of F by its sum (seed 003): hides estimation error, adds energy where light should escape");
+               flat + "divide each row of F by its sum (seed 003): hides estimation error, adds energy where light should escape");
+  std::string flatOnly;
+  for (const char* option : flatMethodOptions()) flatOnly += std::string(flatOnly.empty() ? "" : ", ") + option;
   cmd.add_option("--method", o.method,
-                 "hierarchical (element trees under clusters, linked by the BF oracle) or flat (a mesh with a dense form-factor matrix)")
+                 "hierarchical (element trees under clusters, linked by the BF oracle; the default) or flat (a mesh with a dense "
+                 "form-factor matrix); without --method, flat where a flat-only option is given (" + flatOnly +
+                     "), --solver direct or shoot, or a patch count in the scene file")
       ->transform(CLI::CheckedTransformer(std::map<std::string, MeshStrategy>{{"flat", MeshStrategy::Uniform},
                                                                              {"hierarchical", MeshStrategy::Hierarchical}}))
-      ->default_str("hierarchical, or flat where a flat method's option is given");
+      ->default_str("hierarchical");
   cmd.add_option("--link-error", o.linkError, "Hierarchical: the share of the scene's power one link may carry unrefined")
       ->check(CLI::Range(1e-12, 1.0))
       ->capture_default_str();
@@ -119,17 +138,17 @@ void addSolveOptions(CLI::App& cmd, SolveCommandOptions& o) {
                  "Memory a solve may use, e.g. 8G or 512M (default: the machine's available memory); larger solves are refused")
       ->transform(CLI::AsSizeValue(false))
       ->check(CLI::Range(1.0, 1e18));
-  cmd.add_flag("--adaptive", o.adaptive, "Adaptive quad-tree mesh refined at spot and shadow edges (seed 003)");
-  cmd.add_option("--base-edge", o.baseEdge, "Adaptive: longest edge of the coarsest cells, scene units (default: diagonal / 6)")
+  cmd.add_flag("--adaptive", o.adaptive, flat + "an adaptive quad-tree mesh refined at spot and shadow edges (seed 003)");
+  cmd.add_option("--base-edge", o.baseEdge, "With --adaptive only: longest edge of the coarsest cells, scene units (default: diagonal / 6)")
       ->check(CLI::Range(1e-9, 1e12));
-  cmd.add_option("--max-level", o.maxLevel, "Adaptive: deepest refinement level (each halves a cell)")
+  cmd.add_option("--max-level", o.maxLevel, "With --adaptive only: deepest refinement level (each halves a cell)")
       ->check(CLI::Range(0, 8))
       ->capture_default_str();
   cmd.add_option("--gradient-threshold", o.gradientThreshold,
-                 "Adaptive: split cells whose corners' radiosity spans more than this × the mean (0: off)")
+                 "With --adaptive only: split cells whose corners' radiosity spans more than this × the mean (0: off)")
       ->check(CLI::Range(0.0, 1e6))
       ->capture_default_str();
-  cmd.add_option("--adapt-passes", o.adaptPasses, "Adaptive: refine-and-solve passes per solve (per frame in animate)")
+  cmd.add_option("--adapt-passes", o.adaptPasses, "With --adaptive only: refine-and-solve passes per solve (per frame in animate)")
       ->check(CLI::Range(1, 20))
       ->capture_default_str();
   cmd.add_flag("--json", o.json, "Print the stats as JSON instead of a table");
@@ -341,7 +360,7 @@ const std::initializer_list<const char*>& solveOnlyOptions() {
 const std::initializer_list<const char*>& flatMethodOptions() {
   static const std::initializer_list<const char*> options = {
       "--patches", "--max-edge", "--adaptive", "--formfactor", "--samples", "--hemicube-resolution", "--hemisphere-rays",
-      "--normalize-rows", "--cache-dir"};
+      "--normalize-rows"};
   return options;
 }
 
@@ -363,8 +382,8 @@ Result<RadiosityOptions> radiosityOptions(const Scene& scene, const SolveCommand
   const bool solverNamed = o.given("--solver") || !scene.defaults.solver.empty();
   const bool needsMatrix = solver == SolverKind::Shooting || solver == SolverKind::Direct;
   // The method: --method, or hierarchical unless something asks for a flat one: a mesh size
-  // (on the command line or in the scene file), a form-factor or cache option, or a solver that
-  // needs the dense matrix.
+  // (on the command line or in the scene file), a form-factor option, or a solver that needs the
+  // dense matrix. Options every method reads (the cache, threads, budgets, outputs) choose none.
   bool hierarchical = o.method == MeshStrategy::Hierarchical;
   if (!o.given("--method")) {
     bool flatAsked = scene.defaults.patches > 0 || scene.defaults.maxEdgeLength > 0 || (solverNamed && needsMatrix);
@@ -379,7 +398,7 @@ Result<RadiosityOptions> radiosityOptions(const Scene& scene, const SolveCommand
   const std::string method = formFactorMethodName(o.formFactor);
   const Rule rules[] = {
       {hierarchical, flatMethodOptions(),
-       "it is for --method flat; the hierarchical method sizes its elements by --link-error and --min-area and caches no links"},
+       "it is for --method flat; the hierarchical method sizes its elements by --link-error and --min-area"},
       {!hierarchical, {"--link-error", "--min-area", "--visibility-rays", "--no-clusters", "--refine-passes"},
        "it applies to --method hierarchical only"},
       {o.adaptive, {"--patches", "--max-edge"}, "they size the uniform mesh; --adaptive cells are sized by --base-edge and --max-level"},
@@ -422,8 +441,21 @@ Result<RadiosityOptions> radiosityOptions(const Scene& scene, const SolveCommand
   r.tolerance = tolerance;
   r.maxIterations = o.maxIterations;
   r.memoryLimitBytes = o.memoryLimitBytes;
-  r.cacheDirectory = o.noCache || hierarchical ? "" : (o.cacheDir.empty() ? defaultCacheDirectory() : o.cacheDir);
+  r.cacheDirectory = o.noCache ? "" : (o.cacheDir.empty() ? defaultCacheDirectory() : o.cacheDir);
   return r;
+}
+
+Result<Mesh> exportedVertexMesh(const Scene& scene, const SolveCommandOptions& o) {
+  Result<RadiosityOptions> options = radiosityOptions(scene, o);
+  if (!options) return options.error();
+  // --no-cache is not refused: it asks for nothing to be read or written, which the uniform mesh needs.
+  if (options->meshing == MeshStrategy::Uniform)
+    if (Status s = refuseGiven(o, {"--formfactor", "--samples", "--hemicube-resolution", "--hemisphere-rays", "--normalize-rows",
+                                   "--light-samples", "--solver", "--tolerance", "--max-iterations", "--cache-dir", "--memory-limit"},
+                               "the uniform mesh's vertices depend on --patches or --max-edge alone (--method flat chooses it)");
+        !s)
+      return s.error();
+  return solutionVertexMesh(scene, std::move(*options));
 }
 
 Status checkImageOptions(const Scene& scene, const ImageCommandOptions& o) {

@@ -85,7 +85,10 @@ struct ExportCommandOptions : GivenOptions {
   GltfBake bake = GltfBake::Irradiance;
 };
 
-void addMeshOptions(CLI::App& command, MeshCommandOptions& options);
+// What --patches and --max-edge are for: sizing the flat method's mesh (giving one chooses the
+// flat method), or the dense estimate of `info`.
+enum class PatchOptions { FlatMethod, DenseEstimate };
+void addMeshOptions(CLI::App& command, MeshCommandOptions& options, PatchOptions role);
 void addExportOptions(CLI::App& command, ExportCommandOptions& options);
 // Refuses a path that is not .glb, and --bake without --export.
 Status checkExportOptions(const ExportCommandOptions& options);
@@ -115,6 +118,12 @@ Status refuseGiven(const GivenOptions& given, std::initializer_list<const char*>
 // The library's options for a solve, or an error naming a given option the solve would not use
 // (a method's own setting under another method, adaptive settings on a uniform mesh, …).
 Result<RadiosityOptions> radiosityOptions(const Scene& scene, const SolveCommandOptions& options);
+// The vertices `solve` with these options exports (solutionVertexMesh), for the commands that
+// trace the reference there without solving themselves (`reference --export-vertices`, `compare
+// --radiosity-vertices`). The options are checked as a solve checks them, and with the flat
+// method's uniform mesh, whose vertices depend on its size alone, the options that would not
+// move them are refused.
+Result<Mesh> exportedVertexMesh(const Scene& scene, const SolveCommandOptions& options);
 // The same check for the image options (--lighting on a scene without lights).
 Status checkImageOptions(const Scene& scene, const ImageCommandOptions& options);
 

@@ -1,6 +1,7 @@
 // `lambert reference`: the ground truth. An unbiased path tracer of the same diffuse scene renders
-// the camera's image and the outgoing radiance at every vertex of the radiosity mesh the same
-// options would build, for `lambert compare` and for other tools.
+// the camera's image and the outgoing radiance at every vertex that `lambert solve` with the same
+// options exports (solutionVertexMesh: the default method's own vertices, or the flat mesh's), for
+// `lambert compare` and for other tools.
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -15,14 +16,13 @@ namespace lambert::cli {
 namespace {
 
 struct ReferenceCommandOptions {
-  MeshCommandOptions mesh;
+  SolveCommandOptions mesh;  // the method and options whose vertices --export-vertices traces at
   ReferenceOptions reference;
   CameraCommandOptions camera;
   int width = 512, height = 512;
   double exposure = 0;
   std::string output;          // image; none unless asked for
   std::string exportVertices;  // vertex radiance; none unless asked for
-  bool json = false, quiet = false;
 };
 
 int runReference(const ReferenceCommandOptions& o) {
@@ -31,9 +31,12 @@ int runReference(const ReferenceCommandOptions& o) {
   if (!scene) return 2;
   if (o.output.empty() && o.exportVertices.empty())
     return fail("reference", "nothing to do: give -o IMAGE.png and/or --export-vertices FILE");
-  if (o.exportVertices.empty())
+  if (o.exportVertices.empty()) {
     if (Status s = refuseGiven(o.mesh, {"--patches", "--max-edge", "--vertex-samples"}, "they choose the vertices, and no --export-vertices is asked for"); !s)
       return fail("reference", s.error().message);
+    if (Status s = refuseGiven(o.mesh, solveOnlyOptions(), "the solve's options choose the vertices, and no --export-vertices is asked for"); !s)
+      return fail("reference", s.error().message);
+  }
   if (!o.output.empty())
     if (Status s = checkImagePath(o.output, o.mesh); !s) return fail("reference", s.error().message);
   if (o.output.empty())
@@ -46,7 +49,7 @@ int runReference(const ReferenceCommandOptions& o) {
     if (Status s = chooseCamera(*scene, o.camera, cameraStats); !s) return fail("reference", s.error().message);
   ReferenceOptions options = o.reference;
   options.seed = o.mesh.seed;
-  options.showProgress = !o.quiet && !o.json;
+  options.showProgress = !o.mesh.quiet && !o.mesh.json;
   // The tracer's own geometry: each surface as a triangle fan, the smallest exact description.
   Mesh geometry = subdivideScene(*scene, sceneDiagonal(*scene) * 2);
   ReferenceRenderer renderer(*scene, geometry, options);
@@ -56,7 +59,10 @@ int runReference(const ReferenceCommandOptions& o) {
   stats.append(cameraStats);
   if (!o.exportVertices.empty()) {
     Timer timer;
-    Mesh mesh = uniformMesh(*scene, uniformMeshOptions(*scene, o.mesh));
+    Result<Mesh> vertexMesh = exportedVertexMesh(*scene, o.mesh);
+    if (!vertexMesh) return fail("reference", vertexMesh.error().message);
+    const Mesh& mesh = *vertexMesh;
+    stats.add("vertex_mesh_seconds", "vertex mesh time (the solve's)", timer.seconds(), "s");
     std::vector<Rgb> radiance = renderer.vertexRadiance(mesh);
     Status written = writeVertices(o.exportVertices, vertexSamples(mesh, radiance));
     if (!written) {
@@ -83,7 +89,7 @@ int runReference(const ReferenceCommandOptions& o) {
   }
   stats.add("rays", "rays", static_cast<std::int64_t>(renderer.raysCast()));
   stats.add("total_seconds", "total time", total.seconds(), "s");
-  printStats(stats, o.json, o.quiet);
+  printStats(stats, o.mesh.json, o.mesh.quiet);
   return 0;
 }
 
@@ -102,7 +108,8 @@ void addReferenceOptions(CLI::App& cmd, ReferenceOptions& o) {
 std::function<int()> addReferenceCommand(CLI::App& app) {
   auto options = std::make_shared<ReferenceCommandOptions>();
   CLI::App* cmd = app.add_subcommand("reference", "Path-trace the ground truth: an image and/or per-vertex radiance");
-  addMeshOptions(*cmd, options->mesh);
+  // A solve's options, so that the same command line as `solve` gives the same vertices.
+  addSolveOptions(*cmd, options->mesh);
   addReferenceOptions(*cmd, options->reference);
   cmd->add_option("--width", options->width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
   cmd->add_option("--height", options->height, "Image height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
@@ -111,9 +118,8 @@ std::function<int()> addReferenceCommand(CLI::App& app) {
   addCameraOptions(*cmd, options->camera);
   cmd->add_option("-o,--output", options->output, "Image to write: .png or .exr (linear float radiance)");
   cmd->add_option("--export-vertices", options->exportVertices,
-                  "Write outgoing radiance at every vertex of the mesh --patches/--max-edge builds (.csv or .ply)");
-  cmd->add_flag("--json", options->json, "Print the stats as JSON");
-  cmd->add_flag("-q,--quiet", options->quiet, "Print nothing on success");
+                  "Write outgoing radiance at every vertex `lambert solve` with the same options exports (the default method's own "
+                  "vertices, or the flat mesh's): .csv or .ply");
   return [options] { return runReference(*options); };
 }
 

@@ -24,6 +24,7 @@ int runSolve(const SolveOnlyOptions& o) {
   Timer total;
   std::optional<Scene> scene = findScene("solve", o.solve);
   if (!scene) return 2;
+  const double loadSeconds = total.seconds();
   if (Status ok = checkExportOptions(o.exported); !ok) return fail("solve", ok.error().message);
   if (o.exported.glb.empty())
     if (Status ok = refuseGiven(o.exported, {"--exposure"}, "it scales --export's COLOR_0, and no --export is asked for"); !ok)
@@ -32,20 +33,25 @@ int runSolve(const SolveOnlyOptions& o) {
   if (!engine) return 2;
   if (Result<SolveCallReport> solved = engine->solve(); !solved) return fail("solve", solved.error().message);
   (void)engine->saveCache();
-  Stats stats = engine->stats();
+  // The outputs first, so that the stats include the final gather they ran.
+  Timer output;
   if (!o.exportVertices.empty()) {
     Status written = writeVertices(o.exportVertices, vertexSamples(engine->solution()));
     if (!written) {
       std::fprintf(stderr, "lambert solve: %s\n", written.error().message.c_str());
       return 1;
     }
-    stats.add("vertices_file", "vertices written to", o.exportVertices);
   }
   if (Status exported = exportSolution(o.exported, engine->solution(), o.exposure); !exported) {
     std::fprintf(stderr, "lambert solve: %s\n", exported.error().message.c_str());
     return 1;
   }
+  const double outputSeconds = output.seconds();
+  Stats stats = engine->stats();
+  if (!o.exportVertices.empty()) stats.add("vertices_file", "vertices written to", o.exportVertices);
   if (!o.exported.glb.empty()) stats.add("export", "glTF written to", o.exported.glb);
+  stats.add("load_seconds", "scene load time", loadSeconds, "s");
+  stats.add("output_seconds", "output time (vertex values and files)", outputSeconds, "s");
   stats.add("total_seconds", "total time", total.seconds(), "s");
   printStats(stats, o.solve.json, o.solve.quiet);
   return 0;

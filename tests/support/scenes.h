@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "lambert/formfactor/form_factors.h"
+#include "lambert/formfactor/kernels.h"
 #include "lambert/mesh/mesh.h"
 #include "lambert/scene/builtin.h"
 #include "lambert/scene/scene.h"
@@ -68,6 +69,57 @@ inline double surfaceFormFactor(const Mesh& mesh, const FormFactorMatrix& F, std
       if (mesh.patches[j].surface == to) weighted += mesh.patches[i].area * F(i, j);
   }
   return weighted / area;
+}
+
+// Unit squares one apart (parallelSquares): the top one black and emitting L_e = 1 W/(m²·sr)
+// (E = π W/m² in each channel), the bottom one grey, ρ = `albedo`. Light goes from the top to the
+// bottom, which reflects ρ of it; the black top absorbs what comes back, and nothing else returns.
+// In closed form, with F(x) the exact point-to-square factor at a point x of the bottom square:
+//   absorbed = π [(1 − ρ) ∫ F(x) dA + ρ ∫ F(x)² dA],   escaped = π − absorbed,
+// the first term the bottom's share, the second the top's (B_bottom(x) = ρ π F(x), and the top
+// receives ∫ B_bottom(x) F(x) dA of it). The integrals by the midpoint rule on a 128 × 128 grid
+// (F is smooth on the square: exact to ~1e-6).
+struct EnergyBalanceWatts {
+  double emitted = 0, absorbed = 0, escaped = 0;
+};
+inline Scene emitterOverPlate(double albedo) {
+  Scene scene = sceneOf({{"plate", {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, 0, {}},
+                         {"emitter", {{0, 0, 1}, {0, 1, 1}, {1, 1, 1}, {1, 0, 1}}, 1, Rgb::gray(1)}},
+                        Rgb::gray(albedo));
+  scene.materials.push_back({"black", Rgb::gray(0)});
+  return scene;
+}
+inline EnergyBalanceWatts emitterOverPlateBalance(double albedo) {
+  const Vec3 top[] = {{0, 0, 1}, {0, 1, 1}, {1, 1, 1}, {1, 0, 1}};
+  const int n = 128;
+  double first = 0, second = 0;
+  for (int a = 0; a < n; ++a)
+    for (int b = 0; b < n; ++b) {
+      const double f = pointToPolygonFormFactor({(a + 0.5) / n, (b + 0.5) / n, 0}, {0, 0, 1}, top, {0, 0, -1});
+      first += f / (n * n);
+      second += f * f / (n * n);
+    }
+  EnergyBalanceWatts watts;
+  watts.emitted = 3 * kPi;
+  watts.absorbed = 3 * kPi * ((1 - albedo) * first + albedo * second);
+  watts.escaped = watts.emitted - watts.absorbed;
+  return watts;
+}
+
+// The solid angle a planar convex polygon subtends at a point, fanned into triangles, each by
+// Van Oosterom & Strackee's formula (1983): tan(Ω/2) = |a·(b×c)| / (abc + (a·b)c + (a·c)b + (b·c)a).
+// An isotropic point light of intensity I gives a polygon facing it the mean irradiance I·Ω/A
+// (dΩ = cosθ dA / r²), whatever the polygon's size.
+inline double solidAngle(const Vec3& point, const std::vector<Vec3>& polygon) {
+  double omega = 0;
+  for (std::size_t k = 1; k + 1 < polygon.size(); ++k) {
+    const Vec3 a = polygon[0] - point, b = polygon[k] - point, c = polygon[k + 1] - point;
+    const double la = length(a), lb = length(b), lc = length(c);
+    const double numerator = std::fabs(dot(a, cross(b, c)));
+    const double denominator = la * lb * lc + dot(a, b) * lc + dot(a, c) * lb + dot(b, c) * la;
+    omega += 2 * std::atan2(numerator, denominator);
+  }
+  return omega;
 }
 
 inline double relativeError(double value, double expected) { return std::fabs(value - expected) / std::fabs(expected); }

@@ -2,11 +2,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 
 #include "lambert/core/parallel.h"
 #include "lambert/core/memory.h"
 #include "lambert/core/timer.h"
+#include "lambert/core/warning.h"
 #include "lambert/engine/final_gather.h"
+#include "lambert/engine/link_cache.h"
+#include "lambert/formfactor/cache_file.h"
 #include "lambert/geometry/coverage.h"
 #include "lambert/light/emission.h"
 #include "lambert/light/lights.h"
@@ -20,6 +25,12 @@ std::vector<double> largestChannel(const std::vector<Rgb>& values) {
   return out;
 }
 
+std::string mebibytes(std::uint64_t bytes) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f MiB", static_cast<double>(bytes) / (1024.0 * 1024.0));
+  return text;
+}
+
 std::vector<double> openFractions(const Mesh& mesh) {
   std::vector<double> out(mesh.numPatches());
   for (std::size_t i = 0; i < out.size(); ++i) out[i] = mesh.patches[i].openFraction;
@@ -30,20 +41,93 @@ std::vector<double> openFractions(const Mesh& mesh) {
 
 HierarchicalMeshing::HierarchicalMeshing(const Scene& scene, const RadiosityOptions& options)
     : scene_(scene), options_(options.hierarchical), memoryLimitBytes_(options.memoryLimitBytes), hierarchy_(scene) {
-  leaves_ = hierarchy_.leaves(scene_);
   buildSeconds_ = created_.seconds();
+  Timer leafTimer;
+  leaves_ = hierarchy_.leaves(scene_);
+  leafMeshNodes_ = hierarchy_.nodes().size();
+  leafSeconds_ += leafTimer.seconds();
   Timer bvh;
   caster_ = makeEmbreeRayCaster(leaves_.mesh);
   casterFace_.reserve(leaves_.mesh.numPatches());
   for (const Patch& p : leaves_.mesh.patches) casterFace_.push_back(static_cast<std::uint64_t>(p.surface) << 32 | p.face);
   epsilon_ = rayEpsilon(leaves_.mesh);
   bvhSeconds_ = bvh.seconds();
-  measureOpenFractions(leaves_.mesh, *caster_);
+  // The faces' open fractions are measured by the first refine(), unless the link cache holds them.
   // Until the first refinement, the leaves (the faces) exchange nothing.
   auto none = std::make_shared<Links>();
   none->start.assign(hierarchy_.nodes().size() + 1, 0);
   links_ = none;
+  Timer transport;
   transport_ = std::make_shared<HierarchicalTransport>(hierarchy_, links_, openFractions(leaves_.mesh), patchAlbedo(scene_, leaves_.mesh));
+  transportSeconds_ += transport.seconds();
+  linkCache_.directory = options.cacheDirectory;
+  linkCache_.options = options;
+}
+
+void HierarchicalMeshing::startSolve(const SolveBudget& budget) {
+  if (passesDone_ == 0) linkCache_.firstBudget = budget;
+}
+
+bool HierarchicalMeshing::loadLinks(const std::vector<Light>& lights, std::vector<Rgb>& radiosity) {
+  if (!linkCacheUsable(linkCache_.options, linkCache_.firstBudget)) {
+    linkCache_.status = "off: a time budget stops the solves between refinement passes at no fixed point";
+    return false;
+  }
+  Timer timer;
+  linkCache_.key = linkCacheKey(scene_, lights, linkCache_.options, linkCache_.firstBudget);
+  linkCache_.path = linkCachePath(linkCache_.directory, linkCache_.key);
+  Result<CachedRefinement> loaded = loadRefinement(linkCache_.path, linkCache_.key);
+  if (!loaded) {
+    // No file is the ordinary first run; anything else (unreadable, damaged, stale) is reported
+    // and recomputed, and the file replaced.
+    if (!cachefile::isMissing(linkCache_.path)) warning(loaded.error().message + "; recomputing");
+    linkCache_.seconds += timer.seconds();
+    return false;
+  }
+  if (Status replayed = replaySplits(hierarchy_, *loaded); !replayed) {
+    warning(linkCache_.path + ": " + replayed.error().message + "; recomputing");
+    hierarchy_ = ElementHierarchy(scene_);  // the leaves_ of the constructor still describe it
+    linkCache_.seconds += timer.seconds();
+    return false;
+  }
+  if (!loaded->splits.empty()) leaves_ = hierarchy_.leaves(scene_);
+  leafMeshNodes_ = hierarchy_.nodes().size();
+  for (std::size_t i = 0; i < leaves_.mesh.numPatches(); ++i) leaves_.mesh.patches[i].openFraction = loaded->openFraction[i];
+  measuredLeafNodes_ = hierarchy_.leafNodes();
+  links_ = loaded->links;
+  transport_ = std::make_shared<HierarchicalTransport>(hierarchy_, links_, openFractions(leaves_.mesh), patchAlbedo(scene_, leaves_.mesh));
+  radiosity = std::move(loaded->warmStart);
+  refinement_.initialLinks = loaded->initialLinks;
+  refinement_.clusterLinks = loaded->clusterLinks;
+  lightSplits_ = loaded->lightSplits;
+  passesDone_ = options_.refinePasses;
+  std::error_code ec;
+  linkCache_.bytes = std::filesystem::file_size(linkCache_.path, ec);
+  linkCache_.status = "loaded " + linkCache_.path + " (" + mebibytes(linkCache_.bytes) + ")";
+  linkCache_.seconds += timer.seconds();
+  return true;
+}
+
+void HierarchicalMeshing::saveLinks(const std::vector<Rgb>& warmStart) {
+  Timer timer;
+  CachedRefinement refinement;
+  refinement.splits = splitOrder(hierarchy_);
+  refinement.numNodes = hierarchy_.nodes().size();
+  refinement.links = links_;
+  refinement.warmStart = warmStart;
+  refinement.openFraction = openFractions(leaves_.mesh);
+  refinement.initialLinks = refinement_.initialLinks;
+  refinement.clusterLinks = refinement_.clusterLinks;
+  refinement.lightSplits = lightSplits_;
+  Result<std::uint64_t> saved = saveRefinement(linkCache_.path, linkCache_.key, refinement);
+  if (saved) {
+    linkCache_.bytes = *saved;
+    linkCache_.status = "saved " + linkCache_.path + " (" + mebibytes(*saved) + ")";
+  } else {
+    warning(saved.error().message + "; links not cached");
+    linkCache_.status = "not saved: " + saved.error().message;
+  }
+  linkCache_.seconds += timer.seconds();
 }
 
 // Splits leaves, breadth first, while the direct light of some light varies across one by more
@@ -103,14 +187,40 @@ void HierarchicalMeshing::splitAtLightEdges(const std::vector<Light>& lights, do
 }
 
 void HierarchicalMeshing::rebuildLeaves() {
+  // Nodes are only ever added, by splitting a leaf: as many as before, the leaves are the same.
+  if (hierarchy_.nodes().size() == leafMeshNodes_) return;
+  // A leaf that was a leaf at the same index before keeps its open fraction: its sample points
+  // depend on its corners and index only (geometry/coverage.h), so measuring again would repeat
+  // its 16 rays exactly. Leaves are numbered in node order, so those before the first split keep
+  // their index.
   Timer timer;
+  const std::vector<std::uint32_t>& leafNodes = hierarchy_.leafNodes();
+  std::vector<std::uint8_t> measure(leafNodes.size(), 1);
+  std::vector<double> open(leafNodes.size(), 1.0);
+  for (std::size_t l = 0; l < std::min(leafNodes.size(), measuredLeafNodes_.size()); ++l)
+    if (leafNodes[l] == measuredLeafNodes_[l]) {
+      measure[l] = 0;
+      open[l] = leaves_.mesh.patches[l].openFraction;
+    }
   leaves_ = hierarchy_.leaves(scene_);
-  measureOpenFractions(leaves_.mesh, *caster_);
+  leafMeshNodes_ = hierarchy_.nodes().size();
   leafSeconds_ += timer.seconds();
+  Timer coverage;
+  for (std::size_t l = 0; l < open.size(); ++l) leaves_.mesh.patches[l].openFraction = open[l];
+  measureOpenFractions(leaves_.mesh, *caster_, measure);
+  measuredLeafNodes_ = leafNodes;
+  coverageSeconds_ += coverage.seconds();
 }
 
 Result<bool> HierarchicalMeshing::refine(const std::vector<Light>& lights, std::vector<Rgb>& radiosity, SolveCallReport& report) {
   if (passesDone_ >= options_.refinePasses) return false;
+  if (passesDone_ == 0) {
+    if (!linkCache_.directory.empty() && loadLinks(lights, radiosity)) return true;
+    Timer coverage;
+    measureOpenFractions(leaves_.mesh, *caster_);
+    measuredLeafNodes_ = hierarchy_.leafNodes();
+    coverageSeconds_ += coverage.seconds();
+  }
   // Which node each current leaf is, to hand the new leaves their ancestor's radiosity.
   std::vector<std::uint32_t> oldLeafOfNode(hierarchy_.nodes().size(), kNoNode);
   for (std::size_t l = 0; l < hierarchy_.leafNodes().size(); ++l) oldLeafOfNode[hierarchy_.leafNodes()[l]] = static_cast<std::uint32_t>(l);
@@ -177,7 +287,9 @@ Result<bool> HierarchicalMeshing::refine(const std::vector<Light>& lights, std::
   report.formFactorSeconds += pass.seconds;
 
   rebuildLeaves();
+  Timer transport;
   transport_ = std::make_shared<HierarchicalTransport>(hierarchy_, links_, openFractions(leaves_.mesh), patchAlbedo(scene_, leaves_.mesh));
+  transportSeconds_ += transport.seconds();
   // Warm start: each leaf from the nearest ancestor that was a leaf before (B stays as solved).
   radiosity.assign(hierarchy_.leafNodes().size(), Rgb{});
   if (!old.empty()) {
@@ -189,6 +301,7 @@ Result<bool> HierarchicalMeshing::refine(const std::vector<Light>& lights, std::
     }
   }
   ++passesDone_;
+  if (passesDone_ == options_.refinePasses && !linkCache_.path.empty()) saveLinks(radiosity);
   return true;
 }
 
@@ -199,18 +312,13 @@ std::vector<Rgb> HierarchicalMeshing::vertexValues(const std::vector<Rgb>& perEl
 std::vector<std::vector<Rgb>> HierarchicalMeshing::vertexSolution(const ElementSolution& solution,
                                                                    std::span<const VertexQuantity> quantities) const {
   LAMBERT_CHECK(solution.radiosity.size() == leaves_.mesh.numPatches());
+  Timer gatherTimer;
   const FinalGather gather(hierarchy_, leaves_, *links_, *caster_, epsilon_, 1e-4 * sceneDiagonal(scene_),
                            options_.links.visibilityRays, options_.links.seed);
   std::vector<Rgb> mean;
   transport_->pull(solution.radiosity, mean);
-  Timer gatherTimer;
   FinalGatherCounts counts;
   const std::vector<Rgb> gathered = gather.irradiance(mean, &counts);
-  {
-    const std::lock_guard<std::mutex> lock(gatherMutex_);
-    gatherCounts_ = counts;
-    gatherSeconds_ = gatherTimer.seconds();
-  }
   const std::vector<VertexSite>& sites = gather.sites();
   const std::vector<std::uint32_t>& leaf = gather.gatheringLeaf();
   // The lights' direct irradiance at the vertices, where a quantity includes it.
@@ -235,6 +343,9 @@ std::vector<std::vector<Rgb>> HierarchicalMeshing::vertexSolution(const ElementS
     constrainHangingVertices(leaves_, values);
     out.push_back(std::move(values));
   }
+  const std::lock_guard<std::mutex> lock(gatherMutex_);
+  gatherCounts_ = counts;
+  gatherSeconds_ = gatherTimer.seconds();
   return out;
 }
 
@@ -270,7 +381,13 @@ void HierarchicalMeshing::addStats(Stats& stats) const {
   stats.add("light_edge_seconds", "light-edge refinement time", lightSeconds_, "s");
   stats.add("link_seconds", "link refinement time", refinement_.seconds, "s");
   stats.add("leaf_mesh_seconds", "leaf mesh time", leafSeconds_, "s");
+  stats.add("coverage_seconds", "open-fraction (coverage) time", coverageSeconds_, "s");
+  stats.add("transport_seconds", "transport setup time", transportSeconds_, "s");
   stats.add("formfactor_seconds", "form-factor time", refinement_.seconds + lightSeconds_, "s");
+  stats.add("formfactor_cache", "link cache", linkCache_.status);
+  if (linkCache_.bytes > 0) stats.add("link_cache_bytes", "link cache file size", static_cast<std::int64_t>(linkCache_.bytes), "B");
+  if (!linkCache_.directory.empty())
+    stats.add("link_cache_seconds", "link cache time (key, load and replay, or save)", linkCache_.seconds, "s");
   const std::lock_guard<std::mutex> lock(gatherMutex_);
   if (gatherCounts_.vertices > 0) {
     const double vertices = static_cast<double>(gatherCounts_.vertices);
@@ -283,7 +400,7 @@ void HierarchicalMeshing::addStats(Stats& stats) const {
     stats.add("gather_rays_per_vertex", "final gather: visibility rays per vertex (mean)",
               static_cast<double>(gatherCounts_.visibilityRays) / vertices);
     stats.add("gather_rays_max", "final gather: visibility rays at one vertex (most)", count(gatherCounts_.maxVisibilityRays));
-    stats.add("gather_seconds", "final gather time (last)", gatherSeconds_, "s");
+    stats.add("gather_seconds", "final gather time (last: sites, gather, direct light at the vertices)", gatherSeconds_, "s");
   }
 }
 

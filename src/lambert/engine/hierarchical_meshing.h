@@ -10,8 +10,12 @@
 //   3. new leaves start from their parent's radiosity.
 // Later solve() calls (lights moved) re-inject the lights on the existing leaves and re-solve
 // warm over the existing links, without refining: the dynamic-light path.
+// With a cache directory, the first solve loads what its passes would make (the splits, the
+// links and the last pass's warm start) from a file keyed on everything they read, or saves it
+// after computing it (engine/link_cache.h).
 #include <memory>
 #include <mutex>
+#include <string>
 #include <vector>
 
 #include "lambert/core/timer.h"
@@ -38,8 +42,9 @@ class HierarchicalMeshing final : public Meshing {
   // evaluated there too; T-junction vertices are then constrained to their edges.
   std::vector<std::vector<Rgb>> vertexSolution(const ElementSolution& solution,
                                                std::span<const VertexQuantity> quantities) const override;
+  void startSolve(const SolveBudget& budget) override;
   void addStats(Stats& stats) const override;
-  Status saveCache() override { return Ok{}; }  // links are not cached
+  Status saveCache() override { return Ok{}; }  // the link cache is written as soon as the links are made
 
   const ElementHierarchy& hierarchy() const { return hierarchy_; }
   const Links& links() const { return *links_; }
@@ -47,6 +52,10 @@ class HierarchicalMeshing final : public Meshing {
  private:
   void splitAtLightEdges(const std::vector<Light>& lights, double threshold, SolveCallReport& report);
   void rebuildLeaves();
+  // The link cache (engine/link_cache.h): loadLinks takes every pass from the file when it holds
+  // them (returns whether it did), saveLinks writes them after the last pass.
+  bool loadLinks(const std::vector<Light>& lights, std::vector<Rgb>& radiosity);
+  void saveLinks(const std::vector<Rgb>& warmStart);
 
   const Scene& scene_;  // the engine's, which owns this strategy
   HierarchicalOptions options_;
@@ -54,6 +63,8 @@ class HierarchicalMeshing final : public Meshing {
   Timer created_;  // started before the hierarchy is built
   ElementHierarchy hierarchy_;
   ElementHierarchy::LeafMesh leaves_;
+  std::size_t leafMeshNodes_ = 0;  // the hierarchy's nodes when leaves_ was made
+  std::vector<std::uint32_t> measuredLeafNodes_;  // per leaf, its node when its open fraction was measured
   std::unique_ptr<RayCaster> caster_;  // over the faces: elements only split them
   double epsilon_ = 0;
   std::shared_ptr<const Links> links_;
@@ -62,7 +73,17 @@ class HierarchicalMeshing final : public Meshing {
   int passesDone_ = 0;
   RefinementReport refinement_;
   std::uint64_t lightSplits_ = 0, lightSamples_ = 0;
-  double buildSeconds_ = 0, bvhSeconds_ = 0, lightSeconds_ = 0, leafSeconds_ = 0;
+  double buildSeconds_ = 0, bvhSeconds_ = 0, lightSeconds_ = 0, leafSeconds_ = 0, coverageSeconds_ = 0, transportSeconds_ = 0;
+  struct LinkCacheFile {
+    std::string directory;        // RadiosityOptions::cacheDirectory; empty: off
+    RadiosityOptions options;     // what the key reads of them
+    SolveBudget firstBudget;      // of the first solve
+    std::string path;             // the file, once keyed
+    std::uint64_t key = 0;
+    std::string status = "off";   // the formfactor_cache stat
+    std::uint64_t bytes = 0;      // the file's size, loaded or saved
+    double seconds = 0;           // keying, loading and replaying, or saving
+  } linkCache_;
   // The last final gather's work (vertexSolution is const and may run on any thread).
   mutable std::mutex gatherMutex_;
   mutable FinalGatherCounts gatherCounts_;

@@ -125,17 +125,41 @@ TEST(HierarchicalTest, HowellTwoPatchFactorsThroughTheSolver) {
   }
 }
 
-TEST(HierarchicalTest, ClosedCornellBoxBalancesEnergy) {
+TEST(HierarchicalTest, ClosedCornellBoxAbsorbsWhatItEmits) {
+  // A closed box absorbs all it emits (the black portal absorbs what an open box lets out), so
+  // the power absorbed, Σ A (1 − ρ) H over the solution's gathered irradiance, must be the power
+  // emitted: a solve that stopped a bounce short, or links that lose or double light, fail.
+  // Within 1% at the default link error (measured 0.29% short; the flat method with 3000
+  // patches loses 0.5%). Nothing escapes: what leaves the surfaces arrives at them.
   auto engine = solvedEngine(closedCornellBox(), hierarchicalOptions(2e-4));
   ASSERT_TRUE(engine);
   const SolutionView& view = engine->solution();
   EnergyBalance balance = energyBalance(view.problem(), view.radiosity(), view.scene().metresPerUnit);
-  EXPECT_LT(std::fabs(balance.absorbedWatts + balance.escapedWatts - balance.emittedWatts) / balance.emittedWatts, 1e-3);
-  // Nothing leaves a closed box: what the links do not carry is lost, what they carry twice is
-  // gained. Within 1% at the default link error (measured −0.22%; the flat method with 3000
-  // patches loses 0.5%).
-  std::printf("escaped %.4f of the emitted power\n", balance.escapedWatts / balance.emittedWatts);
+  // 130 mm × 105 mm emitting π·(17 + 12 + 4) W/m² (the scene's lamp).
+  EXPECT_NEAR(balance.emittedWatts, 0.130 * 0.105 * kPi * 33, 1e-9);
+  std::printf("absorbed %.4f, escaped %.4f of the emitted power\n", balance.absorbedWatts / balance.emittedWatts,
+              balance.escapedWatts / balance.emittedWatts);
+  EXPECT_LT(relativeError(balance.absorbedWatts, balance.emittedWatts), 0.01);
   EXPECT_LT(std::fabs(balance.escapedWatts / balance.emittedWatts), 0.01);
+}
+
+TEST(HierarchicalTest, EmitterOverAPlateAbsorbsAndLetsOutTheClosedForm) {
+  // An open scene whose absorbed and escaped power are known in closed form (tests/support/
+  // scenes.h): a black emitter over a grey plate. The plate's share is 83% of what is absorbed,
+  // the light it sends back to the emitter 17% (ρ = 0.5): a solve without that second bounce,
+  // an emitter whose absorption is not counted, or escaped power counted twice, all miss by more
+  // than 10%. Both within 2% at link error 1e-4 (the Howell test's setting, where the plate's
+  // mean is within 1%; the second term is the first's 1/5 and rides on the same links).
+  const testing::EnergyBalanceWatts exact = testing::emitterOverPlateBalance(0.5);
+  auto engine = solvedEngine(testing::emitterOverPlate(0.5), hierarchicalOptions(1e-4));
+  ASSERT_TRUE(engine);
+  const Stats stats = engine->stats();
+  const auto watts = [&](const char* key) { return std::get<double>(stats.find(key)->value); };
+  std::printf("absorbed %.5f W (exact %.5f), escaped %.5f W (exact %.5f)\n", watts("absorbed_watts"), exact.absorbed,
+              watts("escaped_watts"), exact.escaped);
+  EXPECT_LT(relativeError(watts("emitted_watts"), exact.emitted), 1e-9);
+  EXPECT_LT(relativeError(watts("absorbed_watts"), exact.absorbed), 0.02);
+  EXPECT_LT(relativeError(watts("escaped_watts"), exact.escaped), 0.02 * exact.absorbed / exact.escaped);
 }
 
 TEST(HierarchicalTest, FinalGatherGivesTheExactPointIrradianceAtEveryVertex) {
@@ -354,44 +378,162 @@ TEST(HierarchicalTest, JacobiAndGaussSeidelReachTheSameSolution) {
   EXPECT_LT(worst / scale, 1e-4);
 }
 
-TEST(HierarchicalTest, LoweringTheLinkErrorNeverMovesAwayFromTheFineFlatSolution) {
-  // The closed Cornell box's per-surface mean radiosity from a fine flat solve is the reference.
-  const Scene scene = closedCornellBox();
-  RadiosityOptions flat;
-  flat.uniform.targetPatches = 3000;
-  flat.formFactors.showProgress = false;
-  flat.solver = SolverKind::GaussSeidel;
-  flat.tolerance = 1e-7;
-  auto reference = solvedEngine(scene, flat);
-  ASSERT_TRUE(reference);
-  // The error of a surface's mean against the flat one, relative to the mean radiosity of the
-  // surfaces that do not emit (the darkest block side would make relative errors of its own
-  // meaningless).
-  double scale = 0;
-  int reflecting = 0;
-  for (std::uint32_t s = 0; s < scene.surfaces.size(); ++s)
-    if (scene.surfaces[s].emittedRadiance.maxComponent() <= 0) {
-      scale += surfaceMean(reference->solution(), s).luminance();
-      ++reflecting;
+// Exact form factors between axis-aligned rectangles (Ehlert & Smith 1993, from Howell's
+// catalogue by form-factor algebra): A_1 F_12 = Σ_{ijkl} (−1)^{i+j+k+l} G(…) over the rectangles'
+// corner coordinates. Parallel rectangles c apart, x and y along the planes:
+//   G = 1/2π [x √(y²+c²) atan(x/√(y²+c²)) + y √(x²+c²) atan(y/√(x²+c²)) − c²/2 ln(x²+y²+c²)];
+// perpendicular ones, x along their planes' common line and y, η the distances from it:
+//   G = 1/2π [x r atan(x/r) − ¼ (r² − x²) ln(r² + x²)],  r² = y² + η².
+// (Both give Howell's unit squares, 0.199825 and 0.200044.)
+double parallelG(double x, double y, double c) {
+  const double ry = std::sqrt(y * y + c * c), rx = std::sqrt(x * x + c * c), s = x * x + y * y + c * c;
+  double g = 0;
+  if (ry > 0) g += x * ry * std::atan(x / ry);
+  if (rx > 0) g += y * rx * std::atan(y / rx);
+  if (s > 0) g -= c * c / 2 * std::log(s);
+  return g / (2 * kPi);
+}
+double perpendicularG(double x, double y, double eta) {
+  const double r2 = y * y + eta * eta, s = r2 + x * x;
+  double g = 0;
+  if (r2 > 0) g += x * std::sqrt(r2) * std::atan(x / std::sqrt(r2));
+  if (s > 0) g -= 0.25 * (r2 - x * x) * std::log(s);
+  return g / (2 * kPi);
+}
+
+// A cell of an axis-aligned closed box: the plane axis = at, spanning [lo, hi] along the other two
+// axes (in increasing axis order).
+struct BoxCell {
+  int axis;
+  double at;
+  double lo[2], hi[2];
+  std::uint32_t surface;
+  double area() const { return (hi[0] - lo[0]) * (hi[1] - lo[1]); }
+};
+
+// A_a F_ab between cells of a box's different faces (each sees the other whole from inside).
+double exchangeArea(const BoxCell& a, const BoxCell& b) {
+  const auto other = [](int axis, int k) { return k == 0 ? (axis == 0 ? 1 : 0) : (axis == 2 ? 1 : 2); };
+  double sum = 0;
+  if (a.axis == b.axis) {
+    const double c = std::fabs(a.at - b.at);
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2; ++j)
+        for (int k = 0; k < 2; ++k)
+          for (int l = 0; l < 2; ++l) {
+            const double x = (i ? a.hi[0] : a.lo[0]) - (k ? b.hi[0] : b.lo[0]), y = (j ? a.hi[1] : a.lo[1]) - (l ? b.hi[1] : b.lo[1]);
+            sum += ((i + j + k + l) % 2 ? -1 : 1) * parallelG(x, y, c);
+          }
+    return sum;
+  }
+  // The common line runs along the third axis t, at a's plane coordinate in b and b's in a.
+  const int t = 3 - a.axis - b.axis;
+  const int aT = other(a.axis, 0) == t ? 0 : 1, bT = other(b.axis, 0) == t ? 0 : 1;
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j)
+      for (int k = 0; k < 2; ++k)
+        for (int l = 0; l < 2; ++l) {
+          const double x = (i ? a.hi[aT] : a.lo[aT]) - (k ? b.hi[bT] : b.lo[bT]);
+          const double y = std::fabs((j ? a.hi[1 - aT] : a.lo[1 - aT]) - b.at), eta = std::fabs((l ? b.hi[1 - bT] : b.lo[1 - bT]) - a.at);
+          sum += ((i + j + k + l) % 2 ? -1 : 1) * perpendicularG(x, y, eta);
+        }
+  return std::fabs(sum);
+}
+
+// The unit box of LinkErrorRoom, each face cut into n × n cells (n a multiple of 5, so that the
+// lamp's square [0.4, 0.6]² in the ceiling is whole cells), solved by Galerkin's method with
+// the exact factors above (piecewise-constant B; nothing is occluded in an empty box, so the
+// only error is the piecewise-constant approximation, O(1/n²) in a surface's mean): per surface,
+// the area-weighted mean radiosity.
+std::vector<double> exactBoxSurfaceMeans(int n, const std::vector<double>& albedo, double lampExitance) {
+  // Surfaces in LinkErrorRoom's order: floor, ceiling, x0, x1, z0, z1, lamp.
+  std::vector<BoxCell> cells;
+  const int faceAxis[6] = {1, 1, 0, 0, 2, 2};
+  const double faceAt[6] = {0, 1, 0, 1, 0, 1};
+  for (std::uint32_t f = 0; f < 6; ++f)
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        BoxCell cell{faceAxis[f], faceAt[f], {double(i) / n, double(j) / n}, {double(i + 1) / n, double(j + 1) / n}, f};
+        const double cx = (i + 0.5) / n, cz = (j + 0.5) / n;
+        if (f == 1 && cx > 0.4 && cx < 0.6 && cz > 0.4 && cz < 0.6) cell.surface = 6;
+        cells.push_back(cell);
+      }
+  const std::size_t m = cells.size();
+  std::vector<double> F(m * m, 0.0);  // F[i m + j] = F_ij, reciprocity exact: A_i F_ij = A_j F_ji
+  for (std::size_t i = 0; i < m; ++i)
+    for (std::size_t j = i + 1; j < m; ++j) {
+      if (cells[i].axis == cells[j].axis && cells[i].at == cells[j].at) continue;
+      const double exchange = exchangeArea(cells[i], cells[j]);
+      F[i * m + j] = exchange / cells[i].area();
+      F[j * m + i] = exchange / cells[j].area();
     }
-  scale /= reflecting;
+  std::vector<double> B(m, 0.0);
+  for (int sweep = 0; sweep < 200; ++sweep)  // Gauss–Seidel; ρ ≤ 0.8, so 200 sweeps reach 1e-15
+    for (std::size_t i = 0; i < m; ++i) {
+      double gathered = 0;
+      for (std::size_t j = 0; j < m; ++j) gathered += F[i * m + j] * B[j];
+      B[i] = (cells[i].surface == 6 ? lampExitance : 0) + albedo[cells[i].surface] * gathered;
+    }
+  std::vector<double> sum(7, 0.0), area(7, 0.0);
+  for (std::size_t i = 0; i < m; ++i) sum[cells[i].surface] += B[i] * cells[i].area(), area[cells[i].surface] += cells[i].area();
+  for (std::size_t s = 0; s < 7; ++s) sum[s] /= area[s];
+  return sum;
+}
+
+// A closed unit box, each face of different albedo, 5 × 5 faces each, with a lamp of one face
+// (L_e = 1) in the middle of the ceiling.
+Scene linkErrorRoom(const std::vector<double>& albedo) {
+  Surface ceiling = gridSurface("ceiling", {0, 1, 0}, {1, 0, 0}, {0, 0, 1}, 5);
+  ceiling.faces.erase(ceiling.faces.begin() + 2 * 5 + 2);  // the lamp's place
+  Scene scene = sceneOf({gridSurface("floor", {0, 0, 0}, {0, 0, 1}, {1, 0, 0}, 5), ceiling,
+                         gridSurface("x0", {0, 0, 0}, {0, 1, 0}, {0, 0, 1}, 5), gridSurface("x1", {1, 0, 0}, {0, 0, 1}, {0, 1, 0}, 5),
+                         gridSurface("z0", {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 5), gridSurface("z1", {0, 0, 1}, {0, 1, 0}, {1, 0, 0}, 5),
+                         gridSurface("lamp", {0.4, 1, 0.4}, {0.2, 0, 0}, {0, 0, 0.2}, 1, Rgb::gray(1))});
+  scene.materials.clear();
+  for (std::size_t s = 0; s < scene.surfaces.size(); ++s) {
+    scene.materials.push_back({scene.surfaces[s].name, Rgb::gray(albedo[s])});
+    scene.surfaces[s].material = static_cast<int>(s);
+  }
+  return scene;
+}
+
+TEST(HierarchicalTest, LoweringTheLinkErrorConvergesToTheExactSolution) {
+  // The reference: the room solved with exact form factors (no estimate, no occlusion) on 10 × 10
+  // cells a face. Its own error is measured here as a third of its distance from the 5 × 5
+  // solution (Richardson: the error falls as 1/n²): 0.09% of the mean radiosity, far below the
+  // differences the test resolves. (The flat method's 3000 patches agree with it within 0.1%.)
+  const std::vector<double> albedo = {0.7, 0.8, 0.6, 0.3, 0.5, 0.75, 0.0};
+  const std::vector<double> exact = exactBoxSurfaceMeans(10, albedo, kPi), coarse = exactBoxSurfaceMeans(5, albedo, kPi);
+  const Scene scene = linkErrorRoom(albedo);
+  double scale = 0, referenceError = 0;
+  for (std::uint32_t s = 0; s < 6; ++s) scale += exact[s] / 6;
+  for (std::uint32_t s = 0; s < 6; ++s) referenceError = std::fmax(referenceError, std::fabs(exact[s] - coarse[s]) / 3 / scale);
+  std::printf("reference: mean radiosity %.5f W/m², its own error %.3g%% of it\n", scale, 100 * referenceError);
+  ASSERT_LT(referenceError, 2e-3);
+  // Every surface's mean against it, as a fraction of the mean radiosity: each tenth of the link
+  // error must make more links and come closer by more than the reference can tell, and at 1e-4
+  // every surface must be within 1% (without clusters, starting from every pair of faces, the
+  // method is within 0.3% at each of the three: what clustering may add is the rest).
   double lastError = INFINITY;
   std::size_t lastLinks = 0;
   for (double linkError : {1e-2, 1e-3, 1e-4}) {
     auto engine = solvedEngine(scene, hierarchicalOptions(linkError));
     ASSERT_TRUE(engine);
     double worst = 0;
-    for (std::uint32_t s = 0; s < scene.surfaces.size(); ++s)
-      if (scene.surfaces[s].emittedRadiance.maxComponent() <= 0)
-        worst = std::fmax(worst, std::fabs(surfaceMean(engine->solution(), s).luminance() - surfaceMean(reference->solution(), s).luminance()) / scale);
+    std::string where;
+    for (std::uint32_t s = 0; s < 6; ++s) {
+      const double error = std::fabs(surfaceMean(engine->solution(), s).g - exact[s]) / scale;
+      if (error > worst) worst = error, where = scene.surfaces[s].name;
+    }
     const auto links = static_cast<std::size_t>(std::get<std::int64_t>(engine->stats().find("links")->value));
-    EXPECT_LE(worst, lastError * 1.05 + 1e-3) << "link error " << linkError;
+    std::printf("link error %g: worst surface (%s) %.2f%% of the mean radiosity off, %zu links\n", linkError, where.c_str(), 100 * worst,
+                links);
+    EXPECT_LT(worst, lastError - 2 * referenceError) << "link error " << linkError << ", " << where;
     EXPECT_GT(links, lastLinks) << "link error " << linkError;
-    std::printf("link error %g: worst surface error %.4f of the mean, %zu links\n", linkError, worst, links);
     lastError = worst;
     lastLinks = links;
   }
-  EXPECT_LT(lastError, 0.08);  // measured 6.2% of the mean at 1e-4 against the 3000-patch flat solution
+  EXPECT_LT(lastError, 0.01);
 }
 
 TEST(HierarchicalTest, ClusteringStartsFromLinearlyManyLinksAndAgreesWithoutClusters) {
@@ -630,6 +772,149 @@ TEST(HierarchicalTest, TheBoundMakesEverySweepAContraction) {
     std::vector<Rgb> radiosity(2);
     for (int sweep = 0; sweep < 200; ++sweep) transport.sweep(emitted, albedo, radiosity, inPlace);
     for (const Rgb& b : radiosity) EXPECT_NEAR(b.g, 1 / (1 - 0.5), 1e-9);
+  }
+}
+
+// A spot moving over the floor of a closed grey room (ρ = 0.5), re-solved warm each frame over
+// the links of the first solve, as an animation does: two Gauss–Seidel sweeps a frame while it
+// moves, then frames of two sweeps after it stops.
+TEST(HierarchicalTest, AMovingSpotReSolvedWarmEndsWhereAColdSolveDoes) {
+  const double rho = 0.5;
+  const Scene scene = closedCube(1, {}, Rgb::gray(rho));
+  Light spot;
+  spot.kind = LightKind::Spot;
+  spot.intensity = Rgb::gray(1);
+  spot.coneAngleDegrees = 30;
+  spot.falloffDegrees = 5;
+  auto spotAt = [&](double t) {
+    Light moved = spot;
+    moved.position = {0.25 + 0.5 * t, 0.9, 0.3 + 0.3 * t};
+    moved.direction = normalize(Vec3{0.3 * t, -1, 0.1});
+    return moved;
+  };
+  RadiosityOptions options = hierarchicalOptions(1e-3);
+  options.tolerance = 1e-10;
+  auto created = Radiosity::create(scene, options);
+  ASSERT_TRUE(created.ok()) << created.error().message;
+  Radiosity& engine = **created;
+  engine.setLights({spotAt(0)});
+  ASSERT_TRUE(engine.solve().ok());
+  const std::size_t elements = engine.solution().mesh().numPatches();
+  const int frames = 6;
+  for (int frame = 1; frame <= frames; ++frame) {
+    engine.setLights({spotAt(static_cast<double>(frame) / frames)});
+    Result<SolveCallReport> report = engine.solve({.maxSweeps = 2});
+    ASSERT_TRUE(report.ok()) << report.error().message;
+    EXPECT_EQ(report->lightsInjected, 1);
+    EXPECT_EQ(report->iterations, 2);
+  }
+  ASSERT_EQ(engine.solution().mesh().numPatches(), elements);  // re-solved over the same links
+  // The cold solve at the final position: the same system (links, and the spot injected where it
+  // stopped) solved from B = E by Jacobi sweeps, another solver than the engine's, to 1e-12.
+  const SolutionView& view = engine.solution();
+  SolveOptions cold;
+  cold.tolerance = 1e-12;
+  cold.maxIterations = 10000;
+  std::vector<Rgb> reference;
+  ASSERT_TRUE(makeSolver(SolverKind::Jacobi, cold)->solve(view.problem(), reference).converged);
+  auto distance = [&] {
+    double worst = 0, scale = 0;
+    for (std::size_t i = 0; i < reference.size(); ++i) {
+      scale = std::fmax(scale, reference[i].g);
+      worst = std::fmax(worst, std::fabs(view.radiosity()[i].g - reference[i].g));
+    }
+    return worst / scale;
+  };
+  const double lagging = distance();
+  std::printf("when the spot stops: %.3g of the brightest element from the cold solve\n", lagging);
+  // Each Gauss–Seidel sweep in a room of ρ = 0.5 cuts the error at least in half: ten frames of
+  // two sweeps come within 1e-5.
+  int after = 0;
+  while (distance() > 1e-5 && after < 10) {
+    ASSERT_TRUE(engine.solve({.maxSweeps = 2}).ok());
+    ++after;
+  }
+  std::printf("within 1e-5 of the cold solve %d frames after it stopped\n", after);
+  EXPECT_LT(distance(), 1e-5);
+  EXPECT_GT(lagging, 1e-5);  // it did lag while moving
+  EXPECT_LT(after, 10);
+  ASSERT_TRUE(engine.solve().ok());
+  EXPECT_LT(distance(), 1e-8);
+
+  // Against physics at the final position: the spot's direct light (evaluated at every vertex)
+  // is ρ I cosθ / d² inside its cone's full-intensity part and nothing outside the cone, and
+  // each element the inner cone covers wholly was injected ρ times its mean irradiance I Ω / A.
+  const Light last = spotAt(1);
+  const double inner = (last.coneAngleDegrees - last.falloffDegrees) * kPi / 180, outer = last.coneAngleDegrees * kPi / 180;
+  auto angleOffAxis = [&](const Vec3& x) { return std::acos(std::clamp(dot(normalize(x - last.position), last.direction), -1.0, 1.0)); };
+  const Mesh& mesh = view.vertexMesh();
+  const std::vector<Rgb> total = view.vertexValues(VertexQuantity::Radiosity);
+  const std::vector<Rgb> indirect = view.vertexValues(VertexQuantity::IndirectRadiosity);
+  // T-junction vertices carry the value interpolated along the edge they lie in (continuity,
+  // VertexValuesAreContinuousAcrossTJunctions), not their own: left out here.
+  std::vector<char> hanging(mesh.numVertices(), 0);
+  for (std::size_t p = 0; p < mesh.numPatches(); ++p) {
+    const auto corners = mesh.cornerIndices(p);
+    for (std::size_t k = 0; k < corners.size(); ++k) {
+      const Vec3 a = mesh.positions[corners[k]], b = mesh.positions[corners[(k + 1) % corners.size()]];
+      for (std::uint32_t v = 0; v < mesh.numVertices(); ++v) {
+        const double t = dot(mesh.positions[v] - a, b - a) / lengthSquared(b - a);
+        if (t > 1e-9 && t < 1 - 1e-9 && length(a + (b - a) * t - mesh.positions[v]) < 1e-9) hanging[v] = 1;
+      }
+    }
+  }
+  std::size_t inside = 0, outside = 0;
+  for (std::uint32_t v = 0; v < mesh.numVertices(); ++v) {
+    const Vec3 x = mesh.positions[v];
+    if (hanging[v]) continue;
+    const double angle = angleOffAxis(x);
+    if (angle > inner && angle < outer) continue;  // the smooth edge
+    // The vertex's surface normal: the cube's faces face its centre.
+    double n[3] = {0, 0, 0};
+    for (int axis = 0; axis < 3; ++axis)
+      if (x[axis] < 1e-9 || x[axis] > 1 - 1e-9) n[axis] = x[axis] < 0.5 ? 1 : -1;
+    const Vec3 normal{n[0], n[1], n[2]};
+    if (length(normal) != 1) continue;  // an edge of the room, shared by two faces
+    const Vec3 toLight = last.position - x;
+    const double direct = angle <= inner ? rho * std::fmax(0.0, dot(normal, normalize(toLight))) / lengthSquared(toLight) : 0;
+    // The final gather takes each vertex 1e-4 of the scene's diagonal into its surface: I cosθ/d²
+    // moves by at most 3 δ/d of itself over that.
+    const double inset = 1e-4 * std::sqrt(3.0);
+    EXPECT_NEAR(total[v].g - indirect[v].g, direct, 3 * inset / length(toLight) * direct + 1e-12)
+        << "vertex " << v << " at " << x.x << "," << x.y << "," << x.z;
+    ++(direct > 0 ? inside : outside);
+  }
+  EXPECT_GT(inside, 10u);
+  EXPECT_GT(outside, 10u);
+  std::size_t covered = 0;
+  for (std::size_t i = 0; i < view.mesh().numPatches(); ++i) {
+    const PatchCorners c = view.mesh().corners(i);
+    const std::vector<Vec3> corners(c.begin(), c.end());
+    bool wholly = dot(last.position - view.mesh().patches[i].centroid, view.mesh().patches[i].normal) > 0;
+    double lo = INFINITY, hi = 0;
+    for (const Vec3& corner : corners) {
+      wholly &= angleOffAxis(corner) < inner;
+      const Vec3 toLight = last.position - corner;
+      const double e = rho * dot(view.mesh().patches[i].normal, normalize(toLight)) / lengthSquared(toLight);
+      lo = std::fmin(lo, e), hi = std::fmax(hi, e);
+    }
+    if (!wholly) continue;
+    ++covered;
+    const double mean = rho * testing::solidAngle(last.position, corners) / view.mesh().patches[i].area;
+    EXPECT_NEAR(view.injected()[i].g, mean, 0.1 * (hi - lo) + 1e-9 * mean) << "element " << i;
+  }
+  EXPECT_GT(covered, 4u);
+
+  // A new engine made with the spot where it stopped refines its own links around it: its
+  // surfaces' mean radiosity agrees within 1%, the difference its own refinement makes (measured 0.2%).
+  auto fresh = Radiosity::create(scene, options);
+  ASSERT_TRUE(fresh.ok());
+  (*fresh)->setLights({last});
+  ASSERT_TRUE((*fresh)->solve().ok());
+  for (std::uint32_t s = 0; s < scene.surfaces.size(); ++s) {
+    const double warm = surfaceMean(view, s).g, coldMean = surfaceMean((*fresh)->solution(), s).g;
+    std::printf("%s: warm %.5f, fresh engine %.5f\n", scene.surfaces[s].name.c_str(), warm, coldMean);
+    EXPECT_LT(relativeError(warm, coldMean), 0.01) << scene.surfaces[s].name;
   }
 }
 

@@ -26,6 +26,7 @@
 namespace lambert {
 
 struct RadiosityOptions;
+struct SolveBudget;
 struct SolveCallReport;
 
 // The engine's solution per element, for Meshing::vertexSolution. W/m²; ρ dimensionless.
@@ -52,6 +53,9 @@ class Meshing {
   // did (cells split and merged, pairs estimated, times) to report. An Error when the refined
   // elements would not fit in the memory the options allow (core/memory.h).
   virtual Result<bool> refine(const std::vector<Light>& lights, std::vector<Rgb>& radiosity, SolveCallReport& report) = 0;
+  // The budget of the solve() about to refine (hierarchical meshing keys its link cache on the
+  // budget of the solves between its first refinement passes).
+  virtual void startSolve(const SolveBudget& /*budget*/) {}
 
   virtual const Mesh& vertexMesh() const = 0;
   // Continuous per-vertex values of any per-element quantity, interpolated.

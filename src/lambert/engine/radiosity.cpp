@@ -75,6 +75,14 @@ Result<std::unique_ptr<Radiosity>> Radiosity::create(Scene scene, RadiosityOptio
   return engine;
 }
 
+Result<Mesh> solutionVertexMesh(const Scene& scene, RadiosityOptions options) {
+  if (options.meshing == MeshStrategy::Uniform) return uniformMesh(scene, options.uniform);
+  Result<std::unique_ptr<Radiosity>> engine = Radiosity::create(scene, std::move(options));
+  if (!engine) return engine.error();
+  if (Result<SolveCallReport> solved = (*engine)->solve(); !solved) return solved.error();
+  return (*engine)->solution().vertexMesh();
+}
+
 Radiosity::Radiosity(Scene scene, RadiosityOptions options)
     : scene_(std::move(scene)),
       options_(std::move(options)),
@@ -132,9 +140,13 @@ Result<SolveCallReport> Radiosity::solve(const SolveBudget& budget) {
   const int passes = options_.meshing == MeshStrategy::Adaptive                  ? options_.adaptive.passesPerSolve
                      : options_.meshing == MeshStrategy::Hierarchical && solves_ == 0 ? options_.hierarchical.refinePasses
                                                                                    : 1;
+  meshing_->startSolve(budget);
   for (int pass = 0; pass < passes; ++pass) {
     Result<bool> refined = meshing_->refine(lights_, radiosity_, report);
     if (!refined) return refined.error();
+    // A hierarchy that loaded every pass's refinement from its link cache in the first pass
+    // (engine/link_cache.h) refines no more: its one solve is the computing run's last one.
+    if (!*refined && pass > 0 && options_.meshing == MeshStrategy::Hierarchical) break;
     if (*refined) {
       solved_ = true;  // radiosity_ now holds the refinement's warm start
       rebuildProblem();
@@ -182,7 +194,7 @@ Status Radiosity::solvePass(const SolveBudget& budget, SolveCallReport& report) 
     const long long limit = static_cast<long long>(options_.maxIterations) * static_cast<long long>(n);
     const long long maxShots = budget.maxShots > 0 ? std::min(budget.maxShots, limit) : limit;
     ProgressiveShooter::Outcome outcome = shooter_->shoot(maxShots, options_.tolerance, budget.maxMilliseconds / 1e3);
-    report.iterations = outcome.shots;
+    report.iterations += outcome.shots;
     report.converged = outcome.converged;
     report.unshotFraction = shooter_->unshotFraction();
     radiosity_ = shooter_->radiosity();
@@ -193,7 +205,7 @@ Status Radiosity::solvePass(const SolveBudget& budget, SolveCallReport& report) 
     solve.maxSeconds = budget.maxMilliseconds / 1e3;
     if (!solved_) radiosity_.clear();  // start from B = E
     SolveReport solved = makeSolver(options_.solver, solve)->solve(problem_, radiosity_);
-    report.iterations = solved.iterations;
+    report.iterations += solved.iterations;
     report.converged = solved.converged;
   }
   solved_ = true;
@@ -225,7 +237,8 @@ Stats Radiosity::stats() const {
   }
   stats.add("solver", "solver", solverName(options_.solver));
   stats.add("solves", "solves", static_cast<std::int64_t>(solves_));
-  stats.add("iterations", options_.meshing == MeshStrategy::Adaptive ? "iterations (last pass)" : "iterations",
+  // Every pass of the last solve(): the hierarchy's refine-then-solve passes, the adaptive mesh's.
+  stats.add("iterations", options_.solver == SolverKind::Shooting ? "shots (last solve, every pass)" : "iterations (last solve, every pass)",
             static_cast<std::int64_t>(last_.iterations));
   stats.add("residual", "relative residual", solves_ > 0 ? relativeResidual(problem_, radiosity_) : 1.0);
   stats.add("converged", "converged", std::string(solves_ > 0 && last_.converged ? "yes" : "no"));

@@ -5,11 +5,11 @@
 //   (*engine)->solve();                                 // inject the lights, solve to tolerance
 //   const SolutionView& view = (*engine)->solution();   // B, vertex values, what to draw
 //   (*engine)->setLights(moved);                        // next frame: lights move …
-//   (*engine)->solve({.maxShots = 300});                // … re-solved warm, within a budget
+//   (*engine)->solve({.maxSweeps = 1});                 // … re-solved warm, within a budget
 //
 // The engine owns the mesh, the ray caster over it and the transport between its elements (the
-// dense form-factor matrix of a uniform mesh, or the master table of an adaptive quad-tree; see
-// engine/meshing.h). It is created behind a unique_ptr and can be neither copied nor moved, so
+// links of the element hierarchy, by default; the dense form-factor matrix of a uniform mesh, or
+// the master table of an adaptive quad-tree; see engine/meshing.h). It is created behind a unique_ptr and can be neither copied nor moved, so
 // the views and references it hands out stay valid for its whole life. See docs/api.md.
 #include <memory>
 #include <string>
@@ -62,8 +62,12 @@ struct HierarchicalOptions {
   bool refineAtLights = true;  // split elements at spot-cone and shadow edges first
 };
 
+// The defaults are the CLI's (`lambert solve` with no options): hierarchical radiosity with
+// clustering at link error 2e-4, Gauss–Seidel to 1e-7, 16 light samples per element. The flat
+// methods (Uniform, Adaptive) are asked for by setting meshing; they alone read uniform,
+// adaptive, formFactors and normalizeRows, and they alone take the shoot and direct solvers.
 struct RadiosityOptions {
-  MeshStrategy meshing = MeshStrategy::Uniform;
+  MeshStrategy meshing = MeshStrategy::Hierarchical;
   UniformMeshOptions uniform;    // read only with MeshStrategy::Uniform
   AdaptiveMeshOptions adaptive;  // read only with MeshStrategy::Adaptive
   HierarchicalOptions hierarchical;  // read only with MeshStrategy::Hierarchical
@@ -73,8 +77,9 @@ struct RadiosityOptions {
   SolverKind solver = SolverKind::GaussSeidel;
   double tolerance = 1e-7;       // relative change (gs, jacobi) or unshot power fraction (shoot)
   int maxIterations = 1000;      // sweeps (gs, jacobi); shots per element (shoot)
-  // Where form factors (uniform: the matrix, .lff) or the master table (adaptive, .lft) are read
-  // and written; empty: always computed, never saved.
+  // Where form factors (uniform: the matrix, .lff), the master table (adaptive, .lft) or the
+  // hierarchy's links (hierarchical, .lhl: engine/link_cache.h) are read and written; empty:
+  // always computed, never saved.
   std::string cacheDirectory;
   // Bytes a solve may use for its large structures (core/memory.h); 0: the machine's available
   // memory. A solve whose estimate exceeds it is refused (create or solve returns the Error).
@@ -96,6 +101,14 @@ struct SolveBudget {
 // without solving (the reference path tracer).
 Mesh uniformMesh(const Scene& scene, const UniformMeshOptions& options);
 
+// The vertex mesh an engine with these options exports after its first solve()
+// (SolutionView::vertexMesh, what `lambert solve --export-vertices` writes), vertex for vertex in
+// the same order, for tools that evaluate something else at those vertices (the reference path
+// tracer). The uniform mesh is made directly, without form factors. The hierarchical and adaptive
+// elements follow the lights and the solution, so an engine is created and solved with these
+// options (no final gather): that solve's cost, and its errors.
+Result<Mesh> solutionVertexMesh(const Scene& scene, RadiosityOptions options);
+
 // Whether a solver can honour the budget: shots are for shoot, sweeps for gs and jacobi, time for
 // all three; the direct solver takes none. The Error says which budget fits instead.
 Status checkSolveBudget(SolverKind solver, const SolveBudget& budget);
@@ -103,7 +116,10 @@ Status checkSolveBudget(SolverKind solver, const SolveBudget& budget);
 // What one solve() did.
 struct SolveCallReport {
   int lightsInjected = 0;    // lights traced again (moved, new, or every one after refinement)
-  long long iterations = 0;  // of the last pass: sweeps (gs, jacobi), shots (shoot), 1 (direct)
+  // Sweeps (gs, jacobi), shots (shoot) or 1 (direct), summed over every pass of this call (the
+  // hierarchy's refinement passes in its first solve, the adaptive mesh's passes). A budget
+  // bounds each pass.
+  long long iterations = 0;
   bool converged = false;    // the last pass reached the tolerance
   double unshotFraction = 0; // shoot: unshot power left (for a later solve() to shoot)
   // Adaptive meshing, over every pass of this call.

@@ -32,6 +32,7 @@ Scene furnaceWithPlate() {
 
 RadiosityOptions quiet(std::size_t patches) {
   RadiosityOptions options;
+  options.meshing = MeshStrategy::Uniform;
   options.uniform.targetPatches = patches;
   options.formFactors.showProgress = false;
   options.solver = SolverKind::Direct;

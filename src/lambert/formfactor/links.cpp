@@ -3,6 +3,7 @@
 #include "lambert/core/memory.h"
 #include <algorithm>
 #include <cmath>
+#include <deque>
 
 #include "lambert/core/error.h"
 #include "lambert/core/memory.h"
@@ -22,7 +23,9 @@ namespace {
 // Occluded: every ray blocked; a few rays are weak evidence (a mostly shadowed element would lose
 // its sliver of light every time), so it is split where it could carry too much unoccluded.
 // Empty: the two cannot exchange light (back to back, coplanar, or the same element).
-enum class Verdict : std::uint8_t { Estimated, Inadmissible, Occluded, Empty };
+// Coarse: the oracle refines it, and splits the same node, whatever its K and visibility come out
+// as (its bound is known before any ray): it is not estimated, since judge() would not read it.
+enum class Verdict : std::uint8_t { Estimated, Inadmissible, Occluded, Empty, Coarse };
 
 struct Candidate {
   std::uint32_t receiver, source;
@@ -35,6 +38,9 @@ struct Candidate {
   Verdict verdict = Verdict::Estimated;
   bool estimated = false;      // already estimated (a previous link judged again)
 };
+// Chunked, not one array: the kept links and the waves reach 10⁷ candidates on 10⁶ faces, and a
+// vector's doubling would hold up to twice that (and three times while it moves).
+using Candidates = std::deque<Candidate>;
 
 // Whether any corner of polygon a lies in front of the plane of element b.
 bool anyCornerInFront(const HierarchyNode& a, const HierarchyNode& b, double epsilon) {
@@ -115,12 +121,35 @@ class Refiner {
     threshold_ = options_.linkError * power;
   }
 
-  Links run(std::vector<Candidate> frontier, RefinementReport& report) {
+  // previous: links of the same hierarchy, judged again in their order as the first wave (they
+  // were estimated when they were made), read in place rather than copied into the frontier.
+  Links run(const Links* previous, Candidates frontier, RefinementReport& report) {
     Timer timer;
     Progress progress("links judged", 0, options_.showProgress);
-    std::vector<Candidate> kept;
-    std::vector<Candidate> next;
-    while (!frontier.empty()) {
+    Candidates kept, next;
+    // What the refinement holds now, and will hold at least: kept and pending links, and the
+    // hierarchy's nodes. Checked every wave, so a refinement that cannot fit stops early.
+    const auto fits = [&] {
+      const double bytes = static_cast<double>(kept.size() + frontier.size()) * sizeof(Candidate) +
+                           static_cast<double>(h_.nodes().size()) * sizeof(HierarchyNode);
+      if (const double budget = memoryBudgetBytes(options_.memoryLimitBytes); budget > 0 && bytes > budget) {
+        report.memoryNeeded = bytes;
+        return false;
+      }
+      return true;
+    };
+    bool fitting = true;
+    if (previous) {
+      for (std::uint32_t r = 0; r + 1 < previous->start.size(); ++r)
+        for (std::uint32_t k = previous->start[r]; k < previous->start[r + 1]; ++k) {
+          Candidate c{r, previous->source[k], previous->formFactor[k], previous->uncertainty[k], previous->receiverSide[k] != 0};
+          c.estimated = true;
+          judge(c, kept, frontier, report);
+        }
+      progress.advance(previous->size());
+      fitting = fits();
+    }
+    while (fitting && !frontier.empty()) {
       std::vector<std::uint8_t> rays(frontier.size(), 0);
       for (const Candidate& c : frontier) report.estimated += !c.estimated;
       parallelFor(0, frontier.size(), [&](std::size_t i) {
@@ -131,41 +160,67 @@ class Refiner {
       next.clear();
       for (const Candidate& c : frontier) judge(c, kept, next, report);
       frontier.swap(next);
-      // What the refinement holds now, and will hold at least: kept and pending links, and the
-      // hierarchy's nodes. Checked every wave, so a refinement that cannot fit stops early.
-      const double bytes = static_cast<double>(kept.size() + frontier.size()) * sizeof(Candidate) +
-                           static_cast<double>(h_.nodes().size()) * sizeof(HierarchyNode);
-      if (const double budget = memoryBudgetBytes(options_.memoryLimitBytes); budget > 0 && bytes > budget) {
-        report.memoryNeeded = bytes;
-        break;
-      }
+      fitting = fits();
     }
     progress.finish();
     h_.numberLeaves();
 
-    std::sort(kept.begin(), kept.end(), [](const Candidate& a, const Candidate& b) {
-      return a.receiver != b.receiver ? a.receiver < b.receiver : a.source < b.source;
-    });
-    Links links;
-    links.start.assign(h_.nodes().size() + 1, 0);
-    links.source.reserve(kept.size());
-    links.formFactor.reserve(kept.size());
-    links.uncertainty.reserve(kept.size());
-    links.receiverSide.reserve(kept.size());
-    for (const Candidate& c : kept) {
-      ++links.start[c.receiver + 1];
-      links.source.push_back(c.source);
-      links.formFactor.push_back(c.formFactor);
-      links.uncertainty.push_back(c.uncertainty);
-      links.receiverSide.push_back(c.receiverSide);
-      report.clusterLinks += h_.node(c.receiver).isCluster() || h_.node(c.source).isCluster();
-    }
-    for (std::size_t i = 0; i + 1 < links.start.size(); ++i) links.start[i + 1] += links.start[i];
+    Links links = groupByReceiver(kept, report);
     report.seconds += timer.seconds();
     return links;
   }
 
  private:
+  // The kept links as compressed rows: placed by receiver (a counting sort, linear in the links),
+  // then each receiver's few links ordered by source. Each (receiver, source) pair is kept at most
+  // once (refinement partitions the pairs of leaves), so the order is the pairs' order.
+  Links groupByReceiver(Candidates& kept, RefinementReport& report) const {
+    Links links;
+    links.start.assign(h_.nodes().size() + 1, 0);
+    for (const Candidate& c : kept) {
+      ++links.start[c.receiver + 1];
+      report.clusterLinks += h_.node(c.receiver).isCluster() || h_.node(c.source).isCluster();
+    }
+    for (std::size_t i = 0; i + 1 < links.start.size(); ++i) links.start[i + 1] += links.start[i];
+    links.source.resize(kept.size());
+    links.formFactor.resize(kept.size());
+    links.uncertainty.resize(kept.size());
+    links.receiverSide.resize(kept.size());
+    {
+      std::vector<std::uint32_t> next(links.start.begin(), links.start.end() - 1);
+      for (const Candidate& c : kept) {
+        const std::uint32_t k = next[c.receiver]++;
+        links.source[k] = c.source;
+        links.formFactor[k] = c.formFactor;
+        links.uncertainty[k] = c.uncertainty;
+        links.receiverSide[k] = c.receiverSide;
+      }
+    }
+    kept = {};
+    struct Row {
+      std::uint32_t source;
+      float formFactor, uncertainty;
+      std::uint8_t receiverSide;
+    };
+    std::vector<Row> row;
+    for (std::size_t r = 0; r + 1 < links.start.size(); ++r) {
+      const std::uint32_t begin = links.start[r], end = links.start[r + 1];
+      if (std::is_sorted(links.source.begin() + begin, links.source.begin() + end)) continue;
+      row.clear();
+      for (std::uint32_t k = begin; k < end; ++k)
+        row.push_back({links.source[k], links.formFactor[k], links.uncertainty[k], links.receiverSide[k]});
+      std::sort(row.begin(), row.end(), [](const Row& a, const Row& b) { return a.source < b.source; });
+      for (std::uint32_t k = begin; k < end; ++k) {
+        const Row& link = row[k - begin];
+        links.source[k] = link.source;
+        links.formFactor[k] = link.formFactor;
+        links.uncertainty[k] = link.uncertainty;
+        links.receiverSide[k] = link.receiverSide;
+      }
+    }
+    return links;
+  }
+
   // Fills in the candidate's verdict, K and visibility; returns the rays it cast.
   std::uint8_t estimate(Candidate& c) const {
     const HierarchyNode& r = h_.node(c.receiver);
@@ -194,6 +249,15 @@ class Refiner {
         // 1.2 m reflector down to the smallest elements for nothing.
         c.verdict = splittable(c.receiver) ? Verdict::Inadmissible : Verdict::Empty;
         c.receiverSide = true;
+        return 0;
+      }
+      // The oracle's factor is the unoccluded K or its spread, whatever the rays give: above the
+      // threshold as both, the link is refined, and the node split does not depend on the rays
+      // (receiverSide) unless both could split and the source is the larger.
+      const float unoccludedBound = static_cast<float>(k), spreadBound = static_cast<float>(factor.spread);
+      const bool canR = splittable(c.receiver), canS = splittable(c.source);
+      if ((canR || canS) && (!canR || !canS || r.area >= s.area) && tooCoarse(c, std::fmin(unoccludedBound, spreadBound))) {
+        c.verdict = Verdict::Coarse;
         return 0;
       }
       // Visibility: the share of unoccluded rays between stratified points on the two, among
@@ -248,6 +312,11 @@ class Refiner {
     // (dropping such links lost 2.5% of what the clustering test's receivers gather).
     if (distance > r.radius + s.radius && (!(s.projectedArea(-w) > 0) || !(r.projectedArea(w) > 0))) {
       c.verdict = Verdict::Empty;
+      return 0;
+    }
+    // A cluster link is judged by the transfer between the centres alone (judge()).
+    if ((splittable(c.receiver) || splittable(c.source)) && tooCoarse(c, centreTransfer(r, s))) {
+      c.verdict = Verdict::Coarse;
       return 0;
     }
     // K = 1/A_r ∫_r Σ_f F(x→f) V(x, f) B_f / B̄_s, by Monte Carlo over the link's own sample pairs:
@@ -414,6 +483,11 @@ class Refiner {
     return {node, weight};
   }
 
+  // The BF oracle: B_s · ΔK · A_r above the threshold.
+  bool tooCoarse(const Candidate& c, double uncertainty) const {
+    return radiosity_[c.source] * uncertainty * h_.node(c.receiver).area > threshold_;
+  }
+
   bool splittable(std::uint32_t node) const {
     const HierarchyNode& n = h_.node(node);
     return n.isCluster() || !n.isLeaf() || n.area * 0.25 >= minArea_;
@@ -433,18 +507,18 @@ class Refiner {
     return h_.children(node);
   }
 
-  void judge(const Candidate& c, std::vector<Candidate>& kept, std::vector<Candidate>& next, RefinementReport& report) {
+  void judge(const Candidate& c, Candidates& kept, Candidates& next, RefinementReport& report) {
     const HierarchyNode& r = h_.node(c.receiver);
     const HierarchyNode& s = h_.node(c.source);
     if (c.verdict == Verdict::Empty) return;
-    bool refine = c.verdict == Verdict::Inadmissible;
+    bool refine = c.verdict == Verdict::Inadmissible || c.verdict == Verdict::Coarse;
     if (!refine) {
       // A cluster link's K is a Monte Carlo estimate. Judged by it (alone or as the larger of it
       // and another bound), the links it happens to underestimate are kept and those it
       // overestimates refined: the clustered solutions came out 3–14% dark. The point-to-point
       // transfer between the centres does not depend on the samples, so it judges alone.
       const double uncertainty = r.isCluster() || s.isCluster() ? centreTransfer(r, s) : c.uncertainty;
-      refine = radiosity_[c.source] * uncertainty * r.area > threshold_;
+      refine = tooCoarse(c, uncertainty);
     }
     if (!refine && c.verdict == Verdict::Occluded) return;
     const bool canR = splittable(c.receiver), canS = splittable(c.source);
@@ -496,14 +570,9 @@ Links refineLinks(ElementHierarchy& hierarchy, const RayCaster& caster, double r
                   std::span<const std::uint64_t> casterFace, const Links* previous, std::span<const double> leafRadiosity,
                   std::span<const double> leafOpenFraction, const LinkOptions& options, RefinementReport& report) {
   Refiner refiner(hierarchy, caster, rayEpsilon, casterFace, options, leafRadiosity, leafOpenFraction);
-  std::vector<Candidate> initial;
+  Candidates initial;
   if (previous) {
-    for (std::uint32_t r = 0; r + 1 < previous->start.size(); ++r)
-      for (std::uint32_t k = previous->start[r]; k < previous->start[r + 1]; ++k) {
-        Candidate c{r, previous->source[k], previous->formFactor[k], previous->uncertainty[k], previous->receiverSide[k] != 0};
-        c.estimated = true;
-        initial.push_back(c);
-      }
+    report.initialLinks += previous->size();  // judged again by run()
   } else if (options.clusters) {
     initial.push_back({0, 0});
   } else {
@@ -513,13 +582,12 @@ Links refineLinks(ElementHierarchy& hierarchy, const RayCaster& caster, double r
       const HierarchyNode& n = hierarchy.node(i);
       if (!n.isCluster() && n.parent != kNoNode && hierarchy.node(n.parent).isCluster()) faces.push_back(i);
     }
-    initial.reserve(faces.size() * (faces.size() - 1));
     for (std::uint32_t a : faces)
       for (std::uint32_t b : faces)
         if (a != b) initial.push_back({a, b});
   }
   report.initialLinks += initial.size();
-  return refiner.run(std::move(initial), report);
+  return refiner.run(previous, std::move(initial), report);
 }
 
 }  // namespace lambert

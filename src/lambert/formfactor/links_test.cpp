@@ -75,10 +75,12 @@ TEST(LinksTest, ALuminairesLongReflectorsAreNotCutToTheSmallestElements) {
   std::printf("%g faces: %g leaves, %g links estimated\n", faces, leaves, estimated);
   EXPECT_LT(leaves, 8000);
   EXPECT_LT(estimated, 150e3);
-  // Open at the front and back: what is emitted is absorbed or escapes.
+  // Open at the front and back: the surfaces absorb part of what is emitted and the rest leaves
+  // (links that made light would absorb more than was emitted, with negative escaped power).
   const double emitted = statValue(stats, "emitted_watts"), absorbed = statValue(stats, "absorbed_watts"), escaped = statValue(stats, "escaped_watts");
-  EXPECT_GT(absorbed, 0);
-  EXPECT_NEAR(absorbed + escaped, emitted, 1e-3 * emitted);
+  EXPECT_GT(absorbed, 0.01 * emitted);
+  EXPECT_LT(absorbed, emitted);
+  EXPECT_GT(escaped, 0.01 * emitted);
 }
 
 }  // namespace

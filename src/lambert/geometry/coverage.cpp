@@ -1,5 +1,6 @@
 #include "lambert/geometry/coverage.h"
 
+#include "lambert/core/error.h"
 #include "lambert/core/parallel.h"
 #include "lambert/core/rng.h"
 #include "lambert/core/sampling.h"
@@ -7,8 +8,15 @@
 namespace lambert {
 
 void measureOpenFractions(Mesh& mesh, const RayCaster& caster, int samplesPerPatch) {
+  const std::vector<std::uint8_t> all(mesh.numPatches(), 1);
+  measureOpenFractions(mesh, caster, all, samplesPerPatch);
+}
+
+void measureOpenFractions(Mesh& mesh, const RayCaster& caster, std::span<const std::uint8_t> measure, int samplesPerPatch) {
+  LAMBERT_CHECK(measure.size() == mesh.numPatches());
   const double epsilon = rayEpsilon(mesh);
   parallelFor(0, mesh.numPatches(), [&](std::size_t i) {
+    if (!measure[i]) return;
     Patch& patch = mesh.patches[i];
     const PatchCorners corners = mesh.corners(i);
     Pcg32 rng(0x0c0ffee, i);

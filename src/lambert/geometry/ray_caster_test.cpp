@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include "lambert/core/rng.h"
+#include "lambert/geometry/coverage.h"
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/scene/builtin.h"
 
@@ -61,6 +62,27 @@ TEST(RayCasterTest, HitReportsPatchAndSide) {
   ASSERT_TRUE(back.has_value());
   EXPECT_FALSE(back->frontFace);
   EXPECT_FALSE(caster->occluded(Ray{{450, 300, 450}, {0, -1, 0}, 0, 299}));
+}
+
+// Measuring some patches' open fractions gives each of them what measuring all gives (a patch's
+// points depend on its corners and index only) and leaves the others as they were: the Cornell
+// box's floor runs under its blocks, so some patches are partly covered.
+TEST(RayCasterTest, OpenFractionsOfChosenPatchesMatchMeasuringAll) {
+  Mesh all = subdivideScene(cornellBox(), 40);
+  auto caster = makeEmbreeRayCaster(all);
+  measureOpenFractions(all, *caster);
+  Mesh some = all;
+  std::vector<std::uint8_t> measure(some.numPatches(), 0);
+  int partly = 0;
+  for (std::size_t i = 0; i < some.numPatches(); ++i) {
+    some.patches[i].openFraction = -1;  // not a fraction: must stay where not measured
+    measure[i] = i % 3 == 0;
+    partly += all.patches[i].openFraction > 0 && all.patches[i].openFraction < 1;
+  }
+  EXPECT_GT(partly, 0);
+  measureOpenFractions(some, *caster, measure);
+  for (std::size_t i = 0; i < some.numPatches(); ++i)
+    EXPECT_EQ(some.patches[i].openFraction, measure[i] ? all.patches[i].openFraction : -1.0) << "patch " << i;
 }
 
 }  // namespace

@@ -54,6 +54,7 @@ tinygltf::Model exportAndRead(const SolutionView& solution, const GltfExportOpti
 
 TEST(GltfExportTest, BaseColourTimesColourIsTheSolvedRadiance) {
   RadiosityOptions options;
+  options.meshing = MeshStrategy::Uniform;
   options.uniform.targetPatches = 300;
   options.formFactors.showProgress = false;
   auto engine = Radiosity::create(cornellBox(), options);
@@ -147,6 +148,7 @@ TEST(GltfExportTest, TexturedTwoSidedSceneRoundTrips) {
   Result<Scene> scene = loadScene(std::string(LAMBERT_SOURCE_DIR) + "/tests/data/blender_room.glb");
   ASSERT_TRUE(scene.ok()) << scene.error().message;
   RadiosityOptions options;
+  options.meshing = MeshStrategy::Uniform;
   options.uniform.targetPatches = 1500;
   options.formFactors.showProgress = false;
   auto engine = Radiosity::create(*scene, options);
@@ -475,6 +477,7 @@ TEST(GltfExportTest, PatchesAnEmissionTextureLeavesDarkKeepTheirBaseColourTextur
   Result<Scene> scene = loadScene(path);
   ASSERT_TRUE(scene.ok()) << scene.error().message;
   RadiosityOptions options;
+  options.meshing = MeshStrategy::Uniform;
   options.uniform.targetPatches = 256;
   options.formFactors.showProgress = false;
   auto engine = Radiosity::create(*scene, options);

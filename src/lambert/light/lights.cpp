@@ -17,10 +17,23 @@ double smoothstep(double edge0, double edge1, double x) {
   return t * t * (3 - 2 * t);
 }
 
+// A spot's cone as mayReceive tests every patch against it: the unit axis and the cosine and sine
+// of the half angle, computed once per light rather than per patch.
+struct Cone {
+  Vec3 axis;
+  double cos = -1, sin = 0;
+  explicit Cone(const Light& light) {
+    if (light.kind != LightKind::Spot) return;
+    axis = normalize(light.direction);
+    cos = std::cos(light.coneAngleDegrees * kDegrees);
+    sin = std::sin(light.coneAngleDegrees * kDegrees);
+  }
+};
+
 // Whether any point of the patch can receive the light: it must face the light, and for a spot its
 // bounding sphere must reach into the cone. Most patches lie outside a spot's cone; this spares
 // them their shadow rays.
-bool mayReceive(const Light& light, const Patch& patch, const PatchCorners& corners) {
+bool mayReceive(const Light& light, const Cone& cone, const Patch& patch, const PatchCorners& corners) {
   if (light.kind == LightKind::Directional) return dot(patch.normal, light.direction) < 0;
   bool faces = false;
   for (const Vec3& c : corners) faces |= dot(light.position - c, patch.normal) > 0;
@@ -30,8 +43,14 @@ bool mayReceive(const Light& light, const Patch& patch, const PatchCorners& corn
   Vec3 toCentre = patch.centroid - light.position;
   double distance = length(toCentre);
   if (distance <= radius) return true;
-  double axisAngle = std::acos(std::fmin(std::fmax(dot(normalize(light.direction), toCentre / distance), -1.0), 1.0));
-  return axisAngle - std::asin(radius / distance) < light.coneAngleDegrees * kDegrees;
+  // The sphere, seen from the light at an angle β = asin(radius / distance) about its centre,
+  // reaches into the cone when the angle between the axis and the centre is below cone + β;
+  // compared by cosines (cos(cone + β) = cos cone cos β − sin cone sin β), as no angle is needed.
+  // Beyond π, every direction is within reach.
+  const double sinBeta = radius / distance, cosBeta = std::sqrt(1 - sinBeta * sinBeta);
+  if (cone.cos < 0 && sinBeta >= cone.sin) return true;
+  const double cosAxis = std::fmin(std::fmax(dot(cone.axis, toCentre / distance), -1.0), 1.0);
+  return cosAxis > cone.cos * cosBeta - cone.sin * sinBeta;
 }
 
 }  // namespace
@@ -74,10 +93,11 @@ std::vector<Rgb> patchIrradiance(const Mesh& mesh, const RayCaster& caster, cons
   std::vector<Rgb> result(mesh.numPatches());
   const double epsilon = rayEpsilon(mesh);
   const int samples = std::max(options.samplesPerPatch, 1);
+  const Cone cone(light);
   parallelFor(0, mesh.numPatches(), [&](std::size_t i) {
     const Patch& patch = mesh.patches[i];
     PatchCorners corners = mesh.corners(i);
-    if (!mayReceive(light, patch, corners)) return;
+    if (!mayReceive(light, cone, patch, corners)) return;
     Pcg32 rng(options.seed, i);
     const std::uint32_t su = rng.nextUint(), sv = rng.nextUint();
     Rgb sum;

@@ -4,6 +4,8 @@
 #include <map>
 
 #include "lambert/formfactor/form_factors.h"
+#include "lambert/core/rng.h"
+#include "lambert/core/sampling.h"
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/light/lights.h"
 #include "lambert/light/emission.h"
@@ -136,6 +138,42 @@ TEST(LightTest, PatchIrradianceIntegratesToThePowerReceived) {
     EXPECT_GT(exact, 0.1);
     EXPECT_NEAR(power, exact, 0.01 * exact) << (light.kind == LightKind::Spot ? "spot" : "point");
   }
+}
+
+// patchIrradiance skips the patches whose bounding sphere is outside a spot's cone, without their
+// shadow rays. Against the same points evaluated one by one with no culling, patch by patch, for
+// narrow and wide cones (beyond 90° the cone is tested the other way round) aimed so that their
+// edges cross the floor's patches at many angles: no patch the light reaches may be skipped.
+TEST(LightTest, SpotCullingSkipsOnlyPatchesTheConeMisses) {
+  Scene scene = floorScene();
+  Mesh mesh = subdivideScene(scene, 0.1);
+  auto caster = makeEmbreeRayCaster(mesh);
+  const double epsilon = rayEpsilon(mesh);
+  const DirectLightOptions options{4, 7};
+  int lit = 0, dark = 0;
+  for (double cone : {10.0, 35.0, 80.0, 100.0, 150.0})
+    for (const Vec3& direction : {Vec3{0, -1, 0}, Vec3{0.8, -0.3, 0.1}, Vec3{-0.2, 0.5, 0.6}}) {
+      Light spot = pointLight({0.3, 0.4, -0.2}, {1, 1, 1});
+      spot.kind = LightKind::Spot;
+      spot.direction = normalize(direction);
+      spot.coneAngleDegrees = cone;
+      spot.falloffDegrees = 0.3 * cone;
+      const std::vector<Rgb> e = patchIrradiance(mesh, *caster, spot, 1, options);
+      for (std::size_t i = 0; i < mesh.numPatches(); ++i) {
+        Pcg32 rng(options.seed, i);
+        const std::uint32_t su = rng.nextUint(), sv = rng.nextUint();
+        Rgb sum;
+        for (int k = 0; k < options.samplesPerPatch; ++k) {
+          auto [u, v] = scrambledZeroTwo(static_cast<std::uint32_t>(k), su, sv);
+          sum += irradiance(spot, sampleConvexPolygon(mesh.corners(i), u, v), mesh.patches[i].normal, *caster, epsilon, 1);
+        }
+        const Rgb expected = sum / options.samplesPerPatch;
+        EXPECT_EQ(e[i].r, expected.r) << "cone " << cone << "°, patch " << i;
+        (expected.r > 0 ? lit : dark) += 1;
+      }
+    }
+  EXPECT_GT(lit, 500);  // the cones reach many patches and miss many
+  EXPECT_GT(dark, 500);
 }
 
 TEST(LightTest, AnimationTurnsTheDirection) {

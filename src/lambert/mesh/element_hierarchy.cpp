@@ -136,7 +136,8 @@ void ElementHierarchy::buildClusters(std::span<FaceRoot> faces, std::uint32_t pa
       }
     }
     c.area = area;
-    for (int k = 0; k < 6; ++k) c.axisArea[k] = static_cast<float>(axisArea[k]);
+    ClusterBounds bounds{};
+    for (int k = 0; k < 6; ++k) bounds.axisArea[k] = static_cast<float>(axisArea[k]);
     c.centre = (lo + hi) * 0.5;
     c.radius = 0.5 * length(hi - lo);
     const Vec3 half = (hi - lo) * 0.5;
@@ -144,8 +145,9 @@ void ElementHierarchy::buildClusters(std::span<FaceRoot> faces, std::uint32_t pa
     for (int a = 0; a < 3; ++a) {
       float h = static_cast<float>(halves[a]);
       if (static_cast<double>(h) < halves[a]) h = std::nextafter(h, INFINITY);  // the box must hold the faces
-      c.halfExtent[a] = h;
+      bounds.halfExtent[a] = h;
     }
+    c.bounds = bounds;
   }
   // At most four faces: they are the cluster's children. Otherwise two halves by the median
   // centroid along the longest axis of the centroids' bounds.

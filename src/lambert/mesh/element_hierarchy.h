@@ -30,35 +30,44 @@ namespace lambert {
 
 inline constexpr std::uint32_t kNoNode = 0xffffffffu;
 
+// A cluster's bounds: Σ over the faces inside of A·max(0, ±n_axis), for +x, −x, +y, −y, +z, −z,
+// so that projectedArea(ω) bounds the area the faces show toward ω (exact for faces along the
+// axes, as in most buildings); and half the extent of the axis-aligned box about its centre that
+// holds its faces, rounded up.
+struct ClusterBounds {
+  std::array<float, 6> axisArea;  // trivial, to share a union: value-initialise ({}) to zero
+  std::array<float, 3> halfExtent;
+};
+
+// 192 bytes: an element's corners and a cluster's bounds share their space, and the fields are
+// ordered without padding (the hierarchy of a 10⁶-face scene holds about 1.8 × 10⁶ nodes).
 struct HierarchyNode {
-  // Elements: the corners, counter-clockwise (numCorners 3 or 4); clusters have none.
-  std::array<Vec3, 4> corners{};
-  std::uint8_t numCorners = 0;
-  std::uint8_t depth = 0;     // splits below the face (elements) or below the root (clusters)
-  bool twinned = false;       // element of a two-sided surface (Patch::twinned)
-  std::uint32_t surface = 0;  // elements: the scene surface and face they lie on
-  std::uint32_t face = 0;
+  union {
+    // Elements: the corners, counter-clockwise (numCorners 3 or 4).
+    std::array<Vec3, 4> corners{};
+    // Clusters (numCorners 0): assigned whole when the cluster is built.
+    ClusterBounds bounds;
+  };
   Vec3 normal;                // elements: unit, front side; clusters: zero
   Vec3 centre;                // elements: area centroid; clusters: bounding-box centre
   double area = 0;            // scene units²; clusters: the area of all faces inside
   double radius = 0;          // of a sphere about centre that holds the node
+  std::uint32_t surface = 0;  // elements: the scene surface and face they lie on
+  std::uint32_t face = 0;
   std::uint32_t parent = kNoNode;
   std::uint32_t firstChild = 0;  // into ElementHierarchy::childList
   std::uint32_t numChildren = 0;
   std::uint32_t leaf = kNoNode;  // index among the leaves, set by numberLeaves()
-  // Clusters: Σ over the faces inside of A·max(0, ±n_axis), for +x, −x, +y, −y, +z, −z, so
-  // that projectedArea(ω) bounds the area the faces show toward ω (exact for faces along the
-  // axes, as in most buildings).
-  std::array<float, 6> axisArea{};
-  // Clusters: half the extent of the axis-aligned box about centre that holds their faces,
-  // rounded up (elements: see box()).
-  std::array<float, 3> halfExtent{};
+  std::uint8_t numCorners = 0;
+  std::uint8_t depth = 0;     // splits below the face (elements) or below the root (clusters)
+  bool twinned = false;       // element of a two-sided surface (Patch::twinned)
 
   bool isCluster() const { return numCorners == 0; }
   // The area the node shows toward the unit direction ω: A·max(0, n·ω) for an element; for a
   // cluster Σ_axis |ω_axis| · axisArea on ω's side, never less than what its faces show.
   double projectedArea(const Vec3& w) const {
     if (!isCluster()) return area * std::fmax(0.0, dot(normal, w));
+    const std::array<float, 6>& axisArea = bounds.axisArea;
     return std::fabs(w.x) * axisArea[w.x > 0 ? 0 : 1] + std::fabs(w.y) * axisArea[w.y > 0 ? 2 : 3] +
            std::fabs(w.z) * axisArea[w.z > 0 ? 4 : 5];
   }
@@ -66,7 +75,7 @@ struct HierarchyNode {
   // The axis-aligned box that holds the node: a cluster's, or its corners'.
   void box(Vec3& lo, Vec3& hi) const {
     if (isCluster()) {
-      const Vec3 half{halfExtent[0], halfExtent[1], halfExtent[2]};
+      const Vec3 half{bounds.halfExtent[0], bounds.halfExtent[1], bounds.halfExtent[2]};
       lo = centre - half;
       hi = centre + half;
       return;
@@ -79,6 +88,7 @@ struct HierarchyNode {
   }
   std::span<const Vec3> polygon() const { return {corners.data(), numCorners}; }
 };
+static_assert(sizeof(HierarchyNode) <= 192, "the node layout above is meant to be compact");
 
 // A vertex of leaves() that lies on an edge of a larger leaf without being one of its corners
 // (a T-junction): its value must be interpolated along that edge, half way between the ends of

@@ -69,6 +69,7 @@ TEST(SceneFileTest, TheShippedCornellObjIsTheBuiltInBox) {
   EXPECT_EQ(fromObj->camera.eye, builtin.camera.eye);
 
   RadiosityOptions options;
+  options.meshing = MeshStrategy::Uniform;
   options.uniform.targetPatches = 300;
   options.formFactors.showProgress = false;
   std::vector<Rgb> radiance[2];

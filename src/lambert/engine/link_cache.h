@@ -1,0 +1,91 @@
+#pragma once
+// The hierarchical method's links cached on disk: seed 003's master form-factor table, saved so
+// that "the form factors computed during the initial computation run do not have to be
+// recomputed" (seed 003 §"master form-factor table", Brennan), for the element hierarchy and its
+// links (Hanrahan, Salzman & Aupperle 1991) instead of a quad-tree's pairs.
+//
+// A file holds what the first solve's refinement passes leave behind, so that a later process
+// with the same inputs loads it instead of refining, and solves to the same bits:
+//   - the elements split, in the order they were split: replaying ElementHierarchy::split over
+//     the hierarchy built from the scene gives the same nodes under the same numbers;
+//   - the links (Links, compressed rows over those nodes);
+//   - the radiosity the last pass handed the solve as its warm start (each new leaf from its old
+//     ancestor), so the one solve of a loading run starts where the computing run's last solve
+//     started and takes the same sweeps;
+//   - the leaves' open fractions (geometry/coverage.h: 16 rays a leaf, a fifth of a loading run's
+//     time on a 10⁵-face building when measured again).
+// Everything the refinement reads is in the key (linkCacheKey): the scene's geometry, materials
+// (albedo and emission judge links through the BF oracle's radiosity estimate) and textures, the
+// lights at the first solve (their direct light is in that estimate, and they split elements at
+// cone and shadow edges), the link options and refinement passes, the solver, tolerance, sweep
+// limits and direct-light sampling of the solves between passes, the file's format, and a digest
+// of the library sources that compute any of it (link_sources_digest.h, made by the build), so
+// that a changed refinement never serves links from an older one. Lights that move after the
+// first solve (setLights + solve, animate) re-solve over the same links and never touch the file.
+//
+// Files share the flat caches' header, XXH64 checksum, validation and atomic write
+// (formfactor/cache_file.h), so concurrent processes on one cache directory see a whole file or
+// none, and a file that is stale, truncated or damaged is reported and recomputed, never trusted.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "lambert/core/error.h"
+#include "lambert/core/rgb.h"
+#include "lambert/formfactor/links.h"
+#include "lambert/mesh/element_hierarchy.h"
+#include "lambert/scene/scene.h"
+
+namespace lambert {
+
+struct RadiosityOptions;
+struct SolveBudget;
+
+// Whether a first solve under this budget refines reproducibly: a time budget stops the solves
+// between refinement passes wherever the clock says, and the next pass refines from that, so its
+// links cannot be keyed (with one pass no solve comes before the refinement, and any budget is).
+bool linkCacheUsable(const RadiosityOptions& options, const SolveBudget& firstBudget);
+
+// XXH64 over every input the first solve's refinement reads (see above): scene, lights at the
+// first solve, options, the first solve's sweep budget (with more than one pass), format and
+// source digest.
+std::uint64_t linkCacheKey(const Scene& scene, const std::vector<Light>& lights, const RadiosityOptions& options,
+                           const SolveBudget& firstBudget);
+
+// The file for a key inside a cache directory: <directory>/links-<16 hex digits>.lhl
+std::string linkCachePath(const std::string& directory, std::uint64_t key);
+
+// What the refinement passes leave: enough to rebuild the hierarchy and the solve's start.
+struct CachedRefinement {
+  std::vector<std::uint32_t> splits;  // elements split, in the order they were split
+  std::uint64_t numNodes = 0;         // nodes after the splits (checked when replaying)
+  std::shared_ptr<const Links> links;
+  std::vector<Rgb> warmStart;         // per leaf (after the splits), W/m²
+  std::vector<double> openFraction;   // per leaf: Patch::openFraction (geometry/coverage.h)
+  // Descriptions of the links carried over to the stats of a loading run.
+  std::uint64_t initialLinks = 0, clusterLinks = 0, lightSplits = 0;
+};
+
+// The splits that made `hierarchy` from the one its scene builds, in the order they were made:
+// children are appended at a split, so the order of the elements' first children is the order of
+// the splits.
+std::vector<std::uint32_t> splitOrder(const ElementHierarchy& hierarchy);
+
+// Replays cached.splits on a hierarchy just built from the scene and numbers its leaves. Checks
+// every split before making it (a leaf element, in range) and the node and leaf counts after, and
+// the links, warm start and open fractions against them; an Error (hierarchy then unusable)
+// otherwise.
+Status replaySplits(ElementHierarchy& hierarchy, const CachedRefinement& cached);
+
+// Writes the file atomically (formfactor/cache_file.h); the Error names the path. Returns the
+// file's size in bytes.
+Result<std::uint64_t> saveRefinement(const std::string& path, std::uint64_t key, const CachedRefinement& refinement);
+
+// Reads and validates a file written by saveRefinement with the same key: magic, version, key,
+// exact size, checksum, and every count and index inside it (rows increasing, sources among the
+// nodes). Any problem is an Error "<path>: <what is wrong>". Nothing is allocated beyond the
+// file's actual size.
+Result<CachedRefinement> loadRefinement(const std::string& path, std::uint64_t key);
+
+}  // namespace lambert
