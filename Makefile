@@ -5,6 +5,7 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 CMAKE_FLAGS ?=
 LAMBERT = $(BUILD_DIR)/bin/lambert
+BENCH_FLAGS ?=
 
 .PHONY: all deps configure build run test bench sanitize fuzz clean
 
@@ -27,8 +28,11 @@ run: build
 test: build
 	@cd $(BUILD_DIR) && ctest --output-on-failure -j$(JOBS)
 
-# Benchmarks: one JSON document on stdout, {"pipeline": …, "dynamic": …, "load": …, "hierarchical": …, "viewer": …, "corpus": …},
-# each part also in out/bench/; the micro-benchmarks' table goes to stderr and their JSON to out/bench/micro.json.
+# Benchmarks: one JSON document on stdout, {"pipeline": …, "dynamic": …, "load": …, "hierarchical": …, "default_method": …,
+# "viewer": …, "corpus": …}, each part also in out/bench/; the micro-benchmarks' table goes to stderr and their JSON to
+# out/bench/micro.json. default_method times whole `lambert` processes (Cornell box against a cached path-traced
+# reference, RenderPark beside it where ../rpk/src/build/rpk or RENDERPARK is built, buildings to 10^6 faces, the link
+# cache); BENCH_FLAGS passes it options, e.g. BENCH_FLAGS=--no-million.
 # The corpus part fetches the third-party scenes of bench/corpus/manifest.json into real-scenes/ where the network
 # (or LAMBERT_CORPUS_MIRROR) allows, says which it skipped and why, and runs RenderPark beside lambert where
 # RENDERPARK names its binary.
@@ -40,10 +44,13 @@ bench: build
 	@$(BUILD_DIR)/bin/dynamic_bench > out/bench/dynamic.json
 	@$(BUILD_DIR)/bin/load_bench --scenes scenes > out/bench/load.json
 	@$(BUILD_DIR)/bin/hierarchical_bench > out/bench/hierarchical.json
+	@python3 bench/default_method_bench.py --lambert $(LAMBERT) --vertex-reference $(BUILD_DIR)/bin/vertex_reference \
+	  $(BENCH_FLAGS) > out/bench/default_method.json
 	@$(BUILD_DIR)/bin/viewer_bench > out/bench/viewer.json
 	@python3 bench/corpus_bench.py --lambert $(LAMBERT) > out/bench/corpus.json
 	@printf '{"pipeline": ' && cat out/bench/pipeline.json && printf ', "dynamic": ' && cat out/bench/dynamic.json && \
 	  printf ', "load": ' && cat out/bench/load.json && printf ', "hierarchical": ' && cat out/bench/hierarchical.json && \
+	  printf ', "default_method": ' && cat out/bench/default_method.json && \
 	  printf ', "viewer": ' && cat out/bench/viewer.json && printf ', "corpus": ' && cat out/bench/corpus.json && printf '}\n'
 
 # The whole suite under AddressSanitizer (leaks included) and UndefinedBehaviorSanitizer, in

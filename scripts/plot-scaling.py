@@ -1,16 +1,17 @@
 #!/usr/bin/env python3
-"""Log-log plot of hierarchical_bench's scaling curve (time and peak memory against faces) as SVG.
+"""Log-log plot of the default method's scaling curve (whole-process `lambert solve` time, median of
+the runs, and peak memory against faces; bench/default_method_bench.py's "building" rows) as SVG.
 
-    scripts/plot-scaling.py out/bench/hierarchical.json docs/images/hierarchical-scaling.svg
+    scripts/plot-scaling.py out/bench/default_method.json docs/images/hierarchical-scaling.svg
 """
 import json
 import math
 import sys
 
 def main(source, target):
-    rows = json.load(open(source))["scaling"]
+    rows = [r for r in json.load(open(source))["building"]["rows"] if "error" not in r]
     faces = [r["faces"] for r in rows]
-    series = [("time (s)", [r["total_seconds"] for r in rows], "#c0392b"),
+    series = [("time (s, median)", [r["wall_seconds"]["median"] for r in rows], "#c0392b"),
               ("peak memory (GB)", [r["peak_rss_mib"] / 1024 for r in rows], "#2471a3"),
               ("n log n, through the second time", None, "#999999")]
     w, h, left, bottom, top, right = 640, 400, 70, 50, 20, 20
@@ -28,7 +29,7 @@ def main(source, target):
         out.append(f'<line x1="{left}" y1="{Y(10**e):.1f}" x2="{w-right}" y2="{Y(10**e):.1f}" stroke="#eee"/>')
         out.append(f'<text x="{left-8}" y="{Y(10**e)+4:.1f}" text-anchor="end">10^{e}</text>')
     out.append(f'<text x="{(w+left)/2}" y="{h-10}" text-anchor="middle">input faces (generated buildings)</text>')
-    t = [r["total_seconds"] for r in rows]
+    t = [r["wall_seconds"]["median"] for r in rows]
     anchor = 1 if len(faces) > 2 else 0  # through the 10⁴ point: the issue bounds growth from there
     reference = [t[anchor] * f * math.log(f) / (faces[anchor] * math.log(faces[anchor])) for f in faces]
     for k, (name, s, colour) in enumerate(series):
