@@ -41,13 +41,14 @@ import hashlib
 import json
 import math
 import os
-import platform
 import shutil
 import statistics
 import subprocess
 import sys
 import tempfile
 import time
+
+from corpus_bench import machine  # the same machine record in both benchmarks' JSON
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DEFAULT_LINK_ERROR = 2e-4  # lambert's --link-error default (its --help), for the curve's first point
@@ -65,16 +66,6 @@ TARGETS = {
 
 def log(message):
     print(f"default_method_bench: {message}", file=sys.stderr, flush=True)
-
-
-def machine():
-    model = platform.processor()
-    try:
-        with open("/proc/cpuinfo") as f:
-            model = next((line.split(":", 1)[1].strip() for line in f if line.startswith("model name")), model)
-    except OSError:
-        pass
-    return {"cpu": model, "threads": os.cpu_count()}
 
 
 # ---------------------------------------------------------------------------------------------
