@@ -31,7 +31,7 @@ using Json = nlohmann::ordered_json;
 namespace {
 
 constexpr double kRealSceneSecondsTarget = 30;
-constexpr double kUpdatesPerSecondTarget = 30, kIndirectTarget = 0.02;
+constexpr double kUpdatesPerSecondTarget = 60, kIndirectTarget = 0.01;  // issue 23: ≥ 60 updates/s, within 1% after it stops
 
 struct Options {
   bool quick = false;
