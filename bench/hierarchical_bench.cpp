@@ -6,7 +6,8 @@
 // The Cornell box's accuracy and time, the buildings' scaling and the link cache are timed as a
 // user waits for them, whole `lambert` processes, by bench/default_method_bench.py.
 //
-//   hierarchical_bench [--quick] [--face-size 0.25] [--real-scene scenes/floor/floor.mgf] [--mgf-divisions 1024]
+//   hierarchical_bench [--quick] [--part all|dynamic|real_scene] [--face-size 0.25] [--real-scene scenes/floor/floor.mgf]
+//                      [--mgf-divisions 1024]
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -38,6 +39,7 @@ struct Options {
   double faceSize = 0.25;
   std::string realScene = "scenes/floor/floor.mgf";
   int mgfDivisions = 1024;
+  std::string part = "all";  // "dynamic", "real_scene" or both
 };
 
 double number(const Stats& stats, const std::string& key) {
@@ -194,6 +196,9 @@ Options parseOptions(int argc, char** argv) {
   auto* divisions = app.add_option("--mgf-divisions", options.mgfDivisions, "The real scene's segments per circle (--quick: 128)")
                         ->check(CLI::Range(3, 1024))
                         ->capture_default_str();
+  app.add_option("--part", options.part, "Which measurement to run")
+      ->check(CLI::IsMember({"all", "dynamic", "real_scene"}))
+      ->capture_default_str();
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -210,8 +215,8 @@ int main(int argc, char** argv) {
   Json doc;
   doc["machine"] = {{"cpu", cpuModel()}, {"threads", std::thread::hardware_concurrency()}, {"build", buildDescription()},
                     {"date", utcNow()}, {"load_average", loadAverage()}};
-  doc["dynamic"] = dynamic(64, options.faceSize, options.quick);
-  doc["real_scene"] = realScene(options);
+  if (options.part != "real_scene") doc["dynamic"] = dynamic(64, options.faceSize, options.quick);
+  if (options.part != "dynamic") doc["real_scene"] = realScene(options);
   std::cout << doc.dump(2) << "\n";
   return 0;
 }

@@ -12,6 +12,8 @@
 #include "lambert/engine/radiosity.h"
 #include "lambert/formfactor/kernels.h"
 #include "lambert/geometry/ray_caster.h"
+#include "lambert/light/emission.h"
+#include "lambert/light/lights.h"
 #include "lambert/scene/builtin.h"
 #include "lambert/solve/energy.h"
 #include "lambert/solve/hierarchical.h"
@@ -833,6 +835,88 @@ TEST(HierarchicalTest, TheBoundMakesEverySweepAContraction) {
   }
 }
 
+// One Gauss–Seidel sweep (solve/hierarchical.h: nodes depth first, each subtree's means brought
+// up to date once, when it is finished) against its definition computed the slow way: leaf by
+// leaf in the same depth-first order, each leaf's B_l = E_l + ρ_l H_l with H from a whole Jacobi
+// gather (a fresh pull of every mean) at the current B. They agree to rounding wherever no link
+// joins a node to its own ancestor (the refiner makes none here). The Cornell box's spot splits
+// elements, so the depth-first order is not the leaves' numbering: a sweep in the numbering's
+// order gives other values.
+TEST(HierarchicalTest, AGaussSeidelSweepGathersEachLeafFromTheCurrentMeans) {
+  Scene scene = closedCornellBox();
+  Light spot;
+  spot.kind = LightKind::Spot;
+  spot.position = {278, 540, 280};
+  spot.direction = normalize(Vec3{0.2, -1, 0.1});
+  spot.intensity = Rgb::gray(3e4);
+  spot.coneAngleDegrees = 30;
+  spot.falloffDegrees = 5;
+  scene.lights.push_back(spot);
+  RadiosityOptions options = hierarchicalOptions(2e-3);
+  HierarchicalMeshing meshing(scene, options);
+  std::vector<Rgb> start;
+  SolveCallReport report;
+  ASSERT_TRUE(meshing.refine(scene.lights, start, report).ok());
+  const ElementHierarchy& hierarchy = meshing.hierarchy();
+  const Links& links = meshing.links();
+  const Transport& transport = *meshing.transport();
+  const std::size_t leaves = transport.size();
+  ASSERT_GT(leaves, 500u);
+  std::size_t toAncestor = 0;
+  for (std::uint32_t r = 0; r < hierarchy.nodes().size(); ++r)
+    for (std::uint32_t k = links.start[r]; k < links.start[r + 1]; ++k)
+      for (std::uint32_t a = hierarchy.node(r).parent; a != kNoNode; a = hierarchy.node(a).parent) toAncestor += a == links.source[k];
+  ASSERT_EQ(toAncestor, 0u);
+  // The leaves depth first, children in order.
+  std::vector<std::uint32_t> order;
+  std::vector<std::uint32_t> open{0};
+  while (!open.empty()) {
+    const std::uint32_t i = open.back();
+    open.pop_back();
+    if (hierarchy.node(i).isLeaf()) order.push_back(hierarchy.node(i).leaf);
+    const auto children = hierarchy.children(i);
+    for (std::size_t c = children.size(); c-- > 0;) open.push_back(children[c]);
+  }
+  ASSERT_EQ(order.size(), leaves);
+  ASSERT_FALSE(std::is_sorted(order.begin(), order.end()));
+  // A system with light everywhere: E the spot's first reflection plus a faint glow, B a guess
+  // unlike the solution.
+  const Mesh& mesh = meshing.elements();
+  std::vector<Rgb> emitted(leaves), albedo = patchAlbedo(scene, mesh), guess(leaves);
+  const std::vector<Rgb> direct = injectedRadiosity(mesh, albedo, patchIrradiance(mesh, meshing.caster(), spot, scene.metresPerUnit));
+  for (std::size_t l = 0; l < leaves; ++l) {
+    emitted[l] = direct[l] + Rgb::gray(0.01 * static_cast<double>(l % 7));
+    guess[l] = Rgb{0.3, 0.2, 0.1} * static_cast<double>(l % 5);
+  }
+  std::vector<Rgb> expected = guess, irradiance;
+  double change = 0, magnitude = 0;
+  for (std::uint32_t l : order) {
+    transport.gather(expected, irradiance);
+    const Rgb updated = emitted[l] + albedo[l] * irradiance[l];
+    for (int c = 0; c < 3; ++c) change = std::fmax(change, std::fabs(updated[c] - expected[l][c])), magnitude = std::fmax(magnitude, updated[c]);
+    expected[l] = updated;
+  }
+  std::vector<Rgb> swept = guess;
+  const SweepChange step = transport.sweep(emitted, albedo, swept, /*inPlace=*/true);
+  double scale = 0, worst = 0;
+  for (std::size_t l = 0; l < leaves; ++l) {
+    scale = std::fmax(scale, expected[l].maxComponent());
+    for (int c = 0; c < 3; ++c) worst = std::fmax(worst, std::fabs(swept[l][c] - expected[l][c]));
+  }
+  EXPECT_LT(worst, 1e-12 * scale);
+  EXPECT_NEAR(step.change, change, 1e-12 * scale);
+  EXPECT_NEAR(step.magnitude, magnitude, 1e-12 * scale);
+  // In the leaves' numbering the sweep would gather other values.
+  std::vector<Rgb> numbered = guess;
+  for (std::size_t l = 0; l < leaves; ++l) {
+    transport.gather(numbered, irradiance);
+    numbered[l] = emitted[l] + albedo[l] * irradiance[l];
+  }
+  double apart = 0;
+  for (std::size_t l = 0; l < leaves; ++l) apart = std::fmax(apart, std::fabs(numbered[l].g - expected[l].g));
+  EXPECT_GT(apart, 1e-6 * scale);
+}
+
 // A spot moving over the floor of a closed grey room (ρ = 0.5), re-solved warm each frame over
 // the links of the first solve, as an animation does: two Gauss–Seidel sweeps a frame while it
 // moves, then frames of two sweeps after it stops.
@@ -867,6 +951,17 @@ TEST(HierarchicalTest, AMovingSpotReSolvedWarmEndsWhereAColdSolveDoes) {
     EXPECT_EQ(report->iterations, 2);
   }
   ASSERT_EQ(engine.solution().mesh().numPatches(), elements);  // re-solved over the same links
+  {
+    // Each frame re-injected only the patches the spot's cone reached before or reaches now: the
+    // injection and the system's E hold what tracing the spot on every patch gives, to the bit.
+    const SolutionView& moved = engine.solution();
+    const std::vector<Rgb> traced = injectedRadiosity(
+        moved.mesh(), moved.albedo(), patchIrradiance(moved.mesh(), moved.caster(), spotAt(1), scene.metresPerUnit, options.directLight));
+    for (std::size_t i = 0; i < elements; ++i) {
+      ASSERT_EQ(moved.injected()[i], traced[i]) << "element " << i;
+      ASSERT_EQ(moved.problem().emitted[i], moved.emitted()[i] + traced[i]) << "element " << i;
+    }
+  }
   // The cold solve at the final position: the same system (links, and the spot injected where it
   // stopped) solved from B = E by Jacobi sweeps, another solver than the engine's, to 1e-12.
   const SolutionView& view = engine.solution();

@@ -175,8 +175,16 @@ Status Radiosity::solvePass(const SolveBudget& budget, SolveCallReport& report) 
       injection_->update(elements, caster, problem_.albedo, lights_, scene_.metresPerUnit);
   report.lightsInjected += injection.lightsTraced;
   if (injection.changed) {
-    injected_ = injection_->total();
-    for (std::size_t i = 0; i < elements.numPatches(); ++i) problem_.emitted[i] = surfaceEmitted_[i] + injected_[i];
+    // A moved spot changes the patches its cone reached or reaches: only those are refreshed.
+    const std::vector<Rgb>& total = injection_->total();
+    auto refresh = [&](std::size_t i) {
+      injected_[i] = total[i];
+      problem_.emitted[i] = surfaceEmitted_[i] + total[i];
+    };
+    if (injection.allPatches)
+      for (std::size_t i = 0; i < elements.numPatches(); ++i) refresh(i);
+    else
+      for (std::uint32_t i : injection.changedPatches) refresh(i);
     if (shooter_) shooter_->setEmitted(problem_.emitted);
   }
   shadowRays_ += caster.raysCast() - raysBefore;
@@ -203,6 +211,7 @@ Status Radiosity::solvePass(const SolveBudget& budget, SolveCallReport& report) 
     solve.tolerance = options_.tolerance;
     solve.maxIterations = budget.maxSweeps > 0 ? std::min(budget.maxSweeps, options_.maxIterations) : options_.maxIterations;
     solve.maxSeconds = budget.maxMilliseconds / 1e3;
+    solve.measureResidual = false;  // the engine reports its residual in stats(), when asked
     if (!solved_) radiosity_.clear();  // start from B = E
     SolveReport solved = makeSolver(options_.solver, solve)->solve(problem_, radiosity_);
     report.iterations += solved.iterations;

@@ -1,26 +1,61 @@
 #include "lambert/light/injection.h"
 
+#include <algorithm>
+
 namespace lambert {
+
+DirectLightInjection::DirectLightInjection(DirectLightOptions options) : options_(options) {}
+DirectLightInjection::~DirectLightInjection() = default;
 
 DirectLightInjection::Update DirectLightInjection::update(const Mesh& mesh, const RayCaster& caster, const std::vector<Rgb>& albedo,
                                  const std::vector<Light>& lights, double metresPerUnit) {
-  const bool startAfresh = lights.size() != lights_.size() || total_.size() != mesh.numPatches();
+  const std::size_t n = mesh.numPatches();
+  const bool startAfresh = lights.size() != lights_.size() || total_.size() != n;
   if (startAfresh) {
     lights_.assign(lights.size(), std::nullopt);
     perLight_.assign(lights.size(), {});
+    traced_.assign(lights.size(), {});
+  }
+  if (total_.size() != n) tree_.reset();  // another mesh
+  if (!tree_) {
+    tree_ = std::make_unique<PatchSphereTree>(mesh);
+    epsilon_ = rayEpsilon(mesh);
   }
   Update update;
+  update.allPatches = startAfresh;
   for (std::size_t l = 0; l < lights.size(); ++l) {
     if (lights_[l] && *lights_[l] == lights[l]) continue;
-    perLight_[l] = injectedRadiosity(mesh, albedo, patchIrradiance(mesh, caster, lights[l], metresPerUnit, options_));
+    std::vector<Rgb>& injected = perLight_[l];
+    if (injected.size() != n) injected.assign(n, Rgb{});
+    for (std::uint32_t i : traced_[l]) injected[i] = Rgb{};
+    std::vector<std::uint32_t> candidates = tree_->candidates(lights[l]);
+    patchIrradiance(mesh, caster, lights[l], metresPerUnit, options_, epsilon_, candidates, injected);
+    for (std::uint32_t i : candidates) injected[i] = albedo[i] * injected[i];  // as injectedRadiosity
+    if (!update.allPatches) {
+      update.changedPatches.insert(update.changedPatches.end(), traced_[l].begin(), traced_[l].end());
+      update.changedPatches.insert(update.changedPatches.end(), candidates.begin(), candidates.end());
+    }
+    traced_[l] = std::move(candidates);
     lights_[l] = lights[l];
     ++update.lightsTraced;
   }
   update.changed = update.lightsTraced > 0 || startAfresh;
-  if (update.changed) {
-    total_.assign(mesh.numPatches(), Rgb{});
-    for (const std::vector<Rgb>& injected : perLight_)
-      for (std::size_t i = 0; i < injected.size(); ++i) total_[i] += injected[i];
+  if (!update.changed) return update;
+  std::sort(update.changedPatches.begin(), update.changedPatches.end());
+  update.changedPatches.erase(std::unique(update.changedPatches.begin(), update.changedPatches.end()), update.changedPatches.end());
+  update.allPatches |= update.changedPatches.size() == n;
+  if (update.allPatches) update.changedPatches.clear();
+  // Each patch summed in the lights' order from zero, wherever it is summed.
+  auto sum = [&](std::size_t i) {
+    Rgb t;
+    for (const std::vector<Rgb>& injected : perLight_) t += injected[i];
+    total_[i] = t;
+  };
+  if (update.allPatches) {
+    total_.assign(n, Rgb{});
+    for (std::size_t i = 0; i < n; ++i) sum(i);
+  } else {
+    for (std::uint32_t i : update.changedPatches) sum(i);
   }
   return update;
 }
@@ -28,7 +63,9 @@ DirectLightInjection::Update DirectLightInjection::update(const Mesh& mesh, cons
 void DirectLightInjection::reset() {
   lights_.clear();
   perLight_.clear();
+  traced_.clear();
   total_.clear();
+  tree_.reset();
 }
 
 }  // namespace lambert

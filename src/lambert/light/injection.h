@@ -3,6 +3,12 @@
 // injected radiosity ρ_i·E_direct,i in W/m², summed over the lights. It is kept per light, so that
 // when lights move only the ones that changed are traced again (Chen 1990's incremental update);
 // the solver then shoots or gathers the difference.
+//
+// A spot that moves is traced again on the patches its cone may reach only (PatchSphereTree),
+// and only the patches it lit before or may light now are cleared and summed again: an update
+// costs the spot's patches and O(log n) each, not the mesh, and gives every patch the same bits
+// a trace of every light on every patch would.
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -15,14 +21,19 @@ namespace lambert {
 
 class DirectLightInjection {
  public:
-  explicit DirectLightInjection(DirectLightOptions options = {}) : options_(options) {}
+  explicit DirectLightInjection(DirectLightOptions options = {});
+  ~DirectLightInjection();
 
   // Brings the injection up to date for `lights` on `mesh` (albedo ρ per patch): a light equal to
   // the one last injected at its index is kept, every other one is traced again. After reset(),
   // or when the number of lights changes, every light is.
   struct Update {
     int lightsTraced = 0;
-    bool changed = false;  // total() differs from before (traced, or lights removed)
+    bool changed = false;  // total() may differ from before (traced, or lights removed)
+    // Where it may differ: every patch, or (allPatches false) only changedPatches, in
+    // increasing order; outside them total() keeps its bits.
+    bool allPatches = false;
+    std::vector<std::uint32_t> changedPatches;
   };
   Update update(const Mesh& mesh, const RayCaster& caster, const std::vector<Rgb>& albedo, const std::vector<Light>& lights,
                 double metresPerUnit);
@@ -37,7 +48,12 @@ class DirectLightInjection {
   DirectLightOptions options_;
   std::vector<std::optional<Light>> lights_;  // as last injected
   std::vector<std::vector<Rgb>> perLight_;    // ρ·E_direct per patch, per light
+  // Per light, the patches it was traced on (its cone's candidates); it is zero on every other.
+  std::vector<std::vector<std::uint32_t>> traced_;
   std::vector<Rgb> total_;
+  // Of the mesh last updated for, made at the first update after reset().
+  std::unique_ptr<PatchSphereTree> tree_;
+  double epsilon_ = 0;  // rayEpsilon
 };
 
 }  // namespace lambert

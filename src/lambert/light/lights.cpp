@@ -1,7 +1,9 @@
 #include "lambert/light/lights.h"
 
+#include <algorithm>
 #include <cmath>
 
+#include "lambert/core/error.h"
 #include "lambert/core/parallel.h"
 #include "lambert/core/rng.h"
 #include "lambert/core/sampling.h"
@@ -30,6 +32,29 @@ struct Cone {
   }
 };
 
+// Whether the sphere reaches into the spot's cone. Seen from the light, the sphere spans an
+// angle β = asin(radius / distance) about its centre, so it reaches into the cone when the angle
+// between the axis and the centre is below cone + β; compared by cosines (cos(cone + β) =
+// cos cone cos β − sin cone sin β), as no angle is needed. Beyond π, every direction is within
+// reach. A larger sphere about the same or a nearby centre that holds this one reaches in too:
+// PatchSphereTree relies on it.
+bool sphereReachesCone(const Light& spot, const Cone& cone, const Vec3& centre, double radius) {
+  const Vec3 toCentre = centre - spot.position;
+  const double distance = length(toCentre);
+  if (distance <= radius) return true;
+  const double sinBeta = radius / distance, cosBeta = std::sqrt(1 - sinBeta * sinBeta);
+  if (cone.cos < 0 && sinBeta >= cone.sin) return true;
+  const double cosAxis = std::fmin(std::fmax(dot(cone.axis, toCentre / distance), -1.0), 1.0);
+  return cosAxis > cone.cos * cosBeta - cone.sin * sinBeta;
+}
+
+// A patch's bounding sphere about its centroid.
+double patchRadius(const Patch& patch, const PatchCorners& corners) {
+  double radius = 0;
+  for (const Vec3& c : corners) radius = std::fmax(radius, length(c - patch.centroid));
+  return radius;
+}
+
 // Whether any point of the patch can receive the light: it must face the light, and for a spot its
 // bounding sphere must reach into the cone. Most patches lie outside a spot's cone; this spares
 // them their shadow rays.
@@ -38,19 +63,24 @@ bool mayReceive(const Light& light, const Cone& cone, const Patch& patch, const 
   bool faces = false;
   for (const Vec3& c : corners) faces |= dot(light.position - c, patch.normal) > 0;
   if (!faces || light.kind != LightKind::Spot) return faces;
-  double radius = 0;
-  for (const Vec3& c : corners) radius = std::fmax(radius, length(c - patch.centroid));
-  Vec3 toCentre = patch.centroid - light.position;
-  double distance = length(toCentre);
-  if (distance <= radius) return true;
-  // The sphere, seen from the light at an angle β = asin(radius / distance) about its centre,
-  // reaches into the cone when the angle between the axis and the centre is below cone + β;
-  // compared by cosines (cos(cone + β) = cos cone cos β − sin cone sin β), as no angle is needed.
-  // Beyond π, every direction is within reach.
-  const double sinBeta = radius / distance, cosBeta = std::sqrt(1 - sinBeta * sinBeta);
-  if (cone.cos < 0 && sinBeta >= cone.sin) return true;
-  const double cosAxis = std::fmin(std::fmax(dot(cone.axis, toCentre / distance), -1.0), 1.0);
-  return cosAxis > cone.cos * cosBeta - cone.sin * sinBeta;
+  return sphereReachesCone(light, cone, patch.centroid, patchRadius(patch, corners));
+}
+
+// The mean irradiance of patch i, or zero where it cannot receive the light.
+Rgb meanPatchIrradiance(const Mesh& mesh, std::size_t i, const RayCaster& caster, const Light& light, const Cone& cone,
+                        double epsilon, double metresPerUnit, const DirectLightOptions& options) {
+  const Patch& patch = mesh.patches[i];
+  const PatchCorners corners = mesh.corners(i);
+  if (!mayReceive(light, cone, patch, corners)) return {};
+  Pcg32 rng(options.seed, i);
+  const std::uint32_t su = rng.nextUint(), sv = rng.nextUint();
+  const int samples = std::max(options.samplesPerPatch, 1);
+  Rgb sum;
+  for (int k = 0; k < samples; ++k) {
+    auto [u, v] = scrambledZeroTwo(static_cast<std::uint32_t>(k), su, sv);
+    sum += irradiance(light, sampleConvexPolygon(corners, u, v), patch.normal, caster, epsilon, metresPerUnit);
+  }
+  return sum / samples;
 }
 
 }  // namespace
@@ -92,22 +122,102 @@ std::vector<Rgb> patchIrradiance(const Mesh& mesh, const RayCaster& caster, cons
                                  const DirectLightOptions& options) {
   std::vector<Rgb> result(mesh.numPatches());
   const double epsilon = rayEpsilon(mesh);
-  const int samples = std::max(options.samplesPerPatch, 1);
   const Cone cone(light);
   parallelFor(0, mesh.numPatches(), [&](std::size_t i) {
-    const Patch& patch = mesh.patches[i];
-    PatchCorners corners = mesh.corners(i);
-    if (!mayReceive(light, cone, patch, corners)) return;
-    Pcg32 rng(options.seed, i);
-    const std::uint32_t su = rng.nextUint(), sv = rng.nextUint();
-    Rgb sum;
-    for (int k = 0; k < samples; ++k) {
-      auto [u, v] = scrambledZeroTwo(static_cast<std::uint32_t>(k), su, sv);
-      sum += irradiance(light, sampleConvexPolygon(corners, u, v), patch.normal, caster, epsilon, metresPerUnit);
-    }
-    result[i] = sum / samples;
+    result[i] = meanPatchIrradiance(mesh, i, caster, light, cone, epsilon, metresPerUnit, options);
   }, 16);
   return result;
+}
+
+void patchIrradiance(const Mesh& mesh, const RayCaster& caster, const Light& light, double metresPerUnit,
+                     const DirectLightOptions& options, double epsilon, std::span<const std::uint32_t> patches,
+                     std::vector<Rgb>& irradiance) {
+  LAMBERT_CHECK(irradiance.size() == mesh.numPatches());
+  const Cone cone(light);
+  parallelFor(0, patches.size(), [&](std::size_t k) {
+    const std::uint32_t i = patches[k];
+    irradiance[i] = meanPatchIrradiance(mesh, i, caster, light, cone, epsilon, metresPerUnit, options);
+  }, 16);
+}
+
+PatchSphereTree::PatchSphereTree(const Mesh& mesh) : numPatches_(mesh.numPatches()) {
+  LAMBERT_CHECK(numPatches_ < 0xffffffffu);
+  patches_.resize(numPatches_);
+  std::vector<Vec3> centre(numPatches_);
+  std::vector<double> radius(numPatches_);
+  for (std::uint32_t i = 0; i < numPatches_; ++i) {
+    patches_[i] = i;
+    centre[i] = mesh.patches[i].centroid;
+    radius[i] = patchRadius(mesh.patches[i], mesh.corners(i));
+  }
+  if (numPatches_ == 0) return;
+  // Depth first on an explicit stack: each node with the range of patches_ it holds.
+  nodes_.push_back({});
+  struct Pending {
+    std::uint32_t node, begin, end;
+  };
+  std::vector<Pending> stack{{0, 0, static_cast<std::uint32_t>(numPatches_)}};
+  while (!stack.empty()) {
+    const Pending p = stack.back();
+    stack.pop_back();
+    Vec3 lo{INFINITY, INFINITY, INFINITY}, hi = -lo, centreLo = lo, centreHi = hi;
+    for (std::uint32_t k = p.begin; k < p.end; ++k) {
+      const std::uint32_t i = patches_[k];
+      const Vec3 r{radius[i], radius[i], radius[i]};
+      lo = componentMin(lo, centre[i] - r);
+      hi = componentMax(hi, centre[i] + r);
+      centreLo = componentMin(centreLo, centre[i]);
+      centreHi = componentMax(centreHi, centre[i]);
+    }
+    const Vec3 middle = (lo + hi) * 0.5;
+    double reach = 0;
+    for (std::uint32_t k = p.begin; k < p.end; ++k) reach = std::fmax(reach, length(centre[patches_[k]] - middle) + radius[patches_[k]]);
+    // Grown past rounding, so that a sphere it holds never reaches into a cone it misses.
+    const double scale = std::fmax(std::fabs(middle.x), std::fmax(std::fabs(middle.y), std::fabs(middle.z)));
+    Node& node = nodes_[p.node];
+    node.centre = middle;
+    node.radius = reach * (1 + 1e-9) + 1e-9 * scale;
+    node.begin = p.begin;
+    node.end = p.end;
+    if (p.end - p.begin <= kLeafSize) continue;
+    // Split at the median centroid along the longest extent of the centroids.
+    const Vec3 extent = centreHi - centreLo;
+    const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
+    const std::uint32_t mid = p.begin + (p.end - p.begin) / 2;
+    std::nth_element(patches_.begin() + p.begin, patches_.begin() + mid, patches_.begin() + p.end,
+                     [&](std::uint32_t a, std::uint32_t b) { return centre[a][axis] < centre[b][axis] || (centre[a][axis] == centre[b][axis] && a < b); });
+    const auto first = static_cast<std::uint32_t>(nodes_.size());
+    nodes_[p.node].firstChild = first;
+    nodes_.push_back({});
+    nodes_.push_back({});
+    stack.push_back({first, p.begin, mid});
+    stack.push_back({first + 1, mid, p.end});
+  }
+}
+
+std::vector<std::uint32_t> PatchSphereTree::candidates(const Light& light) const {
+  std::vector<std::uint32_t> out;
+  if (light.kind != LightKind::Spot) {
+    out.resize(numPatches_);
+    for (std::uint32_t i = 0; i < numPatches_; ++i) out[i] = i;
+    return out;
+  }
+  if (nodes_.empty()) return out;
+  const Cone cone(light);
+  std::vector<std::uint32_t> stack{0};
+  while (!stack.empty()) {
+    const Node& node = nodes_[stack.back()];
+    stack.pop_back();
+    if (!sphereReachesCone(light, cone, node.centre, node.radius)) continue;
+    if (node.firstChild == 0) {
+      out.insert(out.end(), patches_.begin() + node.begin, patches_.begin() + node.end);
+      continue;
+    }
+    stack.push_back(node.firstChild);
+    stack.push_back(node.firstChild + 1);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
 }
 
 std::vector<Rgb> injectedRadiosity(const Mesh& mesh, const std::vector<Rgb>& albedo, const std::vector<Rgb>& irradiance) {

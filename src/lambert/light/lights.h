@@ -35,6 +35,38 @@ struct DirectLightOptions {
 std::vector<Rgb> patchIrradiance(const Mesh& mesh, const RayCaster& caster, const Light& light, double metresPerUnit,
                                  const DirectLightOptions& options = {});
 
+// The same for the listed patches only, over rays lifted by `epsilon` (rayEpsilon(mesh)):
+// irradiance[i] for each listed i is what the function above gives it; the other entries are
+// left as they are. irradiance holds one entry per patch.
+void patchIrradiance(const Mesh& mesh, const RayCaster& caster, const Light& light, double metresPerUnit,
+                     const DirectLightOptions& options, double epsilon, std::span<const std::uint32_t> patches,
+                     std::vector<Rgb>& irradiance);
+
+// The patches a spot may light, found without testing each: a binary tree of bounding spheres over
+// the patches' bounding spheres (median splits of their centroids along the longest axis), whose
+// subtrees the cone misses are skipped whole. Built once per mesh in O(n log n); a spot's query
+// costs O(log n) per patch it returns. Its spheres hold their patches' with a margin above
+// rounding, so the candidates hold every patch patchIrradiance can light.
+class PatchSphereTree {
+ public:
+  explicit PatchSphereTree(const Mesh& mesh);
+  // A spot's candidates: every patch whose bounding sphere reaches into its cone, and some
+  // beside them, in increasing order. Every patch for a point or directional light.
+  std::vector<std::uint32_t> candidates(const Light& light) const;
+
+ private:
+  static constexpr std::uint32_t kLeafSize = 8;  // patches under a node that is not split
+  struct Node {
+    Vec3 centre;
+    double radius = 0;
+    std::uint32_t begin = 0, end = 0;  // its patches, a range of patches_
+    std::uint32_t firstChild = 0;      // the two children are firstChild and firstChild + 1; 0: none
+  };
+  std::vector<Node> nodes_;
+  std::vector<std::uint32_t> patches_;  // the patches, each node's contiguous
+  std::size_t numPatches_ = 0;
+};
+
 // What a light injects into the radiosity system: ρ_i times its patch irradiance, in W/m².
 std::vector<Rgb> injectedRadiosity(const Mesh& mesh, const std::vector<Rgb>& albedo, const std::vector<Rgb>& irradiance);
 

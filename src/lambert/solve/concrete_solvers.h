@@ -6,7 +6,11 @@ namespace lambert {
 
 class DirectSolver final : public Solver {
  public:
+  explicit DirectSolver(bool measureResidual) : measureResidual_(measureResidual) {}
   SolveReport solve(const RadiosityProblem& problem, std::vector<Rgb>& radiosity) const override;
+
+ private:
+  bool measureResidual_;  // SolveOptions::measureResidual; the direct solver reads no other option
 };
 
 class GatheringSolver final : public Solver {

@@ -1,6 +1,8 @@
 // Direct solution of (I − diag(ρ_c) F) B_c = E_c by LU with partial pivoting, one factorisation
 // per channel: O(n³), exact up to rounding, the reference the iterative solvers are checked with.
 // Needs the dense matrix: a transport without one (hierarchical) is a failed check.
+#include <cmath>
+
 #include <Eigen/LU>
 
 #include "lambert/core/error.h"
@@ -26,7 +28,7 @@ SolveReport DirectSolver::solve(const RadiosityProblem& problem, std::vector<Rgb
     Eigen::VectorXd solution = system.partialPivLu().solve(emitted);
     for (Eigen::Index i = 0; i < n; ++i) radiosity[i][c] = solution[i];
   }
-  SolveReport report{"direct", 1, relativeResidual(problem, radiosity), 0, true};
+  SolveReport report{"direct", 1, measureResidual_ ? relativeResidual(problem, radiosity) : std::nan(""), 0, true};
   report.seconds = timer.seconds();
   return report;
 }

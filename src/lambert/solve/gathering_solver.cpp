@@ -2,6 +2,8 @@
 // transport will do. Gauss–Seidel (seed 000) uses each new value as soon as it exists; Jacobi
 // sweeps from the previous iterate so rows run in parallel. Both converge because ρ < 1 and the
 // rows of F sum to at most 1. Each sweep is one more bounce.
+#include <cmath>
+
 #include "lambert/core/error.h"
 #include "lambert/core/timer.h"
 #include "lambert/solve/concrete_solvers.h"
@@ -28,7 +30,7 @@ SolveReport GatheringSolver::solve(const RadiosityProblem& problem, std::vector<
     }
     if (options_.maxSeconds > 0 && timer.seconds() >= options_.maxSeconds) break;
   }
-  report.residual = relativeResidual(problem, radiosity);
+  report.residual = options_.measureResidual ? relativeResidual(problem, radiosity) : std::nan("");
   report.seconds = timer.seconds();
   return report;
 }

@@ -1,5 +1,6 @@
 #include "lambert/solve/hierarchical.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "lambert/core/error.h"
@@ -52,6 +53,18 @@ HierarchicalTransport::HierarchicalTransport(const ElementHierarchy& hierarchy, 
   // count the covered parts out, so it shows its mean over all its area.
   for (std::size_t i = 0; i < nodes.size(); ++i)
     if (nodes[i].isCluster()) openArea_[i] = area_[i];
+  // Depth first from the root, children in the hierarchy's order.
+  sweepOrder_.reserve(nodes.size());
+  std::vector<SweepStep> stack{{0, 0}};
+  while (!stack.empty()) {
+    const SweepStep step = stack.back();
+    stack.pop_back();
+    sweepOrder_.push_back(step);
+    sweepDepth_ = std::max<std::size_t>(sweepDepth_, step.depth + 1);
+    const std::span<const std::uint32_t> children = hierarchy.children(step.node);
+    for (std::size_t c = children.size(); c-- > 0;) stack.push_back({children[c], step.depth + 1});
+  }
+  LAMBERT_CHECK(sweepOrder_.size() == nodes.size());
 }
 
 void HierarchicalTransport::pull(const std::vector<Rgb>& radiosity, std::vector<Rgb>& mean) const {
@@ -104,21 +117,32 @@ SweepChange HierarchicalTransport::sweep(const std::vector<Rgb>& emitted, const 
     return change;
   }
   const std::size_t n = parent_.size();
-  std::vector<Rgb> mean, pushed(n);
+  std::vector<Rgb> mean;
   pull(radiosity, mean);
-  for (std::size_t i = 0; i < n; ++i) {
-    pushed[i] = gatherNode(static_cast<std::uint32_t>(i), mean);
-    if (parent_[i] != kNoNode) pushed[i] += pushed[parent_[i]];
-    const std::uint32_t l = leafOfNode_[i];
-    if (l == kNoNode) continue;
-    Rgb updated = emitted[l] + albedo[l] * pushed[i] * leafGain_[l];
-    const Rgb delta = updated - radiosity[l];
-    change.change = std::fmax(change.change, largestChange(updated, radiosity[l]));
-    change.magnitude = std::fmax(change.magnitude, updated.maxComponent());
-    radiosity[l] = updated;
-    const Rgb power = delta * area_[i];
-    for (std::uint32_t a = static_cast<std::uint32_t>(i); a != kNoNode; a = parent_[a])
-      if (openArea_[a] > 0) mean[a] += power / openArea_[a];
+  // Along the path from the root to the node being swept, per depth: the node, what it and its
+  // ancestors gathered, and the power its leaves changed that its mean does not hold yet (W).
+  std::vector<std::uint32_t> nodeAt(sweepDepth_);
+  std::vector<Rgb> pushedAt(sweepDepth_), unpulledAt(sweepDepth_);
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto [i, depth] = sweepOrder_[k];
+    nodeAt[depth] = i;
+    pushedAt[depth] = depth > 0 ? gatherNode(i, mean) + pushedAt[depth - 1] : gatherNode(i, mean);
+    unpulledAt[depth] = Rgb{};
+    if (const std::uint32_t l = leafOfNode_[i]; l != kNoNode) {
+      const Rgb updated = emitted[l] + albedo[l] * pushedAt[depth] * leafGain_[l];
+      change.change = std::fmax(change.change, largestChange(updated, radiosity[l]));
+      change.magnitude = std::fmax(change.magnitude, updated.maxComponent());
+      unpulledAt[depth] = (updated - radiosity[l]) * area_[i];
+      radiosity[l] = updated;
+    }
+    // The subtrees that end here (the next node's depth and deeper on the path) take their
+    // leaves' change into their means and hand it up.
+    const std::uint32_t next = k + 1 < n ? sweepOrder_[k + 1].depth : 0;
+    for (std::uint32_t d = depth + 1; d-- > next;) {
+      const std::uint32_t a = nodeAt[d];
+      if (openArea_[a] > 0) mean[a] += unpulledAt[d] / openArea_[a];
+      if (d > 0) unpulledAt[d - 1] += unpulledAt[d];
+    }
   }
   return change;
 }

@@ -23,9 +23,13 @@ class HierarchicalTransport final : public Transport {
 
   std::size_t size() const override { return nodeOfLeaf_.size(); }
   void gather(const std::vector<Rgb>& radiosity, std::vector<Rgb>& irradiance) const override;
-  // Jacobi: one gather from the previous iterate. Gauss–Seidel: nodes in order (parents first),
-  // each gathering from the current means, and each new leaf value raising the means of its
-  // ancestors at once, so later nodes gather it within the same sweep.
+  // Jacobi: one gather from the previous iterate. Gauss–Seidel: nodes depth first (parents
+  // first, each subtree whole), each gathering from the current means: a node's mean takes the
+  // change of the leaves under it when its subtree is finished, once, so a sweep costs
+  // O(nodes + links) rather than O(leaves × depth), and every node outside the subtree being
+  // swept reads its mean with every change made so far, as if each new leaf value had raised
+  // its ancestors' means at once. Only a link from a node to its own ancestor would read that
+  // ancestor's mean as of the sweep's start.
   SweepChange sweep(const std::vector<Rgb>& emitted, const std::vector<Rgb>& albedo, std::vector<Rgb>& radiosity,
                     bool inPlace) const override;
 
@@ -67,6 +71,12 @@ class HierarchicalTransport final : public Transport {
   double largestRowSum_ = 0;
   std::size_t rowsScaled_ = 0;
   std::vector<std::uint32_t> leafOfNode_;  // kNoNode for inner nodes
+  // The nodes depth first from the root (Gauss–Seidel's order), each with its depth (the root's 0).
+  struct SweepStep {
+    std::uint32_t node, depth;
+  };
+  std::vector<SweepStep> sweepOrder_;
+  std::size_t sweepDepth_ = 0;  // the deepest node's depth + 1
   std::vector<std::uint32_t> nodeOfLeaf_;
   std::shared_ptr<const Links> links_;
 };

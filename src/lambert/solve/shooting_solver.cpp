@@ -1,6 +1,7 @@
 // The Solver face of progressive refinement: a ProgressiveShooter run to convergence, with the
 // ambient-corrected estimate handed to onProgress along the way.
 #include <algorithm>
+#include <cmath>
 
 #include "lambert/core/timer.h"
 #include "lambert/solve/progressive_shooter.h"
@@ -29,7 +30,7 @@ SolveReport ShootingSolver::solve(const RadiosityProblem& problem, std::vector<R
   }
   report.iterations = static_cast<int>(shots);
   radiosity = shooter.radiosity();
-  report.residual = relativeResidual(problem, radiosity);
+  report.residual = options_.measureResidual ? relativeResidual(problem, radiosity) : std::nan("");
   report.seconds = timer.seconds();
   return report;
 }

@@ -21,7 +21,7 @@ std::string solverName(SolverKind kind) {
 
 std::unique_ptr<Solver> makeSolver(SolverKind kind, SolveOptions options) {
   switch (kind) {
-    case SolverKind::Direct: return std::make_unique<DirectSolver>();
+    case SolverKind::Direct: return std::make_unique<DirectSolver>(options.measureResidual);
     case SolverKind::GaussSeidel: return std::make_unique<GatheringSolver>(options, /*inPlace=*/true);
     case SolverKind::Jacobi: return std::make_unique<GatheringSolver>(options, /*inPlace=*/false);
     case SolverKind::Shooting: return std::make_unique<ShootingSolver>(options);

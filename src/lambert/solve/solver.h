@@ -41,13 +41,17 @@ struct SolveOptions {
   // plus the ambient term); 0 turns it off.
   int progressEvery = 0;
   bool displayAmbient = true;  // shooting: add the ambient term to what onProgress sees
+  // Whether SolveReport::residual is measured: one more gather over the whole transport after the
+  // last iteration (for a warm one-sweep update of the hierarchical method, about as long as the
+  // sweep). Off, the report's residual is NaN.
+  bool measureResidual = true;
   std::function<void(int iteration, const std::vector<Rgb>& estimate)> onProgress;
 };
 
 struct SolveReport {
   std::string solver;
   int iterations = 0;     // sweeps, shots for shooting, 1 for direct
-  double residual = 0;    // max |E + ρFB − B| / max |B|, over patches and channels
+  double residual = 0;    // max |E + ρFB − B| / max |B|, over patches and channels; NaN if not measured
   double seconds = 0;
   bool converged = false;
 };

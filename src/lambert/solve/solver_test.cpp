@@ -73,6 +73,33 @@ TEST(SolverTest, SolversAgreeOnTheCornellBox) {
     EXPECT_LT(maxRelativeDifference(solveWith(kind, s.problem, tight), direct), 1e-4) << solverName(kind);
 }
 
+// measureResidual = false leaves the residual unmeasured (NaN) and the solution bit for bit the
+// same; measured, it is the residual of B recomputed here from the dense matrix.
+TEST(SolverTest, TheResidualIsMeasuredOnlyWhenAskedAndDoesNotChangeTheSolution) {
+  const Scene scene = testing::closedCornellBox();
+  Solved s = setUp(scene, edgeLengthForPatchCount(scene, 300));
+  const FormFactorMatrix& F = *s.problem.transport->matrix();
+  for (SolverKind kind : kAllSolvers) {
+    SolveOptions options;
+    options.maxIterations = 3;  // stopped early: a residual well above rounding
+    std::vector<Rgb> measured, unmeasured;
+    const SolveReport a = makeSolver(kind, options)->solve(s.problem, measured);
+    options.measureResidual = false;
+    const SolveReport b = makeSolver(kind, options)->solve(s.problem, unmeasured);
+    EXPECT_TRUE(std::isnan(b.residual)) << solverName(kind);
+    ASSERT_EQ(measured.size(), unmeasured.size());
+    for (std::size_t i = 0; i < measured.size(); ++i) ASSERT_EQ(measured[i], unmeasured[i]) << solverName(kind) << " patch " << i;
+    double residual = 0, magnitude = 0;
+    for (std::size_t i = 0; i < measured.size(); ++i) {
+      Rgb gathered;
+      for (std::size_t j = 0; j < measured.size(); ++j) gathered += measured[j] * static_cast<double>(F(i, j));
+      const Rgb r = s.problem.emitted[i] + s.problem.albedo[i] * gathered - measured[i];
+      for (int c = 0; c < 3; ++c) residual = std::fmax(residual, std::fabs(r[c])), magnitude = std::fmax(magnitude, std::fabs(measured[i][c]));
+    }
+    EXPECT_NEAR(a.residual, residual / magnitude, 1e-9 + 1e-6 * residual / magnitude) << solverName(kind);
+  }
+}
+
 // Closed by a black portal, the box loses nothing through openings: what the light emits is
 // absorbed by the surfaces (and the portal). A test of F's row sums in an occluded scene too.
 TEST(SolverTest, EnergyBalanceOnTheClosedCornellBox) {
