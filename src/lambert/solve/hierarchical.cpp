@@ -71,9 +71,13 @@ void HierarchicalTransport::pull(const std::vector<Rgb>& radiosity, std::vector<
   const std::size_t n = parent_.size();
   mean.assign(n, Rgb{});  // power first, W per scene unit² of radiosity
   for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l) mean[nodeOfLeaf_[l]] = radiosity[l] * area_[nodeOfLeaf_[l]];
-  for (std::size_t i = n; i-- > 1;)
-    if (parent_[i] != kNoNode) mean[parent_[i]] += mean[i];
-  for (std::size_t i = 0; i < n; ++i) mean[i] = openArea_[i] > 0 ? mean[i] / openArea_[i] : Rgb{};
+  // Children have larger indices than their parents: going down the indices, each node's power is
+  // whole when it is reached, handed to its parent and turned into its mean.
+  for (std::size_t i = n; i-- > 0;) {
+    const Rgb power = mean[i];
+    if (parent_[i] != kNoNode) mean[parent_[i]] += power;
+    mean[i] = openArea_[i] > 0 ? power / openArea_[i] : Rgb{};
+  }
 }
 
 Rgb HierarchicalTransport::gatherNode(std::uint32_t node, const std::vector<Rgb>& mean) const {
