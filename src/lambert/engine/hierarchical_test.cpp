@@ -539,7 +539,7 @@ Scene linkErrorRoom(const std::vector<double>& albedo) {
   return scene;
 }
 
-TEST(HierarchicalTest, TheMethodConvergesToTheExactSolutionAndClusteringsBiasShrinksWithRays) {
+TEST(HierarchicalTest, TheMethodConvergesToTheExactSolutionWithAndWithoutClusters) {
   // The reference: the room solved with exact form factors (no estimate, no occlusion) on 10 × 10
   // cells a face. Its own error is measured here as a third of its distance from the 5 × 5
   // solution (Richardson: the error falls as 1/n²): 0.09% of the mean radiosity, far below the
@@ -582,18 +582,28 @@ TEST(HierarchicalTest, TheMethodConvergesToTheExactSolutionAndClusteringsBiasShr
     EXPECT_GT(links, lastLinks) << "link error " << linkError;
     lastLinks = links;
   }
-  // With clusters (the default), a cluster link's K is a Monte Carlo estimate over its visibility
-  // rays, and the surfaces come out dark by an amount that shrinks with the rays: a known bias
-  // (docs/hierarchical.md, "Known errors"). Eight times the rays must come measurably closer, and
-  // the default's error must not grow past the bias measured when it was found (7.9%, on x0).
+  // With clusters (the default), a cluster link's K is a Monte Carlo estimate over its 8 sample
+  // pairs, judged by a transfer estimated from sample pairs of its own (formfactor/links.cpp,
+  // judgedTransfer). Judged by the centres' transfer alone, close links carrying 20 times the
+  // link error were kept, and their estimates, skewed low, left the surfaces 1.5–10% dark and
+  // one seed in ten 41% bright. Every seed must come within 2.5% on every surface (measured
+  // 1.3–1.8%: what is left is the clusters' one irradiance per receiver and one radiosity per
+  // source, docs/hierarchical.md), and 64 sample pairs must not move any surface by more
+  // than 1%: the result no longer hangs on rare samples.
   RadiosityOptions clustered = hierarchicalOptions(1e-4);
   std::size_t links = 0;
-  const double withDefaultRays = worstSurface(clustered, links);
+  for (std::uint64_t seed : {1, 2, 3}) {
+    clustered.hierarchical.links.seed = seed;
+    EXPECT_LT(worstSurface(clustered, links), 0.025) << "seed " << seed;
+  }
+  clustered.hierarchical.links.seed = 1;
+  auto eight = solvedEngine(scene, clustered);
   clustered.hierarchical.links.visibilityRays = 64;
-  const double withMoreRays = worstSurface(clustered, links);
-  EXPECT_LT(withMoreRays, withDefaultRays - 2 * referenceError);
-  EXPECT_LT(withMoreRays, 0.04);
-  EXPECT_LT(withDefaultRays, 0.09);
+  auto sixtyFour = solvedEngine(scene, clustered);
+  ASSERT_TRUE(eight && sixtyFour);
+  for (std::uint32_t s = 0; s < 6; ++s)
+    EXPECT_LT(std::fabs(surfaceMean(eight->solution(), s).g - surfaceMean(sixtyFour->solution(), s).g) / scale, 0.01)
+        << scene.surfaces[s].name;
 }
 
 TEST(HierarchicalTest, ClusteringStartsFromLinearlyManyLinksAndAgreesWithoutClusters) {
