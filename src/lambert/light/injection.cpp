@@ -16,11 +16,14 @@ DirectLightInjection::Update DirectLightInjection::update(const Mesh& mesh, cons
     perLight_.assign(lights.size(), {});
     traced_.assign(lights.size(), {});
   }
-  if (total_.size() != n) tree_.reset();  // another mesh
-  if (!tree_) {
-    tree_ = std::make_unique<PatchSphereTree>(mesh);
-    epsilon_ = rayEpsilon(mesh);
+  if (total_.size() != n) {  // another mesh
+    tree_.reset();
+    epsilon_.reset();
   }
+  // Made with the mesh's first update (with its first solve), so that the first frame a light
+  // moves in does not pay for it.
+  if (!epsilon_) epsilon_ = rayEpsilon(mesh);
+  if (!tree_) tree_ = std::make_unique<PatchSphereTree>(mesh);
   Update update;
   update.allPatches = startAfresh;
   for (std::size_t l = 0; l < lights.size(); ++l) {
@@ -28,14 +31,18 @@ DirectLightInjection::Update DirectLightInjection::update(const Mesh& mesh, cons
     std::vector<Rgb>& injected = perLight_[l];
     if (injected.size() != n) injected.assign(n, Rgb{});
     for (std::uint32_t i : traced_[l]) injected[i] = Rgb{};
-    std::vector<std::uint32_t> candidates = tree_->candidates(lights[l]);
-    patchIrradiance(mesh, caster, lights[l], metresPerUnit, options_, epsilon_, candidates, injected);
-    for (std::uint32_t i : candidates) injected[i] = albedo[i] * injected[i];  // as injectedRadiosity
+    const std::vector<std::uint32_t> candidates = tree_->candidates(lights[l]);
+    patchIrradiance(mesh, caster, lights[l], metresPerUnit, options_, *epsilon_, candidates, injected);
+    std::vector<std::uint32_t> lit;
+    for (std::uint32_t i : candidates) {
+      injected[i] = albedo[i] * injected[i];  // as injectedRadiosity
+      if (!(injected[i] == Rgb{})) lit.push_back(i);
+    }
     if (!update.allPatches) {
       update.changedPatches.insert(update.changedPatches.end(), traced_[l].begin(), traced_[l].end());
-      update.changedPatches.insert(update.changedPatches.end(), candidates.begin(), candidates.end());
+      update.changedPatches.insert(update.changedPatches.end(), lit.begin(), lit.end());
     }
-    traced_[l] = std::move(candidates);
+    traced_[l] = std::move(lit);
     lights_[l] = lights[l];
     ++update.lightsTraced;
   }
@@ -66,6 +73,7 @@ void DirectLightInjection::reset() {
   traced_.clear();
   total_.clear();
   tree_.reset();
+  epsilon_.reset();
 }
 
 }  // namespace lambert

@@ -5,7 +5,7 @@
 // the solver then shoots or gathers the difference.
 //
 // A spot that moves is traced again on the patches its cone may reach only (PatchSphereTree),
-// and only the patches it lit before or may light now are cleared and summed again: an update
+// and only the patches it lit before or lights now are cleared and summed again: an update
 // costs the spot's patches and O(log n) each, not the mesh, and gives every patch the same bits
 // a trace of every light on every patch would.
 #include <memory>
@@ -48,12 +48,13 @@ class DirectLightInjection {
   DirectLightOptions options_;
   std::vector<std::optional<Light>> lights_;  // as last injected
   std::vector<std::vector<Rgb>> perLight_;    // ρ·E_direct per patch, per light
-  // Per light, the patches it was traced on (its cone's candidates); it is zero on every other.
+  // Per light, the patches it lights (a non-zero injection), in increasing order; it is zero on
+  // every other.
   std::vector<std::vector<std::uint32_t>> traced_;
   std::vector<Rgb> total_;
-  // Of the mesh last updated for, made at the first update after reset().
+  // Of the mesh last updated for, made at its first update.
   std::unique_ptr<PatchSphereTree> tree_;
-  double epsilon_ = 0;  // rayEpsilon
+  std::optional<double> epsilon_;
 };
 
 }  // namespace lambert

@@ -151,47 +151,73 @@ PatchSphereTree::PatchSphereTree(const Mesh& mesh) : numPatches_(mesh.numPatches
     radius[i] = patchRadius(mesh.patches[i], mesh.corners(i));
   }
   if (numPatches_ == 0) return;
-  // Depth first on an explicit stack: each node with the range of patches_ it holds.
+  // The nodes, depth first on an explicit stack, each with the range of patches_ it holds, split
+  // at the median centroid along the centroids' longest extent.
   nodes_.push_back({});
-  struct Pending {
-    std::uint32_t node, begin, end;
-  };
-  std::vector<Pending> stack{{0, 0, static_cast<std::uint32_t>(numPatches_)}};
+  nodes_[0].end = static_cast<std::uint32_t>(numPatches_);
+  std::vector<std::uint32_t> stack{0};
   while (!stack.empty()) {
-    const Pending p = stack.back();
+    const std::uint32_t at = stack.back();
     stack.pop_back();
-    Vec3 lo{INFINITY, INFINITY, INFINITY}, hi = -lo, centreLo = lo, centreHi = hi;
-    for (std::uint32_t k = p.begin; k < p.end; ++k) {
-      const std::uint32_t i = patches_[k];
-      const Vec3 r{radius[i], radius[i], radius[i]};
-      lo = componentMin(lo, centre[i] - r);
-      hi = componentMax(hi, centre[i] + r);
-      centreLo = componentMin(centreLo, centre[i]);
-      centreHi = componentMax(centreHi, centre[i]);
+    const std::uint32_t begin = nodes_[at].begin, end = nodes_[at].end;
+    if (end - begin <= kLeafSize) continue;
+    // (std::min and std::max, not fmin and fmax, which are calls: centroids are finite.)
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (std::uint32_t k = begin; k < end; ++k) {
+      const Vec3& c = centre[patches_[k]];
+      lo[0] = std::min(lo[0], c.x), lo[1] = std::min(lo[1], c.y), lo[2] = std::min(lo[2], c.z);
+      hi[0] = std::max(hi[0], c.x), hi[1] = std::max(hi[1], c.y), hi[2] = std::max(hi[2], c.z);
     }
-    const Vec3 middle = (lo + hi) * 0.5;
-    double reach = 0;
-    for (std::uint32_t k = p.begin; k < p.end; ++k) reach = std::fmax(reach, length(centre[patches_[k]] - middle) + radius[patches_[k]]);
-    // Grown past rounding, so that a sphere it holds never reaches into a cone it misses.
-    const double scale = std::fmax(std::fabs(middle.x), std::fmax(std::fabs(middle.y), std::fabs(middle.z)));
-    Node& node = nodes_[p.node];
-    node.centre = middle;
-    node.radius = reach * (1 + 1e-9) + 1e-9 * scale;
-    node.begin = p.begin;
-    node.end = p.end;
-    if (p.end - p.begin <= kLeafSize) continue;
-    // Split at the median centroid along the longest extent of the centroids.
-    const Vec3 extent = centreHi - centreLo;
+    const Vec3 extent{hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]};
     const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
-    const std::uint32_t mid = p.begin + (p.end - p.begin) / 2;
-    std::nth_element(patches_.begin() + p.begin, patches_.begin() + mid, patches_.begin() + p.end,
-                     [&](std::uint32_t a, std::uint32_t b) { return centre[a][axis] < centre[b][axis] || (centre[a][axis] == centre[b][axis] && a < b); });
+    const std::uint32_t mid = begin + (end - begin) / 2;
+    std::nth_element(patches_.begin() + begin, patches_.begin() + mid, patches_.begin() + end, [&](std::uint32_t a, std::uint32_t b) {
+      const double x = centre[a][axis], y = centre[b][axis];
+      return x < y || (x == y && a < b);
+    });
     const auto first = static_cast<std::uint32_t>(nodes_.size());
-    nodes_[p.node].firstChild = first;
-    nodes_.push_back({});
-    nodes_.push_back({});
-    stack.push_back({first, p.begin, mid});
-    stack.push_back({first + 1, mid, p.end});
+    nodes_[at].firstChild = first;
+    nodes_.push_back({{}, 0, begin, mid, 0});
+    nodes_.push_back({{}, 0, mid, end, 0});
+    stack.push_back(first);
+    stack.push_back(first + 1);
+  }
+  // The spheres, children (made after their parents) first: a leaf's about the middle of its
+  // patches' spheres' box, reaching the farthest; a parent's the smallest that holds its two
+  // children's. Each is grown past rounding, so that a sphere it holds never reaches into a cone
+  // it misses.
+  auto grown = [](Node& node) {
+    const double scale = std::fmax(std::fabs(node.centre.x), std::fmax(std::fabs(node.centre.y), std::fabs(node.centre.z)));
+    node.radius = node.radius * (1 + 1e-9) + 1e-9 * scale;
+  };
+  for (std::size_t at = nodes_.size(); at-- > 0;) {
+    Node& node = nodes_[at];
+    if (node.firstChild == 0) {
+      Vec3 lo{INFINITY, INFINITY, INFINITY}, hi = -lo;
+      for (std::uint32_t k = node.begin; k < node.end; ++k) {
+        const std::uint32_t i = patches_[k];
+        const Vec3 r{radius[i], radius[i], radius[i]};
+        lo = componentMin(lo, centre[i] - r);
+        hi = componentMax(hi, centre[i] + r);
+      }
+      node.centre = (lo + hi) * 0.5;
+      node.radius = 0;
+      for (std::uint32_t k = node.begin; k < node.end; ++k)
+        node.radius = std::fmax(node.radius, length(centre[patches_[k]] - node.centre) + radius[patches_[k]]);
+      grown(node);
+      continue;
+    }
+    const Node &a = nodes_[node.firstChild], &b = nodes_[node.firstChild + 1];
+    const double apart = length(b.centre - a.centre);
+    if (apart + b.radius <= a.radius) {
+      node.centre = a.centre, node.radius = a.radius;
+    } else if (apart + a.radius <= b.radius) {
+      node.centre = b.centre, node.radius = b.radius;
+    } else {
+      node.radius = 0.5 * (apart + a.radius + b.radius);
+      node.centre = a.centre + (b.centre - a.centre) * ((node.radius - a.radius) / apart);
+    }
+    grown(node);
   }
 }
 
