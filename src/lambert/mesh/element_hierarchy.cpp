@@ -56,6 +56,14 @@ struct ElementHierarchy::FaceRoot {
   std::array<std::uint32_t, 4> vertices;
 };
 
+// What the median split orders faces by, apart from the faces themselves (208 bytes each):
+// nth_element moves these, and the same comparisons give the same order.
+struct ElementHierarchy::FaceKey {
+  Vec3 centre;
+  std::uint32_t firstVertex;
+  std::uint32_t face;  // into the constructor's faces
+};
+
 std::uint32_t ElementHierarchy::addNode(const HierarchyNode& node) {
   LAMBERT_CHECK(nodes_.size() < kNoNode);
   nodes_.push_back(node);
@@ -99,20 +107,24 @@ ElementHierarchy::ElementHierarchy(const Scene& scene) {
   HierarchyNode root;  // a cluster: no corners
   addNode(root);
   childList_.push_back(0);  // slot 0 holds nothing: the root is nobody's child
-  buildClusters(faces, kNoNode, 0, 0);
+  std::vector<FaceKey> keys(faces.size());
+  for (std::uint32_t i = 0; i < faces.size(); ++i) keys[i] = {faces[i].element.centre, faces[i].vertices[0], i};
+  buildClusters(faces, keys, kNoNode, 0, 0);
   numberLeaves();
 }
 
 // Makes the cluster over `faces` (or, for one face, its root element) and records it in
 // childList_[slot] as a child of `parent`; node 0 is the root cluster, made by the constructor.
-void ElementHierarchy::buildClusters(std::span<FaceRoot> faces, std::uint32_t parent, std::uint32_t slot, std::uint8_t depth) {
+void ElementHierarchy::buildClusters(const std::vector<FaceRoot>& all, std::span<FaceKey> faces, std::uint32_t parent,
+                                     std::uint32_t slot, std::uint8_t depth) {
   if (faces.size() == 1 && parent != kNoNode) {
-    HierarchyNode element = faces[0].element;
+    const FaceRoot& face = all[faces[0].face];
+    HierarchyNode element = face.element;
     element.parent = parent;
     element.depth = 0;
     std::uint32_t index = addNode(element);
     childList_[slot] = index;
-    roots_.push_back({index, faces[0].vertices});
+    roots_.push_back({index, face.vertices});
     return;
   }
   std::uint32_t cluster = parent == kNoNode ? 0 : addNode(HierarchyNode{});
@@ -125,7 +137,8 @@ void ElementHierarchy::buildClusters(std::span<FaceRoot> faces, std::uint32_t pa
     Vec3 lo{INFINITY, INFINITY, INFINITY}, hi = -lo;
     double area = 0;
     std::array<double, 6> axisArea{};
-    for (const FaceRoot& f : faces) {
+    for (const FaceKey& key : faces) {
+      const FaceRoot& f = all[key.face];
       area += f.element.area;
       const Vec3& n = f.element.normal;
       const double components[3] = {n.x, n.y, n.z};
@@ -151,24 +164,24 @@ void ElementHierarchy::buildClusters(std::span<FaceRoot> faces, std::uint32_t pa
   }
   // At most four faces: they are the cluster's children. Otherwise two halves by the median
   // centroid along the longest axis of the centroids' bounds.
-  std::vector<std::span<FaceRoot>> parts;
+  std::vector<std::span<FaceKey>> parts;
   if (faces.size() <= 4) {
     for (std::size_t i = 0; i < faces.size(); ++i) parts.push_back(faces.subspan(i, 1));
   } else {
     Vec3 lo{INFINITY, INFINITY, INFINITY}, hi = -lo;
-    for (const FaceRoot& f : faces) {
-      lo = componentMin(lo, f.element.centre);
-      hi = componentMax(hi, f.element.centre);
+    for (const FaceKey& f : faces) {
+      lo = componentMin(lo, f.centre);
+      hi = componentMax(hi, f.centre);
     }
     Vec3 extent = hi - lo;
     int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
-    auto coordinate = [axis](const FaceRoot& f) { return axis == 0 ? f.element.centre.x : axis == 1 ? f.element.centre.y : f.element.centre.z; };
+    auto coordinate = [axis](const FaceKey& f) { return axis == 0 ? f.centre.x : axis == 1 ? f.centre.y : f.centre.z; };
     std::size_t half = faces.size() / 2;
     std::nth_element(faces.begin(), faces.begin() + static_cast<std::ptrdiff_t>(half), faces.end(),
-                     [&](const FaceRoot& a, const FaceRoot& b) {
+                     [&](const FaceKey& a, const FaceKey& b) {
                        double ca = coordinate(a), cb = coordinate(b);
                        if (ca != cb) return ca < cb;
-                       return a.vertices[0] < b.vertices[0];  // a strict order whatever the ties
+                       return a.firstVertex < b.firstVertex;  // a strict order whatever the ties
                      });
     parts = {faces.first(half), faces.subspan(half)};
   }
@@ -177,7 +190,7 @@ void ElementHierarchy::buildClusters(std::span<FaceRoot> faces, std::uint32_t pa
   nodes_[cluster].numChildren = static_cast<std::uint32_t>(parts.size());
   childList_.resize(childList_.size() + parts.size(), kNoNode);
   for (std::size_t i = 0; i < parts.size(); ++i)
-    buildClusters(parts[i], cluster, first + static_cast<std::uint32_t>(i), static_cast<std::uint8_t>(std::min(depth + 1, 255)));
+    buildClusters(all, parts[i], cluster, first + static_cast<std::uint32_t>(i), static_cast<std::uint8_t>(std::min(depth + 1, 255)));
 }
 
 void ElementHierarchy::split(std::uint32_t element) {
@@ -260,6 +273,8 @@ ElementHierarchy::LeafMesh ElementHierarchy::leaves(const Scene& scene) const {
     std::array<std::uint32_t, 4> vertices;
   };
   std::vector<Visit> stack;
+  const bool anySplit = nodes_.size() > numFaces_ + numClusters_;
+  if (anySplit) leafEdges.reserve(4 * leafNodes_.size());
   for (const Root& root : roots_) {
     stack.push_back({root.node, root.vertices});
     while (!stack.empty()) {
@@ -273,7 +288,9 @@ ElementHierarchy::LeafMesh ElementHierarchy::leaves(const Scene& scene) const {
         patch.face = n.face;
         patch.twinned = n.twinned;
         mesh.patches[n.leaf] = patch;
-        for (std::size_t k = 0; k < n.numCorners; ++k) leafEdges.insert(edgeKey(v[k], v[(k + 1) % n.numCorners]));
+        // Only midpoints can hang: without splits there are none to look the edges up for.
+        if (anySplit)
+          for (std::size_t k = 0; k < n.numCorners; ++k) leafEdges.insert(edgeKey(v[k], v[(k + 1) % n.numCorners]));
         continue;
       }
       std::span<const std::uint32_t> kids = children(visit.node);
