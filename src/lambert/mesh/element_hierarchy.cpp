@@ -56,10 +56,14 @@ struct ElementHierarchy::FaceRoot {
   std::array<std::uint32_t, 4> vertices;
 };
 
-// What the median split orders faces by, apart from the faces themselves (208 bytes each):
-// nth_element moves these, and the same comparisons give the same order.
+// What the clusters are built from, apart from the faces themselves (208 bytes each, read at
+// random once nth_element has moved these): the median split's order (the same comparisons give
+// the same order), and what a cluster's bounds sum and bound, face by face in the same order.
 struct ElementHierarchy::FaceKey {
   Vec3 centre;
+  Vec3 lo, hi;  // the box about the face's corners
+  Vec3 normal;
+  double area;
   std::uint32_t firstVertex;
   std::uint32_t face;  // into the constructor's faces
 };
@@ -108,7 +112,15 @@ ElementHierarchy::ElementHierarchy(const Scene& scene) {
   addNode(root);
   childList_.push_back(0);  // slot 0 holds nothing: the root is nobody's child
   std::vector<FaceKey> keys(faces.size());
-  for (std::uint32_t i = 0; i < faces.size(); ++i) keys[i] = {faces[i].element.centre, faces[i].vertices[0], i};
+  for (std::uint32_t i = 0; i < faces.size(); ++i) {
+    const HierarchyNode& e = faces[i].element;
+    Vec3 lo = e.corners[0], hi = e.corners[0];
+    for (std::size_t k = 1; k < e.numCorners; ++k) {
+      lo = componentMin(lo, e.corners[k]);
+      hi = componentMax(hi, e.corners[k]);
+    }
+    keys[i] = {e.centre, lo, hi, e.normal, e.area, faces[i].vertices[0], i};
+  }
   buildClusters(faces, keys, kNoNode, 0, 0);
   numberLeaves();
 }
@@ -137,16 +149,14 @@ void ElementHierarchy::buildClusters(const std::vector<FaceRoot>& all, std::span
     Vec3 lo{INFINITY, INFINITY, INFINITY}, hi = -lo;
     double area = 0;
     std::array<double, 6> axisArea{};
-    for (const FaceKey& key : faces) {
-      const FaceRoot& f = all[key.face];
-      area += f.element.area;
-      const Vec3& n = f.element.normal;
-      const double components[3] = {n.x, n.y, n.z};
-      for (int a = 0; a < 3; ++a) axisArea[2 * a + (components[a] > 0 ? 0 : 1)] += f.element.area * std::fabs(components[a]);
-      for (std::size_t k = 0; k < f.element.numCorners; ++k) {
-        lo = componentMin(lo, f.element.corners[k]);
-        hi = componentMax(hi, f.element.corners[k]);
-      }
+    // min and max are exact in any order (the corners are finite: comparisons, not fmin's calls);
+    // the sums run over the faces in this span's order.
+    for (const FaceKey& f : faces) {
+      area += f.area;
+      const double components[3] = {f.normal.x, f.normal.y, f.normal.z};
+      for (int a = 0; a < 3; ++a) axisArea[2 * a + (components[a] > 0 ? 0 : 1)] += f.area * std::fabs(components[a]);
+      lo = {f.lo.x < lo.x ? f.lo.x : lo.x, f.lo.y < lo.y ? f.lo.y : lo.y, f.lo.z < lo.z ? f.lo.z : lo.z};
+      hi = {f.hi.x > hi.x ? f.hi.x : hi.x, f.hi.y > hi.y ? f.hi.y : hi.y, f.hi.z > hi.z ? f.hi.z : hi.z};
     }
     c.area = area;
     ClusterBounds bounds{};
@@ -170,8 +180,8 @@ void ElementHierarchy::buildClusters(const std::vector<FaceRoot>& all, std::span
   } else {
     Vec3 lo{INFINITY, INFINITY, INFINITY}, hi = -lo;
     for (const FaceKey& f : faces) {
-      lo = componentMin(lo, f.centre);
-      hi = componentMax(hi, f.centre);
+      lo = {f.centre.x < lo.x ? f.centre.x : lo.x, f.centre.y < lo.y ? f.centre.y : lo.y, f.centre.z < lo.z ? f.centre.z : lo.z};
+      hi = {f.centre.x > hi.x ? f.centre.x : hi.x, f.centre.y > hi.y ? f.centre.y : hi.y, f.centre.z > hi.z ? f.centre.z : hi.z};
     }
     Vec3 extent = hi - lo;
     int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
