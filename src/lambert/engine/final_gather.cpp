@@ -151,8 +151,10 @@ std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean, FinalGath
       bool mixed;
       bool resolvable = false;  // an element receiver's link whose rays all got through: seen = 1 so far
     };
-    std::vector<Term> terms;
-    std::vector<std::uint32_t> open;  // sources still to gather
+    // Per thread, reused from vertex to vertex (about a hundred terms each: not allocated anew).
+    thread_local std::vector<Term> terms;
+    thread_local std::vector<std::uint32_t> open;  // sources still to gather
+    terms.clear();
     const auto closeBy = [&](const HierarchyNode& source) {
       // Barnes–Hut's opening criterion on the source's bounding sphere: only seen from closer
       // than this can its children's point factors differ from shares of its own by area.
@@ -247,7 +249,7 @@ std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean, FinalGath
       const double variation = term.mixed ? std::fmax(spread, highest[term.source].maxComponent()) : spread;
       return term.factor * variation > threshold;
     };
-    std::vector<Term> pending;
+    thread_local std::vector<Term> pending;
     for (const Term& top : terms) {
       if (!opens(top)) continue;
       sum -= mean[top.source] * (top.factor * top.seen);
