@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 
+#include <tbb/enumerable_thread_specific.h>
+
 #include "lambert/core/error.h"
 #include "lambert/core/parallel.h"
 #include "lambert/core/rng.h"
@@ -25,9 +27,9 @@ constexpr double kResolveShare = 0.01;
 // Rays from a vertex to a source, as a multiple of the link's, where the first ones disagree.
 constexpr int kPenumbraRays = 4;
 
-// One visibility value as a gather used it (GatherVisibility's entry).
+// One visibility value as a gather used it (GatherVisibility's entry, with its vertex).
 struct SeenEntry {
-  std::uint32_t link, source;
+  std::uint32_t vertex, link, source;
   double seen;
 };
 
@@ -104,7 +106,8 @@ std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean, FinalGath
                                          GatherVisibility* record) const {
   LAMBERT_CHECK(mean.size() == hierarchy_.nodes().size());
   if (known && known->numVertices() != sites_.size()) known = nullptr;
-  std::vector<std::vector<SeenEntry>> used(record ? sites_.size() : 0);
+  // Recorded per thread (24 bytes a value, a few values a vertex), sorted into `record` after.
+  tbb::enumerable_thread_specific<std::vector<SeenEntry>> used;
   const std::size_t numNodes = hierarchy_.nodes().size();
   // The lowest and highest radiosity of the leaves under each node, per channel: children have
   // larger indices than their parents, so one pass in decreasing order sees them first.
@@ -139,7 +142,7 @@ std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean, FinalGath
       } else {
         seen = visibility(static_cast<std::uint32_t>(v), k, hierarchy_.node(s), tally[2], penumbraRays);
       }
-      if (record) used[v].push_back({k, flagged, seen});
+      if (record) used.local().push_back({static_cast<std::uint32_t>(v), k, flagged, seen});
       return seen;
     };
     // An element source as the vertex sees it: what it brings, and whether the rays to it
@@ -284,23 +287,41 @@ std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean, FinalGath
     }
   }
   if (record) {
-    // Per vertex, in (link, source) order, each value once (a pair met twice has one value).
+    // Grouped by vertex, each vertex's in (link, source) order, each value once (a pair met
+    // twice has one value): counted per vertex, placed, then sorted within each vertex.
     *record = {};
-    record->start.reserve(used.size() + 1);
-    record->start.push_back(0);
+    record->start.assign(sites_.size() + 1, 0);
+    std::size_t total = 0;
+    for (const std::vector<SeenEntry>& entries : used) {
+      total += entries.size();
+      for (const SeenEntry& e : entries) ++record->start[e.vertex + 1];
+    }
+    LAMBERT_CHECK(total < std::numeric_limits<std::uint32_t>::max());
+    for (std::size_t v = 0; v < sites_.size(); ++v) record->start[v + 1] += record->start[v];
+    std::vector<SeenEntry> placed(total);
+    std::vector<std::uint32_t> next(record->start.begin(), record->start.end() - 1);
     for (std::vector<SeenEntry>& entries : used) {
-      std::sort(entries.begin(), entries.end(),
-                [](const SeenEntry& a, const SeenEntry& b) { return a.link != b.link ? a.link < b.link : a.source < b.source; });
-      for (std::size_t e = 0; e < entries.size(); ++e) {
-        if (e > 0 && entries[e].link == entries[e - 1].link && entries[e].source == entries[e - 1].source) continue;
-        record->link.push_back(entries[e].link);
-        record->source.push_back(entries[e].source);
-        record->seen.push_back(entries[e].seen);
-      }
-      LAMBERT_CHECK(record->seen.size() < std::numeric_limits<std::uint32_t>::max());
-      record->start.push_back(static_cast<std::uint32_t>(record->seen.size()));
+      for (const SeenEntry& e : entries) placed[next[e.vertex]++] = e;
       std::vector<SeenEntry>().swap(entries);
     }
+    std::vector<std::uint32_t>().swap(next);
+    record->link.reserve(total);
+    record->source.reserve(total);
+    record->seen.reserve(total);
+    std::uint32_t kept = 0;
+    for (std::size_t v = 0; v < sites_.size(); ++v) {
+      const auto first = placed.begin() + record->start[v], last = placed.begin() + record->start[v + 1];
+      std::sort(first, last, [](const SeenEntry& a, const SeenEntry& b) { return a.link != b.link ? a.link < b.link : a.source < b.source; });
+      record->start[v] = kept;
+      for (auto e = first; e != last; ++e) {
+        if (e != first && e->link == (e - 1)->link && e->source == (e - 1)->source) continue;
+        record->link.push_back(e->link);
+        record->source.push_back(e->source);
+        record->seen.push_back(e->seen);
+        ++kept;
+      }
+    }
+    record->start.back() = kept;
   }
   return out;
 }
