@@ -76,10 +76,16 @@ std::uint32_t ElementHierarchy::addNode(const HierarchyNode& node) {
 
 ElementHierarchy::ElementHierarchy(const Scene& scene) {
   std::vector<FaceRoot> faces;
+  std::size_t numPolygons = 0;
+  for (const Surface& surface : scene.surfaces) numPolygons += std::max<std::size_t>(1, surface.faces.size());
+  faces.reserve(numPolygons);  // quads and triangles, mostly: one root each
   std::uint32_t vertexBase = 0;
   for (std::uint32_t s = 0; s < scene.surfaces.size(); ++s) {
     const Surface& surface = scene.surfaces[s];
-    const auto polygons = surfaceFaces(surface);
+    // The surface's faces, read in place (surfaceFaces would copy them), or its one polygon.
+    const std::vector<std::vector<std::uint32_t>> whole =
+        surface.faces.empty() ? surfaceFaces(surface) : std::vector<std::vector<std::uint32_t>>{};
+    const std::vector<std::vector<std::uint32_t>>& polygons = surface.faces.empty() ? whole : surface.faces;
     for (std::uint32_t f = 0; f < polygons.size(); ++f) {
       const std::vector<std::uint32_t>& face = polygons[f];
       LAMBERT_CHECK(face.size() >= 3);
