@@ -1,6 +1,7 @@
 // The hierarchical link cache from the command line: --cache-dir is an option every method reads
-// (it never chooses the flat method), a second run loads the links and solves to the same bits,
-// and --no-cache reads and writes nothing, not even in the default cache directory.
+// (it never chooses the flat method), a second run loads the links and the final gather's
+// visibility values and writes the same vertex file, byte for byte, and --no-cache reads and
+// writes nothing, not even in the default cache directory.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -39,7 +40,8 @@ TEST(LinkCacheCliTest, CacheDirSolvesHierarchicallyAndTheSecondRunLoadsTheLinks)
   ASSERT_EQ(shell(cli + " generate building --rooms 2 --face-size 0.5 -o " + building).exitCode, 0);
   // Everything but the cache is left at the defaults: --cache-dir alone must not choose flat.
   const std::string solve = cli + " solve --scene " + building + " --json --cache-dir " + (dir / "cache").string();
-  nlohmann::json first = statsOf(shell(solve));
+  const std::string exported = " --export-vertices ";
+  nlohmann::json first = statsOf(shell(solve + exported + (dir / "first.csv").string()));
   EXPECT_EQ(first["mesh"], "hierarchical, clustered");
   const std::string saved = first["formfactor_cache"];
   ASSERT_EQ(saved.rfind("saved " + (dir / "cache" / "links-").string(), 0), 0u) << saved;
@@ -48,8 +50,20 @@ TEST(LinkCacheCliTest, CacheDirSolvesHierarchicallyAndTheSecondRunLoadsTheLinks)
   EXPECT_EQ(first["link_cache_bytes"].get<std::uintmax_t>(), fs::file_size(file));
   EXPECT_GT(first["links_estimated"].get<long>(), 0);
 
-  nlohmann::json second = statsOf(shell(solve));
+  // The final gather's visibility values beside the links.
+  const std::string gatherSaved = first["gather_cache"];
+  EXPECT_EQ(gatherSaved.rfind("saved " + file.string().substr(0, file.string().size() - 4) + ".lhv (", 0), 0u) << gatherSaved;
+  EXPECT_GT(first["gather_rays_per_vertex"].get<double>(), 0);
+
+  nlohmann::json second = statsOf(shell(solve + exported + (dir / "second.csv").string()));
   EXPECT_EQ(second["formfactor_cache"].get<std::string>().rfind("loaded " + file.string() + " (", 0), 0u) << second["formfactor_cache"];
+  EXPECT_EQ(second["gather_cache"].get<std::string>().rfind("loaded ", 0), 0u) << second["gather_cache"];
+  EXPECT_GT(second["gather_visibility_cached"].get<long>(), 0);
+  EXPECT_EQ(second["gather_rays_per_vertex"].get<double>(), 0.0);
+  // What the user gets: the same vertex file, byte for byte, and the same as without a cache.
+  EXPECT_TRUE(testing::readBytes(dir / "first.csv") == testing::readBytes(dir / "second.csv"));
+  ASSERT_EQ(shell(cli + " solve --scene " + building + " --no-cache" + exported + (dir / "uncached.csv").string()).exitCode, 0);
+  EXPECT_TRUE(testing::readBytes(dir / "first.csv") == testing::readBytes(dir / "uncached.csv"));
   EXPECT_EQ(second["links_estimated"].get<long>(), 0);
   EXPECT_EQ(second["visibility_rays"].get<long>(), 0);
   EXPECT_EQ(second["links"], first["links"]);
@@ -81,7 +95,7 @@ TEST(LinkCacheCliTest, TheDefaultDirectoryIsUsedAndNoCacheWritesNothing) {
   nlohmann::json cached = statsOf(shell(render + (dir / "cached.png").string()));
   EXPECT_EQ(cached["formfactor_cache"].get<std::string>().rfind("saved " + (xdg / "lambert" / "links-").string(), 0), 0u)
       << cached["formfactor_cache"];
-  EXPECT_EQ(filesIn(xdg), 1u);
+  EXPECT_EQ(filesIn(xdg), 2u);  // the links and the final gather's visibility values
   EXPECT_EQ(filesIn(home), 0u);
   // The image does not depend on where the links came from.
   nlohmann::json loaded = statsOf(shell(render + (dir / "loaded.png").string()));

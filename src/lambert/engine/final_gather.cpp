@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
+
+#include <tbb/enumerable_thread_specific.h>
 
 #include "lambert/core/error.h"
 #include "lambert/core/parallel.h"
@@ -24,7 +27,24 @@ constexpr double kResolveShare = 0.01;
 // Rays from a vertex to a source, as a multiple of the link's, where the first ones disagree.
 constexpr int kPenumbraRays = 4;
 
+// One visibility value as a gather used it (GatherVisibility's entry, with its vertex).
+struct SeenEntry {
+  std::uint32_t vertex, link, source;
+  double seen;
+};
+
 }  // namespace
+
+const double* GatherVisibility::find(std::uint32_t vertex, std::uint32_t k, std::uint32_t flaggedSource) const {
+  if (vertex + 1 >= start.size()) return nullptr;
+  const auto first = link.begin() + start[vertex], last = link.begin() + start[vertex + 1];
+  // Entries are few per vertex (a few links' rays disagree): a linear scan.
+  for (auto it = first; it != last; ++it) {
+    const std::size_t e = static_cast<std::size_t>(it - link.begin());
+    if (*it == k && source[e] == flaggedSource) return &seen[e];
+  }
+  return nullptr;
+}
 
 FinalGather::FinalGather(const ElementHierarchy& hierarchy, const ElementHierarchy::LeafMesh& leaves, const Links& links,
                          const RayCaster& caster, double rayEpsilon, double nudge, int visibilityRays, std::uint64_t seed)
@@ -82,8 +102,12 @@ double FinalGather::visibility(std::uint32_t vertex, std::uint32_t link, const H
   return open / facing;
 }
 
-std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean, FinalGatherCounts* counts) const {
+std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean, FinalGatherCounts* counts, const GatherVisibility* known,
+                                         GatherVisibility* record) const {
   LAMBERT_CHECK(mean.size() == hierarchy_.nodes().size());
+  if (known && known->numVertices() != sites_.size()) known = nullptr;
+  // Recorded per thread (24 bytes a value, a few values a vertex), sorted into `record` after.
+  tbb::enumerable_thread_specific<std::vector<SeenEntry>> used;
   const std::size_t numNodes = hierarchy_.nodes().size();
   // The lowest and highest radiosity of the leaves under each node, per channel: children have
   // larger indices than their parents, so one pass in decreasing order sees them first.
@@ -100,13 +124,27 @@ std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean, FinalGath
   }
   std::vector<Rgb> out(sites_.size());
   // Per vertex: sources gathered, sources opened, visibility rays.
-  std::vector<std::array<std::uint32_t, 3>> work(counts ? sites_.size() : 0, {0, 0, 0});
+  std::vector<std::array<std::uint32_t, 4>> work(counts ? sites_.size() : 0, {0, 0, 0, 0});
   const std::vector<std::uint32_t>& leafNodes = hierarchy_.leafNodes();
   parallelFor(0, sites_.size(), [&](std::size_t v) {
     if (leaf_[v] == kNoNode) return;
     const VertexSite& site = sites_[v];
-    std::uint32_t noCount[3] = {0, 0, 0};
+    std::uint32_t noCount[4] = {0, 0, 0, 0};
     std::uint32_t* tally = counts ? work[v].data() : noCount;
+    // The visibility of a source through a link from this vertex: from `known` where it holds it.
+    const auto seenFrom = [&](std::uint32_t k, std::uint32_t s, bool penumbraRays) {
+      const std::uint32_t flagged = s | (penumbraRays ? GatherVisibility::kPenumbra : 0u);
+      const double* stored = known ? known->find(static_cast<std::uint32_t>(v), k, flagged) : nullptr;
+      double seen;
+      if (stored) {
+        seen = *stored;
+        ++tally[3];
+      } else {
+        seen = visibility(static_cast<std::uint32_t>(v), k, hierarchy_.node(s), tally[2], penumbraRays);
+      }
+      if (record) used.local().push_back({static_cast<std::uint32_t>(v), k, flagged, seen});
+      return seen;
+    };
     // An element source as the vertex sees it: what it brings, and whether the rays to it
     // disagree (a shadow edge crosses it as seen from here).
     struct Term {
@@ -116,8 +154,10 @@ std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean, FinalGath
       bool mixed;
       bool resolvable = false;  // an element receiver's link whose rays all got through: seen = 1 so far
     };
-    std::vector<Term> terms;
-    std::vector<std::uint32_t> open;  // sources still to gather
+    // Per thread, reused from vertex to vertex (about a hundred terms each: not allocated anew).
+    thread_local std::vector<Term> terms;
+    thread_local std::vector<std::uint32_t> open;  // sources still to gather
+    terms.clear();
     const auto closeBy = [&](const HierarchyNode& source) {
       // Barnes–Hut's opening criterion on the source's bounding sphere: only seen from closer
       // than this can its children's point factors differ from shares of its own by area.
@@ -129,7 +169,7 @@ std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean, FinalGath
       Term term{k, s, resolvesVisibility, pointToPolygonFormFactor(site.point, site.normal, source.polygon(), source.normal), 0, false};
       if (!(term.factor > 0)) return term;
       if (resolvesVisibility) {
-        term.seen = visibility(static_cast<std::uint32_t>(v), k, source, tally[2]);
+        term.seen = seenFrom(k, s, false);
         term.mixed = term.seen > 0 && term.seen < 1;
       } else {
         const bool allVisible = links_.receiverSide[k] != 0;
@@ -198,7 +238,7 @@ std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean, FinalGath
     // ones disagree: the vertices in a penumbra carry most of the gather's noise, and they are few.
     for (Term& term : terms) {
       if (!(term.resolvable || term.mixed) || !(term.factor * mean[term.source].maxComponent() > resolveAbove)) continue;
-      const double seen = visibility(static_cast<std::uint32_t>(v), term.link, hierarchy_.node(term.source), tally[2], true);
+      const double seen = seenFrom(term.link, term.source, true);
       sum += mean[term.source] * (term.factor * (seen - term.seen));
       term.seen = seen;
       term.resolvesVisibility = true;
@@ -212,7 +252,7 @@ std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean, FinalGath
       const double variation = term.mixed ? std::fmax(spread, highest[term.source].maxComponent()) : spread;
       return term.factor * variation > threshold;
     };
-    std::vector<Term> pending;
+    thread_local std::vector<Term> pending;
     for (const Term& top : terms) {
       if (!opens(top)) continue;
       sum -= mean[top.source] * (top.factor * top.seen);
@@ -241,9 +281,47 @@ std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean, FinalGath
       counts->sourcesGathered += work[v][0];
       counts->sourcesOpened += work[v][1];
       counts->visibilityRays += work[v][2];
+      counts->visibilityKnown += work[v][3];
       counts->maxSourcesGathered = std::max<std::uint64_t>(counts->maxSourcesGathered, work[v][0]);
       counts->maxVisibilityRays = std::max<std::uint64_t>(counts->maxVisibilityRays, work[v][2]);
     }
+  }
+  if (record) {
+    // Grouped by vertex, each vertex's in (link, source) order, each value once (a pair met
+    // twice has one value): counted per vertex, placed, then sorted within each vertex.
+    *record = {};
+    record->start.assign(sites_.size() + 1, 0);
+    std::size_t total = 0;
+    for (const std::vector<SeenEntry>& entries : used) {
+      total += entries.size();
+      for (const SeenEntry& e : entries) ++record->start[e.vertex + 1];
+    }
+    LAMBERT_CHECK(total < std::numeric_limits<std::uint32_t>::max());
+    for (std::size_t v = 0; v < sites_.size(); ++v) record->start[v + 1] += record->start[v];
+    std::vector<SeenEntry> placed(total);
+    std::vector<std::uint32_t> next(record->start.begin(), record->start.end() - 1);
+    for (std::vector<SeenEntry>& entries : used) {
+      for (const SeenEntry& e : entries) placed[next[e.vertex]++] = e;
+      std::vector<SeenEntry>().swap(entries);
+    }
+    std::vector<std::uint32_t>().swap(next);
+    record->link.reserve(total);
+    record->source.reserve(total);
+    record->seen.reserve(total);
+    std::uint32_t kept = 0;
+    for (std::size_t v = 0; v < sites_.size(); ++v) {
+      const auto first = placed.begin() + record->start[v], last = placed.begin() + record->start[v + 1];
+      std::sort(first, last, [](const SeenEntry& a, const SeenEntry& b) { return a.link != b.link ? a.link < b.link : a.source < b.source; });
+      record->start[v] = kept;
+      for (auto e = first; e != last; ++e) {
+        if (e != first && e->link == (e - 1)->link && e->source == (e - 1)->source) continue;
+        record->link.push_back(e->link);
+        record->source.push_back(e->source);
+        record->seen.push_back(e->seen);
+        ++kept;
+      }
+    }
+    record->start.back() = kept;
   }
   return out;
 }

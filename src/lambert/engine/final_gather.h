@@ -38,12 +38,30 @@
 
 namespace lambert {
 
+// The visibility values a final gather computed: each is fixed by a vertex, a link, a source
+// node and whether penumbra rays were added, over one hierarchy, its links and its leaf mesh's
+// vertices; the light never enters. A later gather over the same ones (the link cache's key,
+// engine/link_cache.h) reads them instead of casting their rays again, and gets the same bits.
+// Entries are grouped by vertex, and within a vertex ordered by (link, source, penumbra).
+struct GatherVisibility {
+  static constexpr std::uint32_t kPenumbra = 0x80000000u;  // flag in `source`'s top bit
+  std::vector<std::uint32_t> start;   // per vertex and one more: vertex v's entries are [start[v], start[v + 1])
+  std::vector<std::uint32_t> link;    // per entry: the link (an index into Links)
+  std::vector<std::uint32_t> source;  // per entry: the source node, | kPenumbra with penumbra rays
+  std::vector<double> seen;           // per entry: FinalGather's visibility (a share of rays, 0 to 1)
+  std::size_t numVertices() const { return start.empty() ? 0 : start.size() - 1; }
+  std::size_t size() const { return seen.size(); }
+  // The value for a vertex, link and flagged source, or nullptr.
+  const double* find(std::uint32_t vertex, std::uint32_t link, std::uint32_t flaggedSource) const;
+};
+
 // What one final gather did, summed over the vertices (and the most at any one vertex).
 struct FinalGatherCounts {
   std::uint64_t vertices = 0;         // vertices gathered (those with a leaf)
   std::uint64_t sourcesGathered = 0;  // source nodes whose factor was evaluated at a vertex
   std::uint64_t sourcesOpened = 0;    // source nodes taken through their children instead
   std::uint64_t visibilityRays = 0;   // rays cast from the vertices to sources
+  std::uint64_t visibilityKnown = 0;  // visibility values read from a GatherVisibility instead
   std::uint64_t maxSourcesGathered = 0, maxVisibilityRays = 0;  // at one vertex
 };
 
@@ -55,8 +73,11 @@ class FinalGather {
 
   // Per vertex of the leaf mesh: the irradiance Σ K(x, s) B̄_s the links bring (W/m²), from the
   // radiosity every node shows (HierarchicalTransport::pull, W/m²).
-  // counts, if given, receives what the gather did.
-  std::vector<Rgb> irradiance(const std::vector<Rgb>& nodeMeanRadiosity, FinalGatherCounts* counts = nullptr) const;
+  // counts, if given, receives what the gather did. known, if given, holds visibility values of an
+  // earlier gather over the same hierarchy, links and vertices, read instead of cast again; record,
+  // if given, receives every visibility value this gather used (those read included).
+  std::vector<Rgb> irradiance(const std::vector<Rgb>& nodeMeanRadiosity, FinalGatherCounts* counts = nullptr,
+                              const GatherVisibility* known = nullptr, GatherVisibility* record = nullptr) const;
 
   const std::vector<VertexSite>& sites() const { return sites_; }
   // The leaf each vertex gathers through (its patch index in the leaf mesh); kNoNode if none.

@@ -317,8 +317,47 @@ std::vector<std::vector<Rgb>> HierarchicalMeshing::vertexSolution(const ElementS
                            options_.links.visibilityRays, options_.links.seed);
   std::vector<Rgb> mean;
   transport_->pull(solution.radiosity, mean);
+  // The visibility file (link_cache.h) holds values over the links its key made: the last pass's.
+  std::shared_ptr<const GatherVisibility> known;
+  std::string recordPath;
+  if (!linkCache_.path.empty() && passesDone_ == options_.refinePasses) {
+    const std::lock_guard<std::mutex> lock(gatherCacheMutex_);
+    if (!gatherCache_.tried) {
+      gatherCache_.tried = true;
+      Timer timer;
+      const std::string path = gatherVisibilityPath(linkCache_.directory, linkCache_.key);
+      Result<GatherVisibility> loaded =
+          loadGatherVisibility(path, linkCache_.key, leaves_.mesh.numVertices(), links_->size(), hierarchy_.nodes().size());
+      if (loaded) {
+        std::error_code ec;
+        gatherCache_.bytes = std::filesystem::file_size(path, ec);
+        gatherCache_.status = "loaded " + path + " (" + std::to_string(loaded->size()) + " values, " + mebibytes(gatherCache_.bytes) + ")";
+        gatherCache_.known = std::make_shared<const GatherVisibility>(std::move(*loaded));
+      } else {
+        // As for the links: no file is the ordinary first run, anything else is reported.
+        if (!cachefile::isMissing(path)) warning(loaded.error().message + "; recomputing");
+        recordPath = path;
+      }
+      gatherCache_.seconds += timer.seconds();
+    }
+    known = gatherCache_.known;
+  }
   FinalGatherCounts counts;
-  const std::vector<Rgb> gathered = gather.irradiance(mean, &counts);
+  GatherVisibility recorded;
+  const std::vector<Rgb> gathered = gather.irradiance(mean, &counts, known.get(), recordPath.empty() ? nullptr : &recorded);
+  if (!recordPath.empty()) {
+    Timer timer;
+    Result<std::uint64_t> saved = saveGatherVisibility(recordPath, linkCache_.key, recorded);
+    const std::lock_guard<std::mutex> lock(gatherCacheMutex_);
+    if (saved) {
+      gatherCache_.bytes = *saved;
+      gatherCache_.status = "saved " + recordPath + " (" + std::to_string(recorded.size()) + " values, " + mebibytes(*saved) + ")";
+    } else {
+      warning(saved.error().message + "; final gather visibility not cached");
+      gatherCache_.status = "not saved: " + saved.error().message;
+    }
+    gatherCache_.seconds += timer.seconds();
+  }
   const std::vector<VertexSite>& sites = gather.sites();
   const std::vector<std::uint32_t>& leaf = gather.gatheringLeaf();
   // The lights' direct irradiance at the vertices, where a quantity includes it.
@@ -401,6 +440,12 @@ void HierarchicalMeshing::addStats(Stats& stats) const {
   if (linkCache_.bytes > 0) stats.add("link_cache_bytes", "link cache file size", static_cast<std::int64_t>(linkCache_.bytes), "B");
   if (!linkCache_.directory.empty())
     stats.add("link_cache_seconds", "link cache time (key, load and replay, or save)", linkCache_.seconds, "s");
+  if (!linkCache_.directory.empty()) {
+    const std::lock_guard<std::mutex> lock(gatherCacheMutex_);
+    stats.add("gather_cache", "final gather visibility cache", gatherCache_.status);
+    if (gatherCache_.bytes > 0) stats.add("gather_cache_bytes", "final gather visibility file size", static_cast<std::int64_t>(gatherCache_.bytes), "B");
+    stats.add("gather_cache_seconds", "final gather visibility cache time (load or save)", gatherCache_.seconds, "s");
+  }
   const std::lock_guard<std::mutex> lock(gatherMutex_);
   if (gatherCounts_.vertices > 0) {
     const double vertices = static_cast<double>(gatherCounts_.vertices);
@@ -413,6 +458,7 @@ void HierarchicalMeshing::addStats(Stats& stats) const {
     stats.add("gather_rays_per_vertex", "final gather: visibility rays per vertex (mean)",
               static_cast<double>(gatherCounts_.visibilityRays) / vertices);
     stats.add("gather_rays_max", "final gather: visibility rays at one vertex (most)", count(gatherCounts_.maxVisibilityRays));
+    stats.add("gather_visibility_cached", "final gather: visibility values read from the cache", count(gatherCounts_.visibilityKnown));
     stats.add("gather_seconds", "final gather time (last: sites, gather, direct light at the vertices)", gatherSeconds_, "s");
   }
 }

@@ -84,6 +84,17 @@ class HierarchicalMeshing final : public Meshing {
     std::uint64_t bytes = 0;      // the file's size, loaded or saved
     double seconds = 0;           // keying, loading and replaying, or saving
   } linkCache_;
+  // The final gather's visibility file beside the links (engine/link_cache.h): read before the
+  // first gather over the last pass's links, written after it where it held nothing usable.
+  struct GatherCacheFile {
+    bool tried = false;
+    std::shared_ptr<const GatherVisibility> known;
+    std::string status = "off";  // the gather_cache stat
+    std::uint64_t bytes = 0;     // the file's size, loaded or saved
+    double seconds = 0;          // loading or saving
+  };
+  mutable std::mutex gatherCacheMutex_;
+  mutable GatherCacheFile gatherCache_;
   // The last final gather's work (vertexSolution is const and may run on any thread).
   mutable std::mutex gatherMutex_;
   mutable FinalGatherCounts gatherCounts_;

@@ -291,4 +291,96 @@ Result<CachedRefinement> loadRefinement(const std::string& path, std::uint64_t k
   return r;
 }
 
+// Gather visibility files (.lhv), on the same header and checksum:
+//   payload   16 bytes  u64 vertices V, entries E
+//             4·(V+1)   u32 entry starts per vertex (GatherVisibility::start)
+//             4·E       u32 link
+//             4·E       u32 source node, top bit: penumbra rays
+//             0–7       zero bytes, to a multiple of 8
+//             8·E       float64 visibility
+namespace {
+
+constexpr cachefile::Format kVisibilityFormat{{'L', 'M', 'B', 'R', 'T', 'H', 'V', '\0'}, 1, "final gather visibility file"};
+
+struct VisibilityLayout {
+  std::uint64_t starts = 0, links = 0, sources = 0, seen = 0, total = 0;
+};
+
+bool visibilityLayout(std::uint64_t vertices, std::uint64_t entries, VisibilityLayout& out) {
+  constexpr std::uint64_t kLimit = std::numeric_limits<std::uint32_t>::max();
+  if (vertices >= kLimit || entries >= kLimit) return false;
+  out.starts = 16;
+  out.links = out.starts + 4 * (vertices + 1);
+  out.sources = out.links + 4 * entries;
+  out.seen = (out.sources + 4 * entries + 7) / 8 * 8;
+  out.total = out.seen + 8 * entries;
+  return out.total <= std::numeric_limits<std::size_t>::max() - cachefile::kHeaderBytes - cachefile::kChecksumBytes;
+}
+
+}  // namespace
+
+std::string gatherVisibilityPath(const std::string& directory, std::uint64_t key) {
+  return cachefile::keyedPath(directory, "links-", key, ".lhv");
+}
+
+Result<std::uint64_t> saveGatherVisibility(const std::string& path, std::uint64_t key, const GatherVisibility& v) {
+  const std::uint64_t entries = v.size();
+  LAMBERT_CHECK(!v.start.empty() && v.start.back() == entries && v.link.size() == entries && v.source.size() == entries);
+  VisibilityLayout at;
+  if (!visibilityLayout(v.numVertices(), entries, at))
+    return Error{path + ": " + std::to_string(entries) + " visibility values are too many to store"};
+  std::unique_ptr<unsigned char[]> payload(new unsigned char[at.total]());
+  unsigned char* p = payload.get();
+  cachefile::storeLe64(p, v.numVertices());
+  cachefile::storeLe64(p + 8, entries);
+  copyIn(p + at.starts, v.start);
+  copyIn(p + at.links, v.link);
+  copyIn(p + at.sources, v.source);
+  copyIn(p + at.seen, v.seen);
+  if (Status written = cachefile::writeFile(path, kVisibilityFormat, key, at.total, std::span<const unsigned char>(p, at.total));
+      !written)
+    return written.error();
+  return at.total + cachefile::kHeaderBytes + cachefile::kChecksumBytes;
+}
+
+Result<GatherVisibility> loadGatherVisibility(const std::string& path, std::uint64_t key, std::uint64_t vertexCount,
+                                              std::uint64_t numLinks, std::uint64_t numNodes) {
+  Result<cachefile::Reader> opened = cachefile::Reader::open(path, kVisibilityFormat, key);
+  if (!opened) return opened.error();
+  cachefile::Reader& reader = *opened;
+  const std::uint64_t bytes = reader.count();
+  if (bytes < 16 || bytes > std::numeric_limits<std::size_t>::max() - cachefile::kHeaderBytes - cachefile::kChecksumBytes)
+    return Error{path + ": a payload of " + std::to_string(bytes) + " bytes cannot hold visibility values"};
+  if (Status sized = reader.checkSize(static_cast<std::size_t>(bytes), std::to_string(bytes) + " payload bytes"); !sized)
+    return sized.error();
+  std::unique_ptr<unsigned char[]> payload(new unsigned char[static_cast<std::size_t>(bytes)]);
+  if (Status read = reader.readPayload(payload.get()); !read) return read.error();
+  const unsigned char* p = payload.get();
+  const std::uint64_t vertices = cachefile::loadLe64(p), entries = cachefile::loadLe64(p + 8);
+  VisibilityLayout at;
+  if (!visibilityLayout(vertices, entries, at) || at.total != bytes)
+    return Error{path + ": its counts (" + std::to_string(vertices) + " vertices, " + std::to_string(entries) +
+                 " values) do not fill its " + std::to_string(bytes) + " payload bytes"};
+  if (vertices != vertexCount)
+    return Error{path + ": it holds " + std::to_string(vertices) + " vertices, the leaf mesh has " + std::to_string(vertexCount)};
+  GatherVisibility v;
+  copyOut(v.start, p + at.starts, vertices + 1);
+  copyOut(v.link, p + at.links, entries);
+  copyOut(v.source, p + at.sources, entries);
+  copyOut(v.seen, p + at.seen, entries);
+  if (v.start.front() != 0 || v.start.back() != entries)
+    return Error{path + ": its vertices' entries do not span its " + std::to_string(entries) + " values"};
+  for (std::uint64_t vertex = 0; vertex < vertices; ++vertex) {
+    const std::uint32_t begin = v.start[vertex], end = v.start[vertex + 1];
+    if (end < begin) return Error{path + ": the entries of vertex " + std::to_string(vertex) + " end before they start"};
+    for (std::uint32_t e = begin; e < end; ++e) {
+      const bool ordered = e == begin || v.link[e] > v.link[e - 1] || (v.link[e] == v.link[e - 1] && v.source[e] > v.source[e - 1]);
+      if (!ordered || v.link[e] >= numLinks || (v.source[e] & ~GatherVisibility::kPenumbra) >= numNodes ||
+          !(v.seen[e] >= 0 && std::isfinite(v.seen[e])))
+        return Error{path + ": value " + std::to_string(e) + " (at vertex " + std::to_string(vertex) + ") is not a valid visibility"};
+    }
+  }
+  return v;
+}
+
 }  // namespace lambert

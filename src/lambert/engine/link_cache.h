@@ -33,6 +33,7 @@
 
 #include "lambert/core/error.h"
 #include "lambert/core/rgb.h"
+#include "lambert/engine/final_gather.h"
 #include "lambert/formfactor/links.h"
 #include "lambert/mesh/element_hierarchy.h"
 #include "lambert/scene/scene.h"
@@ -87,5 +88,22 @@ Result<std::uint64_t> saveRefinement(const std::string& path, std::uint64_t key,
 // nodes). Any problem is an Error "<path>: <what is wrong>". Nothing is allocated beyond the
 // file's actual size.
 Result<CachedRefinement> loadRefinement(const std::string& path, std::uint64_t key);
+
+// The final gather's visibility values (engine/final_gather.h: GatherVisibility) over the links
+// of the same key, beside the links: <directory>/links-<16 hex digits>.lhv. They depend on the
+// hierarchy, the links, the leaf mesh's vertices, the ray caster and the gather's own code and
+// parameters, all of which the key fixes (the gather is among the digested sources); they do
+// not depend on the lights or the radiosity, which choose only which of them a gather asks for.
+std::string gatherVisibilityPath(const std::string& directory, std::uint64_t key);
+
+// Writes the values atomically, as saveRefinement does; returns the file's size in bytes.
+Result<std::uint64_t> saveGatherVisibility(const std::string& path, std::uint64_t key, const GatherVisibility& visibility);
+
+// Reads and validates a file written by saveGatherVisibility with the same key: the header,
+// exact size and checksum, and inside it: vertexCount vertices, entries grouped by vertex and
+// strictly ordered by (link, source, penumbra) within each, links below numLinks, sources below
+// numNodes, values finite and not negative. Any problem is an Error "<path>: <what is wrong>".
+Result<GatherVisibility> loadGatherVisibility(const std::string& path, std::uint64_t key, std::uint64_t vertexCount,
+                                              std::uint64_t numLinks, std::uint64_t numNodes);
 
 }  // namespace lambert

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "lambert/engine/radiosity.h"
@@ -74,6 +75,159 @@ std::string pathFor(const RadiosityOptions& o, const Scene& scene = cornellBoxWi
   return linkCachePath(o.cacheDirectory, linkCacheKey(scene, scene.lights, o, SolveBudget{}));
 }
 
+std::string gatherPathFor(const RadiosityOptions& o, const Scene& scene = cornellBoxWithSpots()) {
+  return gatherVisibilityPath(o.cacheDirectory, linkCacheKey(scene, scene.lights, o, SolveBudget{}));
+}
+
+// A solve and its final gather (the vertex radiosity).
+struct GatheredRun {
+  std::unique_ptr<Radiosity> engine;
+  std::vector<Rgb> vertices;
+  std::string stderrText;
+  std::string text(const std::string& key) const { return std::get<std::string>(engine->stats().find(key)->value); }
+  std::int64_t count(const std::string& key) const { return std::get<std::int64_t>(engine->stats().find(key)->value); }
+  double number(const std::string& key) const { return std::get<double>(engine->stats().find(key)->value); }
+};
+
+GatheredRun gather(const RadiosityOptions& o) {
+  GatheredRun run;
+  ::testing::internal::CaptureStderr();
+  auto created = Radiosity::create(cornellBoxWithSpots(), o);
+  if (created) {
+    run.engine = std::move(*created);
+    EXPECT_TRUE(run.engine->solve().ok());
+    run.vertices = run.engine->solution().vertexValues(VertexQuantity::Radiosity);
+  }
+  run.stderrText = ::testing::internal::GetCapturedStderr();
+  EXPECT_TRUE(created.ok()) << created.error().message;
+  return run;
+}
+
+// The final gather's visibility values are saved beside the links after the first gather and read
+// by the next process's: it casts no gather rays, and its vertex values are the same bits as the
+// first run's and as a run without any cache. The values depend on geometry alone: with the
+// lights moved after the first solve (over the same links, so the same file), the gather asks
+// for other values too, casts those, and still matches an uncached run exactly.
+TEST(LinkCacheTest, GatherVisibilityIsReadBackAndGivesTheSameBits) {
+  const fs::path dir = scratch("gather") / "cache";
+  RadiosityOptions off = options(dir);
+  off.cacheDirectory.clear();
+  const GatheredRun uncached = gather(off);
+  EXPECT_EQ(uncached.text("formfactor_cache"), "off");
+  EXPECT_EQ(uncached.engine->stats().find("gather_cache"), nullptr);
+  EXPECT_GT(uncached.number("gather_rays_per_vertex"), 0);
+
+  const GatheredRun first = gather(options(dir));
+  EXPECT_TRUE(first.stderrText.empty()) << first.stderrText;
+  const std::string path = gatherPathFor(options(dir));
+  EXPECT_EQ(first.text("gather_cache").rfind("saved " + path + " (", 0), 0u) << first.text("gather_cache");
+  ASSERT_TRUE(fs::is_regular_file(path));
+  EXPECT_EQ(first.count("gather_cache_bytes"), static_cast<std::int64_t>(fs::file_size(path)));
+  EXPECT_EQ(first.count("gather_visibility_cached"), 0);
+  EXPECT_EQ(first.vertices, uncached.vertices);
+
+  const GatheredRun second = gather(options(dir));
+  EXPECT_TRUE(second.stderrText.empty()) << second.stderrText;
+  EXPECT_EQ(second.text("gather_cache").rfind("loaded " + path + " (", 0), 0u) << second.text("gather_cache");
+  EXPECT_GT(second.count("gather_visibility_cached"), 0);
+  EXPECT_EQ(second.number("gather_rays_per_vertex"), 0.0);
+  EXPECT_EQ(second.vertices, uncached.vertices);
+
+  // The lights moved after the links were made (the dynamic-light path over the same links): the
+  // file serves what it holds, the rest is cast, and the answer is an uncached run's.
+  GatheredRun shifted;
+  {
+    shifted.engine = std::move(*Radiosity::create(cornellBoxWithSpots(), options(dir)));
+    ASSERT_TRUE(shifted.engine->solve().ok());
+    std::vector<Light> lights = shifted.engine->lights();
+    lights.at(0).position += Vec3{30, 0, -20};
+    shifted.engine->setLights(lights);
+    ASSERT_TRUE(shifted.engine->solve().ok());
+    shifted.vertices = shifted.engine->solution().vertexValues(VertexQuantity::Radiosity);
+  }
+  auto plain = std::move(*Radiosity::create(cornellBoxWithSpots(), off));
+  ASSERT_TRUE(plain->solve().ok());
+  std::vector<Light> lights = plain->lights();
+  lights.at(0).position += Vec3{30, 0, -20};
+  plain->setLights(lights);
+  ASSERT_TRUE(plain->solve().ok());
+  EXPECT_EQ(shifted.vertices, plain->solution().vertexValues(VertexQuantity::Radiosity));
+  EXPECT_NE(shifted.vertices, uncached.vertices);
+  EXPECT_GT(shifted.count("gather_visibility_cached"), 0);
+}
+
+// The file's values are what the gather uses: a valid file (right key, checksum and indices)
+// whose values are all 0 darkens the vertices that read them; a damaged one is a warning, the
+// values are cast again, and the file is replaced by the one the first run wrote.
+TEST(LinkCacheTest, GatherVisibilityIsUsedAndADamagedFileIsRecomputed) {
+  const fs::path dir = scratch("gather-damaged") / "cache";
+  const GatheredRun first = gather(options(dir));
+  const std::string path = gatherPathFor(options(dir));
+  const std::vector<char> good = testing::readBytes(path);
+  ASSERT_GT(good.size(), 100u);
+  const std::uint64_t key = linkCacheKey(cornellBoxWithSpots(), cornellBoxWithSpots().lights, options(dir), SolveBudget{});
+  const std::uint64_t numVertices = first.engine->solution().vertexMesh().numVertices();
+  const std::uint64_t numLinks = static_cast<std::uint64_t>(first.count("links"));
+  const std::uint64_t numNodes = static_cast<std::uint64_t>(first.count("clusters") + first.count("elements"));
+  Result<GatherVisibility> loaded = loadGatherVisibility(path, key, numVertices, numLinks, numNodes);
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  ASSERT_GT(loaded->size(), 0u);
+  EXPECT_EQ(loaded->size(), static_cast<std::size_t>(gather(options(dir)).count("gather_visibility_cached")));
+
+  GatherVisibility dark = *loaded;
+  std::fill(dark.seen.begin(), dark.seen.end(), 0.0);
+  ASSERT_TRUE(saveGatherVisibility(path, key, dark).ok());
+  const GatheredRun darkened = gather(options(dir));
+  EXPECT_TRUE(darkened.stderrText.empty()) << darkened.stderrText;
+  double before = 0, after = 0;
+  for (std::size_t v = 0; v < first.vertices.size(); ++v) {
+    before += first.vertices[v].maxComponent();
+    after += darkened.vertices[v].maxComponent();
+  }
+  EXPECT_LT(after, before * (1 - 1e-3));
+
+  // Checked before use: another mesh's vertex count, a link or source beyond the solve's, an
+  // order broken within a vertex, a negative value.
+  EXPECT_FALSE(loadGatherVisibility(path, key, numVertices + 1, numLinks, numNodes).ok());
+  auto refused = [&](auto change, const char* says) {
+    GatherVisibility bad = *loaded;
+    change(bad);
+    ASSERT_TRUE(saveGatherVisibility(path, key, bad).ok());
+    Result<GatherVisibility> r = loadGatherVisibility(path, key, numVertices, numLinks, numNodes);
+    ASSERT_FALSE(r.ok()) << says;
+    EXPECT_TRUE(contains(r.error().message, says)) << r.error().message;
+  };
+  refused([&](GatherVisibility& g) { g.link[g.size() / 2] = static_cast<std::uint32_t>(numLinks); }, "is not a valid visibility");
+  refused([&](GatherVisibility& g) { g.source[0] = static_cast<std::uint32_t>(numNodes); }, "is not a valid visibility");
+  refused([&](GatherVisibility& g) { g.seen.back() = -0.5; }, "is not a valid visibility");
+  refused([&](GatherVisibility& g) {
+    std::size_t v = 0;
+    while (g.start[v + 1] - g.start[v] < 2) ++v;
+    std::swap(g.link[g.start[v]], g.link[g.start[v] + 1]);
+    std::swap(g.source[g.start[v]], g.source[g.start[v] + 1]);
+  }, "is not a valid visibility");
+
+  std::vector<char> flipped = good;
+  flipped[good.size() / 2] ^= 0x10;
+  std::vector<char> foreign = good;
+  foreign[16] ^= 0x01;  // the key
+  for (const auto& [name, bytes, says] : {std::tuple{"flipped", flipped, "checksum mismatch"},
+                                          std::tuple{"truncated", std::vector<char>(good.begin(), good.end() - 9), "truncated"},
+                                          std::tuple{"another key", foreign, "key mismatch"}}) {
+    SCOPED_TRACE(name);
+    testing::writeBytes(path, bytes);
+    const GatheredRun again = gather(options(dir));
+    EXPECT_TRUE(contains(again.stderrText, "lambert: warning: " + path + ": ")) << again.stderrText;
+    EXPECT_TRUE(contains(again.stderrText, says)) << again.stderrText;
+    EXPECT_TRUE(contains(again.stderrText, "; recomputing\n")) << again.stderrText;
+    EXPECT_EQ(again.vertices, first.vertices);
+    EXPECT_GT(again.number("gather_rays_per_vertex"), 0);
+    EXPECT_EQ(again.text("gather_cache").rfind("saved " + path, 0), 0u) << again.text("gather_cache");
+    EXPECT_EQ(testing::readBytes(path), good);
+    EXPECT_FALSE(hasTemporaryFiles(dir));
+  }
+}
+
 TEST(LinkCacheTest, SecondRunLoadsTheLinksAndSolvesToTheSameBits) {
   const fs::path dir = scratch("hit") / "cache";
   const std::string path = pathFor(options(dir));
@@ -111,7 +265,9 @@ TEST(LinkCacheTest, SecondRunLoadsTheLinksAndSolvesToTheSameBits) {
   SolvedRun uncached = solve(off);
   EXPECT_EQ(uncached.cache(), "off");
   EXPECT_EQ(uncached.radiosity, first.radiosity);
-  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1);
+  // The links and the final gather's visibility values beside them.
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 2);
+  EXPECT_TRUE(fs::is_regular_file(gatherPathFor(options(dir))));
   EXPECT_FALSE(hasTemporaryFiles(dir));
 }
 

@@ -1,12 +1,17 @@
 #include "lambert/io/vertices.h"
 
+#include <algorithm>
+#include <bit>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
 
 #include "lambert/core/atomic_file.h"
+#include "lambert/core/error.h"
+#include "lambert/core/parallel.h"
 #include "lambert/core/srgb.h"
 
 namespace lambert {
@@ -20,13 +25,55 @@ std::uint8_t toSrgbByte(double linear) {
   return static_cast<std::uint8_t>(std::lround(255 * srgbEncode(std::fmin(std::fmax(linear, 0.0), 1.0))));
 }
 
-// Nine significant digits round-trip a float and are plenty for radiance.
-std::string formatRow(const VertexSample& v, char separator) {
+// Nine significant digits round-trip a float and are plenty for radiance. std::to_chars with a
+// precision writes what printf's %.9g writes (C++20 [charconv.to.chars]: "as if by printf in the
+// C locale"), several times faster than snprintf: a 10^5-face building writes 1.4 × 10^5 rows.
+// A subnormal is written by snprintf: threads that ran Embree's builder keep its
+// denormals-are-zero mode, in which to_chars' tests of the value take a subnormal for 0 (and so
+// would std::fpclassify: its bits decide here).
+char* appendNumber(char* at, char* end, double value) {
+  const std::uint64_t bits = std::bit_cast<std::uint64_t>(value);
+  if ((bits & 0x7ff0000000000000ull) == 0 && (bits & 0x000fffffffffffffull) != 0) {
+    const int written = std::snprintf(at, static_cast<std::size_t>(end - at), "%.9g", value);
+    LAMBERT_CHECK(written > 0 && written < end - at);
+    return at + written;
+  }
+  const std::to_chars_result r = std::to_chars(at, end, value, std::chars_format::general, 9);
+  LAMBERT_CHECK(r.ec == std::errc());
+  return r.ptr;
+}
+
+// Appends one row (nine values, no line end) to out.
+void appendRow(std::string& out, const VertexSample& v, char separator) {
   char line[320];
-  std::snprintf(line, sizeof line, "%.9g%c%.9g%c%.9g%c%.9g%c%.9g%c%.9g%c%.9g%c%.9g%c%.9g", v.position.x, separator,
-                v.position.y, separator, v.position.z, separator, v.normal.x, separator, v.normal.y, separator,
-                v.normal.z, separator, v.radiance.r, separator, v.radiance.g, separator, v.radiance.b);
-  return line;
+  char* at = line;
+  char* const end = line + sizeof line;
+  const double values[9] = {v.position.x, v.position.y, v.position.z, v.normal.x,   v.normal.y,
+                            v.normal.z,   v.radiance.r, v.radiance.g, v.radiance.b};
+  for (int k = 0; k < 9; ++k) {
+    if (k > 0) *at++ = separator;
+    at = appendNumber(at, end, values[k]);
+  }
+  out.append(line, static_cast<std::size_t>(at - line));
+}
+
+// Rows 0 to count − 1, each appended by row(text, i), formatted in parallel blocks and joined
+// in order.
+template <class Row>
+std::string formatRows(std::size_t count, Row&& row) {
+  constexpr std::size_t kRowsPerBlock = 4096;
+  std::vector<std::string> blocks((count + kRowsPerBlock - 1) / kRowsPerBlock);
+  parallelFor(0, blocks.size(), [&](std::size_t b) {
+    std::string& text = blocks[b];
+    text.reserve(kRowsPerBlock * 120);
+    for (std::size_t i = b * kRowsPerBlock; i < std::min(count, (b + 1) * kRowsPerBlock); ++i) row(text, i);
+  });
+  std::size_t bytes = 0;
+  for (const std::string& text : blocks) bytes += text.size();
+  std::string out;
+  out.reserve(bytes);
+  for (const std::string& text : blocks) out += text;
+  return out;
 }
 
 bool parseRow(const std::string& line, char separator, double (&values)[9]) {
@@ -73,19 +120,22 @@ Status writeVertices(const std::string& path, const std::vector<VertexSample>& v
   std::string text;
   if (endsWith(path, ".csv")) {
     text = std::string(kCsvHeader) + "\n";
-    for (const VertexSample& v : vertices) text += formatRow(v, ',') + "\n";
+    text += formatRows(vertices.size(), [&](std::string& out, std::size_t i) {
+      appendRow(out, vertices[i], ',');
+      out += '\n';
+    });
   } else if (endsWith(path, ".ply")) {
     text = "ply\nformat ascii 1.0\ncomment lambert vertices: radiance_* is outgoing radiance L in W/(m^2 sr)\n";
     text += "element vertex " + std::to_string(vertices.size()) + "\n";
     for (const char* name : {"x", "y", "z", "nx", "ny", "nz", "radiance_r", "radiance_g", "radiance_b"})
       text += std::string("property float ") + name + "\n";
     text += "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n";
-    for (const VertexSample& v : vertices) {
-      text += formatRow(v, ' ');
-      // Appended piecewise: GCC 12 warns falsely (-Wrestrict) about " " + std::string here.
-      for (double channel : {v.radiance.r, v.radiance.g, v.radiance.b}) text.append(" ").append(std::to_string(toSrgbByte(channel)));
-      text += '\n';
-    }
+    text += formatRows(vertices.size(), [&](std::string& out, std::size_t i) {
+      const VertexSample& v = vertices[i];
+      appendRow(out, v, ' ');
+      for (double channel : {v.radiance.r, v.radiance.g, v.radiance.b}) out.append(" ").append(std::to_string(toSrgbByte(channel)));
+      out += '\n';
+    });
   } else {
     return Error{path + ": unknown vertex file type (use .csv or .ply)"};
   }

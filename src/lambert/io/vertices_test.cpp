@@ -1,7 +1,12 @@
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+
+#include <tbb/global_control.h>
+#include <xmmintrin.h>
 
 #include "lambert/io/vertices.h"
 #include "tests/support/files.h"
@@ -49,6 +54,47 @@ TEST(VerticesTest, CsvAndPlyRoundTrip) {
   std::string header;
   std::getline(csv, header);
   EXPECT_EQ(header, "x,y,z,nx,ny,nz,r,g,b");
+}
+
+// The rows are printf's %.9g of every value, written in blocks (in parallel where threads are
+// allowed) and joined in order: checked against snprintf itself over awkward values (subnormal, huge, infinite,
+// negative zero, ties at the ninth digit) and more rows than one block holds, in the
+// denormals-are-zero mode Embree leaves on its threads.
+TEST(VerticesTest, RowsArePrintfsNineDigitsInOrder) {
+  const double awkward[] = {0.1, -0.0, 5e-324, 2.2250738585072014e-308, 1.7976931348623157e308, 123456789.5, 1234567885.0,
+                            -9.999999995e-5, 1.0 / 3.0, 1e21, 100, 0.5e-4};
+  std::vector<VertexSample> vertices(10000);
+  for (std::size_t v = 0; v < vertices.size(); ++v) {
+    auto value = [&](int k) { return awkward[(v + 5 * k) % std::size(awkward)] * (1 + 1e-3 * static_cast<double>(v % 7)); };
+    vertices[v].position = {value(0), value(1), value(2)};
+    vertices[v].normal = {value(3), value(4), value(5)};
+    vertices[v].radiance = {value(6), value(7), static_cast<double>(v)};
+  }
+  const fs::path path = scratch("printf") / "v.csv";
+  {
+    // As threads that ran Embree's BVH builder are (denormals are zero, flush to zero), on one
+    // thread, so that the writer runs in that mode whatever ran before.
+    const tbb::global_control oneThread(tbb::global_control::max_allowed_parallelism, 1);
+    const unsigned mode = _mm_getcsr();
+    _mm_setcsr(mode | 0x8040u);
+    const Status written = writeVertices(path.string(), vertices);
+    _mm_setcsr(mode);
+    ASSERT_TRUE(written.ok());
+  }
+  std::string expected = "x,y,z,nx,ny,nz,r,g,b\n";
+  for (const VertexSample& v : vertices) {
+    char line[400];
+    std::snprintf(line, sizeof line, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", v.position.x, v.position.y, v.position.z,
+                  v.normal.x, v.normal.y, v.normal.z, v.radiance.r, v.radiance.g, v.radiance.b);
+    expected += line;
+  }
+  std::ifstream in(path, std::ios::binary);
+  const std::string written((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(written.size(), expected.size());
+  std::size_t at = 0;
+  while (at < std::min(written.size(), expected.size()) && written[at] == expected[at]) ++at;
+  EXPECT_TRUE(written == expected) << "first difference at byte " << at << ": written '" << written.substr(at, 40) << "', printf '"
+                                   << expected.substr(at, 40) << "'";
 }
 
 TEST(VerticesTest, BadFilesNameTheFileAndLine) {

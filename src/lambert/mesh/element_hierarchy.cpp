@@ -56,6 +56,18 @@ struct ElementHierarchy::FaceRoot {
   std::array<std::uint32_t, 4> vertices;
 };
 
+// What the clusters are built from, apart from the faces themselves (208 bytes each, read at
+// random once nth_element has moved these): the median split's order (the same comparisons give
+// the same order), and what a cluster's bounds sum and bound, face by face in the same order.
+struct ElementHierarchy::FaceKey {
+  Vec3 centre;
+  Vec3 lo, hi;  // the box about the face's corners
+  Vec3 normal;
+  double area;
+  std::uint32_t firstVertex;
+  std::uint32_t face;  // into the constructor's faces
+};
+
 std::uint32_t ElementHierarchy::addNode(const HierarchyNode& node) {
   LAMBERT_CHECK(nodes_.size() < kNoNode);
   nodes_.push_back(node);
@@ -64,10 +76,16 @@ std::uint32_t ElementHierarchy::addNode(const HierarchyNode& node) {
 
 ElementHierarchy::ElementHierarchy(const Scene& scene) {
   std::vector<FaceRoot> faces;
+  std::size_t numPolygons = 0;
+  for (const Surface& surface : scene.surfaces) numPolygons += std::max<std::size_t>(1, surface.faces.size());
+  faces.reserve(numPolygons);  // quads and triangles, mostly: one root each
   std::uint32_t vertexBase = 0;
   for (std::uint32_t s = 0; s < scene.surfaces.size(); ++s) {
     const Surface& surface = scene.surfaces[s];
-    const auto polygons = surfaceFaces(surface);
+    // The surface's faces, read in place (surfaceFaces would copy them), or its one polygon.
+    const std::vector<std::vector<std::uint32_t>> whole =
+        surface.faces.empty() ? surfaceFaces(surface) : std::vector<std::vector<std::uint32_t>>{};
+    const std::vector<std::vector<std::uint32_t>>& polygons = surface.faces.empty() ? whole : surface.faces;
     for (std::uint32_t f = 0; f < polygons.size(); ++f) {
       const std::vector<std::uint32_t>& face = polygons[f];
       LAMBERT_CHECK(face.size() >= 3);
@@ -99,20 +117,32 @@ ElementHierarchy::ElementHierarchy(const Scene& scene) {
   HierarchyNode root;  // a cluster: no corners
   addNode(root);
   childList_.push_back(0);  // slot 0 holds nothing: the root is nobody's child
-  buildClusters(faces, kNoNode, 0, 0);
+  std::vector<FaceKey> keys(faces.size());
+  for (std::uint32_t i = 0; i < faces.size(); ++i) {
+    const HierarchyNode& e = faces[i].element;
+    Vec3 lo = e.corners[0], hi = e.corners[0];
+    for (std::size_t k = 1; k < e.numCorners; ++k) {
+      lo = componentMin(lo, e.corners[k]);
+      hi = componentMax(hi, e.corners[k]);
+    }
+    keys[i] = {e.centre, lo, hi, e.normal, e.area, faces[i].vertices[0], i};
+  }
+  buildClusters(faces, keys, kNoNode, 0, 0);
   numberLeaves();
 }
 
 // Makes the cluster over `faces` (or, for one face, its root element) and records it in
 // childList_[slot] as a child of `parent`; node 0 is the root cluster, made by the constructor.
-void ElementHierarchy::buildClusters(std::span<FaceRoot> faces, std::uint32_t parent, std::uint32_t slot, std::uint8_t depth) {
+void ElementHierarchy::buildClusters(const std::vector<FaceRoot>& all, std::span<FaceKey> faces, std::uint32_t parent,
+                                     std::uint32_t slot, std::uint8_t depth) {
   if (faces.size() == 1 && parent != kNoNode) {
-    HierarchyNode element = faces[0].element;
+    const FaceRoot& face = all[faces[0].face];
+    HierarchyNode element = face.element;
     element.parent = parent;
     element.depth = 0;
     std::uint32_t index = addNode(element);
     childList_[slot] = index;
-    roots_.push_back({index, faces[0].vertices});
+    roots_.push_back({index, face.vertices});
     return;
   }
   std::uint32_t cluster = parent == kNoNode ? 0 : addNode(HierarchyNode{});
@@ -125,15 +155,14 @@ void ElementHierarchy::buildClusters(std::span<FaceRoot> faces, std::uint32_t pa
     Vec3 lo{INFINITY, INFINITY, INFINITY}, hi = -lo;
     double area = 0;
     std::array<double, 6> axisArea{};
-    for (const FaceRoot& f : faces) {
-      area += f.element.area;
-      const Vec3& n = f.element.normal;
-      const double components[3] = {n.x, n.y, n.z};
-      for (int a = 0; a < 3; ++a) axisArea[2 * a + (components[a] > 0 ? 0 : 1)] += f.element.area * std::fabs(components[a]);
-      for (std::size_t k = 0; k < f.element.numCorners; ++k) {
-        lo = componentMin(lo, f.element.corners[k]);
-        hi = componentMax(hi, f.element.corners[k]);
-      }
+    // min and max are exact in any order (the corners are finite: comparisons, not fmin's calls);
+    // the sums run over the faces in this span's order.
+    for (const FaceKey& f : faces) {
+      area += f.area;
+      const double components[3] = {f.normal.x, f.normal.y, f.normal.z};
+      for (int a = 0; a < 3; ++a) axisArea[2 * a + (components[a] > 0 ? 0 : 1)] += f.area * std::fabs(components[a]);
+      lo = {f.lo.x < lo.x ? f.lo.x : lo.x, f.lo.y < lo.y ? f.lo.y : lo.y, f.lo.z < lo.z ? f.lo.z : lo.z};
+      hi = {f.hi.x > hi.x ? f.hi.x : hi.x, f.hi.y > hi.y ? f.hi.y : hi.y, f.hi.z > hi.z ? f.hi.z : hi.z};
     }
     c.area = area;
     ClusterBounds bounds{};
@@ -151,24 +180,24 @@ void ElementHierarchy::buildClusters(std::span<FaceRoot> faces, std::uint32_t pa
   }
   // At most four faces: they are the cluster's children. Otherwise two halves by the median
   // centroid along the longest axis of the centroids' bounds.
-  std::vector<std::span<FaceRoot>> parts;
+  std::vector<std::span<FaceKey>> parts;
   if (faces.size() <= 4) {
     for (std::size_t i = 0; i < faces.size(); ++i) parts.push_back(faces.subspan(i, 1));
   } else {
     Vec3 lo{INFINITY, INFINITY, INFINITY}, hi = -lo;
-    for (const FaceRoot& f : faces) {
-      lo = componentMin(lo, f.element.centre);
-      hi = componentMax(hi, f.element.centre);
+    for (const FaceKey& f : faces) {
+      lo = {f.centre.x < lo.x ? f.centre.x : lo.x, f.centre.y < lo.y ? f.centre.y : lo.y, f.centre.z < lo.z ? f.centre.z : lo.z};
+      hi = {f.centre.x > hi.x ? f.centre.x : hi.x, f.centre.y > hi.y ? f.centre.y : hi.y, f.centre.z > hi.z ? f.centre.z : hi.z};
     }
     Vec3 extent = hi - lo;
     int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
-    auto coordinate = [axis](const FaceRoot& f) { return axis == 0 ? f.element.centre.x : axis == 1 ? f.element.centre.y : f.element.centre.z; };
+    auto coordinate = [axis](const FaceKey& f) { return axis == 0 ? f.centre.x : axis == 1 ? f.centre.y : f.centre.z; };
     std::size_t half = faces.size() / 2;
     std::nth_element(faces.begin(), faces.begin() + static_cast<std::ptrdiff_t>(half), faces.end(),
-                     [&](const FaceRoot& a, const FaceRoot& b) {
+                     [&](const FaceKey& a, const FaceKey& b) {
                        double ca = coordinate(a), cb = coordinate(b);
                        if (ca != cb) return ca < cb;
-                       return a.vertices[0] < b.vertices[0];  // a strict order whatever the ties
+                       return a.firstVertex < b.firstVertex;  // a strict order whatever the ties
                      });
     parts = {faces.first(half), faces.subspan(half)};
   }
@@ -177,7 +206,7 @@ void ElementHierarchy::buildClusters(std::span<FaceRoot> faces, std::uint32_t pa
   nodes_[cluster].numChildren = static_cast<std::uint32_t>(parts.size());
   childList_.resize(childList_.size() + parts.size(), kNoNode);
   for (std::size_t i = 0; i < parts.size(); ++i)
-    buildClusters(parts[i], cluster, first + static_cast<std::uint32_t>(i), static_cast<std::uint8_t>(std::min(depth + 1, 255)));
+    buildClusters(all, parts[i], cluster, first + static_cast<std::uint32_t>(i), static_cast<std::uint8_t>(std::min(depth + 1, 255)));
 }
 
 void ElementHierarchy::split(std::uint32_t element) {
@@ -260,6 +289,8 @@ ElementHierarchy::LeafMesh ElementHierarchy::leaves(const Scene& scene) const {
     std::array<std::uint32_t, 4> vertices;
   };
   std::vector<Visit> stack;
+  const bool anySplit = nodes_.size() > numFaces_ + numClusters_;
+  if (anySplit) leafEdges.reserve(4 * leafNodes_.size());
   for (const Root& root : roots_) {
     stack.push_back({root.node, root.vertices});
     while (!stack.empty()) {
@@ -273,7 +304,9 @@ ElementHierarchy::LeafMesh ElementHierarchy::leaves(const Scene& scene) const {
         patch.face = n.face;
         patch.twinned = n.twinned;
         mesh.patches[n.leaf] = patch;
-        for (std::size_t k = 0; k < n.numCorners; ++k) leafEdges.insert(edgeKey(v[k], v[(k + 1) % n.numCorners]));
+        // Only midpoints can hang: without splits there are none to look the edges up for.
+        if (anySplit)
+          for (std::size_t k = 0; k < n.numCorners; ++k) leafEdges.insert(edgeKey(v[k], v[(k + 1) % n.numCorners]));
         continue;
       }
       std::span<const std::uint32_t> kids = children(visit.node);

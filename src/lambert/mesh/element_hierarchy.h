@@ -133,8 +133,10 @@ class ElementHierarchy {
 
  private:
   struct FaceRoot;
+  struct FaceKey;
   std::uint32_t addNode(const HierarchyNode& node);
-  void buildClusters(std::span<FaceRoot> faces, std::uint32_t parent, std::uint32_t slot, std::uint8_t depth);
+  void buildClusters(const std::vector<FaceRoot>& all, std::span<FaceKey> faces, std::uint32_t parent, std::uint32_t slot,
+                     std::uint8_t depth);
 
   // A face's root element and its corners' indices among all surfaces' vertices (surfaces in
   // order, each one's vertices in order), which leaves() shares between faces.

@@ -6,10 +6,13 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <iterator>
 #include <span>
+#include <string_view>
 
 #include "lambert/core/atomic_file.h"
 #include "lambert/core/text.h"
@@ -24,24 +27,36 @@ namespace {
 // its numbers must be finite, and a v needs x, y and z.
 Status checkCoordinates(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  std::string line;
-  for (int number = 1; std::getline(in, line); ++number) {
-    std::istringstream words(line);
-    std::string keyword, word;
-    words >> keyword;
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // Words are separated as istream's >> separates them in the C locale.
+  const auto space = [](char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\v' || c == '\f' || c == '\r'; };
+  const char* p = text.data();
+  const char* const fileEnd = text.data() + text.size();
+  for (int number = 1; p < fileEnd; ++number) {
+    const char* lineEnd = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(fileEnd - p)));
+    if (!lineEnd) lineEnd = fileEnd;
+    const auto nextWord = [&](const char*& at) {
+      while (at < lineEnd && space(*at)) ++at;
+      const char* begin = at;
+      while (at < lineEnd && !space(*at)) ++at;
+      return std::string_view(begin, static_cast<std::size_t>(at - begin));
+    };
+    const char* at = p;
+    p = lineEnd + (lineEnd < fileEnd ? 1 : 0);
+    const std::string_view keyword = nextWord(at);
     if (keyword != "v" && keyword != "vt") continue;
     int count = 0;
-    while (words >> word) {
+    for (std::string_view word = nextWord(at); !word.empty(); word = nextWord(at)) {
       ++count;
       double value = 0;
       const char* begin = word.data() + (word[0] == '+' ? 1 : 0);
       const char* end = word.data() + word.size();
       const auto [stop, ec] = std::from_chars(begin, end, value);
-      const std::string where = path + ":" + std::to_string(number) + ": " + keyword + ": ";
-      if (ec == std::errc() && stop == end && !std::isfinite(value))
-        return Error{where + "'" + word + "' is not a finite number"};
-      if (ec == std::errc::result_out_of_range) return Error{where + "'" + word + "' is not a finite number (out of range)"};
-      if (ec != std::errc() || stop != end) return Error{where + "expected a number, found '" + word + "'"};
+      if (ec == std::errc() && stop == end && std::isfinite(value)) continue;
+      const std::string where = path + ":" + std::to_string(number) + ": " + std::string(keyword) + ": ";
+      if (ec == std::errc() && stop == end) return Error{where + "'" + std::string(word) + "' is not a finite number"};
+      if (ec == std::errc::result_out_of_range) return Error{where + "'" + std::string(word) + "' is not a finite number (out of range)"};
+      return Error{where + "expected a number, found '" + std::string(word) + "'"};
     }
     if (keyword == "v" && count < 3) return Error{path + ":" + std::to_string(number) + ": v needs three coordinates x y z, found " + std::to_string(count)};
   }
