@@ -1,5 +1,6 @@
 #include "lambert/io/vertices.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -7,6 +8,7 @@
 #include <sstream>
 
 #include "lambert/core/atomic_file.h"
+#include "lambert/core/parallel.h"
 #include "lambert/core/srgb.h"
 
 namespace lambert {
@@ -20,13 +22,23 @@ std::uint8_t toSrgbByte(double linear) {
   return static_cast<std::uint8_t>(std::lround(255 * srgbEncode(std::fmin(std::fmax(linear, 0.0), 1.0))));
 }
 
-// Nine significant digits round-trip a float and are plenty for radiance.
-std::string formatRow(const VertexSample& v, char separator) {
-  char line[320];
-  std::snprintf(line, sizeof line, "%.9g%c%.9g%c%.9g%c%.9g%c%.9g%c%.9g%c%.9g%c%.9g%c%.9g", v.position.x, separator,
-                v.position.y, separator, v.position.z, separator, v.normal.x, separator, v.normal.y, separator,
-                v.normal.z, separator, v.radiance.r, separator, v.radiance.g, separator, v.radiance.b);
-  return line;
+// Nine significant digits round-trip a float and are plenty for radiance. to_chars with a
+// precision writes what printf's %.9g does, without its locale and format parsing: a 10⁶-vertex
+// file took seconds through snprintf.
+constexpr std::size_t kMaxRow = 9 * 32 + 3 * 4 + 2;  // nine numbers and separators, three bytes, a newline
+
+char* appendNumber(char* at, double value) {
+  return std::to_chars(at, at + 32, value, std::chars_format::general, 9).ptr;
+}
+
+char* appendRow(char* at, const VertexSample& v, char separator) {
+  const double values[9] = {v.position.x, v.position.y, v.position.z, v.normal.x, v.normal.y,
+                            v.normal.z,   v.radiance.r, v.radiance.g, v.radiance.b};
+  for (int k = 0; k < 9; ++k) {
+    if (k > 0) *at++ = separator;
+    at = appendNumber(at, values[k]);
+  }
+  return at;
 }
 
 bool parseRow(const std::string& line, char separator, double (&values)[9]) {
@@ -70,24 +82,44 @@ std::vector<VertexSample> vertexSamples(const Mesh& mesh, const std::vector<Rgb>
 }
 
 Status writeVertices(const std::string& path, const std::vector<VertexSample>& vertices) {
+  const bool ply = endsWith(path, ".ply");
+  if (!ply && !endsWith(path, ".csv")) return Error{path + ": unknown vertex file type (use .csv or .ply)"};
   std::string text;
-  if (endsWith(path, ".csv")) {
-    text = std::string(kCsvHeader) + "\n";
-    for (const VertexSample& v : vertices) text += formatRow(v, ',') + "\n";
-  } else if (endsWith(path, ".ply")) {
+  if (ply) {
     text = "ply\nformat ascii 1.0\ncomment lambert vertices: radiance_* is outgoing radiance L in W/(m^2 sr)\n";
     text += "element vertex " + std::to_string(vertices.size()) + "\n";
     for (const char* name : {"x", "y", "z", "nx", "ny", "nz", "radiance_r", "radiance_g", "radiance_b"})
       text += std::string("property float ") + name + "\n";
     text += "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n";
-    for (const VertexSample& v : vertices) {
-      text += formatRow(v, ' ');
-      // Appended piecewise: GCC 12 warns falsely (-Wrestrict) about " " + std::string here.
-      for (double channel : {v.radiance.r, v.radiance.g, v.radiance.b}) text.append(" ").append(std::to_string(toSrgbByte(channel)));
-      text += '\n';
-    }
   } else {
-    return Error{path + ": unknown vertex file type (use .csv or .ply)"};
+    text = std::string(kCsvHeader) + "\n";
+  }
+  // Rows are formatted in blocks in parallel, then joined in order.
+  constexpr std::size_t kBlock = 4096;
+  std::vector<std::string> blocks((vertices.size() + kBlock - 1) / kBlock);
+  parallelFor(0, blocks.size(), [&](std::size_t b) {
+    const std::size_t begin = b * kBlock, end = std::min(vertices.size(), begin + kBlock);
+    std::string& block = blocks[b];
+    block.resize((end - begin) * kMaxRow);
+    char* at = block.data();
+    for (std::size_t i = begin; i < end; ++i) {
+      const VertexSample& v = vertices[i];
+      at = appendRow(at, v, ply ? ' ' : ',');
+      if (ply)
+        for (double channel : {v.radiance.r, v.radiance.g, v.radiance.b}) {
+          *at++ = ' ';
+          at = std::to_chars(at, at + 4, toSrgbByte(channel)).ptr;
+        }
+      *at++ = '\n';
+    }
+    block.resize(static_cast<std::size_t>(at - block.data()));
+  });
+  std::size_t size = text.size();
+  for (const std::string& block : blocks) size += block.size();
+  text.reserve(size);
+  for (std::string& block : blocks) {
+    text += block;
+    block = {};
   }
   return writeFileAtomically(path, std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
 }
