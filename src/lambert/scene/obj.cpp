@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 #include <span>
+#include <string_view>
 
 #include "lambert/core/atomic_file.h"
 #include "lambert/core/text.h"
@@ -25,23 +26,31 @@ namespace {
 Status checkCoordinates(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::string line;
+  // The line's words, split at white space as a stream's >> splits them.
+  const auto isSpace = [](char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\v' || c == '\f' || c == '\r'; };
   for (int number = 1; std::getline(in, line); ++number) {
-    std::istringstream words(line);
-    std::string keyword, word;
-    words >> keyword;
+    const char* at = line.data();
+    const char* const lineEnd = line.data() + line.size();
+    const auto nextWord = [&]() -> std::string_view {
+      while (at < lineEnd && isSpace(*at)) ++at;
+      const char* begin = at;
+      while (at < lineEnd && !isSpace(*at)) ++at;
+      return {begin, static_cast<std::size_t>(at - begin)};
+    };
+    const std::string_view keyword = nextWord();
     if (keyword != "v" && keyword != "vt") continue;
     int count = 0;
-    while (words >> word) {
+    for (std::string_view word = nextWord(); !word.empty(); word = nextWord()) {
       ++count;
       double value = 0;
       const char* begin = word.data() + (word[0] == '+' ? 1 : 0);
       const char* end = word.data() + word.size();
       const auto [stop, ec] = std::from_chars(begin, end, value);
-      const std::string where = path + ":" + std::to_string(number) + ": " + keyword + ": ";
-      if (ec == std::errc() && stop == end && !std::isfinite(value))
-        return Error{where + "'" + word + "' is not a finite number"};
-      if (ec == std::errc::result_out_of_range) return Error{where + "'" + word + "' is not a finite number (out of range)"};
-      if (ec != std::errc() || stop != end) return Error{where + "expected a number, found '" + word + "'"};
+      if (ec == std::errc() && stop == end && std::isfinite(value)) continue;
+      const std::string where = path + ":" + std::to_string(number) + ": " + std::string(keyword) + ": ";
+      if (ec == std::errc() && stop == end) return Error{where + "'" + std::string(word) + "' is not a finite number"};
+      if (ec == std::errc::result_out_of_range) return Error{where + "'" + std::string(word) + "' is not a finite number (out of range)"};
+      return Error{where + "expected a number, found '" + std::string(word) + "'"};
     }
     if (keyword == "v" && count < 3) return Error{path + ":" + std::to_string(number) + ": v needs three coordinates x y z, found " + std::to_string(count)};
   }
