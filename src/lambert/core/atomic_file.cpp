@@ -42,7 +42,7 @@ class TemporaryFile {
 
 // Writes all the parts to a new file (O_EXCL: never into one another writer has open); an empty
 // string on success, else what failed.
-std::string writeNewFile(const std::string& path, std::initializer_list<std::span<const std::uint8_t>> parts) {
+std::string writeNewFile(const std::string& path, std::span<const std::span<const std::uint8_t>> parts) {
   int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
   if (fd < 0) return "cannot create " + path + ": " + std::strerror(errno);
   for (std::span<const std::uint8_t> bytes : parts) {
@@ -70,6 +70,10 @@ Status writeFileAtomically(const std::string& path, std::span<const std::uint8_t
 }
 
 Status writeFileAtomically(const std::string& path, std::initializer_list<std::span<const std::uint8_t>> parts) {
+  return writeFileAtomically(path, std::span<const std::span<const std::uint8_t>>(parts.begin(), parts.size()));
+}
+
+Status writeFileAtomically(const std::string& path, std::span<const std::span<const std::uint8_t>> parts) {
   namespace fs = std::filesystem;
   if (path.empty()) return Error{"cannot write a file with an empty path"};
   std::error_code ec;

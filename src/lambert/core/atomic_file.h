@@ -16,6 +16,7 @@ Status writeFileAtomically(const std::string& path, std::span<const std::uint8_t
 // The same for a file made of several parts, written one after another without joining them
 // (a large payload between a header and a trailer need not be copied).
 Status writeFileAtomically(const std::string& path, std::initializer_list<std::span<const std::uint8_t>> parts);
+Status writeFileAtomically(const std::string& path, std::span<const std::span<const std::uint8_t>> parts);
 
 // Removes the temporary files writes in progress have open (for an interrupted process about to
 // exit: core/interrupt.h). Their targets keep their old contents.

@@ -94,14 +94,13 @@ Status writeVertices(const std::string& path, const std::vector<VertexSample>& v
   } else {
     text = std::string(kCsvHeader) + "\n";
   }
-  // Rows are formatted in blocks in parallel, then joined in order.
+  // Rows are formatted in blocks in parallel and written one after another.
   constexpr std::size_t kBlock = 4096;
   std::vector<std::string> blocks((vertices.size() + kBlock - 1) / kBlock);
   parallelFor(0, blocks.size(), [&](std::size_t b) {
     const std::size_t begin = b * kBlock, end = std::min(vertices.size(), begin + kBlock);
-    std::string& block = blocks[b];
-    block.resize((end - begin) * kMaxRow);
-    char* at = block.data();
+    std::vector<char> rows((end - begin) * kMaxRow);
+    char* at = rows.data();
     for (std::size_t i = begin; i < end; ++i) {
       const VertexSample& v = vertices[i];
       at = appendRow(at, v, ply ? ' ' : ',');
@@ -112,16 +111,12 @@ Status writeVertices(const std::string& path, const std::vector<VertexSample>& v
         }
       *at++ = '\n';
     }
-    block.resize(static_cast<std::size_t>(at - block.data()));
+    blocks[b].assign(rows.data(), at);
   });
-  std::size_t size = text.size();
-  for (const std::string& block : blocks) size += block.size();
-  text.reserve(size);
-  for (std::string& block : blocks) {
-    text += block;
-    block = {};
-  }
-  return writeFileAtomically(path, std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
+  const auto bytesOf = [](const std::string& s) { return std::span(reinterpret_cast<const std::uint8_t*>(s.data()), s.size()); };
+  std::vector<std::span<const std::uint8_t>> parts{bytesOf(text)};
+  for (const std::string& block : blocks) parts.push_back(bytesOf(block));
+  return writeFileAtomically(path, parts);
 }
 
 Result<std::vector<VertexSample>> readVertices(const std::string& path) {
