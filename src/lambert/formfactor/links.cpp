@@ -172,7 +172,7 @@ class Refiner {
     progress.finish();
     h_.numberLeaves();
 
-    Links links = groupByReceiver(kept, report);
+    Links links = groupByReceiver(kept);
     report.seconds += timer.seconds();
     return links;
   }
@@ -181,13 +181,10 @@ class Refiner {
   // The kept links as compressed rows: placed by receiver (a counting sort, linear in the links),
   // then each receiver's few links ordered by source. Each (receiver, source) pair is kept at most
   // once (refinement partitions the pairs of leaves), so the order is the pairs' order.
-  Links groupByReceiver(Candidates& kept, RefinementReport& report) const {
+  Links groupByReceiver(Candidates& kept) const {
     Links links;
     links.start.assign(h_.nodes().size() + 1, 0);
-    for (const Candidate& c : kept) {
-      ++links.start[c.receiver + 1];
-      report.clusterLinks += h_.node(c.receiver).isCluster() || h_.node(c.source).isCluster();
-    }
+    for (const Candidate& c : kept) ++links.start[c.receiver + 1];
     for (std::size_t i = 0; i + 1 < links.start.size(); ++i) links.start[i + 1] += links.start[i];
     links.source.resize(kept.size());
     links.formFactor.resize(kept.size());
@@ -576,7 +573,10 @@ class Refiner {
     }
     const bool canR = splittable(c.receiver), canS = splittable(c.source);
     if (!refine || (!canR && !canS)) {
-      if (c.verdict == Verdict::Estimated || keepOccluded) kept.push_back(c);
+      if (c.verdict == Verdict::Estimated || keepOccluded) {
+        kept.push_back(c);
+        report.clusterLinks += r.isCluster() || s.isCluster();  // counted here, where both nodes are at hand
+      }
       return;
     }
     const std::uint64_t splitsBefore = splits_;
