@@ -174,7 +174,7 @@ class Refiner {
     progress.finish();
     h_.numberLeaves();
 
-    Links links = groupByReceiver(kept, report);
+    Links links = groupByReceiver(kept);
     report.seconds += timer.seconds();
     return links;
   }
@@ -183,13 +183,10 @@ class Refiner {
   // The kept links as compressed rows: placed by receiver (a counting sort, linear in the links),
   // then each receiver's few links ordered by source. Each (receiver, source) pair is kept at most
   // once (refinement partitions the pairs of leaves), so the order is the pairs' order.
-  Links groupByReceiver(Candidates& kept, RefinementReport& report) const {
+  Links groupByReceiver(Candidates& kept) const {
     Links links;
     links.start.assign(h_.nodes().size() + 1, 0);
-    for (const Candidate& c : kept) {
-      ++links.start[c.receiver + 1];
-      report.clusterLinks += h_.node(c.receiver).isCluster() || h_.node(c.source).isCluster();
-    }
+    for (const Candidate& c : kept) ++links.start[c.receiver + 1];
     for (std::size_t i = 0; i + 1 < links.start.size(); ++i) links.start[i + 1] += links.start[i];
     links.source.resize(kept.size());
     links.formFactor.resize(kept.size());
@@ -235,6 +232,14 @@ class Refiner {
     const HierarchyNode& r = h_.node(c.receiver);
     const HierarchyNode& s = h_.node(c.source);
     c.estimated = true;
+    // With a cluster at either end, pairs that cannot face each other at all (a floor's clusters
+    // side by side, a wall's cluster with itself) are empty before anything is sampled: refined,
+    // every pair of elements under them would be found empty (anyCornerInFront), one candidate
+    // at a time, and the Monte Carlo estimates on the way would find no pair of points facing.
+    if ((r.isCluster() || s.isCluster()) && (!mayFace(r, s) || !mayFace(s, r))) {
+      c.verdict = Verdict::Empty;
+      return 0;
+    }
     if (c.receiver == c.source) {
       c.verdict = r.isCluster() ? Verdict::Inadmissible : Verdict::Empty;  // a plane does not see itself
       return 0;
@@ -372,6 +377,30 @@ class Refiner {
     b.box(bLo, bHi);
     const Vec3 gap = componentMax(aLo - bHi, bLo - aHi);
     return std::fmax(gap.x, std::fmax(gap.y, gap.z)) > epsilon_;
+  }
+
+  // Whether some face under node a may have a point of node b's box more than a ray epsilon in
+  // front of its plane. The height n·(x − y) of a point x in b's box over a point y of a face is
+  // a sum over the axes of n_axis (x − y)_axis; a term is positive only where the normal's
+  // component and the offset's can share a sign, and the two boxes bound the offsets. Which
+  // signs the normals take comes from a cluster's axis areas (the area its faces show along
+  // ±axis) or an element's normal. The ray epsilon is anyCornerInFront's: no corner of an
+  // element under b is in front of an element under a where this says no.
+  bool mayFace(const HierarchyNode& a, const HierarchyNode& b) const {
+    Vec3 aLo, aHi, bLo, bHi;
+    a.box(aLo, aHi);
+    b.box(bLo, bHi);
+    const Vec3 most = bHi - aLo, least = bLo - aHi;  // the range of (x − y) along each axis
+    const double mostOf[3] = {most.x, most.y, most.z}, leastOf[3] = {least.x, least.y, least.z};
+    const double normalOf[3] = {a.normal.x, a.normal.y, a.normal.z};
+    double height = 0;
+    for (int axis = 0; axis < 3; ++axis) {
+      const bool along = a.isCluster() ? a.bounds.axisArea[2 * axis] > 0 : normalOf[axis] > 0;
+      const bool against = a.isCluster() ? a.bounds.axisArea[2 * axis + 1] > 0 : normalOf[axis] < 0;
+      if (along) height += std::fmax(0.0, mostOf[axis]);
+      if (against) height += std::fmax(0.0, -leastOf[axis]);
+    }
+    return height > epsilon_;
   }
 
   // Whether element e's plane cuts through node b's box. Touching is not cutting: a column
@@ -602,7 +631,10 @@ class Refiner {
     }
     const bool canR = splittable(c.receiver), canS = splittable(c.source);
     if (!refine || (!canR && !canS)) {
-      if (c.verdict == Verdict::Estimated || keepOccluded) kept.push_back(c);
+      if (c.verdict == Verdict::Estimated || keepOccluded) {
+        kept.push_back(c);
+        report.clusterLinks += r.isCluster() || s.isCluster();  // counted here, where both nodes are at hand
+      }
       return;
     }
     const std::uint64_t splitsBefore = splits_;

@@ -8,8 +8,12 @@
 #include <fstream>
 
 #include "lambert/engine/radiosity.h"
+#include "lambert/formfactor/links.h"
+#include "lambert/geometry/ray_caster.h"
+#include "lambert/mesh/element_hierarchy.h"
 #include "lambert/scene/scene_file.h"
 #include "tests/support/files.h"
+#include "tests/support/scenes.h"
 
 namespace lambert {
 namespace {
@@ -81,6 +85,72 @@ TEST(LinksTest, ALuminairesLongReflectorsAreNotCutToTheSmallestElements) {
   EXPECT_GT(absorbed, 0.01 * emitted);
   EXPECT_LT(absorbed, emitted);
   EXPECT_GT(escaped, 0.01 * emitted);
+}
+
+// A unit square as an n×n grid of faces at height z, facing up or down.
+Surface gridSquare(std::string name, double z, bool up, int n) {
+  Surface s;
+  s.name = std::move(name);
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) s.vertices.push_back({double(i) / n, double(j) / n, z});
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      auto at = [&](int a, int b) { return static_cast<std::uint32_t>(b * (n + 1) + a); };
+      if (up) s.faces.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
+      else s.faces.push_back({at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i + 1, j)});
+    }
+  return s;
+}
+
+struct Refined {
+  ElementHierarchy hierarchy;
+  Links links;
+  RefinementReport report;
+};
+
+// The links of a scene whose faces all have radiosity 1, refined from the root cluster.
+Refined refineUniform(const Scene& scene, double linkError) {
+  Refined out{ElementHierarchy(scene), {}, {}};
+  const ElementHierarchy::LeafMesh leaves = out.hierarchy.leaves(scene);
+  const std::unique_ptr<RayCaster> caster = makeEmbreeRayCaster(leaves.mesh);
+  std::vector<std::uint64_t> casterFace;
+  for (const Patch& p : leaves.mesh.patches) casterFace.push_back(static_cast<std::uint64_t>(p.surface) << 32 | p.face);
+  const std::vector<double> ones(leaves.mesh.numPatches(), 1.0);
+  LinkOptions options;
+  options.linkError = linkError;
+  out.links = refineLinks(out.hierarchy, *caster, rayEpsilon(leaves.mesh), casterFace, nullptr, ones, ones, options, out.report);
+  return out;
+}
+
+// Faces in one plane exchange nothing, and a cluster of them is found so before anything is
+// sampled: a floor of 256 faces alone costs the root's link to itself and keeps no link (taken
+// apart pair by pair, the same floor cost 7,169 estimates, for the same none). Facing a parallel ceiling one above,
+// each floor leaf still gathers the whole of it: with every face's radiosity 1, Σ K over the
+// links of a leaf and its ancestors is the leaf's form factor to the ceiling, whose area-weighted
+// mean over the floor is Howell's 0.19982 for unit squares one apart.
+TEST(LinksTest, CoplanarFacesCostNoEstimatesAndFacingOnesKeepTheirExchange) {
+  {
+    const Refined floor = refineUniform(testing::sceneOf({gridSquare("floor", 0, true, 16)}), 2e-4);
+    EXPECT_EQ(floor.links.size(), 0u);
+    EXPECT_EQ(floor.report.estimated, 1u);
+  }
+  const Refined box = refineUniform(testing::sceneOf({gridSquare("floor", 0, true, 16), gridSquare("ceiling", 1, false, 16)}), 2e-4);
+  const ElementHierarchy& h = box.hierarchy;
+  double gathered = 0, area = 0, least = 1;
+  for (std::uint32_t leaf : h.leafNodes()) {
+    const HierarchyNode& node = h.node(leaf);
+    if (node.normal.z < 0.5) continue;  // the floor's leaves
+    double k = 0;
+    for (std::uint32_t r = leaf; r != kNoNode; r = h.node(r).parent)
+      for (std::uint32_t i = box.links.start[r]; i < box.links.start[r + 1]; ++i) k += box.links.formFactor[i];
+    gathered += k * node.area;
+    area += node.area;
+    least = std::fmin(least, k);
+  }
+  std::printf("%zu links, %llu estimated: mean floor-to-ceiling factor %.5f (Howell 0.19982), least %.4f\n", box.links.size(),
+              static_cast<unsigned long long>(box.report.estimated), gathered / area, least);
+  EXPECT_NEAR(gathered / area, 0.19982, 0.02 * 0.19982);
+  EXPECT_GT(least, 0.13);  // every leaf sees the ceiling: at the floor's corner point 0.139, at its centre 0.240
 }
 
 }  // namespace

@@ -266,7 +266,6 @@ ElementHierarchy::LeafMesh ElementHierarchy::leaves(const Scene& scene) const {
   std::unordered_map<std::uint64_t, std::uint32_t> midpoints;           // edge → its midpoint
   std::unordered_map<std::uint64_t, std::uint64_t> parentEdge;          // half edge → the edge it halves
   std::vector<std::pair<std::uint32_t, std::uint64_t>> madeOn;         // midpoint vertex, its edge
-  std::unordered_set<std::uint64_t> leafEdges;
   auto newVertex = [&](const Vec3& p, std::uint32_t surface) {
     mesh.positions.push_back(p);
     mesh.vertexSurface.push_back(surface);
@@ -289,8 +288,6 @@ ElementHierarchy::LeafMesh ElementHierarchy::leaves(const Scene& scene) const {
     std::array<std::uint32_t, 4> vertices;
   };
   std::vector<Visit> stack;
-  const bool anySplit = nodes_.size() > numFaces_ + numClusters_;
-  if (anySplit) leafEdges.reserve(4 * leafNodes_.size());
   for (const Root& root : roots_) {
     stack.push_back({root.node, root.vertices});
     while (!stack.empty()) {
@@ -304,9 +301,6 @@ ElementHierarchy::LeafMesh ElementHierarchy::leaves(const Scene& scene) const {
         patch.face = n.face;
         patch.twinned = n.twinned;
         mesh.patches[n.leaf] = patch;
-        // Only midpoints can hang: without splits there are none to look the edges up for.
-        if (anySplit)
-          for (std::size_t k = 0; k < n.numCorners; ++k) leafEdges.insert(edgeKey(v[k], v[(k + 1) % n.numCorners]));
         continue;
       }
       std::span<const std::uint32_t> kids = children(visit.node);
@@ -329,6 +323,15 @@ ElementHierarchy::LeafMesh ElementHierarchy::leaves(const Scene& scene) const {
   }
 
   // A midpoint hangs when the edge it was made on, or an edge that one lies on, is a leaf's edge.
+  // Only edges that were split are asked, so only those of the leaves' edges are kept (none where
+  // nothing was split: a 10⁶-face scene's 4 × 10⁶ edges cost a second in a hash set).
+  std::unordered_set<std::uint64_t> leafEdges;
+  if (!midpoints.empty())
+    for (const Patch& patch : mesh.patches)
+      for (std::size_t k = 0; k < patch.numCorners; ++k) {
+        const std::uint64_t edge = edgeKey(patch.vertices[k], patch.vertices[(k + 1) % patch.numCorners]);
+        if (midpoints.count(edge)) leafEdges.insert(edge);
+      }
   for (const auto& [vertex, edge] : madeOn) {
     bool hangs = false;
     for (std::uint64_t e = edge;;) {
