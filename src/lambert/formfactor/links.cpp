@@ -515,6 +515,11 @@ class Refiner {
     // already calls for refinement the samples could only agree.
     if (distance > kCloseReach * (r.radius + s.radius) || tooCoarse(c, centres)) return centres;
     const Vec3 w = d / distance;
+    // Nor where both nodes show a fair share of their area along the centres' line: the centres'
+    // transfer misjudges a link where one node shows (nearly) nothing that way. Asking the samples
+    // only there keeps the exact box's surfaces within 1.7–2.0% (1.6–1.8% asking everywhere) at
+    // no measurable cost, where asking everywhere made the 10⁵-face building's refinement 1.5×.
+    if (r.projectedArea(w) > kFairShare * r.area && s.projectedArea(-w) > kFairShare * s.area) return centres;
     Pcg32 rng(options_.seed ^ 0x6a09e667f3bcc909ull, (static_cast<std::uint64_t>(c.receiver) << 32) ^ c.source);
     const std::array<std::uint32_t, 4> scramble{rng.nextUint(), rng.nextUint(), rng.nextUint(), rng.nextUint()};
     const ClusterSample sample = sampleCluster<false>(c, w, kOracleSamples, scramble);
@@ -522,6 +527,7 @@ class Refiner {
     return std::fmax(centres, unoccluded);
   }
   static constexpr double kCloseReach = 2.0;
+  static constexpr double kFairShare = 0.1;
   // Sample pairs of the oracle's estimate: 4 judge the closed room as well as 8 (surfaces within
   // 1.7–1.8% either way) at half the cost; the MGF floor's refinement then takes what it took
   // when judged by the centres alone.
