@@ -38,6 +38,18 @@ RadiosityOptions hierarchicalOptions(double linkError, SolverKind solver = Solve
   return options;
 }
 
+// A spot at `position` toward `toward` (normalised here), I in W/sr, its cone and falloff in degrees.
+Light spotLight(const Vec3& position, const Vec3& toward, double intensity, double coneDegrees, double falloffDegrees) {
+  Light spot;
+  spot.kind = LightKind::Spot;
+  spot.position = position;
+  spot.direction = normalize(toward);
+  spot.intensity = Rgb::gray(intensity);
+  spot.coneAngleDegrees = coneDegrees;
+  spot.falloffDegrees = falloffDegrees;
+  return spot;
+}
+
 std::unique_ptr<Radiosity> solvedEngine(const Scene& scene, const RadiosityOptions& options) {
   auto engine = Radiosity::create(scene, options);
   EXPECT_TRUE(engine.ok()) << engine.error().message;
@@ -729,14 +741,7 @@ TEST(HierarchicalTest, VertexValuesAreContinuousAcrossTJunctions) {
   // A spot on a coarse floor splits some elements and not their neighbours: every vertex that
   // lies inside a leaf's edge must carry the value interpolated along that edge.
   Scene scene = closedCube(1, {}, Rgb::gray(0.5));
-  Light spot;
-  spot.kind = LightKind::Spot;
-  spot.position = {0.3, 0.9, 0.3};
-  spot.direction = normalize(Vec3{0.2, -1, 0.1});
-  spot.intensity = Rgb::gray(2);
-  spot.coneAngleDegrees = 20;
-  spot.falloffDegrees = 2;
-  scene.lights.push_back(spot);
+  scene.lights.push_back(spotLight({0.3, 0.9, 0.3}, {0.2, -1, 0.1}, 2, 20, 2));
   auto engine = solvedEngine(scene, hierarchicalOptions(1e-3));
   ASSERT_TRUE(engine);
   const SolutionView& view = engine->solution();
@@ -854,13 +859,7 @@ TEST(HierarchicalTest, TheBoundMakesEverySweepAContraction) {
 // order gives other values.
 TEST(HierarchicalTest, AGaussSeidelSweepGathersEachLeafFromTheCurrentMeans) {
   Scene scene = closedCornellBox();
-  Light spot;
-  spot.kind = LightKind::Spot;
-  spot.position = {278, 540, 280};
-  spot.direction = normalize(Vec3{0.2, -1, 0.1});
-  spot.intensity = Rgb::gray(3e4);
-  spot.coneAngleDegrees = 30;
-  spot.falloffDegrees = 5;
+  const Light spot = spotLight({278, 540, 280}, {0.2, -1, 0.1}, 3e4, 30, 5);
   scene.lights.push_back(spot);
   RadiosityOptions options = hierarchicalOptions(2e-3);
   HierarchicalMeshing meshing(scene, options);
