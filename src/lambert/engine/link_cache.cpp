@@ -136,6 +136,30 @@ unsigned char* copyIn(unsigned char* to, const std::vector<T>& from) {
   return to + from.size() * sizeof(T);
 }
 
+// A cache file's whole payload, after its header and checksum are checked: refused when shorter
+// than minimumBytes (what cannot hold `what`), and its length checked against the header's count
+// before anything is allocated.
+struct Payload {
+  std::unique_ptr<unsigned char[]> data;
+  std::uint64_t bytes = 0;
+};
+Result<Payload> readPayload(const std::string& path, const cachefile::Format& format, std::uint64_t key,
+                            std::uint64_t minimumBytes, const std::string& what) {
+  Result<cachefile::Reader> opened = cachefile::Reader::open(path, format, key);
+  if (!opened) return opened.error();
+  cachefile::Reader& reader = *opened;
+  Payload payload;
+  payload.bytes = reader.count();
+  if (payload.bytes < minimumBytes ||
+      payload.bytes > std::numeric_limits<std::size_t>::max() - cachefile::kHeaderBytes - cachefile::kChecksumBytes)
+    return Error{path + ": a payload of " + std::to_string(payload.bytes) + " bytes cannot hold " + what};
+  if (Status sized = reader.checkSize(static_cast<std::size_t>(payload.bytes), std::to_string(payload.bytes) + " payload bytes"); !sized)
+    return sized.error();
+  payload.data.reset(new unsigned char[static_cast<std::size_t>(payload.bytes)]);
+  if (Status read = reader.readPayload(payload.data.get()); !read) return read.error();
+  return payload;
+}
+
 }  // namespace
 
 bool linkCacheUsable(const RadiosityOptions& options, const SolveBudget& firstBudget) {
@@ -235,19 +259,10 @@ Result<std::uint64_t> saveRefinement(const std::string& path, std::uint64_t key,
 }
 
 Result<CachedRefinement> loadRefinement(const std::string& path, std::uint64_t key) {
-  Result<cachefile::Reader> opened = cachefile::Reader::open(path, kFormat, key);
-  if (!opened) return opened.error();
-  cachefile::Reader& reader = *opened;
-  const std::uint64_t bytes = reader.count();
-  if (bytes < kPreambleBytes || bytes > std::numeric_limits<std::size_t>::max() - cachefile::kHeaderBytes - cachefile::kChecksumBytes)
-    return Error{path + ": a payload of " + std::to_string(bytes) + " bytes cannot hold links"};
-  // The file's length is checked against the header's count before anything is allocated.
-  if (Status sized = reader.checkSize(static_cast<std::size_t>(bytes), std::to_string(bytes) + " payload bytes"); !sized)
-    return sized.error();
-  std::unique_ptr<unsigned char[]> payload(new unsigned char[static_cast<std::size_t>(bytes)]);
-  if (Status read = reader.readPayload(payload.get()); !read) return read.error();
-
-  const unsigned char* p = payload.get();
+  Result<Payload> payload = readPayload(path, kFormat, key, kPreambleBytes, "links");
+  if (!payload) return payload.error();
+  const std::uint64_t bytes = payload->bytes;
+  const unsigned char* p = payload->data.get();
   std::uint64_t preamble[8];
   for (int k = 0; k < 8; ++k) preamble[k] = cachefile::loadLe64(p + 8 * k);
   CachedRefinement r;
@@ -345,17 +360,10 @@ Result<std::uint64_t> saveGatherVisibility(const std::string& path, std::uint64_
 
 Result<GatherVisibility> loadGatherVisibility(const std::string& path, std::uint64_t key, std::uint64_t vertexCount,
                                               std::uint64_t numLinks, std::uint64_t numNodes) {
-  Result<cachefile::Reader> opened = cachefile::Reader::open(path, kVisibilityFormat, key);
-  if (!opened) return opened.error();
-  cachefile::Reader& reader = *opened;
-  const std::uint64_t bytes = reader.count();
-  if (bytes < 16 || bytes > std::numeric_limits<std::size_t>::max() - cachefile::kHeaderBytes - cachefile::kChecksumBytes)
-    return Error{path + ": a payload of " + std::to_string(bytes) + " bytes cannot hold visibility values"};
-  if (Status sized = reader.checkSize(static_cast<std::size_t>(bytes), std::to_string(bytes) + " payload bytes"); !sized)
-    return sized.error();
-  std::unique_ptr<unsigned char[]> payload(new unsigned char[static_cast<std::size_t>(bytes)]);
-  if (Status read = reader.readPayload(payload.get()); !read) return read.error();
-  const unsigned char* p = payload.get();
+  Result<Payload> payload = readPayload(path, kVisibilityFormat, key, 16, "visibility values");
+  if (!payload) return payload.error();
+  const std::uint64_t bytes = payload->bytes;
+  const unsigned char* p = payload->data.get();
   const std::uint64_t vertices = cachefile::loadLe64(p), entries = cachefile::loadLe64(p + 8);
   VisibilityLayout at;
   if (!visibilityLayout(vertices, entries, at) || at.total != bytes)
