@@ -10,7 +10,7 @@
 // keeps it per vertex (key: surface, position and evaluation site) between runs.
 //
 //   cornell_accuracy [--link-error 2e-4] [--seeds 1,2,3] [--reference-samples 16384]
-//                    [--reference-cache FILE] [--dump PREFIX]
+//                    [--reference-cache FILE] [--dump PREFIX] [--visibility-rays N] [--leaf-samples N]
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -71,6 +71,13 @@ int main(int argc, char** argv) {
   std::string cachePath, dumpPrefix;
   CLI::App app{"cornell_accuracy: the default method's per-vertex error on the Cornell box and where it is, as JSON"};
   app.add_option("--link-error", linkError, "Link error")->check(CLI::Range(1e-9, 1.0))->capture_default_str();
+  int leafSamples = 0;
+  app.add_option("--leaf-samples", leafSamples, "Also trace each open leaf's centroid with this many samples (first seed)")
+      ->check(CLI::Range(0, 1 << 20));
+  int visibilityRays = LinkOptions{}.visibilityRays;
+  app.add_option("--visibility-rays", visibilityRays, "Sample pairs per link (and the gather's rays per source)")
+      ->check(CLI::Range(1, 255))
+      ->capture_default_str();
   app.add_option("--seeds", seeds, "Solve seeds (links' and gather's rays)")->delimiter(',')->capture_default_str();
   app.add_option("--reference-samples", samples, "Samples a vertex for each of the reference's two seeds")
       ->check(CLI::Range(16, 1 << 22))
@@ -112,6 +119,7 @@ int main(int argc, char** argv) {
     options.meshing = MeshStrategy::Hierarchical;
     options.hierarchical.links.linkError = linkError;
     options.hierarchical.links.seed = seed;
+    options.hierarchical.links.visibilityRays = visibilityRays;
     options.directLight.seed = seed;
     options.solver = SolverKind::GaussSeidel;
     Timer timer;
@@ -159,6 +167,33 @@ int main(int argc, char** argv) {
         append << run.key[v] << ' ' << samples << ' ' << t.first.r << ' ' << t.first.g << ' ' << t.first.b << ' ' << t.second.r
                << ' ' << t.second.g << ' ' << t.second.b << '\n';
       }
+    }
+    if (leafSamples > 0 && runs.empty()) {
+      // The solve's own element means against the path tracer at each open leaf's centroid: the
+      // final gather reads these means, so a bias here reaches every vertex.
+      ReferenceOptions leafOptions = first;
+      leafOptions.vertexSamples = leafSamples;
+      const ReferenceRenderer leafTracer(scene, geometry, leafOptions);
+      const Mesh& elements = engine->solution().mesh();
+      const std::vector<Rgb>& b = engine->solution().radiosity();
+      std::vector<Rgb> traced(elements.numPatches());
+      parallelFor(0, elements.numPatches(), [&](std::size_t p) {
+        const Patch& patch = elements.patches[p];
+        if (patch.openFraction < 1) return;
+        traced[p] = leafTracer.outgoingRadiance(patch.centroid + patch.normal * (1e-4 * diagonal), patch.normal, patch.surface, p);
+      });
+      std::vector<double> solved(scene.surfaces.size(), 0.0), path(scene.surfaces.size(), 0.0);
+      const auto luminance = [](const Rgb& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; };
+      for (std::size_t p = 0; p < elements.numPatches(); ++p) {
+        const Patch& patch = elements.patches[p];
+        if (patch.openFraction < 1) continue;
+        solved[patch.surface] += luminance(b[p]) / kPi * patch.area;
+        path[patch.surface] += luminance(traced[p]) * patch.area;
+      }
+      Json leaves = Json::object();
+      for (std::size_t s = 0; s < solved.size(); ++s)
+        if (path[s] > 0) leaves[scene.surfaces[s].name] = solved[s] / path[s] - 1;
+      out["leaf_mean_bias_by_surface"] = leaves;
     }
     std::vector<VertexSample> reference = run.value, a = run.value, b = run.value;
     for (std::size_t v = 0; v < n; ++v) {

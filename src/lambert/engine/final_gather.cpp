@@ -27,10 +27,19 @@ constexpr double kResolveShare = 0.01;
 // Rays from a vertex to a source, as a multiple of the link's, where the first ones disagree.
 constexpr int kPenumbraRays = 4;
 
+// Levels below an element gathered whole over which its radiosity's shape is followed.
+constexpr int kShapeDepth = 2;
+
 // One visibility value as a gather used it (GatherVisibility's entry, with its vertex).
 struct SeenEntry {
   std::uint32_t vertex, link, source;
   double seen;
+};
+
+// One corner weight of a close leaf source (NearFieldWeights' entry, with its vertex).
+struct NearEntry {
+  std::uint32_t vertex, corner;
+  float weight;
 };
 
 }  // namespace
@@ -54,6 +63,7 @@ FinalGather::FinalGather(const ElementHierarchy& hierarchy, const ElementHierarc
       epsilon_(rayEpsilon),
       rays_(std::max(1, visibilityRays)),
       seed_(seed),
+      mesh_(leaves.mesh),
       sites_(vertexSites(leaves.mesh, nudge)) {
   const Mesh& mesh = leaves.mesh;
   LAMBERT_CHECK(mesh.numPatches() == hierarchy.leafNodes().size());
@@ -71,6 +81,21 @@ FinalGather::FinalGather(const ElementHierarchy& hierarchy, const ElementHierarc
         leaf_[v] = p;
     }
   }
+}
+
+Rgb FinalGather::shapedMean(const VertexSite& site, std::uint32_t s, const std::vector<Rgb>& mean, int depth) const {
+  const HierarchyNode& source = hierarchy_.node(s);
+  if (source.isLeaf() || depth >= kShapeDepth) return mean[s];
+  Rgb sum;
+  double total = 0;
+  for (std::uint32_t c : hierarchy_.children(s)) {
+    const HierarchyNode& child = hierarchy_.node(c);
+    const double w = std::fmax(0.0, pointToPointKernel(site.point, site.normal, child.centre, child.normal)) * child.area;
+    if (!(w > 0)) continue;
+    sum += shapedMean(site, c, mean, depth + 1) * w;
+    total += w;
+  }
+  return total > 0 ? sum * (1 / total) : mean[s];
 }
 
 double FinalGather::visibility(std::uint32_t vertex, std::uint32_t link, const HierarchyNode& source,
@@ -103,11 +128,13 @@ double FinalGather::visibility(std::uint32_t vertex, std::uint32_t link, const H
 }
 
 std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean, FinalGatherCounts* counts, const GatherVisibility* known,
-                                         GatherVisibility* record) const {
+                                         GatherVisibility* record, NearFieldWeights* near) const {
   LAMBERT_CHECK(mean.size() == hierarchy_.nodes().size());
   if (known && known->numVertices() != sites_.size()) known = nullptr;
   // Recorded per thread (24 bytes a value, a few values a vertex), sorted into `record` after.
   tbb::enumerable_thread_specific<std::vector<SeenEntry>> used;
+  tbb::enumerable_thread_specific<std::vector<NearEntry>> nearEntries;
+  if (near) near->meanPart.assign(sites_.size(), Rgb{});
   const std::size_t numNodes = hierarchy_.nodes().size();
   // The lowest and highest radiosity of the leaves under each node, per channel: children have
   // larger indices than their parents, so one pass in decreasing order sees them first.
@@ -252,9 +279,13 @@ std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean, FinalGath
       const double variation = term.mixed ? std::fmax(spread, highest[term.source].maxComponent()) : spread;
       return term.factor * variation > threshold;
     };
-    thread_local std::vector<Term> pending;
+    thread_local std::vector<Term> pending, gatheredTerms;
+    gatheredTerms.clear();
     for (const Term& top : terms) {
-      if (!opens(top)) continue;
+      if (!opens(top)) {
+        gatheredTerms.push_back(top);
+        continue;
+      }
       sum -= mean[top.source] * (top.factor * top.seen);
       pending.assign(1, top);
       while (!pending.empty()) {
@@ -262,6 +293,7 @@ std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean, FinalGath
         pending.pop_back();
         if (!opens(term)) {
           sum += mean[term.source] * (term.factor * term.seen);
+          gatheredTerms.push_back(term);
           continue;
         }
         ++tally[1];
@@ -271,8 +303,50 @@ std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean, FinalGath
         }
       }
     }
+    // An element gathered whole still shows the vertex its radiosity's shape: a wall's brighter
+    // half near the lamp is nearer the ceiling vertex above it, and with the element's mean the
+    // Cornell box's ceiling was 3% dark. Its F × B̄ becomes F × Σ w_c B̄_c over its descendants
+    // kShapeDepth levels down, w_c their shares of the point kernel × area (the exact F kept).
+    for (const Term& term : gatheredTerms) {
+      const HierarchyNode& source = hierarchy_.node(term.source);
+      if (source.isLeaf() || !(term.seen > 0)) continue;
+      sum += (shapedMean(site, term.source, mean) - mean[term.source]) * (term.factor * term.seen);
+    }
     out[v] = sum;
+    if (!near) return;
+    for (const Term& term : gatheredTerms) {
+      const HierarchyNode& source = hierarchy_.node(term.source);
+      // A partly covered leaf (a floor leaf under a block's edge) has corners in the dark whose
+      // values are not light it shows: its mean is over its open part (links.h).
+      if (!source.isLeaf() || !(term.seen > 0) || mesh_.patches[source.leaf].openFraction < 1 ||
+          !(source.radius > kOpeningRatio * length(source.centre - site.point)))
+        continue;
+      // The leaf's patch has the node's corners, in the node's order (ElementHierarchy::leaves).
+      const std::array<double, 4> w = cornerFormFactors(site.point, site.normal, source.polygon(), source.normal);
+      const std::span<const std::uint32_t> corners = mesh_.cornerIndices(source.leaf);
+      for (std::size_t c = 0; c < corners.size(); ++c)
+        if (w[c] > 0) nearEntries.local().push_back({static_cast<std::uint32_t>(v), corners[c], static_cast<float>(w[c] * term.seen)});
+      near->meanPart[v] += mean[term.source] * (term.factor * term.seen);
+    }
   }, 64);
+  if (near) {
+    near->start.assign(sites_.size() + 1, 0);
+    std::size_t total = 0;
+    for (const std::vector<NearEntry>& entries : nearEntries) {
+      total += entries.size();
+      for (const NearEntry& e : entries) ++near->start[e.vertex + 1];
+    }
+    LAMBERT_CHECK(total < std::numeric_limits<std::uint32_t>::max());
+    for (std::size_t v = 0; v < sites_.size(); ++v) near->start[v + 1] += near->start[v];
+    near->corner.resize(total);
+    near->weight.resize(total);
+    std::vector<std::uint32_t> next(near->start.begin(), near->start.end() - 1);
+    for (const std::vector<NearEntry>& entries : nearEntries)
+      for (const NearEntry& e : entries) {
+        near->corner[next[e.vertex]] = e.corner;
+        near->weight[next[e.vertex]++] = e.weight;
+      }
+  }
   if (counts) {
     *counts = {};
     for (std::size_t v = 0; v < work.size(); ++v) {
@@ -323,6 +397,47 @@ std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean, FinalGath
     }
     record->start.back() = kept;
   }
+  return out;
+}
+
+std::vector<Rgb> FinalGather::coupleNearField(const std::vector<Rgb>& gathered, const NearFieldWeights& near,
+                                              std::span<const Rgb> emitted, std::span<const Rgb> albedo, std::span<const Rgb> direct,
+                                              int* iterations) {
+  const std::size_t n = gathered.size();
+  LAMBERT_CHECK(near.start.size() == n + 1 && near.meanPart.size() == n && emitted.size() == n && albedo.size() == n &&
+                direct.size() == n);
+  constexpr int kMaxIterations = 100;
+  constexpr double kTolerance = 1e-6;
+  std::vector<Rgb> far(n), radiosity(n), next(n), out(n);
+  parallelFor(0, n, [&](std::size_t v) {
+    far[v] = gathered[v] - near.meanPart[v];
+    radiosity[v] = emitted[v] + albedo[v] * (gathered[v] + direct[v]);
+  }, 1024);
+  const auto irradianceAt = [&](std::size_t v, const std::vector<Rgb>& b) {
+    Rgb e = far[v];
+    for (std::uint32_t k = near.start[v]; k < near.start[v + 1]; ++k) e += b[near.corner[k]] * near.weight[k];
+    return e;
+  };
+  int steps = 0;
+  if (near.size() > 0) {
+    double largest = 0;
+    for (const Rgb& b : radiosity) largest = std::fmax(largest, b.maxComponent());
+    for (; steps < kMaxIterations; ++steps) {
+      std::vector<double> change(n, 0.0);
+      parallelFor(0, n, [&](std::size_t v) {
+        next[v] = near.start[v] == near.start[v + 1] ? radiosity[v] : emitted[v] + albedo[v] * (irradianceAt(v, radiosity) + direct[v]);
+        change[v] = (next[v] - radiosity[v]).maxComponent();
+        change[v] = std::fmax(change[v], (radiosity[v] - next[v]).maxComponent());
+      }, 1024);
+      radiosity.swap(next);
+      if (!(*std::max_element(change.begin(), change.end()) > kTolerance * largest)) {
+        ++steps;
+        break;
+      }
+    }
+  }
+  parallelFor(0, n, [&](std::size_t v) { out[v] = irradianceAt(v, radiosity); }, 1024);
+  if (iterations) *iterations = steps;
   return out;
 }
 

@@ -28,6 +28,7 @@
 // into its own surface) and gathers through the adjacent leaf with the largest open fraction,
 // then the smallest (whose links are the finest).
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "lambert/core/rgb.h"
@@ -55,6 +56,23 @@ struct GatherVisibility {
   const double* find(std::uint32_t vertex, std::uint32_t link, std::uint32_t flaggedSource) const;
 };
 
+// The leaf sources a final gather saw from close by (the vertex nearer than twice their bounding
+// sphere's radius, as the gather opens nodes), as weights on their corner vertices: a vertex's irradiance from such a source is
+// ∫ k(x, y) B(y) dA_y with B interpolated (bilinearly on a quad, linearly on a triangle) from the
+// source's corner vertices' radiosities, instead of F(x → s) × B̄_s. The light across a leaf
+// varies most where it meets another surface (the strip of wall under the ceiling is far darker
+// than the wall leaf's mean) and a vertex beside that surface sees the strip nearest it with
+// about half its hemisphere: with B̄_s, the Cornell box's room edges were 8–10% too bright.
+// The corner radiosities are the gather's own results, so FinalGather::coupleNearField solves
+// for them together.
+struct NearFieldWeights {
+  std::vector<std::uint32_t> start;   // per vertex and one more: vertex v's entries are [start[v], start[v + 1])
+  std::vector<std::uint32_t> corner;  // per entry: a source's corner vertex
+  std::vector<float> weight;          // per entry: ∫ k φ_corner dA × the source's visibility (dimensionless)
+  std::vector<Rgb> meanPart;          // per vertex: Σ F × visibility × B̄_s over these sources (W/m²), in the gather
+  std::size_t size() const { return weight.size(); }
+};
+
 // What one final gather did, summed over the vertices (and the most at any one vertex).
 struct FinalGatherCounts {
   std::uint64_t vertices = 0;         // vertices gathered (those with a leaf)
@@ -76,8 +94,19 @@ class FinalGather {
   // counts, if given, receives what the gather did. known, if given, holds visibility values of an
   // earlier gather over the same hierarchy, links and vertices, read instead of cast again; record,
   // if given, receives every visibility value this gather used (those read included).
+  // near, if given, receives the close leaf sources' weights (their F × B̄_s stays in the result).
   std::vector<Rgb> irradiance(const std::vector<Rgb>& nodeMeanRadiosity, FinalGatherCounts* counts = nullptr,
-                              const GatherVisibility* known = nullptr, GatherVisibility* record = nullptr) const;
+                              const GatherVisibility* known = nullptr, GatherVisibility* record = nullptr,
+                              NearFieldWeights* near = nullptr) const;
+  // The irradiance at every vertex with each close leaf source's light taken from its corners'
+  // radiosities, B_u = emitted_u + ρ_u (E_u + direct_u) (per vertex, W/m²), solved by Jacobi
+  // iteration from `gathered` (the gather's result with B̄_s) until no radiosity changes by more
+  // than 10⁻⁶ of the largest; each step contracts by at most max ρ × Σ weights < 1. Returns the
+  // irradiance from the surfaces (direct light from the lights not included); iterations, if
+  // given, receives the steps taken.
+  static std::vector<Rgb> coupleNearField(const std::vector<Rgb>& gathered, const NearFieldWeights& near,
+                                          std::span<const Rgb> emitted, std::span<const Rgb> albedo,
+                                          std::span<const Rgb> direct, int* iterations = nullptr);
 
   const std::vector<VertexSite>& sites() const { return sites_; }
   // The leaf each vertex gathers through (its patch index in the leaf mesh); kNoNode if none.
@@ -90,12 +119,16 @@ class FinalGather {
   double visibility(std::uint32_t vertex, std::uint32_t link, const HierarchyNode& source, std::uint32_t& raysCast,
                     bool penumbraRays = false) const;
 
+  // Source s's mean radiosity as the vertex weighs it: its descendants' means, each by its
+  // point kernel × area, kShapeDepth levels down (final_gather.cpp).
+  Rgb shapedMean(const VertexSite& site, std::uint32_t s, const std::vector<Rgb>& mean, int depth = 0) const;
   const ElementHierarchy& hierarchy_;
   const Links& links_;
   const RayCaster& caster_;
   double epsilon_;
   int rays_;
   std::uint64_t seed_;
+  const Mesh& mesh_;
   std::vector<VertexSite> sites_;
   std::vector<std::uint32_t> leaf_;
 };

@@ -344,7 +344,8 @@ std::vector<std::vector<Rgb>> HierarchicalMeshing::vertexSolution(const ElementS
   }
   FinalGatherCounts counts;
   GatherVisibility recorded;
-  const std::vector<Rgb> gathered = gather.irradiance(mean, &counts, known.get(), recordPath.empty() ? nullptr : &recorded);
+  NearFieldWeights near;
+  std::vector<Rgb> gathered = gather.irradiance(mean, &counts, known.get(), recordPath.empty() ? nullptr : &recorded, &near);
   if (!recordPath.empty()) {
     Timer timer;
     Result<std::uint64_t> saved = saveGatherVisibility(recordPath, linkCache_.key, recorded);
@@ -360,16 +361,18 @@ std::vector<std::vector<Rgb>> HierarchicalMeshing::vertexSolution(const ElementS
   }
   const std::vector<VertexSite>& sites = gather.sites();
   const std::vector<std::uint32_t>& leaf = gather.gatheringLeaf();
-  // The lights' direct irradiance at the vertices, where a quantity includes it.
-  std::vector<Rgb> direct(gathered.size());
-  bool needsDirect = false;
-  for (VertexQuantity quantity : quantities) needsDirect |= quantity != VertexQuantity::IndirectRadiosity;
-  if (needsDirect && !solution.lights.empty())
-    parallelFor(0, direct.size(), [&](std::size_t v) {
-      if (leaf[v] == kNoNode) return;
-      for (const Light& light : solution.lights)
-        direct[v] += irradiance(light, sites[v].point, sites[v].normal, *caster_, epsilon_, solution.metresPerUnit);
-    }, 64);
+  // The lights' direct irradiance at the vertices: every quantity needs it, through the close
+  // sources' corner radiosities if not directly.
+  std::vector<Rgb> direct(gathered.size()), emitted(gathered.size()), albedo(gathered.size());
+  parallelFor(0, direct.size(), [&](std::size_t v) {
+    if (leaf[v] == kNoNode) return;
+    emitted[v] = solution.emitted[leaf[v]];
+    albedo[v] = solution.albedo[leaf[v]];
+    for (const Light& light : solution.lights)
+      direct[v] += irradiance(light, sites[v].point, sites[v].normal, *caster_, epsilon_, solution.metresPerUnit);
+  }, 64);
+  int nearIterations = 0;
+  gathered = FinalGather::coupleNearField(gathered, near, emitted, albedo, direct, &nearIterations);
   // A T-junction's value is interpolated along the edge it lies on (as constrainHangingVertices
   // does), so that both sides of the edge show the same values, except where an end of that edge
   // is covered (under a block standing on the floor): what is gathered there is not light the
@@ -387,8 +390,7 @@ std::vector<std::vector<Rgb>> HierarchicalMeshing::vertexSolution(const ElementS
     for (std::size_t v = 0; v < values.size(); ++v) {
       if (leaf[v] == kNoNode) continue;
       const Rgb received = quantity == VertexQuantity::IndirectRadiosity ? gathered[v] : gathered[v] + direct[v];
-      values[v] = quantity == VertexQuantity::Irradiance ? received
-                                                          : solution.emitted[leaf[v]] + solution.albedo[leaf[v]] * received;
+      values[v] = quantity == VertexQuantity::Irradiance ? received : emitted[v] + albedo[v] * received;
     }
     // Made on a coarser edge first (a smaller vertex index), so an end that hangs itself is final.
     for (const HangingVertex& h : leaves_.hanging)
@@ -397,6 +399,8 @@ std::vector<std::vector<Rgb>> HierarchicalMeshing::vertexSolution(const ElementS
   }
   const std::lock_guard<std::mutex> lock(gatherMutex_);
   gatherCounts_ = counts;
+  nearFieldWeights_ = near.size();
+  nearFieldIterations_ = nearIterations;
   gatherSeconds_ = gatherTimer.seconds();
   return out;
 }
@@ -459,6 +463,8 @@ void HierarchicalMeshing::addStats(Stats& stats) const {
               static_cast<double>(gatherCounts_.visibilityRays) / vertices);
     stats.add("gather_rays_max", "final gather: visibility rays at one vertex (most)", count(gatherCounts_.maxVisibilityRays));
     stats.add("gather_visibility_cached", "final gather: visibility values read from the cache", count(gatherCounts_.visibilityKnown));
+    stats.add("gather_near_weights", "final gather: corner weights of sources seen from close by", count(nearFieldWeights_));
+    stats.add("gather_near_iterations", "final gather: Jacobi steps coupling those corners", count(nearFieldIterations_));
     stats.add("gather_seconds", "final gather time (last: sites, gather, direct light at the vertices)", gatherSeconds_, "s");
   }
 }

@@ -98,6 +98,8 @@ class HierarchicalMeshing final : public Meshing {
   // The last final gather's work (vertexSolution is const and may run on any thread).
   mutable std::mutex gatherMutex_;
   mutable FinalGatherCounts gatherCounts_;
+  mutable std::size_t nearFieldWeights_ = 0;
+  mutable int nearFieldIterations_ = 0;
   mutable double gatherSeconds_ = 0;
 };
 

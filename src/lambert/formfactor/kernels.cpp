@@ -3,6 +3,7 @@
 #include <cmath>
 #include <vector>
 
+#include "lambert/core/error.h"
 #include "lambert/core/rgb.h"
 
 namespace lambert {
@@ -75,5 +76,72 @@ Vec3 incenter(const std::array<Vec3, 3>& triangle) {
   double la = length(b - c), lb = length(c - a), lc = length(a - b);
   return (a * la + b * lb + c * lc) / (la + lb + lc);
 }
+
+namespace {
+// A cell is split while its bounding radius exceeds this share of its distance from x, down to
+// kCornerDepth levels (cells of 2⁻¹² of the polygon's side).
+constexpr double kCornerCellRatio = 0.5;
+constexpr int kCornerDepth = 12;
+}  // namespace
+
+// φ is bilinear in the cell parameters, so a cell's centre and edge midpoints have the means of
+// its corners' φ.
+std::array<double, 4> cornerFormFactors(const Vec3& x, const Vec3& xNormal, std::span<const Vec3> polygon, const Vec3& polygonNormal) {
+  using Weights = std::array<double, 4>;
+  struct Cell {
+    std::array<Weights, 4> corner;
+    int depth;
+  };
+  const std::size_t m = polygon.size();
+  LAMBERT_CHECK(m == 3 || m == 4);
+  const auto mix = [](const Weights& a, const Weights& b) {
+    return Weights{(a[0] + b[0]) * 0.5, (a[1] + b[1]) * 0.5, (a[2] + b[2]) * 0.5, (a[3] + b[3]) * 0.5};
+  };
+  std::array<double, 4> out{0, 0, 0, 0};
+  thread_local std::vector<Cell> stack;
+  stack.clear();
+  Cell whole{{}, 0};
+  for (std::size_t c = 0; c < m; ++c) whole.corner[c][c] = 1;
+  stack.push_back(whole);
+  while (!stack.empty()) {
+    const Cell cell = stack.back();
+    stack.pop_back();
+    std::array<Vec3, 4> point{};
+    Weights centre{0, 0, 0, 0};
+    for (std::size_t k = 0; k < m; ++k) {
+      for (std::size_t c = 0; c < m; ++c) {
+        point[k] += polygon[c] * cell.corner[k][c];
+        centre[c] += cell.corner[k][c] / static_cast<double>(m);
+      }
+    }
+    Vec3 middle{};
+    for (std::size_t c = 0; c < m; ++c) middle += polygon[c] * centre[c];
+    double radius = 0;
+    for (std::size_t k = 0; k < m; ++k) radius = std::fmax(radius, length(point[k] - middle));
+    if (cell.depth < kCornerDepth && radius > kCornerCellRatio * length(middle - x)) {
+      const auto& w = cell.corner;
+      const int d = cell.depth + 1;
+      if (m == 3) {
+        const Weights a = mix(w[0], w[1]), b = mix(w[1], w[2]), c = mix(w[2], w[0]);
+        stack.push_back({{w[0], a, c, {}}, d});
+        stack.push_back({{a, w[1], b, {}}, d});
+        stack.push_back({{c, b, w[2], {}}, d});
+        stack.push_back({{a, b, c, {}}, d});
+      } else {
+        const Weights a = mix(w[0], w[1]), b = mix(w[1], w[2]), c = mix(w[2], w[3]), e = mix(w[3], w[0]), o = mix(a, c);
+        stack.push_back({{w[0], a, o, e}, d});
+        stack.push_back({{a, w[1], b, o}, d});
+        stack.push_back({{o, b, w[2], c}, d});
+        stack.push_back({{e, o, c, w[3]}, d});
+      }
+      continue;
+    }
+    const double factor = pointToPolygonFormFactor(x, xNormal, std::span<const Vec3>(point.data(), m), polygonNormal);
+    if (!(factor > 0)) continue;
+    for (std::size_t c = 0; c < m; ++c) out[c] += factor * centre[c];
+  }
+  return out;
+}
+
 
 }  // namespace lambert

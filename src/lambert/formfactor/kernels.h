@@ -22,6 +22,16 @@ double pointToPointKernel(const Vec3& x, const Vec3& xNormal, const Vec3& y, con
 double pointToPolygonFormFactor(const Vec3& x, const Vec3& xNormal, std::span<const Vec3> polygon,
                                 const Vec3& polygonNormal);
 
+// ∫ k(x, y) φ_c(y) dA_y over a planar convex polygon of 3 or 4 corners, for each corner c (the
+// rest 0), where k is the point-to-point kernel above and φ_c the corner's interpolation weight:
+// linear on a triangle, bilinear in the quad's own parameters. So Σ_c w_c B_c is the irradiance
+// at x from a polygon whose radiosity is interpolated from its corners' B_c, and Σ_c w_c is
+// pointToPolygonFormFactor. Evaluated over cells of the polygon's parameters, finer toward x
+// (x may lie next to the polygon, as a room's corner does), each cell's exact factor shared by
+// the corners' φ at its centre.
+std::array<double, 4> cornerFormFactors(const Vec3& x, const Vec3& xNormal, std::span<const Vec3> polygon,
+                                        const Vec3& polygonNormal);
+
 // The part of a convex polygon strictly above the plane through `point` with normal `normal`
 // (Sutherland–Hodgman against one plane). Writes at most polygon.size() + 1 vertices to `out`
 // and returns how many; fewer than 3 means nothing is above.
