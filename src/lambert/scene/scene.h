@@ -61,6 +61,9 @@ struct Surface {
   // Texture coordinates per face corner, parallel to surfaceFaces(); empty when untextured.
   // (Per corner, not per vertex: a UV seam runs through a smooth region without splitting it.)
   std::vector<std::vector<Uv>> faceUvs = {};
+  // Lightmap coordinates per face corner, parallel to surfaceFaces() (glTF's TEXCOORD_1, a scene
+  // file's second set); empty when the file gives none (mesh/lightmap_uvs.h).
+  std::vector<std::vector<Uv>> faceLightmapUvs = {};
   // The surface lying back to back on this one (its faces reversed) when its material is
   // two-sided, else -1. A ray or a camera that meets the back of either meets the other's front.
   int twin = -1;

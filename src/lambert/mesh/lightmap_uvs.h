@@ -1,0 +1,54 @@
+#pragma once
+// Lightmap coordinates for a scene's own faces: each face corner's place in one of a few square
+// atlases of texels, so that a baked lightmap can be drawn on the input's own mesh (glTF
+// TEXCOORD_1) instead of vertex colours on re-meshed leaves.
+//
+// Where the file has them, its coordinates are used: glTF's TEXCOORD_1 (Surface::faceLightmapUvs),
+// else its first set (Surface::faceUvs) when that set is inside [0, 1] and no two faces overlap
+// in it (the overlap is detected and said). Otherwise charts are generated and packed here (no
+// Debian package offers xatlas or UVAtlas): planar charts over the faces of a smooth region that
+// lie in one plane (most of architecture), a least-squares conformal map (Lévy, Petitjean, Ray &
+// Maillot 2002) for the rest of a curved region, split where it would fold or stretch, and a
+// packing of the charts' texel rectangles with padding between them, into as many atlases as
+// needed. The scale is one texelSize (scene units per texel) over the whole scene, so that
+// light detail does not depend on how a face happens to be cut.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "lambert/core/error.h"
+#include "lambert/scene/scene.h"
+
+namespace lambert {
+
+struct LightmapUvOptions {
+  double texelSize = 0;   // scene units per texel; 0: from the scene's size (defaultTexelSize)
+  int atlasSize = 1024;   // texels per side of each atlas, at most (`--lightmap-size`)
+  int paddingTexels = 2;  // empty texels kept around each chart (dilation fills them)
+  bool useFileUvs = true; // false: generate charts even where the file has usable coordinates
+};
+
+struct LightmapUvs {
+  enum class Origin { FileLightmapSet, FileFirstSet, Generated };
+  Origin origin = Origin::Generated;
+  int size = 0;        // texels per side of every atlas
+  int numAtlases = 0;
+  double texelSize = 0;  // scene units per texel (for file coordinates: the area-weighted mean)
+  // Per surface, per face, per corner, parallel to surfaceFaces(surface): the corner's
+  // coordinate in [0, 1]² of its atlas in glTF's convention, (0, 0) the top-left corner of the
+  // first texel row. Texel (x, y) covers [x, x + 1] × [y, y + 1] / size.
+  std::vector<std::vector<std::vector<Uv>>> uv;
+  std::vector<std::vector<std::uint16_t>> atlas;  // per surface, per face: the atlas it is in
+  std::size_t charts = 0;
+  double efficiency = 0;  // texels whose centre a face covers / all atlases' texels
+  std::string note;       // what was used or why the file's coordinates were not (for the log)
+};
+
+// The default texel size: about 512 texels along the scene's bounding-box diagonal... (see .cpp).
+double defaultTexelSize(const Scene& scene);
+
+// Refuses (with the reason and how to proceed) only a scene whose charts cannot fit the atlases
+// at any texel size the options allow.
+Result<LightmapUvs> lightmapUvs(const Scene& scene, const LightmapUvOptions& options = {});
+
+}  // namespace lambert
