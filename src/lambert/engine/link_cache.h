@@ -23,6 +23,10 @@
 // that a changed refinement never serves links from an older one. Lights that move after the
 // first solve (setLights + solve, animate) re-solve over the same links and never touch the file.
 //
+// Beside it, two files of the same key hold what the final gather over those links computed: its
+// visibility values (.lhv, geometry only) and its irradiance at the vertices for one radiosity
+// (.lhg, under a digest of the radiosity and the visibility values it read).
+//
 // Files share the flat caches' header, XXH64 checksum, validation and atomic write
 // (formfactor/cache_file.h), so concurrent processes on one cache directory see a whole file or
 // none, and a file that is stale, truncated or damaged is reported and recomputed, never trusted.
