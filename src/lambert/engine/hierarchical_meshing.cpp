@@ -367,7 +367,7 @@ std::vector<std::vector<Rgb>> HierarchicalMeshing::vertexSolution(const ElementS
   std::vector<Rgb> gathered;
   Timer digestTimer;
   const std::uint64_t inputDigest = cached ? gatherInputDigest(mean, knownDigest) : 0;
-  double irradianceSeconds = digestTimer.seconds();
+  const double irradianceSeconds = digestTimer.seconds();
   if (stored && stored->inputDigest == inputDigest) {
     // The same input as the gather that wrote the file: its result, bit for bit.
     gathered = stored->irradiance;
