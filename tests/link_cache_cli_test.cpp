@@ -1,6 +1,6 @@
 // The hierarchical link cache from the command line: --cache-dir is an option every method reads
 // (it never chooses the flat method), a second run loads the links and the final gather's
-// visibility values and writes the same vertex file, byte for byte, and --no-cache reads and
+// visibility values and irradiance and writes the same vertex file, byte for byte, and --no-cache reads and
 // writes nothing, not even in the default cache directory.
 #include <gtest/gtest.h>
 
@@ -58,7 +58,9 @@ TEST(LinkCacheCliTest, CacheDirSolvesHierarchicallyAndTheSecondRunLoadsTheLinks)
   nlohmann::json second = statsOf(shell(solve + exported + (dir / "second.csv").string()));
   EXPECT_EQ(second["formfactor_cache"].get<std::string>().rfind("loaded " + file.string() + " (", 0), 0u) << second["formfactor_cache"];
   EXPECT_EQ(second["gather_cache"].get<std::string>().rfind("loaded ", 0), 0u) << second["gather_cache"];
-  EXPECT_GT(second["gather_visibility_cached"].get<long>(), 0);
+  // The same radiosity and visibility values as the first run's gather: its irradiance is read.
+  EXPECT_EQ(second["gather_irradiance_cache"].get<std::string>().rfind("loaded ", 0), 0u) << second["gather_irradiance_cache"];
+  EXPECT_EQ(second["gather_irradiance_reads"].get<long>(), 1);
   EXPECT_EQ(second["gather_rays_per_vertex"].get<double>(), 0.0);
   // What the user gets: the same vertex file, byte for byte, and the same as without a cache.
   EXPECT_TRUE(testing::readBytes(dir / "first.csv") == testing::readBytes(dir / "second.csv"));
@@ -95,7 +97,7 @@ TEST(LinkCacheCliTest, TheDefaultDirectoryIsUsedAndNoCacheWritesNothing) {
   nlohmann::json cached = statsOf(shell(render + (dir / "cached.png").string()));
   EXPECT_EQ(cached["formfactor_cache"].get<std::string>().rfind("saved " + (xdg / "lambert" / "links-").string(), 0), 0u)
       << cached["formfactor_cache"];
-  EXPECT_EQ(filesIn(xdg), 2u);  // the links and the final gather's visibility values
+  EXPECT_EQ(filesIn(xdg), 3u);  // the links and the final gather's visibility values and irradiance
   EXPECT_EQ(filesIn(home), 0u);
   // The image does not depend on where the links came from.
   nlohmann::json loaded = statsOf(shell(render + (dir / "loaded.png").string()));

@@ -171,7 +171,7 @@ INSTANTIATE_TEST_SUITE_P(
 
 // 21 renders at once on one cache directory, a third of them on the uniform mesh (the form-factor
 // matrix, .lff), a third adaptive (the master table, .lft) and a third hierarchical (the links,
-// .lhl, and the final gather's visibility values, .lhv): writers race to rename their caches into place while others read them. Every image must
+// .lhl, and the final gather's visibility values and irradiance, .lhv and .lhg): writers race to rename their caches into place while others read them. Every image must
 // be the one a cacheless render makes, and the cache must be whole afterwards.
 TEST(ReliabilityTest, TwentyConcurrentRendersShareOneCacheDirectory) {
   const fs::path dir = testing::scratchDirectory("reliability", "concurrent-cache");
@@ -206,7 +206,7 @@ TEST(ReliabilityTest, TwentyConcurrentRendersShareOneCacheDirectory) {
         << "run " << i << ": " << std::string(log.begin(), log.end());
   }
   EXPECT_FALSE(hasTemporaryFiles(cache));
-  EXPECT_EQ(std::distance(fs::directory_iterator(cache), fs::directory_iterator()), 4);
+  EXPECT_EQ(std::distance(fs::directory_iterator(cache), fs::directory_iterator()), 5);
   // The caches left behind are whole: the next runs load them and draw the same images.
   for (int k = 0; k < 3; ++k) {
     const fs::path image = dir / "after.png";

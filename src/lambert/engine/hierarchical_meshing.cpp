@@ -317,10 +317,14 @@ std::vector<std::vector<Rgb>> HierarchicalMeshing::vertexSolution(const ElementS
                            options_.links.visibilityRays, options_.links.seed);
   std::vector<Rgb> mean;
   transport_->pull(solution.radiosity, mean);
-  // The visibility file (link_cache.h) holds values over the links its key made: the last pass's.
+  // The visibility and irradiance files (link_cache.h) hold values over the links their key
+  // made: the last pass's.
   std::shared_ptr<const GatherVisibility> known;
-  std::string recordPath;
-  if (!linkCache_.path.empty() && passesDone_ == options_.refinePasses) {
+  std::shared_ptr<const CachedGatherIrradiance> stored;
+  std::uint64_t knownDigest = 0;
+  std::string recordPath, irradiancePath;
+  const bool cached = !linkCache_.path.empty() && passesDone_ == options_.refinePasses;
+  if (cached) {
     const std::lock_guard<std::mutex> lock(gatherCacheMutex_);
     if (!gatherCache_.tried) {
       gatherCache_.tried = true;
@@ -338,32 +342,33 @@ std::vector<std::vector<Rgb>> HierarchicalMeshing::vertexSolution(const ElementS
         if (!cachefile::isMissing(path)) warning(loaded.error().message + "; recomputing");
         recordPath = path;
       }
+      gatherCache_.knownDigest = gatherVisibilityDigest(gatherCache_.known.get());
       gatherCache_.seconds += timer.seconds();
+      Timer irradianceTimer;
+      irradiancePath = gatherIrradiancePath(linkCache_.directory, linkCache_.key);
+      Result<CachedGatherIrradiance> irradiance = loadGatherIrradiance(irradiancePath, linkCache_.key, leaves_.mesh.numVertices());
+      if (irradiance) {
+        std::error_code ec;
+        gatherCache_.irradianceBytes = std::filesystem::file_size(irradiancePath, ec);
+        gatherCache_.irradianceStatus = "loaded " + irradiancePath + " (" + mebibytes(gatherCache_.irradianceBytes) + ")";
+        gatherCache_.irradiance = std::make_shared<const CachedGatherIrradiance>(std::move(*irradiance));
+      } else {
+        if (!cachefile::isMissing(irradiancePath)) warning(irradiance.error().message + "; recomputing");
+        gatherCache_.irradianceStatus = "none";
+      }
+      gatherCache_.irradianceSeconds += irradianceTimer.seconds();
     }
     known = gatherCache_.known;
+    knownDigest = gatherCache_.knownDigest;
+    stored = gatherCache_.irradiance;
   }
   FinalGatherCounts counts;
   GatherVisibility recorded;
-  NearFieldWeights near;
-  std::vector<Rgb> gathered = gather.irradiance(mean, &counts, known.get(), recordPath.empty() ? nullptr : &recorded, &near);
-  if (!recordPath.empty()) {
-    Timer timer;
-    Result<std::uint64_t> saved = saveGatherVisibility(recordPath, linkCache_.key, recorded);
-    const std::lock_guard<std::mutex> lock(gatherCacheMutex_);
-    if (saved) {
-      gatherCache_.bytes = *saved;
-      gatherCache_.status = "saved " + recordPath + " (" + std::to_string(recorded.size()) + " values, " + mebibytes(*saved) + ")";
-    } else {
-      warning(saved.error().message + "; final gather visibility not cached");
-      gatherCache_.status = "not saved: " + saved.error().message;
-    }
-    gatherCache_.seconds += timer.seconds();
-  }
   const std::vector<VertexSite>& sites = gather.sites();
   const std::vector<std::uint32_t>& leaf = gather.gatheringLeaf();
   // The lights' direct irradiance at the vertices: every quantity needs it, through the close
   // sources' corner radiosities if not directly.
-  std::vector<Rgb> direct(gathered.size()), emitted(gathered.size()), albedo(gathered.size());
+  std::vector<Rgb> direct(sites.size()), emitted(sites.size()), albedo(sites.size());
   parallelFor(0, direct.size(), [&](std::size_t v) {
     if (leaf[v] == kNoNode) return;
     emitted[v] = solution.emitted[leaf[v]];
@@ -371,8 +376,60 @@ std::vector<std::vector<Rgb>> HierarchicalMeshing::vertexSolution(const ElementS
     for (const Light& light : solution.lights)
       direct[v] += irradiance(light, sites[v].point, sites[v].normal, *caster_, epsilon_, solution.metresPerUnit);
   }, 64);
+  NearFieldWeights near;
   int nearIterations = 0;
-  gathered = FinalGather::coupleNearField(gathered, near, emitted, albedo, direct, &nearIterations);
+  std::vector<Rgb> gathered;
+  Timer digestTimer;
+  // The gather's result with its corners coupled (FinalGather::coupleNearField), which also
+  // reads the vertices' direct light, emission and albedo.
+  const std::uint64_t inputDigest = cached ? gatherInputDigest(mean, knownDigest, {&direct, &emitted, &albedo}) : 0;
+  const double irradianceSeconds = digestTimer.seconds();
+  if (stored && stored->inputDigest == inputDigest) {
+    // The same input as the gather that wrote the file: its result, bit for bit.
+    gathered = stored->irradiance;
+    for (std::uint32_t l : gather.gatheringLeaf()) counts.vertices += l != kNoNode;
+    const std::lock_guard<std::mutex> lock(gatherCacheMutex_);
+    ++gatherCache_.irradianceReads;
+    gatherCache_.irradianceSeconds += irradianceSeconds;
+  } else {
+    gathered = FinalGather::coupleNearField(gather.irradiance(mean, &counts, known.get(), recordPath.empty() ? nullptr : &recorded, &near),
+                                            near, emitted, albedo, direct, &nearIterations);
+    if (!recordPath.empty()) {
+      Timer timer;
+      Result<std::uint64_t> saved = saveGatherVisibility(recordPath, linkCache_.key, recorded);
+      const std::lock_guard<std::mutex> lock(gatherCacheMutex_);
+      if (saved) {
+        gatherCache_.bytes = *saved;
+        gatherCache_.status = "saved " + recordPath + " (" + std::to_string(recorded.size()) + " values, " + mebibytes(*saved) + ")";
+      } else {
+        warning(saved.error().message + "; final gather visibility not cached");
+        gatherCache_.status = "not saved: " + saved.error().message;
+      }
+      gatherCache_.seconds += timer.seconds();
+    }
+    if (!irradiancePath.empty()) {
+      // Under the visibility values the next process reads: those just recorded, when the file
+      // held none.
+      Timer timer;
+      CachedGatherIrradiance made;
+      made.inputDigest =
+          recordPath.empty() ? inputDigest : gatherInputDigest(mean, gatherVisibilityDigest(&recorded), {&direct, &emitted, &albedo});
+      made.irradiance = gathered;
+      Result<std::uint64_t> saved = saveGatherIrradiance(irradiancePath, linkCache_.key, made);
+      const std::lock_guard<std::mutex> lock(gatherCacheMutex_);
+      if (saved) {
+        gatherCache_.irradianceBytes = *saved;
+        gatherCache_.irradianceStatus = "saved " + irradiancePath + " (" + mebibytes(*saved) + ")";
+      } else {
+        warning(saved.error().message + "; final gather irradiance not cached");
+        gatherCache_.irradianceStatus = "not saved: " + saved.error().message;
+      }
+      gatherCache_.irradianceSeconds += irradianceSeconds + timer.seconds();
+    } else if (cached) {
+      const std::lock_guard<std::mutex> lock(gatherCacheMutex_);
+      gatherCache_.irradianceSeconds += irradianceSeconds;
+    }
+  }
   // A T-junction's value is interpolated along the edge it lies on (as constrainHangingVertices
   // does), so that both sides of the edge show the same values, except where an end of that edge
   // is covered (under a block standing on the floor): what is gathered there is not light the
@@ -449,6 +506,11 @@ void HierarchicalMeshing::addStats(Stats& stats) const {
     stats.add("gather_cache", "final gather visibility cache", gatherCache_.status);
     if (gatherCache_.bytes > 0) stats.add("gather_cache_bytes", "final gather visibility file size", static_cast<std::int64_t>(gatherCache_.bytes), "B");
     stats.add("gather_cache_seconds", "final gather visibility cache time (load or save)", gatherCache_.seconds, "s");
+    stats.add("gather_irradiance_cache", "final gather irradiance cache", gatherCache_.irradianceStatus);
+    if (gatherCache_.irradianceBytes > 0)
+      stats.add("gather_irradiance_cache_bytes", "final gather irradiance file size", static_cast<std::int64_t>(gatherCache_.irradianceBytes), "B");
+    stats.add("gather_irradiance_reads", "final gathers read from the irradiance cache", count(gatherCache_.irradianceReads));
+    stats.add("gather_irradiance_cache_seconds", "final gather irradiance cache time (digest, load or save)", gatherCache_.irradianceSeconds, "s");
   }
   const std::lock_guard<std::mutex> lock(gatherMutex_);
   if (gatherCounts_.vertices > 0) {

@@ -20,6 +20,7 @@
 
 #include "lambert/core/timer.h"
 #include "lambert/engine/final_gather.h"
+#include "lambert/engine/link_cache.h"
 #include "lambert/engine/meshing.h"
 #include "lambert/engine/radiosity.h"
 #include "lambert/formfactor/links.h"
@@ -84,14 +85,22 @@ class HierarchicalMeshing final : public Meshing {
     std::uint64_t bytes = 0;      // the file's size, loaded or saved
     double seconds = 0;           // keying, loading and replaying, or saving
   } linkCache_;
-  // The final gather's visibility file beside the links (engine/link_cache.h): read before the
-  // first gather over the last pass's links, written after it where it held nothing usable.
+  // The final gather's visibility and irradiance files beside the links (engine/link_cache.h):
+  // read before the first gather over the last pass's links. The visibility file is written after
+  // that gather where it held nothing usable; the irradiance file where it held no values for
+  // that gather's input (so it holds the last process's first gather).
   struct GatherCacheFile {
     bool tried = false;
     std::shared_ptr<const GatherVisibility> known;
+    std::uint64_t knownDigest = 0;  // gatherVisibilityDigest(known)
     std::string status = "off";  // the gather_cache stat
     std::uint64_t bytes = 0;     // the file's size, loaded or saved
     double seconds = 0;          // loading or saving
+    std::shared_ptr<const CachedGatherIrradiance> irradiance;
+    std::string irradianceStatus = "off";  // the gather_irradiance_cache stat
+    std::uint64_t irradianceBytes = 0;     // the file's size, loaded or saved
+    std::uint64_t irradianceReads = 0;     // gathers whose result was read from it
+    double irradianceSeconds = 0;          // digests, loading or saving
   };
   mutable std::mutex gatherCacheMutex_;
   mutable GatherCacheFile gatherCache_;

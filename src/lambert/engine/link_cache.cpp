@@ -391,4 +391,74 @@ Result<GatherVisibility> loadGatherVisibility(const std::string& path, std::uint
   return v;
 }
 
+// Gather irradiance files (.lhg), on the same header and checksum:
+//   payload   16 bytes  u64 input digest (gatherInputDigest), u64 vertices V
+//             24·V      float64 r, g, b of each vertex's gathered irradiance
+namespace {
+
+constexpr cachefile::Format kIrradianceFormat{{'L', 'M', 'B', 'R', 'T', 'H', 'G', '\0'}, 1, "final gather irradiance file"};
+constexpr std::uint64_t kIrradiancePreambleBytes = 16;
+
+}  // namespace
+
+std::string gatherIrradiancePath(const std::string& directory, std::uint64_t key) {
+  return cachefile::keyedPath(directory, "links-", key, ".lhg");
+}
+
+std::uint64_t gatherVisibilityDigest(const GatherVisibility* visibility) {
+  KeyHasher h;
+  h.text("lambert gather visibility");
+  h.u32(visibility ? 1 : 0);
+  if (visibility) {
+    hashArray(h, visibility->start);
+    hashArray(h, visibility->link);
+    hashArray(h, visibility->source);
+    hashArray(h, visibility->seen);
+  }
+  return h.digest();
+}
+
+std::uint64_t gatherInputDigest(const std::vector<Rgb>& nodeMeanRadiosity, std::uint64_t visibilityDigest,
+                                std::initializer_list<const std::vector<Rgb>*> perVertex) {
+  KeyHasher h;
+  h.text("lambert gather input");
+  hashArray(h, nodeMeanRadiosity);
+  h.u64(visibilityDigest);
+  for (const std::vector<Rgb>* values : perVertex) hashArray(h, *values);
+  return h.digest();
+}
+
+Result<std::uint64_t> saveGatherIrradiance(const std::string& path, std::uint64_t key, const CachedGatherIrradiance& gathered) {
+  const std::uint64_t vertices = gathered.irradiance.size();
+  if (vertices >= std::numeric_limits<std::uint32_t>::max())
+    return Error{path + ": " + std::to_string(vertices) + " vertices are too many to store"};
+  const std::uint64_t total = kIrradiancePreambleBytes + sizeof(Rgb) * vertices;
+  std::unique_ptr<unsigned char[]> payload(new unsigned char[total]());
+  unsigned char* p = payload.get();
+  cachefile::storeLe64(p, gathered.inputDigest);
+  cachefile::storeLe64(p + 8, vertices);
+  copyIn(p + kIrradiancePreambleBytes, gathered.irradiance);
+  if (Status written = cachefile::writeFile(path, kIrradianceFormat, key, total, std::span<const unsigned char>(p, total)); !written)
+    return written.error();
+  return total + cachefile::kHeaderBytes + cachefile::kChecksumBytes;
+}
+
+Result<CachedGatherIrradiance> loadGatherIrradiance(const std::string& path, std::uint64_t key, std::uint64_t vertexCount) {
+  Result<Payload> payload = readPayload(path, kIrradianceFormat, key, kIrradiancePreambleBytes, "gathered irradiance");
+  if (!payload) return payload.error();
+  const unsigned char* p = payload->data.get();
+  CachedGatherIrradiance g;
+  g.inputDigest = cachefile::loadLe64(p);
+  const std::uint64_t vertices = cachefile::loadLe64(p + 8);
+  if (vertices >= std::numeric_limits<std::uint32_t>::max() || kIrradiancePreambleBytes + sizeof(Rgb) * vertices != payload->bytes)
+    return Error{path + ": its count (" + std::to_string(vertices) + " vertices) does not fill its " + std::to_string(payload->bytes) +
+                 " payload bytes"};
+  if (vertices != vertexCount)
+    return Error{path + ": it holds " + std::to_string(vertices) + " vertices, the leaf mesh has " + std::to_string(vertexCount)};
+  copyOut(g.irradiance, p + kIrradiancePreambleBytes, vertices);
+  for (const Rgb& e : g.irradiance)
+    if (!std::isfinite(e.r) || !std::isfinite(e.g) || !std::isfinite(e.b)) return Error{path + ": a vertex's irradiance is not finite"};
+  return g;
+}
+
 }  // namespace lambert

@@ -23,10 +23,15 @@
 // that a changed refinement never serves links from an older one. Lights that move after the
 // first solve (setLights + solve, animate) re-solve over the same links and never touch the file.
 //
+// Beside it, two files of the same key hold what the final gather over those links computed: its
+// visibility values (.lhv, geometry only) and its irradiance at the vertices for one radiosity
+// (.lhg, under a digest of the radiosity and the visibility values it read).
+//
 // Files share the flat caches' header, XXH64 checksum, validation and atomic write
 // (formfactor/cache_file.h), so concurrent processes on one cache directory see a whole file or
 // none, and a file that is stale, truncated or damaged is reported and recomputed, never trusted.
 #include <cstdint>
+#include <initializer_list>
 #include <memory>
 #include <string>
 #include <vector>
@@ -105,5 +110,39 @@ Result<std::uint64_t> saveGatherVisibility(const std::string& path, std::uint64_
 // numNodes, values finite and not negative. Any problem is an Error "<path>: <what is wrong>".
 Result<GatherVisibility> loadGatherVisibility(const std::string& path, std::uint64_t key, std::uint64_t vertexCount,
                                               std::uint64_t numLinks, std::uint64_t numNodes);
+
+// The final gather's irradiance at every vertex (FinalGather::irradiance's result) for one input,
+// beside the links: <directory>/links-<16 hex digits>.lhg. The result is fixed by what the key
+// fixes (the hierarchy, the links, the leaf mesh's vertices, the ray caster, the gather's code and
+// parameters) and by two inputs the key does not hold: the node radiosity gathered (which the
+// lights and the solve choose) and the visibility values read from the .lhv file. Their digest is
+// stored with the values, and a gather whose digest differs (another radiosity: lights moved, a
+// looser tolerance) computes its own; so a second run of the same solve reads its vertices'
+// irradiance, where a gather over 10⁵ faces' links takes most of that run's time.
+struct CachedGatherIrradiance {
+  std::uint64_t inputDigest = 0;  // gatherInputDigest of the gather that made the values
+  std::vector<Rgb> irradiance;    // per vertex of the leaf mesh, W/m² (0 at vertices without a leaf)
+};
+
+std::string gatherIrradiancePath(const std::string& directory, std::uint64_t key);
+
+// XXH64 over the visibility values a gather reads (start, link, source and value arrays, as a
+// saved and reloaded file holds them); a distinct value when there are none.
+std::uint64_t gatherVisibilityDigest(const GatherVisibility* visibility);
+
+// XXH64 over a gather's inputs beyond the key: every node's mean radiosity (exact bits) and the
+// digest of the visibility values it reads, and any per-vertex arrays its result also depends on
+// (the corners' coupling reads the vertices' direct light, emission and albedo).
+std::uint64_t gatherInputDigest(const std::vector<Rgb>& nodeMeanRadiosity, std::uint64_t visibilityDigest,
+                                std::initializer_list<const std::vector<Rgb>*> perVertex = {});
+
+// Writes the values atomically, as saveRefinement does; returns the file's size in bytes.
+Result<std::uint64_t> saveGatherIrradiance(const std::string& path, std::uint64_t key, const CachedGatherIrradiance& gathered);
+
+// Reads and validates a file written by saveGatherIrradiance with the same key: the header, exact
+// size and checksum, vertexCount vertices, finite values. Any problem is an Error
+// "<path>: <what is wrong>". Whether the values are for the caller's input is the caller's check
+// (inputDigest): a file for another input is an ordinary miss, not damage.
+Result<CachedGatherIrradiance> loadGatherIrradiance(const std::string& path, std::uint64_t key, std::uint64_t vertexCount);
 
 }  // namespace lambert

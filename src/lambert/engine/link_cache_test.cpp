@@ -79,6 +79,10 @@ std::string gatherPathFor(const RadiosityOptions& o, const Scene& scene = cornel
   return gatherVisibilityPath(o.cacheDirectory, linkCacheKey(scene, scene.lights, o, SolveBudget{}));
 }
 
+std::string irradiancePathFor(const RadiosityOptions& o, const Scene& scene = cornellBoxWithSpots()) {
+  return gatherIrradiancePath(o.cacheDirectory, linkCacheKey(scene, scene.lights, o, SolveBudget{}));
+}
+
 // A solve and its final gather (the vertex radiosity).
 struct GatheredRun {
   std::unique_ptr<Radiosity> engine;
@@ -126,9 +130,13 @@ TEST(LinkCacheTest, GatherVisibilityIsReadBackAndGivesTheSameBits) {
   EXPECT_EQ(first.count("gather_visibility_cached"), 0);
   EXPECT_EQ(first.vertices, uncached.vertices);
 
+  // Without the gather's irradiance file (which would answer the whole gather), the visibility
+  // values are read and no ray is cast.
+  ASSERT_TRUE(fs::remove(irradiancePathFor(options(dir))));
   const GatheredRun second = gather(options(dir));
   EXPECT_TRUE(second.stderrText.empty()) << second.stderrText;
   EXPECT_EQ(second.text("gather_cache").rfind("loaded " + path + " (", 0), 0u) << second.text("gather_cache");
+  EXPECT_EQ(second.count("gather_irradiance_reads"), 0);
   EXPECT_GT(second.count("gather_visibility_cached"), 0);
   EXPECT_EQ(second.number("gather_rays_per_vertex"), 0.0);
   EXPECT_EQ(second.vertices, uncached.vertices);
@@ -154,6 +162,111 @@ TEST(LinkCacheTest, GatherVisibilityIsReadBackAndGivesTheSameBits) {
   EXPECT_EQ(shifted.vertices, plain->solution().vertexValues(VertexQuantity::Radiosity));
   EXPECT_NE(shifted.vertices, uncached.vertices);
   EXPECT_GT(shifted.count("gather_visibility_cached"), 0);
+  EXPECT_EQ(shifted.count("gather_irradiance_reads"), 0);
+}
+
+// The gather's irradiance file answers a gather only for the input that made it: the same node
+// radiosity and the same visibility values. A second run of the same solve reads it and writes the
+// same vertex values as an uncached run; what it holds is what that run uses; a run whose
+// radiosity differs under the same links (one refinement pass, so the tolerance is not in the
+// key; or lights moved after the first solve) and one whose visibility values differ compute
+// their own and match their uncached runs; a damaged file is a warning and is recomputed.
+TEST(LinkCacheTest, GatherIrradianceIsReadOnlyForItsOwnInput) {
+  const fs::path dir = scratch("gather-irradiance") / "cache";
+  RadiosityOptions off = options(dir);
+  off.cacheDirectory.clear();
+  const GatheredRun uncached = gather(off);
+  const std::string path = irradiancePathFor(options(dir));
+
+  const GatheredRun first = gather(options(dir));
+  EXPECT_TRUE(first.stderrText.empty()) << first.stderrText;
+  EXPECT_EQ(first.text("gather_irradiance_cache").rfind("saved " + path + " (", 0), 0u) << first.text("gather_irradiance_cache");
+  ASSERT_TRUE(fs::is_regular_file(path));
+  EXPECT_EQ(first.count("gather_irradiance_cache_bytes"), static_cast<std::int64_t>(fs::file_size(path)));
+  EXPECT_EQ(first.count("gather_irradiance_reads"), 0);
+  const std::vector<char> good = testing::readBytes(path);
+
+  const GatheredRun second = gather(options(dir));
+  EXPECT_TRUE(second.stderrText.empty()) << second.stderrText;
+  EXPECT_EQ(second.text("gather_irradiance_cache").rfind("loaded " + path + " (", 0), 0u) << second.text("gather_irradiance_cache");
+  EXPECT_EQ(second.count("gather_irradiance_reads"), 1);
+  EXPECT_EQ(second.number("gather_sources_per_vertex"), 0.0);  // nothing gathered
+  EXPECT_EQ(second.vertices, uncached.vertices);
+  EXPECT_EQ(testing::readBytes(path), good);  // read, not rewritten
+
+  // What the file holds is what the gather returns: the same input digest over doubled values
+  // makes every lit vertex brighter (the vertex radiosity is emission + ρ × (direct + gathered)).
+  const std::uint64_t key = linkCacheKey(cornellBoxWithSpots(), cornellBoxWithSpots().lights, options(dir), SolveBudget{});
+  const std::uint64_t numVertices = first.engine->solution().vertexMesh().numVertices();
+  Result<CachedGatherIrradiance> loaded = loadGatherIrradiance(path, key, numVertices);
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  CachedGatherIrradiance doubled = *loaded;
+  for (Rgb& e : doubled.irradiance) e = e * 2.0;
+  ASSERT_TRUE(saveGatherIrradiance(path, key, doubled).ok());
+  const GatheredRun brighter = gather(options(dir));
+  EXPECT_EQ(brighter.count("gather_irradiance_reads"), 1);
+  double before = 0, after = 0;
+  for (std::size_t v = 0; v < uncached.vertices.size(); ++v) {
+    before += uncached.vertices[v].maxComponent();
+    after += brighter.vertices[v].maxComponent();
+  }
+  EXPECT_GT(after, before * 1.05);
+
+  // The same values under another input's digest: not read (no warning: it is another solve's),
+  // computed, and the file replaced by this input's.
+  CachedGatherIrradiance foreign = *loaded;
+  foreign.inputDigest ^= 1;
+  ASSERT_TRUE(saveGatherIrradiance(path, key, foreign).ok());
+  const GatheredRun other = gather(options(dir));
+  EXPECT_TRUE(other.stderrText.empty()) << other.stderrText;
+  EXPECT_EQ(other.count("gather_irradiance_reads"), 0);
+  EXPECT_GT(other.count("gather_visibility_cached"), 0);
+  EXPECT_EQ(other.vertices, uncached.vertices);
+  EXPECT_EQ(testing::readBytes(path), good);
+
+  // One refinement pass: the tolerance of the one solve is not in the links' key, so a looser one
+  // shares the links and the visibility values but gathers another radiosity.
+  RadiosityOptions onePass = options(dir), onePassOff = off;
+  onePass.hierarchical.refinePasses = onePassOff.hierarchical.refinePasses = 1;
+  RadiosityOptions loose = onePass, looseOff = onePassOff;
+  loose.tolerance = looseOff.tolerance = 1e-2;
+  ASSERT_EQ(linkCacheKey(cornellBoxWithSpots(), cornellBoxWithSpots().lights, onePass, SolveBudget{}),
+            linkCacheKey(cornellBoxWithSpots(), cornellBoxWithSpots().lights, loose, SolveBudget{}));
+  const GatheredRun tight = gather(onePass);
+  EXPECT_EQ(tight.vertices, gather(onePassOff).vertices);
+  const GatheredRun looser = gather(loose);
+  EXPECT_TRUE(looser.stderrText.empty()) << looser.stderrText;
+  EXPECT_EQ(looser.count("gather_irradiance_reads"), 0);
+  const std::vector<Rgb> looseUncached = gather(looseOff).vertices;
+  EXPECT_EQ(looser.vertices, looseUncached);
+  EXPECT_NE(looser.vertices, tight.vertices);
+  const GatheredRun looserAgain = gather(loose);
+  EXPECT_EQ(looserAgain.count("gather_irradiance_reads"), 1);
+  EXPECT_EQ(looserAgain.vertices, looseUncached);
+
+  // Checked before use: another mesh's vertex count, values that are not finite; damaged bytes.
+  EXPECT_FALSE(loadGatherIrradiance(path, key, numVertices + 1).ok());
+  CachedGatherIrradiance infinite = *loaded;
+  infinite.irradiance[infinite.irradiance.size() / 2].g = INFINITY;
+  ASSERT_TRUE(saveGatherIrradiance(path, key, infinite).ok());
+  Result<CachedGatherIrradiance> refused = loadGatherIrradiance(path, key, numVertices);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_TRUE(contains(refused.error().message, "is not finite")) << refused.error().message;
+  std::vector<char> flipped = good;
+  flipped[good.size() / 2] ^= 0x10;
+  for (const auto& [name, bytes, says] : {std::tuple{"flipped", flipped, "checksum mismatch"},
+                                          std::tuple{"truncated", std::vector<char>(good.begin(), good.end() - 9), "truncated"},
+                                          std::tuple{"not finite", testing::readBytes(path), "is not finite"}}) {
+    SCOPED_TRACE(name);
+    testing::writeBytes(path, bytes);
+    const GatheredRun again = gather(options(dir));
+    EXPECT_TRUE(contains(again.stderrText, "lambert: warning: " + path + ": ")) << again.stderrText;
+    EXPECT_TRUE(contains(again.stderrText, says)) << again.stderrText;
+    EXPECT_EQ(again.count("gather_irradiance_reads"), 0);
+    EXPECT_EQ(again.vertices, uncached.vertices);
+    EXPECT_EQ(testing::readBytes(path), good);
+    EXPECT_FALSE(hasTemporaryFiles(dir));
+  }
 }
 
 // The file's values are what the gather uses: a valid file (right key, checksum and indices)
@@ -172,6 +285,7 @@ TEST(LinkCacheTest, GatherVisibilityIsUsedAndADamagedFileIsRecomputed) {
   Result<GatherVisibility> loaded = loadGatherVisibility(path, key, numVertices, numLinks, numNodes);
   ASSERT_TRUE(loaded.ok()) << loaded.error().message;
   ASSERT_GT(loaded->size(), 0u);
+  ASSERT_TRUE(fs::remove(irradiancePathFor(options(dir))));  // which would answer the whole gather
   EXPECT_EQ(loaded->size(), static_cast<std::size_t>(gather(options(dir)).count("gather_visibility_cached")));
 
   GatherVisibility dark = *loaded;
@@ -265,9 +379,10 @@ TEST(LinkCacheTest, SecondRunLoadsTheLinksAndSolvesToTheSameBits) {
   SolvedRun uncached = solve(off);
   EXPECT_EQ(uncached.cache(), "off");
   EXPECT_EQ(uncached.radiosity, first.radiosity);
-  // The links and the final gather's visibility values beside them.
-  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 2);
+  // The links and the final gather's visibility values and irradiance beside them.
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 3);
   EXPECT_TRUE(fs::is_regular_file(gatherPathFor(options(dir))));
+  EXPECT_TRUE(fs::is_regular_file(irradiancePathFor(options(dir))));
   EXPECT_FALSE(hasTemporaryFiles(dir));
 }
 

@@ -104,6 +104,33 @@ TEST(InjectionTest, AnIncrementalUpdateGivesTheBitsOfAFullTraceEveryFrame) {
   for (std::size_t i = 0; i < pointOnly.size(); ++i) ASSERT_EQ(injection.total()[i], pointOnly[i]) << "patch " << i;
 }
 
+// A scene lit by its surfaces alone updates with no lights (nothing injected, and no spot tree
+// made for it); lights given afterwards (an animation adding a spot) are traced as on a fresh
+// injection: the same bits as tracing them on every patch.
+TEST(InjectionTest, LightsAddedAfterAnUnlitUpdateAreTracedInFull) {
+  const Scene scene = cornellBox();
+  const Mesh mesh = subdivideScene(scene, 20);
+  auto caster = makeEmbreeRayCaster(mesh);
+  const std::vector<Rgb> albedo = patchAlbedo(scene, mesh);
+  const DirectLightOptions options{4, 3};
+  DirectLightInjection injection(options);
+  const DirectLightInjection::Update unlit = injection.update(mesh, *caster, albedo, {}, scene.metresPerUnit);
+  EXPECT_EQ(unlit.lightsTraced, 0);
+  ASSERT_EQ(injection.total().size(), mesh.numPatches());
+  for (const Rgb& e : injection.total()) ASSERT_EQ(e, Rgb{});
+  const std::vector<Light> lights{spotAt({278, 540, 280}, {0.2, -1, 0.1}, 25)};
+  const DirectLightInjection::Update lit = injection.update(mesh, *caster, albedo, lights, scene.metresPerUnit);
+  EXPECT_EQ(lit.lightsTraced, 1);
+  EXPECT_TRUE(lit.changed && lit.allPatches);
+  const std::vector<Rgb> expected = tracedOnEveryPatch(mesh, *caster, albedo, lights, scene.metresPerUnit, options);
+  std::size_t litPatches = 0;
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    ASSERT_EQ(injection.total()[i], expected[i]) << "patch " << i;
+    litPatches += expected[i].maxComponent() > 0;
+  }
+  EXPECT_GT(litPatches, 10u);
+}
+
 // The tree's candidates for a spot hold every patch its cone's points reach (the spot evaluated
 // unshadowed at each patch's corners and points inside, patch by patch), for narrow and wide
 // cones, from outside the box and from inside it; a narrow cone's are a small share of the mesh.
