@@ -157,6 +157,7 @@ LightmapTexels lightmapTexels(const Scene& scene, const LightmapUvs& uvs) {
   // A texel overlaps a triangle where the triangle comes within half a texel's diagonal of its
   // centre (conservative: every texel the triangle touches, and a few corners beyond).
   const double reach = 0.5 * std::sqrt(2.0);
+  const double nudge = 1e-4 * sceneDiagonal(scene);
   for (std::uint32_t s = 0; s < scene.surfaces.size(); ++s) {
     const Surface& surface = scene.surfaces[s];
     const std::vector<std::vector<std::uint32_t>> faces = surfaceFaces(surface);
@@ -184,6 +185,13 @@ LightmapTexels lightmapTexels(const Scene& scene, const LightmapUvs& uvs) {
             if (!(distance < b.distance)) continue;
             b.distance = distance;
             b.point.point = corners[index[0]] * w[0] + corners[index[1]] * w[1] + corners[index[2]] * w[2];
+            // A texel only overlapping the face is baked at the face's point nearest its centre,
+            // which lies on the face's rim: moved into the face as a vertex site is (a room's
+            // corner line belongs to both walls, and light there depends on the side).
+            if (distance > 0) {
+              const Vec3 inward = (corners[index[0]] + corners[index[1]] + corners[index[2]]) / 3.0 - b.point.point;
+              if (length(inward) > nudge) b.point.point += normalize(inward) * nudge;
+            }
             b.point.normal = normal;
             b.point.surface = s;
             b.point.face = f;

@@ -8,6 +8,7 @@
 #include "lambert/bake/lightmaps.h"
 #include "lambert/core/parallel.h"
 #include "lambert/engine/radiosity.h"
+#include "lambert/geometry/coverage.h"
 #include "lambert/reference/reference.h"
 #include "lambert/scene/builtin.h"
 #include "tests/support/scenes.h"
@@ -68,9 +69,9 @@ Rgb bilinear(const Image& image, double u, double v) {
 }
 
 // The Cornell box's texels against the path tracer at the same points: E = π (L − L_e) / ρ from
-// its outgoing radiance, green channel, at every 100th texel (1,000 samples each). Measured: bias
-// −0.9%, RMSE 5.8% with 3,000 samples a texel (most of it the tracer's own noise, about 2.5% a
-// texel then). The mean difference must stay within 3% and the RMSE within 9%.
+// its outgoing radiance, green channel, at every 100th texel not under a block (1,000 samples
+// each, the tracer's own noise about 2% a texel). Measured: bias −1.3%, relative RMSE 2.4%. The
+// mean difference must stay within 3% and the RMSE within 4% (issue 24's target: 3%).
 TEST(LightmapTest, CornellTexelsAgreeWithThePathTracer) {
   const Scene scene = cornellBox();
   auto engine = solved(scene, hierarchical());
@@ -91,6 +92,9 @@ TEST(LightmapTest, CornellTexelsAgreeWithThePathTracer) {
     const SurfacePoint& p = texels.points[i];
     const Material& m = scene.materials[scene.surfaces[p.surface].material];
     if (scene.surfaces[p.surface].emittedRadiance.g > 0 || m.albedo.g < 0.2) continue;  // the lamp; the red wall's green
+    // Under a block the floor shows nothing (its texels are never seen) while the bake keeps the
+    // light of the leaf's open part there, for bilinear lookups at the block's foot.
+    if (isCovered(engine->solution().caster(), p.point, p.normal, 1e-4 * sceneDiagonal(scene))) continue;
     chosen.push_back(i);
   }
   ASSERT_GT(chosen.size(), 300u);
@@ -113,7 +117,7 @@ TEST(LightmapTest, CornellTexelsAgreeWithThePathTracer) {
   std::printf("%zu texels: bias %+.2f%%, relative RMSE %.2f%% of the mean irradiance\n", chosen.size(), 100 * bias / mean,
               100 * std::sqrt(squares) / mean);
   EXPECT_LT(std::fabs(bias / mean), 0.03);
-  EXPECT_LT(std::sqrt(squares) / mean, 0.09);
+  EXPECT_LT(std::sqrt(squares) / mean, 0.04);
 }
 
 // A floor of two faces placed apart in the atlas, lit by a point light over their shared edge:
