@@ -15,11 +15,10 @@
 
 #include "lambert/core/error.h"
 #include "lambert/core/image.h"
+#include "lambert/engine/solution.h"
 #include "lambert/mesh/lightmap_uvs.h"
 
 namespace lambert {
-
-class SolutionView;
 
 struct LightmapBakeOptions {
   LightmapUvOptions uvs;
@@ -37,7 +36,20 @@ struct BakedLightmaps {
   double seconds = 0;
 };
 
-// Bakes lightmaps of the solved view. Fails only where the UVs cannot be made (lightmapUvs).
+// Bakes lightmaps of the solved view over UVs made by lightmapUvs(scene, options.uvs). Fails
+// where the UVs cannot be made or the method cannot gather at points (SolutionView::pointIrradiance).
 Result<BakedLightmaps> bakeLightmaps(const SolutionView& solution, const LightmapBakeOptions& options = {});
+// The same over given UVs (uv and atlas laid out as LightmapUvs says).
+Result<BakedLightmaps> bakeLightmaps(const SolutionView& solution, const LightmapUvs& uvs, const LightmapBakeOptions& options = {});
+
+// Where lightmap texels lie on the faces: per atlas texel, the face (surface, face) and the point
+// the texel is baked at, found by conservative rasterisation in UV space (a texel any face
+// overlaps takes the face nearest its centre, and the point of that face nearest its centre).
+struct LightmapTexels {
+  std::vector<SurfacePoint> points;  // one per rasterised texel
+  std::vector<std::uint32_t> atlas;  // per point: its atlas
+  std::vector<std::uint32_t> texel;  // per point: y × size + x in its atlas
+};
+LightmapTexels lightmapTexels(const Scene& scene, const LightmapUvs& uvs);
 
 }  // namespace lambert

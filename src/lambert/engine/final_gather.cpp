@@ -55,8 +55,32 @@ const double* GatherVisibility::find(std::uint32_t vertex, std::uint32_t k, std:
   return nullptr;
 }
 
+std::vector<std::uint32_t> FinalGather::gatheringLeaves(const Mesh& mesh) {
+  std::vector<std::uint32_t> leaf(mesh.numVertices(), kNoNode);
+  for (std::uint32_t p = 0; p < mesh.numPatches(); ++p) {
+    const Patch& patch = mesh.patches[p];
+    for (std::uint32_t v : mesh.cornerIndices(p)) {
+      const std::uint32_t current = leaf[v];
+      if (current == kNoNode) {
+        leaf[v] = p;
+        continue;
+      }
+      const Patch& other = mesh.patches[current];
+      if (patch.openFraction > other.openFraction || (patch.openFraction == other.openFraction && patch.area < other.area))
+        leaf[v] = p;
+    }
+  }
+  return leaf;
+}
+
 FinalGather::FinalGather(const ElementHierarchy& hierarchy, const ElementHierarchy::LeafMesh& leaves, const Links& links,
                          const RayCaster& caster, double rayEpsilon, double nudge, int visibilityRays, std::uint64_t seed)
+    : FinalGather(hierarchy, leaves, links, caster, rayEpsilon, vertexSites(leaves.mesh, nudge), gatheringLeaves(leaves.mesh),
+                  visibilityRays, seed) {}
+
+FinalGather::FinalGather(const ElementHierarchy& hierarchy, const ElementHierarchy::LeafMesh& leaves, const Links& links,
+                         const RayCaster& caster, double rayEpsilon, std::vector<VertexSite> sites, std::vector<std::uint32_t> leafOfSite,
+                         int visibilityRays, std::uint64_t seed)
     : hierarchy_(hierarchy),
       links_(links),
       caster_(caster),
@@ -64,23 +88,22 @@ FinalGather::FinalGather(const ElementHierarchy& hierarchy, const ElementHierarc
       rays_(std::max(1, visibilityRays)),
       seed_(seed),
       mesh_(leaves.mesh),
-      sites_(vertexSites(leaves.mesh, nudge)) {
-  const Mesh& mesh = leaves.mesh;
-  LAMBERT_CHECK(mesh.numPatches() == hierarchy.leafNodes().size());
-  leaf_.assign(mesh.numVertices(), kNoNode);
-  for (std::uint32_t p = 0; p < mesh.numPatches(); ++p) {
-    const Patch& patch = mesh.patches[p];
-    for (std::uint32_t v : mesh.cornerIndices(p)) {
-      const std::uint32_t current = leaf_[v];
-      if (current == kNoNode) {
-        leaf_[v] = p;
-        continue;
-      }
-      const Patch& other = mesh.patches[current];
-      if (patch.openFraction > other.openFraction || (patch.openFraction == other.openFraction && patch.area < other.area))
-        leaf_[v] = p;
-    }
-  }
+      sites_(std::move(sites)),
+      leaf_(std::move(leafOfSite)) {
+  LAMBERT_CHECK(leaves.mesh.numPatches() == hierarchy.leafNodes().size());
+  LAMBERT_CHECK(leaf_.size() == sites_.size());
+}
+
+std::vector<Rgb> FinalGather::withCorners(const std::vector<Rgb>& gathered, const NearFieldWeights& near,
+                                         const std::vector<Rgb>& cornerRadiosity) {
+  LAMBERT_CHECK(near.start.size() == gathered.size() + 1 && near.meanPart.size() == gathered.size());
+  std::vector<Rgb> out(gathered.size());
+  parallelFor(0, gathered.size(), [&](std::size_t v) {
+    Rgb e = gathered[v] - near.meanPart[v];
+    for (std::uint32_t k = near.start[v]; k < near.start[v + 1]; ++k) e += cornerRadiosity[near.corner[k]] * near.weight[k];
+    out[v] = e;
+  }, 1024);
+  return out;
 }
 
 Rgb FinalGather::shapedMean(const VertexSite& site, std::uint32_t s, const std::vector<Rgb>& mean, int depth) const {
@@ -408,7 +431,7 @@ std::vector<Rgb> FinalGather::coupleNearField(const std::vector<Rgb>& gathered, 
                 direct.size() == n);
   constexpr int kMaxIterations = 100;
   constexpr double kTolerance = 1e-6;
-  std::vector<Rgb> far(n), radiosity(n), next(n), out(n);
+  std::vector<Rgb> far(n), radiosity(n), next(n);
   parallelFor(0, n, [&](std::size_t v) {
     far[v] = gathered[v] - near.meanPart[v];
     radiosity[v] = emitted[v] + albedo[v] * (gathered[v] + direct[v]);
@@ -436,9 +459,8 @@ std::vector<Rgb> FinalGather::coupleNearField(const std::vector<Rgb>& gathered, 
       }
     }
   }
-  parallelFor(0, n, [&](std::size_t v) { out[v] = irradianceAt(v, radiosity); }, 1024);
   if (iterations) *iterations = steps;
-  return out;
+  return withCorners(gathered, near, radiosity);
 }
 
 }  // namespace lambert

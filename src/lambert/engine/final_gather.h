@@ -86,8 +86,17 @@ struct FinalGatherCounts {
 class FinalGather {
  public:
   // The references must outlive this object and stay unchanged while it is used.
+  // At the leaf mesh's vertices (vertexSites, nudged by `nudge`), each through gatheringLeaves'.
   FinalGather(const ElementHierarchy& hierarchy, const ElementHierarchy::LeafMesh& leaves, const Links& links,
               const RayCaster& caster, double rayEpsilon, double nudge, int visibilityRays, std::uint64_t seed);
+  // At any points on the leaves (a lightmap's texels), each through the leaf (its patch index in
+  // the leaf mesh) that holds it. Visibility rays are drawn per site index.
+  FinalGather(const ElementHierarchy& hierarchy, const ElementHierarchy::LeafMesh& leaves, const Links& links,
+              const RayCaster& caster, double rayEpsilon, std::vector<VertexSite> sites, std::vector<std::uint32_t> leafOfSite,
+              int visibilityRays, std::uint64_t seed);
+  // Per vertex: the adjacent leaf it gathers through, the one with the largest open fraction,
+  // then the smallest (whose links are the finest); kNoNode for a vertex no leaf uses.
+  static std::vector<std::uint32_t> gatheringLeaves(const Mesh& mesh);
 
   // Per vertex of the leaf mesh: the irradiance Σ K(x, s) B̄_s the links bring (W/m²), from the
   // radiosity every node shows (HierarchicalTransport::pull, W/m²).
@@ -104,6 +113,10 @@ class FinalGather {
   // than 10⁻⁶ of the largest; each step contracts by at most max ρ × Σ weights < 1. Returns the
   // irradiance from the surfaces (direct light from the lights not included); iterations, if
   // given, receives the steps taken.
+  // The irradiance at sites whose close sources' corners have known radiosities (a lightmap's
+  // texels, the vertices solved): gathered − meanPart + Σ weight × cornerRadiosity[corner].
+  static std::vector<Rgb> withCorners(const std::vector<Rgb>& gathered, const NearFieldWeights& near,
+                                      const std::vector<Rgb>& cornerRadiosity);
   static std::vector<Rgb> coupleNearField(const std::vector<Rgb>& gathered, const NearFieldWeights& near,
                                           std::span<const Rgb> emitted, std::span<const Rgb> albedo,
                                           std::span<const Rgb> direct, int* iterations = nullptr);

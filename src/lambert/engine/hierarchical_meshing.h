@@ -41,6 +41,7 @@ class HierarchicalMeshing final : public Meshing {
   std::vector<Rgb> vertexValues(const std::vector<Rgb>& perElement) const override;
   // The final gather (engine/final_gather.h) at every vertex, with the lights' direct light
   // evaluated there too; T-junction vertices are then constrained to their edges.
+  Result<std::vector<Rgb>> pointIrradiance(const ElementSolution& solution, std::span<const SurfacePoint> points) const override;
   std::vector<std::vector<Rgb>> vertexSolution(const ElementSolution& solution,
                                                std::span<const VertexQuantity> quantities) const override;
   void startSolve(const SolveBudget& budget) override;

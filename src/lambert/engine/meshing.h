@@ -66,6 +66,8 @@ class Meshing {
   virtual std::vector<std::vector<Rgb>> vertexSolution(const ElementSolution& solution,
                                                        std::span<const VertexQuantity> quantities) const;
 
+  // SolutionView::pointIrradiance: by default an Error (only hierarchical meshing gathers).
+  virtual Result<std::vector<Rgb>> pointIrradiance(const ElementSolution& solution, std::span<const SurfacePoint> points) const;
   // The strategy's figures: mesh, form-factor method, times, cache.
   virtual void addStats(Stats& stats) const = 0;
   // Writes the cache file if it is out of date (only the adaptive table can be).

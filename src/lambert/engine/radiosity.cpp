@@ -45,6 +45,11 @@ Result<std::unique_ptr<Meshing>> makeMeshing(const Scene& scene, const Radiosity
   return Error{"unknown mesh strategy"};
 }
 
+Result<std::vector<Rgb>> Meshing::pointIrradiance(const ElementSolution&, std::span<const SurfacePoint>) const {
+  return Error{"light at points of the faces (lightmaps) is gathered over the hierarchical method's links: solve with "
+               "--method hierarchical (the default) instead of the flat method"};
+}
+
 std::vector<std::vector<Rgb>> Meshing::vertexSolution(const ElementSolution& solution,
                                                       std::span<const VertexQuantity> quantities) const {
   std::vector<std::vector<Rgb>> out;
@@ -304,6 +309,12 @@ std::vector<std::vector<Rgb>> SolutionView::vertexValues(std::span<const VertexQ
 
 std::vector<Rgb> SolutionView::vertexValues(VertexQuantity quantity) const {
   return std::move(vertexValues(std::span<const VertexQuantity>(&quantity, 1)).front());
+}
+
+Result<std::vector<Rgb>> SolutionView::pointIrradiance(std::span<const SurfacePoint> points) const {
+  const Radiosity& e = *engine_;
+  return e.meshing_->pointIrradiance({e.radiosity_, e.injected_, e.surfaceEmitted_, e.problem_.albedo, e.lights_, e.scene_.metresPerUnit},
+                                     points);
 }
 
 std::vector<Rgb> SolutionView::vertexRadiance() const {

@@ -11,6 +11,7 @@
 #include <span>
 #include <vector>
 
+#include "lambert/core/error.h"
 #include "lambert/core/rgb.h"
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/mesh/mesh.h"
@@ -20,6 +21,13 @@
 namespace lambert {
 
 class Radiosity;
+
+// A point on one of the scene's own faces where a consumer asks for the light (a lightmap texel).
+struct SurfacePoint {
+  Vec3 point;   // on the face, scene units
+  Vec3 normal;  // the face's front, unit
+  std::uint32_t surface = 0, face = 0;  // scene.surfaces[surface], its surfaceFaces()[face]
+};
 
 // What the solution gives at each vertex of SolutionView::vertexMesh(), W/m².
 enum class VertexQuantity {
@@ -65,6 +73,11 @@ class SolutionView {
   std::vector<std::vector<Rgb>> vertexValues(std::span<const VertexQuantity> quantities) const;
   std::vector<Rgb> vertexValues(const std::vector<Rgb>& perElement) const;
   std::vector<Rgb> vertexRadiance() const;
+  // The irradiance E (W/m²) at points on the scene's faces: from the surfaces, gathered at each
+  // point as at the vertices (engine/final_gather.h), and from the lights, traced at each point.
+  // The hierarchical method only (the other methods' elements carry no links to gather over):
+  // an Error saying so for the others.
+  Result<std::vector<Rgb>> pointIrradiance(std::span<const SurfacePoint> points) const;
   const std::vector<Rgb>& vertexMeshAlbedo() const;
 
  private:

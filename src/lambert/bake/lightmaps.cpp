@@ -1,0 +1,246 @@
+#include "lambert/bake/lightmaps.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <unordered_map>
+
+#include "lambert/core/parallel.h"
+#include "lambert/core/progress.h"
+#include "lambert/core/timer.h"
+
+namespace lambert {
+namespace {
+
+struct Vec2 {
+  double x = 0, y = 0;
+};
+Vec2 operator-(Vec2 a, Vec2 b) { return {a.x - b.x, a.y - b.y}; }
+double cross2(Vec2 a, Vec2 b) { return a.x * b.y - a.y * b.x; }
+
+// The point of triangle abc nearest p, as barycentric weights (of a, b, c).
+std::array<double, 3> nearestInTriangle(Vec2 p, Vec2 a, Vec2 b, Vec2 c) {
+  const double area = cross2(b - a, c - a);
+  if (area != 0) {
+    const double wa = cross2(b - p, c - p) / area, wb = cross2(c - p, a - p) / area, wc = 1 - wa - wb;
+    if (wa >= 0 && wb >= 0 && wc >= 0) return {wa, wb, wc};
+  }
+  // Outside (or degenerate): the nearest point of the three edges.
+  std::array<double, 3> best{1, 0, 0};
+  double bestDistance = INFINITY;
+  const Vec2 corner[3] = {a, b, c};
+  for (int e = 0; e < 3; ++e) {
+    const Vec2 s = corner[e], t = corner[(e + 1) % 3];
+    const Vec2 d = t - s;
+    const double len2 = d.x * d.x + d.y * d.y;
+    const double u = len2 > 0 ? std::clamp(((p.x - s.x) * d.x + (p.y - s.y) * d.y) / len2, 0.0, 1.0) : 0.0;
+    const Vec2 q{s.x + u * d.x, s.y + u * d.y};
+    const double distance = (p.x - q.x) * (p.x - q.x) + (p.y - q.y) * (p.y - q.y);
+    if (distance < bestDistance) {
+      bestDistance = distance;
+      best = {0, 0, 0};
+      best[e] = 1 - u;
+      best[(e + 1) % 3] = u;
+    }
+  }
+  return best;
+}
+
+// The mean of the filled 8-neighbours, for texels still empty next to filled ones, `rings` times.
+void dilate(Image& image, std::vector<std::uint8_t>& filled, int rings) {
+  const int size = image.width;
+  for (int ring = 0; ring < rings; ++ring) {
+    std::vector<std::uint8_t> next = filled;
+    Image out = image;
+    bool any = false;
+    for (int y = 0; y < size; ++y)
+      for (int x = 0; x < size; ++x) {
+        if (filled[static_cast<std::size_t>(y) * size + x]) continue;
+        Rgb sum;
+        int n = 0;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int nx = x + dx, ny = y + dy;
+            if (nx < 0 || ny < 0 || nx >= size || ny >= size || !filled[static_cast<std::size_t>(ny) * size + nx]) continue;
+            sum += image.at(nx, ny);
+            ++n;
+          }
+        if (n == 0) continue;
+        out.at(x, y) = sum * (1.0 / n);
+        next[static_cast<std::size_t>(y) * size + x] = 1;
+        any = true;
+      }
+    image = std::move(out);
+    filled = std::move(next);
+    if (!any) break;
+  }
+}
+
+// Texels on the two sides of a UV seam (an edge two faces of one surface share, placed apart in
+// the atlas) are one line of the surface: each such pair, found at half-texel steps along the
+// edge, is given the mean of the two, and a texel in several pairs the mean of its pairs'.
+// Without it, each side shows its own texels' light where the surface is continuous.
+void stitchSeams(const Scene& scene, BakedLightmaps& baked) {
+  const LightmapUvs& uvs = baked.uvs;
+  const int size = uvs.size;
+  const std::size_t perAtlas = static_cast<std::size_t>(size) * size;
+  struct Side {
+    std::uint32_t face, a, b;  // the face, and the positions of the edge's ends among its corners
+  };
+  std::vector<std::pair<std::size_t, std::size_t>> pairs;  // global texel indices (atlas × perAtlas + texel)
+  for (std::uint32_t s = 0; s < scene.surfaces.size(); ++s) {
+    const std::vector<std::vector<std::uint32_t>> faces = surfaceFaces(scene.surfaces[s]);
+    std::unordered_map<std::uint64_t, Side> firstSide;
+    for (std::uint32_t f = 0; f < faces.size(); ++f) {
+      const std::vector<std::uint32_t>& face = faces[f];
+      for (std::uint32_t k = 0; k < face.size(); ++k) {
+        const std::uint32_t a = face[k], b = face[(k + 1) % face.size()];
+        const std::uint64_t key = (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
+        const Side here{f, k, static_cast<std::uint32_t>((k + 1) % face.size())};
+        auto [it, inserted] = firstSide.try_emplace(key, here);
+        if (inserted) continue;
+        const Side there = it->second;
+        // Orient the other side's ends like this one's.
+        const bool same = faces[there.face][there.a] == a;
+        const Uv& hereA = uvs.uv[s][f][here.a];
+        const Uv& hereB = uvs.uv[s][f][here.b];
+        const Uv& thereA = uvs.uv[s][there.face][same ? there.a : there.b];
+        const Uv& thereB = uvs.uv[s][there.face][same ? there.b : there.a];
+        const std::size_t atlasHere = uvs.atlas[s][f], atlasThere = uvs.atlas[s][there.face];
+        if (atlasHere == atlasThere && hereA == thereA && hereB == thereB) continue;  // not a seam
+        const double span = std::max(std::hypot(hereB.u - hereA.u, hereB.v - hereA.v), std::hypot(thereB.u - thereA.u, thereB.v - thereA.v)) * size;
+        const int steps = std::max(1, static_cast<int>(std::ceil(2 * span)));
+        const auto texelAt = [&](const Uv& p, const Uv& q, double t, std::size_t atlas) {
+          const int x = std::clamp(static_cast<int>(std::floor((p.u + (q.u - p.u) * t) * size)), 0, size - 1);
+          const int y = std::clamp(static_cast<int>(std::floor((p.v + (q.v - p.v) * t) * size)), 0, size - 1);
+          return atlas * perAtlas + static_cast<std::size_t>(y) * size + x;
+        };
+        for (int i = 0; i <= steps; ++i) {
+          // Half a step in from the ends, where the texels are the edge's own.
+          const double t = (i + 0.5) / (steps + 1);
+          pairs.push_back({texelAt(hereA, hereB, t, atlasHere), texelAt(thereA, thereB, t, atlasThere)});
+        }
+      }
+    }
+  }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  const auto value = [&](std::size_t global) -> Rgb& { return baked.irradiance[global / perAtlas].pixels[global % perAtlas]; };
+  const auto covered = [&](std::size_t global) { return baked.covered[global / perAtlas][global % perAtlas] != 0; };
+  std::unordered_map<std::size_t, std::pair<Rgb, int>> sums;
+  for (const auto& [a, b] : pairs) {
+    if (!covered(a) || !covered(b) || a == b) continue;
+    const Rgb mean = (value(a) + value(b)) * 0.5;
+    auto& [sa, na] = sums[a];
+    sa += mean;
+    ++na;
+    auto& [sb, nb] = sums[b];
+    sb += mean;
+    ++nb;
+  }
+  for (const auto& [texel, sum] : sums) value(texel) = sum.first * (1.0 / sum.second);
+}
+
+}  // namespace
+
+LightmapTexels lightmapTexels(const Scene& scene, const LightmapUvs& uvs) {
+  const int size = uvs.size;
+  const std::size_t perAtlas = static_cast<std::size_t>(size) * size;
+  // Per texel of every atlas: the nearest face so far (its distance from the texel centre in
+  // texels, squared) and the point on it.
+  struct Best {
+    double distance = INFINITY;
+    SurfacePoint point;
+  };
+  std::vector<Best> best(perAtlas * static_cast<std::size_t>(uvs.numAtlases));
+  // A texel overlaps a triangle where the triangle comes within half a texel's diagonal of its
+  // centre (conservative: every texel the triangle touches, and a few corners beyond).
+  const double reach = 0.5 * std::sqrt(2.0);
+  const double nudge = 1e-4 * sceneDiagonal(scene);
+  for (std::uint32_t s = 0; s < scene.surfaces.size(); ++s) {
+    const Surface& surface = scene.surfaces[s];
+    const std::vector<std::vector<std::uint32_t>> faces = surfaceFaces(surface);
+    for (std::uint32_t f = 0; f < faces.size(); ++f) {
+      const std::vector<Vec3> corners = facePositions(surface, faces[f]);
+      const Vec3 normal = polygonNormal(corners);
+      const std::vector<Uv>& uv = uvs.uv[s][f];
+      const std::size_t atlas = uvs.atlas[s][f];
+      for (std::size_t k = 1; k + 1 < corners.size(); ++k) {
+        const std::array<std::size_t, 3> index{0, k, k + 1};
+        std::array<Vec2, 3> t;
+        for (int i = 0; i < 3; ++i) t[i] = {uv[index[i]].u * size, uv[index[i]].v * size};
+        const int x0 = std::max(0, static_cast<int>(std::floor(std::min({t[0].x, t[1].x, t[2].x}) - reach)));
+        const int y0 = std::max(0, static_cast<int>(std::floor(std::min({t[0].y, t[1].y, t[2].y}) - reach)));
+        const int x1 = std::min(size - 1, static_cast<int>(std::floor(std::max({t[0].x, t[1].x, t[2].x}) + reach)));
+        const int y1 = std::min(size - 1, static_cast<int>(std::floor(std::max({t[0].y, t[1].y, t[2].y}) + reach)));
+        for (int y = y0; y <= y1; ++y)
+          for (int x = x0; x <= x1; ++x) {
+            const Vec2 centre{x + 0.5, y + 0.5};
+            const std::array<double, 3> w = nearestInTriangle(centre, t[0], t[1], t[2]);
+            const Vec2 q{w[0] * t[0].x + w[1] * t[1].x + w[2] * t[2].x, w[0] * t[0].y + w[1] * t[1].y + w[2] * t[2].y};
+            const double distance = (q.x - centre.x) * (q.x - centre.x) + (q.y - centre.y) * (q.y - centre.y);
+            if (distance > reach * reach) continue;
+            Best& b = best[atlas * perAtlas + static_cast<std::size_t>(y) * size + x];
+            if (!(distance < b.distance)) continue;
+            b.distance = distance;
+            b.point.point = corners[index[0]] * w[0] + corners[index[1]] * w[1] + corners[index[2]] * w[2];
+            // A texel only overlapping the face is baked at the face's point nearest its centre,
+            // which lies on the face's rim: moved into the face as a vertex site is (a room's
+            // corner line belongs to both walls, and light there depends on the side).
+            if (distance > 0) {
+              const Vec3 inward = (corners[index[0]] + corners[index[1]] + corners[index[2]]) / 3.0 - b.point.point;
+              if (length(inward) > nudge) b.point.point += normalize(inward) * nudge;
+            }
+            b.point.normal = normal;
+            b.point.surface = s;
+            b.point.face = f;
+          }
+      }
+    }
+  }
+  LightmapTexels texels;
+  for (std::size_t i = 0; i < best.size(); ++i) {
+    if (!(best[i].distance < INFINITY)) continue;
+    texels.points.push_back(best[i].point);
+    texels.atlas.push_back(static_cast<std::uint32_t>(i / perAtlas));
+    texels.texel.push_back(static_cast<std::uint32_t>(i % perAtlas));
+  }
+  return texels;
+}
+
+Result<BakedLightmaps> bakeLightmaps(const SolutionView& solution, const LightmapUvs& uvs, const LightmapBakeOptions& options) {
+  Timer timer;
+  const Scene& scene = solution.scene();
+  LAMBERT_CHECK(uvs.uv.size() == scene.surfaces.size() && uvs.atlas.size() == scene.surfaces.size());
+  BakedLightmaps baked;
+  baked.uvs = uvs;
+  const int size = uvs.size;
+  const std::size_t perAtlas = static_cast<std::size_t>(size) * size;
+  Progress progress("lightmap texels", 3, options.showProgress);
+  const LightmapTexels texels = lightmapTexels(scene, uvs);
+  progress.advance(1);
+  Result<std::vector<Rgb>> irradiance = solution.pointIrradiance(texels.points);
+  if (!irradiance) return irradiance.error();
+  progress.advance(1);
+  baked.irradiance.assign(static_cast<std::size_t>(uvs.numAtlases), Image{size, size, std::vector<Rgb>(perAtlas)});
+  baked.covered.assign(static_cast<std::size_t>(uvs.numAtlases), std::vector<std::uint8_t>(perAtlas, 0));
+  for (std::size_t i = 0; i < texels.points.size(); ++i) {
+    baked.irradiance[texels.atlas[i]].pixels[texels.texel[i]] = (*irradiance)[i];
+    baked.covered[texels.atlas[i]][texels.texel[i]] = 1;
+  }
+  baked.texelsBaked = texels.points.size();
+  stitchSeams(scene, baked);
+  // Padding texels take their neighbours' light, so that bilinear filtering and mipmaps at a
+  // chart's rim do not pull in the empty space around it.
+  for (std::size_t a = 0; a < baked.irradiance.size(); ++a) {
+    std::vector<std::uint8_t> filled = baked.covered[a];
+    dilate(baked.irradiance[a], filled, std::max(1, options.uvs.paddingTexels) + 1);
+  }
+  progress.advance(1);
+  progress.finish();
+  baked.seconds = timer.seconds();
+  return baked;
+}
+
+}  // namespace lambert
