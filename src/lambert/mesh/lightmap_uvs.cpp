@@ -968,6 +968,7 @@ Result<LightmapUvs> lightmapUvs(const Scene& scene, const LightmapUvOptions& opt
   result.numAtlases = static_cast<int>(numAtlases);
   result.texelSize = texelSize;
   result.charts = charts.size();
+  result.conformalCharts = stats.conformal;
   result.uv.resize(scene.surfaces.size());
   result.atlas.resize(scene.surfaces.size());
   for (std::size_t s = 0; s < scene.surfaces.size(); ++s) {
