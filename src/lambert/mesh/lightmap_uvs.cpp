@@ -710,30 +710,32 @@ double coveredFraction(const LightmapUvs& uvs) {
   const std::size_t side = static_cast<std::size_t>(uvs.size);
   std::vector<std::uint8_t> covered(side * side);
   std::size_t count = 0;
+  std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> facesOf(static_cast<std::size_t>(uvs.numAtlases));
+  for (std::uint32_t s = 0; s < uvs.uv.size(); ++s)
+    for (std::uint32_t f = 0; f < uvs.uv[s].size(); ++f) facesOf[uvs.atlas[s][f]].emplace_back(s, f);
   for (int a = 0; a < uvs.numAtlases; ++a) {
     std::fill(covered.begin(), covered.end(), 0);
-    for (std::size_t s = 0; s < uvs.uv.size(); ++s)
-      for (std::size_t f = 0; f < uvs.uv[s].size(); ++f) {
-        if (uvs.atlas[s][f] != a) continue;
-        const auto& c = uvs.uv[s][f];
-        for (std::size_t k = 1; k + 1 < c.size(); ++k) {
-          const P2 t[3] = {{c[0].u * uvs.size, c[0].v * uvs.size}, {c[k].u * uvs.size, c[k].v * uvs.size}, {c[k + 1].u * uvs.size, c[k + 1].v * uvs.size}};
-          const double area = cross2(t[1] - t[0], t[2] - t[0]);
-          if (area == 0) continue;
-          const double sign = area > 0 ? 1 : -1;
-          const int x0 = std::max(0, static_cast<int>(std::floor(std::min({t[0].x, t[1].x, t[2].x}) - 0.5)));
-          const int x1 = std::min(uvs.size - 1, static_cast<int>(std::ceil(std::max({t[0].x, t[1].x, t[2].x}) - 0.5)));
-          const int y0 = std::max(0, static_cast<int>(std::floor(std::min({t[0].y, t[1].y, t[2].y}) - 0.5)));
-          const int y1 = std::min(uvs.size - 1, static_cast<int>(std::ceil(std::max({t[0].y, t[1].y, t[2].y}) - 0.5)));
-          for (int y = y0; y <= y1; ++y)
-            for (int x = x0; x <= x1; ++x) {
-              const P2 q{x + 0.5, y + 0.5};
-              bool inside = true;
-              for (int e = 0; e < 3 && inside; ++e) inside = sign * cross2(t[(e + 1) % 3] - t[e], q - t[e]) >= 0;
-              if (inside && !covered[static_cast<std::size_t>(y) * side + static_cast<std::size_t>(x)]++) ++count;
-            }
-        }
+    for (const auto& [s, f] : facesOf[static_cast<std::size_t>(a)]) {
+      const auto& c = uvs.uv[s][f];
+      for (std::size_t k = 1; k + 1 < c.size(); ++k) {
+        const P2 t[3] = {{c[0].u * uvs.size, c[0].v * uvs.size}, {c[k].u * uvs.size, c[k].v * uvs.size}, {c[k + 1].u * uvs.size, c[k + 1].v * uvs.size}};
+        const double area = cross2(t[1] - t[0], t[2] - t[0]);
+        if (area == 0) continue;
+        const double sign = area > 0 ? 1 : -1;
+        const int x0 = std::max(0, static_cast<int>(std::floor(std::min({t[0].x, t[1].x, t[2].x}) - 0.5)));
+        const int x1 = std::min(uvs.size - 1, static_cast<int>(std::ceil(std::max({t[0].x, t[1].x, t[2].x}) - 0.5)));
+        const int y0 = std::max(0, static_cast<int>(std::floor(std::min({t[0].y, t[1].y, t[2].y}) - 0.5)));
+        const int y1 = std::min(uvs.size - 1, static_cast<int>(std::ceil(std::max({t[0].y, t[1].y, t[2].y}) - 0.5)));
+        for (int y = y0; y <= y1; ++y)
+          for (int x = x0; x <= x1; ++x) {
+            const P2 q{x + 0.5, y + 0.5};
+            bool inside = true;
+            for (int e = 0; e < 3 && inside; ++e) inside = sign * cross2(t[(e + 1) % 3] - t[e], q - t[e]) >= 0;
+            std::uint8_t& texel = covered[static_cast<std::size_t>(y) * side + static_cast<std::size_t>(x)];
+            if (inside && !texel) texel = 1, ++count;
+          }
       }
+    }
   }
   return static_cast<double>(count) / (static_cast<double>(side) * static_cast<double>(side) * uvs.numAtlases);
 }
@@ -913,6 +915,16 @@ double defaultTexelSize(const Scene& scene) {
 
 Result<LightmapUvs> lightmapUvs(const Scene& scene, const LightmapUvOptions& options) {
   if (Status s = checkOptions(options); !s) return s.error();
+  // Loaders never make these; a scene built in code might.
+  for (const Surface& surface : scene.surfaces) {
+    for (const Vec3& v : surface.vertices)
+      if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
+        return Error{"lightmap UVs: surface '" + surface.name + "' has a vertex that is not finite"};
+    if (surface.vertices.size() < 3) return Error{"lightmap UVs: surface '" + surface.name + "' has fewer than 3 vertices"};
+    for (const auto& face : surface.faces)
+      if (face.size() < 3 || std::any_of(face.begin(), face.end(), [&](std::uint32_t i) { return i >= surface.vertices.size(); }))
+        return Error{"lightmap UVs: surface '" + surface.name + "' has a face with fewer than 3 corners or a vertex index out of range"};
+  }
   LightmapUvs result;
   std::string rejected;
   if (options.useFileUvs) {
@@ -958,11 +970,17 @@ Result<LightmapUvs> lightmapUvs(const Scene& scene, const LightmapUvOptions& opt
                    std::to_string(options.atlasSize) + "² at " + std::to_string(texelSize) +
                    " scene units per texel; give a larger texel size or atlas size"};
   }
+  // One warning for all the charts scaled down, naming the first few.
+  std::size_t scaled = 0;
+  std::string which;
   for (std::size_t c = 0; c < charts.size(); ++c)
-    if (placements[c].scale < 1)
-      warning("lightmap UVs: a chart of surface '" + scene.surfaces[charts[c].surface].name + "' (" + std::to_string(charts[c].width) + " × " +
-              std::to_string(charts[c].height) + " scene units) is larger than an atlas of " + std::to_string(size) + " texels at " +
-              std::to_string(texelSize) + " units per texel: scaled down by " + std::to_string(placements[c].scale));
+    if (placements[c].scale < 1 && ++scaled <= 4)
+      which += std::string(scaled > 1 ? ", " : "") + "'" + scene.surfaces[charts[c].surface].name + "' (" + std::to_string(charts[c].width) + " × " +
+               std::to_string(charts[c].height) + " scene units, scaled by " + std::to_string(placements[c].scale) + ")";
+  if (scaled > 0)
+    warning("lightmap UVs: " + std::to_string(scaled) + (scaled == 1 ? " chart is" : " charts are") + " larger than an atlas of " +
+            std::to_string(size) + " texels at " + std::to_string(texelSize) + " scene units per texel, and scaled down to fit: " + which +
+            (scaled > 4 ? ", …" : "") + " (give a larger texel size or atlas size to keep one texel size)");
   result.origin = LightmapUvs::Origin::Generated;
   result.size = size;
   result.numAtlases = static_cast<int>(numAtlases);
