@@ -276,10 +276,20 @@ class Reader {
         if (!read) return read.error();
         uvs = std::move(*read);
       }
+      // The lightmap set (TEXCOORD_1, as MOZ_lightmap and engines' second UV channel use it),
+      // wherever the primitive has one: mesh/lightmap_uvs.h decides whether it is usable.
+      std::vector<Uv> lightmapUvs;
+      if (primitive.attributes.count("TEXCOORD_1")) {
+        Result<std::vector<Uv>> read = readUvs(primitive, 1, polygons.positions.size(), mesh.name);
+        if (!read) return read.error();
+        lightmapUvs = std::move(*read);
+      }
       auto addTriangle = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
         if (mirrored) std::swap(b, c);
         PolygonMesh::Face face{{a, b, c}, material};
         if (!uvs.empty() && a < uvs.size() && b < uvs.size() && c < uvs.size()) face.uvs = {uvs[a], uvs[b], uvs[c]};
+        if (!lightmapUvs.empty() && a < lightmapUvs.size() && b < lightmapUvs.size() && c < lightmapUvs.size())
+          face.lightmapUvs = {lightmapUvs[a], lightmapUvs[b], lightmapUvs[c]};
         polygons.faces.push_back(std::move(face));
       };
       if (mode == TINYGLTF_MODE_TRIANGLES)

@@ -120,6 +120,7 @@ DroppedFaces addSmoothRegions(Scene& scene, const PolygonMesh& mesh, const std::
     int material;
     Vec3 normal;
     std::vector<Uv> uvs;  // per corner, or empty
+    std::vector<Uv> lightmapUvs;  // per corner, or empty
   };
   // Exporters split vertices where normals or UVs differ (Blender's glTF exporter does, for every
   // flat-shaded face): vertices at exactly the same position are one vertex here, so faces
@@ -188,14 +189,16 @@ DroppedFaces addSmoothRegions(Scene& scene, const PolygonMesh& mesh, const std::
     }
     const Vec3 normal = normalize(n);
     if (firstConcaveCorner(polygon, normal) == polygon.size()) {
-      pieces.push_back({ids, face.material, normal, face.uvs});
+      pieces.push_back({ids, face.material, normal, face.uvs, face.lightmapUvs});
       continue;
     }
     for (const auto& t : triangulatePolygon(polygon, normal)) {
       std::vector<Vec3> corners = {polygon[t[0]], polygon[t[1]], polygon[t[2]]};
-      std::vector<Uv> uvs;
+      std::vector<Uv> uvs, lightmapUvs;
       if (!face.uvs.empty()) uvs = {face.uvs[t[0]], face.uvs[t[1]], face.uvs[t[2]]};
-      pieces.push_back({{ids[t[0]], ids[t[1]], ids[t[2]]}, face.material, normalize(polygonAreaVector(corners)), std::move(uvs)});
+      if (!face.lightmapUvs.empty()) lightmapUvs = {face.lightmapUvs[t[0]], face.lightmapUvs[t[1]], face.lightmapUvs[t[2]]};
+      pieces.push_back({{ids[t[0]], ids[t[1]], ids[t[2]]}, face.material, normalize(polygonAreaVector(corners)), std::move(uvs),
+                        std::move(lightmapUvs)});
     }
   }
 
@@ -255,6 +258,10 @@ DroppedFaces addSmoothRegions(Scene& scene, const PolygonMesh& mesh, const std::
     surface.material = first.material;
     surface.emittedRadiance = emittedRadiance[static_cast<std::size_t>(first.material)];
     surface.faces.reserve(groupStart[r + 1] - groupStart[r]);
+    // Lightmap coordinates only where every face of the region has them (zeros would overlap).
+    bool allLightmapUvs = true;
+    for (std::uint32_t k = groupStart[r]; k < groupStart[r + 1]; ++k) allLightmapUvs = allLightmapUvs && !pieces[byRegion[k]].lightmapUvs.empty();
+    if (allLightmapUvs) surface.faceLightmapUvs.reserve(groupStart[r + 1] - groupStart[r]);
     for (std::uint32_t k = groupStart[r]; k < groupStart[r + 1]; ++k) {
       Piece& piece = pieces[byRegion[k]];
       for (std::uint32_t& v : piece.vertices) {
@@ -274,6 +281,7 @@ DroppedFaces addSmoothRegions(Scene& scene, const PolygonMesh& mesh, const std::
       }
       if (uvsSoFar || !piece.uvs.empty())
         surface.faceUvs.push_back(piece.uvs.empty() ? std::vector<Uv>(piece.vertices.size()) : std::move(piece.uvs));
+      if (allLightmapUvs) surface.faceLightmapUvs.push_back(std::move(piece.lightmapUvs));
       surface.faces.push_back(std::move(piece.vertices));
     }
   }

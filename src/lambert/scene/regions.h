@@ -29,6 +29,7 @@ struct PolygonMesh {
     std::vector<std::uint32_t> vertices;  // indices into positions, counter-clockwise from the front
     int material = 0;                     // index into Scene::materials
     std::vector<Uv> uvs = {};             // texture coordinates per corner, or none
+    std::vector<Uv> lightmapUvs = {};     // lightmap coordinates per corner (glTF TEXCOORD_1), or none
   };
   std::vector<Face> faces;
 };

@@ -118,6 +118,7 @@ void addTwins(Scene& scene) {
     back.faces = surfaceFaces(back);
     for (auto& face : back.faces) std::reverse(face.begin() + 1, face.end());
     for (auto& uvs : back.faceUvs) std::reverse(uvs.begin() + 1, uvs.end());
+    for (auto& uvs : back.faceLightmapUvs) std::reverse(uvs.begin() + 1, uvs.end());
     if (scene.surfaces[s].faces.empty()) {  // keep a lone polygon a lone polygon (the quad-tree meshes those)
       std::vector<Vec3> reversed{back.vertices.front()};
       reversed.insert(reversed.end(), back.vertices.rbegin(), back.vertices.rend() - 1);

@@ -277,6 +277,7 @@ void addMesh(Scene& scene, const Json& value, const std::string& pointer, const 
     if (t.mirrors()) {
       for (auto& face : surface.faces) std::reverse(face.begin() + 1, face.end());
       for (auto& uvs : surface.faceUvs) std::reverse(uvs.begin() + 1, uvs.end());
+      for (auto& uvs : surface.faceLightmapUvs) std::reverse(uvs.begin() + 1, uvs.end());
     }
     surface.material += firstMaterial;
     if (surface.twin >= 0) surface.twin += firstSurface;
@@ -390,7 +391,21 @@ Scene readScene(const Json& document, const std::string& path) {
       }
       surface.faceUvs = {std::move(corners)};
     }
-    sr.finish("name, material, vertices, uvs");
+    // A second set, for lightmaps (mesh/lightmap_uvs.h): one [u, v] in [0, 1] per vertex.
+    if (const Json& lightmapUvs = sr.array("lightmapUvs"); !lightmapUvs.empty()) {
+      if (lightmapUvs.size() != surface.vertices.size())
+        throw FieldError{pointer + "/lightmapUvs", "expected one [u, v] per vertex (" + std::to_string(surface.vertices.size()) + "), found " +
+                                                       std::to_string(lightmapUvs.size())};
+      std::vector<Uv> corners;
+      for (std::size_t k = 0; k < lightmapUvs.size(); ++k) {
+        const std::string at = pointer + "/lightmapUvs/" + std::to_string(k);
+        if (!lightmapUvs[k].is_array() || lightmapUvs[k].size() != 2) throw FieldError{at, "expected [u, v], found " + typeName(lightmapUvs[k])};
+        corners.push_back({ObjectReader::checkedNumber(lightmapUvs[k][0], at + "/0", 0, 1, false, false),
+                           ObjectReader::checkedNumber(lightmapUvs[k][1], at + "/1", 0, 1, false, false)});
+      }
+      surface.faceLightmapUvs = {std::move(corners)};
+    }
+    sr.finish("name, material, vertices, uvs, lightmapUvs");
     scene.surfaces.push_back(std::move(surface));
   }
   const Json& lights = r.array("lights");
