@@ -1,8 +1,8 @@
 // Reads a light-probe file that `lambert solve --probes` wrote and prints the irradiance a surface
 // with normal n receives at point p: the L2 spherical-harmonic irradiance of the eight probes
 // around p, blended trilinearly over those of them that are valid (probes inside geometry are
-// left out and the weights of the rest renormalised). A point outside the grid takes the nearest
-// place on it.
+// left out and the weights of the rest renormalised), clamped at zero. A point outside the grid
+// takes the nearest place on it.
 //
 //   read_probes room.probes  px py pz  nx ny nz
 //
@@ -131,6 +131,8 @@ int main(int argc, char** argv) {
     std::printf("no valid probe around (%g, %g, %g): the point is inside geometry\n", p[0], p[1], p[2]);
     return 1;
   }
+  // L2 irradiance rings below zero facing a dark region opposite a bright one: no light is negative.
+  for (double& e : sum) e = std::fmax(e, 0.0);
   std::printf("irradiance %.6g %.6g %.6g W/m^2 (RGB) at (%g, %g, %g), normal (%g, %g, %g)\n", sum[0] / weights,
               sum[1] / weights, sum[2] / weights, p[0], p[1], p[2], n[0], n[1], n[2]);
   return 0;

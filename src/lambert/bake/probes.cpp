@@ -124,12 +124,26 @@ ShRgb projectRadiance(const std::function<Rgb(const Vec3&)>& radiance, int rays,
   const int n = roundedRays(rays);
   Pcg32 rng(seed, stream);
   const std::uint32_t su = rng.nextUint(), sv = rng.nextUint();
-  ShRgb sh{};
+  ShRgb sumLY{};                                 // Σ L(ω) Y_k(ω)
+  std::array<double, kShCoefficients> sumY{};    // Σ Y_k(ω): the quadrature's error on a constant
+  Rgb sumL;
   for (int i = 0; i < n; ++i) {
     const Vec3 w = sphereDirection(static_cast<std::uint32_t>(i), su, sv);
-    addScaled(sh, w, radiance(w));
+    const Rgb l = radiance(w);
+    const std::array<double, kShCoefficients> y = shBasis(w);
+    for (int k = 0; k < kShCoefficients; ++k) {
+      sumLY[k] += l * y[k];
+      sumY[k] += y[k];
+    }
+    sumL += l;
   }
-  for (Rgb& c : sh) c *= 4 * kPi / n;
+  // The sample mean as a control variate: its projection is known exactly (onto Y00 alone), so
+  // only the variation about it is left to the quadrature, and a uniform environment gives
+  // exactly L·√(4π) Y00.
+  const Rgb mean = sumL / n;
+  ShRgb sh;
+  sh[0] = mean * std::sqrt(4 * kPi);
+  for (int k = 1; k < kShCoefficients; ++k) sh[k] = (sumLY[k] - mean * sumY[k]) * (4 * kPi / n);
   return sh;
 }
 

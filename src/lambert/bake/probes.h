@@ -17,14 +17,15 @@
 // draws); a back face or a miss gives nothing. The point, spot and directional lights reach a probe
 // as delta directions: E⊥ (I/d², times the spot's falloff, or a sun's E⊥) toward the light where
 // a shadow ray finds it unoccluded. The radiance is projected onto the real SH basis (weight 4π/N
-// per ray, the deltas exactly), and turned into irradiance SH by the clamped-cosine convolution
+// per ray, with the rays' mean radiance as a control variate projected exactly onto Y00, so that a
+// uniform environment gives exactly π L; the deltas exactly), and turned into irradiance SH by the clamped-cosine convolution
 // E_lm = Â_l L_lm, Â_0 = π, Â_1 = 2π/3, Â_2 = π/4 (Ramamoorthi & Hanrahan 2001, eq. 8). The
 // irradiance a surface of unit normal n receives there is E(n) = Σ_lm E_lm Y_lm(n).
 //
 // Accuracy. L2 keeps the low frequencies of irradiance: for smooth environments its error is a few
 // per cent (Ramamoorthi & Hanrahan: under 3% on average); for a single delta light of E⊥ it is at
-// most 0.094 E⊥ (at 90° from the light; 6% too bright facing it). The stratified projection's own
-// noise is below 1e-3 of the mean at the default 512 rays.
+// most 0.094 E⊥ (at 90° from the light; 6% too bright facing it), and a bright area light close
+// above a probe is spread the same way (docs/lightmaps.md gives the Cornell box's figures).
 //
 // Validity. A probe inside a closed object sees the backs of its faces: where more than
 // `invalidBackFaceFraction` of its rays first meet a back face (the convention of
@@ -63,8 +64,8 @@ std::array<double, kShCoefficients> shBasis(const Vec3& unitDirection);
 // An RGB function on the sphere in that basis.
 using ShRgb = std::array<Rgb, kShCoefficients>;
 
-// Projects a radiance function onto the basis from `rays` stratified directions (see above),
-// scrambled by (seed, stream).
+// Projects a radiance function onto the basis from `rays` stratified directions with the mean as a
+// control variate (see above), scrambled by (seed, stream).
 ShRgb projectRadiance(const std::function<Rgb(const Vec3&)>& radiance, int rays, std::uint64_t seed,
                       std::uint64_t stream);
 // Radiance SH → irradiance SH: each band l scaled by Â_l (π, 2π/3, π/4).
