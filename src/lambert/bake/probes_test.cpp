@@ -95,7 +95,7 @@ TEST(ProbesTest, ConstantRadianceGivesPiLInEveryDirection) {
     const Rgb s = evaluateSh(irradianceFromRadiance(sampled), normalize(n));
     for (int c = 0; c < 3; ++c) {
       EXPECT_NEAR(e[c], kPi * radiance[c], 1e-12 * radiance[c]);
-      EXPECT_NEAR(s[c], kPi * radiance[c], 1e-3 * radiance[c]);
+      EXPECT_NEAR(s[c], kPi * radiance[c], 1e-9 * radiance[c]);  // the mean is a control variate
     }
   }
 }
@@ -187,7 +187,7 @@ TEST(ProbesTest, FurnaceGivesPiLEverywhereAndProbesInsideABlockAreInvalid) {
       continue;
     }
     // B = E exactly (ρ = 0), so L = 1 on every face the probe sees: E(n) = π.
-    for (const Vec3& n : kNormals) EXPECT_NEAR(volume.irradiance(i, normalize(n)).g, kPi, 2e-3 * kPi);
+    for (const Vec3& n : kNormals) EXPECT_NEAR(volume.irradiance(i, normalize(n)).g, kPi, 1e-5 * kPi);
   }
   EXPECT_EQ(inside, 64u);
   EXPECT_EQ(volume.numValid, 512u - 64u);
@@ -262,7 +262,7 @@ TEST(ProbesTest, CornellBoxProbeAgreesWithThePathTracer) {
   const double brightest = evaluateSh(tracedSh, {0, 1, 0}).luminance();
   for (const Vec3& n : normals) {
     const Rgb probe = volume.irradiance(0, n), projected = evaluateSh(tracedSh, n);
-    const Rgb traced = tracedIrradiance(tracer, geometry, *caster, x, n, 2048);
+    const Rgb traced = tracedIrradiance(tracer, geometry, *caster, x, n, 1024);
     std::printf("n = (%g, %g, %g): probe %.4f %.4f %.4f, traced L2 %.4f %.4f %.4f, traced %.4f %.4f %.4f\n", n.x, n.y, n.z,
                 probe.r, probe.g, probe.b, projected.r, projected.g, projected.b, traced.r, traced.g, traced.b);
     // The solution against the truth (measured: within 1.6%; 0.004 W/m² facing the open front).
