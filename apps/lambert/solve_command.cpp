@@ -1,6 +1,7 @@
 // `lambert solve`: solve a scene's radiosity and export every vertex's outgoing radiance (no
-// image), for comparison with the reference path tracer or other renderers. With --adaptive the
-// vertices are those of the quad-tree's finest level.
+// image), for comparison with the reference path tracer or other renderers, and with --probes the
+// light-probe volume (bake/probes.h). With --adaptive the vertices are those of the quad-tree's
+// finest level.
 #include <cstdio>
 #include <memory>
 #include <string>
