@@ -212,6 +212,11 @@ Result<ProbeVolume> probeGrid(const Scene& scene, const ProbeOptions& options) {
 
 Result<ProbeVolume> bakeProbes(const SolutionView& solution, const ProbeOptions& options) {
   Timer timer;
+  if (options.raysPerProbe < 1 || options.raysPerProbe > (1 << 20))
+    return Error{"rays per probe must be between 1 and 2^20, not " + std::to_string(options.raysPerProbe)};
+  if (!(options.invalidBackFaceFraction >= 0 && options.invalidBackFaceFraction <= 1))
+    return Error{"the back-face share that marks a probe invalid must be between 0 and 1, not " +
+                 std::to_string(options.invalidBackFaceFraction)};
   Result<ProbeVolume> grid = probeGrid(solution.scene(), options);
   if (!grid) return grid;
   ProbeVolume volume = std::move(*grid);

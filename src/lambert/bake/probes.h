@@ -113,7 +113,8 @@ struct ProbeVolume {
 // or more than 2²⁴ probes (the message says which spacing fits).
 Result<ProbeVolume> probeGrid(const Scene& scene, const ProbeOptions& options);
 
-// Bakes the volume from the solved view (solve() first). Errors as probeGrid's.
+// Bakes the volume from the solved view (solve() first). Errors as probeGrid's, and rays per probe
+// outside [1, 2²⁰] or a back-face share outside [0, 1].
 Result<ProbeVolume> bakeProbes(const SolutionView& solution, const ProbeOptions& options = {});
 
 // The probe file (little-endian; docs/lightmaps.md): a 64-byte header — magic "LMBPROBE", uint32

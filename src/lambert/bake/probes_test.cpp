@@ -191,6 +191,12 @@ TEST(ProbesTest, FurnaceGivesPiLEverywhereAndProbesInsideABlockAreInvalid) {
   }
   EXPECT_EQ(inside, 64u);
   EXPECT_EQ(volume.numValid, 512u - 64u);
+  // Options that make no sense are refused.
+  options.raysPerProbe = 0;
+  EXPECT_FALSE(bakeProbes(engine->solution(), options).ok());
+  options.raysPerProbe = 512;
+  options.invalidBackFaceFraction = NAN;
+  EXPECT_FALSE(bakeProbes(engine->solution(), options).ok());
 }
 
 TEST(ProbesTest, ReflectingFurnaceGivesPiLeOverOneMinusAlbedo) {
