@@ -1,11 +1,13 @@
 // `lambert solve`: solve a scene's radiosity and export every vertex's outgoing radiance (no
-// image), for comparison with the reference path tracer or other renderers. With --adaptive the
-// vertices are those of the quad-tree's finest level.
+// image), for comparison with the reference path tracer or other renderers, and with --probes the
+// light-probe volume (bake/probes.h). With --adaptive the vertices are those of the quad-tree's
+// finest level.
 #include <cstdio>
 #include <memory>
 #include <string>
 
 #include "commands.h"
+#include "lambert/bake/probes.h"
 #include "lambert/core/timer.h"
 #include "lambert/io/vertices.h"
 #include "options.h"
@@ -18,6 +20,8 @@ struct SolveOnlyOptions {
   ExportCommandOptions exported;
   double exposure = 0;  // of the --export's COLOR_0
   std::string exportVertices;
+  std::string probes;         // the light-probe volume (bake/probes.h); none unless asked for
+  double probeSpacing = 0;    // scene units; 0: the library's default
 };
 
 int runSolve(const SolveOnlyOptions& o) {
@@ -29,6 +33,14 @@ int runSolve(const SolveOnlyOptions& o) {
   if (o.exported.glb.empty())
     if (Status ok = refuseGiven(o.exported, {"--exposure"}, "it scales --export's COLOR_0, and no --export is asked for"); !ok)
       return fail("solve", ok.error().message);
+  if (o.probes.empty())
+    if (Status ok = refuseGiven(o.solve, {"--probe-spacing"}, "it spaces --probes' grid, and no --probes is asked for"); !ok)
+      return fail("solve", ok.error().message);
+  ProbeOptions probeOptions;
+  probeOptions.spacing = o.probeSpacing;
+  probeOptions.showProgress = !o.solve.quiet && !o.solve.json;
+  if (!o.probes.empty())
+    if (Result<ProbeVolume> grid = probeGrid(*scene, probeOptions); !grid) return fail("solve", grid.error().message);
   std::unique_ptr<Radiosity> engine = makeEngine("solve", *scene, o.solve);
   if (!engine) return 2;
   if (Result<SolveCallReport> solved = engine->solve(); !solved) return fail("solve", solved.error().message);
@@ -42,6 +54,16 @@ int runSolve(const SolveOnlyOptions& o) {
       return 1;
     }
   }
+  std::optional<ProbeVolume> probes;
+  if (!o.probes.empty()) {
+    Result<ProbeVolume> baked = bakeProbes(engine->solution(), probeOptions);
+    Status written = baked ? writeProbes(o.probes, *baked) : Status(baked.error());
+    if (!written) {
+      std::fprintf(stderr, "lambert solve: %s\n", written.error().message.c_str());
+      return 1;
+    }
+    probes = std::move(*baked);
+  }
   if (Status exported = exportSolution(o.exported, engine->solution(), o.exposure); !exported) {
     std::fprintf(stderr, "lambert solve: %s\n", exported.error().message.c_str());
     return 1;
@@ -49,6 +71,16 @@ int runSolve(const SolveOnlyOptions& o) {
   const double outputSeconds = output.seconds();
   Stats stats = engine->stats();
   if (!o.exportVertices.empty()) stats.add("vertices_file", "vertices written to", o.exportVertices);
+  if (probes) {
+    stats.add("probes_file", "light probes written to", o.probes);
+    stats.add("probe_spacing", "probe spacing", probes->spacing, "scene units");
+    stats.add("probes", "probes", static_cast<std::int64_t>(probes->numProbes()));
+    stats.add("probes_valid", "probes in open space", static_cast<std::int64_t>(probes->numValid));
+    stats.add("probes_invalid", "probes inside geometry", static_cast<std::int64_t>(probes->numProbes() - probes->numValid));
+    stats.add("probe_rays", "probe rays cast", static_cast<std::int64_t>(probes->raysCast));
+    stats.add("probe_seconds", "probe bake time", probes->seconds, "s");
+    stats.add("probe_radiance_seconds", "of which the solution's vertex radiance", probes->radianceSeconds, "s");
+  }
   if (!o.exported.glb.empty()) stats.add("export", "glTF written to", o.exported.glb);
   stats.add("load_seconds", "scene load time", loadSeconds, "s");
   stats.add("output_seconds", "output time (vertex values and files)", outputSeconds, "s");
@@ -67,6 +99,11 @@ std::function<int()> addSolveCommand(CLI::App& app) {
   cmd->add_option("--exposure", options->exposure, "Exposure in stops of --export's COLOR_0")->capture_default_str();
   cmd->add_option("--export-vertices", options->exportVertices,
                   "Write every mesh vertex: position, normal, outgoing radiance L = B/pi (.csv or .ply)");
+  cmd->add_option("--probes", options->probes,
+                  "Write an L2 spherical-harmonic irradiance volume over the scene's box (docs/lightmaps.md)");
+  cmd->add_option("--probe-spacing", options->probeSpacing,
+                  "Distance between --probes' probes, scene units (default: about 4096 probes over the box)")
+      ->check(CLI::PositiveNumber);
   return [options] { return runSolve(*options); };
 }
 
