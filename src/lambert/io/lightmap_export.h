@@ -35,7 +35,8 @@
 // do not mip-map (a mip level would average neighbouring charts across their padding).
 //
 // Cost: one pass over the faces and one over the texels per file, the bulk being PNG's and EXR's
-// compression; everything is held in memory until it is written (about 10 bytes per texel).
+// compression. Memory: a copy of the lightmaps (24 bytes per texel) and every file's bytes until
+// they are written.
 #include <cstdint>
 #include <string>
 #include <vector>
