@@ -144,15 +144,17 @@ Result<LightmapExport> writeLightmaps(const std::string& glbPath, const Scene& s
   model.buffers.resize(1);
   model.extensionsUsed = {"MOZ_lightmap"};
 
-  // Each atlas's image, linear 8-bit RGB, once for all the materials on it.
+  // Each atlas's image, linear 8-bit RGB, once for all the materials on it (and only for an atlas
+  // some face lies in: an unused texture is no part of the model).
   const std::string stem = std::filesystem::path(glbPath).stem().string();
-  std::vector<int> lightmapTexture(numAtlases);
-  for (std::size_t k = 0; k < numAtlases; ++k) {
+  std::vector<int> lightmapTexture(numAtlases, -1);
+  auto lightmapTextureOf = [&](std::size_t k) -> Result<int> {
+    if (lightmapTexture[k] >= 0) return lightmapTexture[k];
     Result<std::vector<std::uint8_t>> png = encodePng(uvs.size, uvs.size, encodeLinear8(lightmaps[k], result.atlases[k].scale));
-    if (!png) return Error{glbPath + ": " + png.error().message};
+    if (!png) return png.error();
     const int image = gltf::addPngImage(model, *png, stem + "-lightmap-" + std::to_string(k));
-    lightmapTexture[k] = gltf::addTexture(model, image, TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE, TINYGLTF_TEXTURE_FILTER_LINEAR);
-  }
+    return lightmapTexture[k] = gltf::addTexture(model, image, TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE, TINYGLTF_TEXTURE_FILTER_LINEAR);
+  };
 
   // The faces of each group, in scene order.
   std::map<Group, std::vector<Face>> groups;
@@ -187,6 +189,47 @@ Result<LightmapExport> writeLightmaps(const std::string& glbPath, const Scene& s
   tinygltf::Mesh out;
   out.name = scene.name;
   for (const auto& [group, faces] : groups) {
+    // One vertex per distinct (surface, vertex, texture coordinate, lightmap coordinate).
+    std::map<std::tuple<std::uint32_t, std::uint32_t, double, double, double, double>, std::uint32_t> local;
+    std::vector<float> position, normal, texcoord0, texcoord1;
+    std::vector<std::uint32_t> indices;
+    auto vertex = [&](std::uint32_t s, std::uint32_t v, const Uv& uv0, const Uv& uv1) {
+      auto [it, inserted] = local.try_emplace(std::tuple(s, v, uv0.u, uv0.v, uv1.u, uv1.v), static_cast<std::uint32_t>(local.size()));
+      if (inserted) {
+        const Surface& surface = scene.surfaces[s];
+        const Vec3 p = surface.vertices[v] * scene.metresPerUnit;
+        // A vertex of zero-area faces only takes its surface's normal (any unit vector for a
+        // surface of no area): glTF normals are unit vectors.
+        Vec3 n = normals[s][v];
+        if (!(length(n) > 0)) n = surfaceNormal(surface);
+        n = length(n) > 0 ? normalize(n) : Vec3{0, 1, 0};
+        for (double x : {p.x, p.y, p.z}) position.push_back(static_cast<float>(x));
+        for (double x : {n.x, n.y, n.z}) normal.push_back(static_cast<float>(x));
+        for (double x : {uv0.u, uv0.v}) texcoord0.push_back(static_cast<float>(x));
+        for (double x : {uv1.u, uv1.v}) texcoord1.push_back(static_cast<float>(x));
+      }
+      return it->second;
+    };
+    for (const Face& face : faces) {
+      const Surface& surface = scene.surfaces[face.surface];
+      const std::vector<std::uint32_t> corners = surfaceFace(surface, face.face);
+      const std::vector<Uv>& lightmapUvs = uvs.uv[face.surface][face.face];
+      for (std::size_t k = 1; k + 1 < corners.size(); ++k) {
+        std::uint32_t triangle[3];
+        for (std::size_t i = 0; i < 3; ++i) {
+          const std::size_t c = i == 0 ? 0 : k + i - 1;
+          // glTF numbers coordinate sets from 0 without gaps: without a texture to draw, set 0
+          // repeats the lightmap's.
+          const Uv uv0 = group.textured ? surface.faceUvs[face.face][c] : lightmapUvs[c];
+          triangle[i] = vertex(face.surface, corners[c], uv0, lightmapUvs[c]);
+        }
+        // A face that repeats a corner fans into a triangle of two corners: nothing to draw.
+        if (triangle[0] != triangle[1] && triangle[1] != triangle[2] && triangle[0] != triangle[2])
+          indices.insert(indices.end(), triangle, triangle + 3);
+      }
+    }
+    if (indices.empty()) continue;  // faces of fewer than three corners only: nothing to draw
+
     const Material& material = scene.materials.at(static_cast<std::size_t>(group.material));
     tinygltf::Material m;
     m.name = material.name + (numAtlases > 1 ? " (lightmap " + std::to_string(group.atlas) + ")" : "") +
@@ -212,45 +255,14 @@ Result<LightmapExport> writeLightmaps(const std::string& glbPath, const Scene& s
         emissiveStrength = true;
       }
     }
+    Result<int> lightmapIndex = lightmapTextureOf(static_cast<std::size_t>(group.atlas));
+    if (!lightmapIndex) return Error{glbPath + ": " + lightmapIndex.error().message};
     m.extensions["MOZ_lightmap"] = tinygltf::Value(tinygltf::Value::Object{
-        {"index", tinygltf::Value(lightmapTexture[static_cast<std::size_t>(group.atlas)])},
+        {"index", tinygltf::Value(*lightmapIndex)},
         {"texCoord", tinygltf::Value(1)},
         {"intensity", number(result.atlases[static_cast<std::size_t>(group.atlas)].scale)}});
     model.materials.push_back(m);
 
-    // One vertex per distinct (surface, vertex, texture coordinate, lightmap coordinate).
-    std::map<std::tuple<std::uint32_t, std::uint32_t, double, double, double, double>, std::uint32_t> local;
-    std::vector<float> position, normal, texcoord0, texcoord1;
-    std::vector<std::uint32_t> indices;
-    auto vertex = [&](std::uint32_t s, std::uint32_t v, const Uv& uv0, const Uv& uv1) {
-      auto [it, inserted] = local.try_emplace(std::tuple(s, v, uv0.u, uv0.v, uv1.u, uv1.v), static_cast<std::uint32_t>(local.size()));
-      if (inserted) {
-        const Surface& surface = scene.surfaces[s];
-        const Vec3 p = surface.vertices[v] * scene.metresPerUnit;
-        const Vec3 n = normalize(normals[s][v]);
-        for (double x : {p.x, p.y, p.z}) position.push_back(static_cast<float>(x));
-        for (double x : {n.x, n.y, n.z}) normal.push_back(static_cast<float>(x));
-        for (double x : {uv0.u, uv0.v}) texcoord0.push_back(static_cast<float>(x));
-        for (double x : {uv1.u, uv1.v}) texcoord1.push_back(static_cast<float>(x));
-      }
-      return it->second;
-    };
-    for (const Face& face : faces) {
-      const Surface& surface = scene.surfaces[face.surface];
-      const std::vector<std::uint32_t> corners = surfaceFace(surface, face.face);
-      const std::vector<Uv>& lightmapUvs = uvs.uv[face.surface][face.face];
-      for (std::size_t k = 1; k + 1 < corners.size(); ++k)
-        for (std::size_t c : {std::size_t{0}, k, k + 1}) {
-          // glTF numbers coordinate sets from 0 without gaps: without a texture to draw, set 0
-          // repeats the lightmap's.
-          const Uv uv0 = group.textured ? surface.faceUvs[face.face][c] : lightmapUvs[c];
-          indices.push_back(vertex(face.surface, corners[c], uv0, lightmapUvs[c]));
-        }
-    }
-    if (indices.empty()) {  // faces of fewer than three corners only: nothing to draw
-      model.materials.pop_back();
-      continue;
-    }
     tinygltf::Primitive primitive;
     primitive.mode = TINYGLTF_MODE_TRIANGLES;
     primitive.material = static_cast<int>(model.materials.size() - 1);

@@ -397,6 +397,48 @@ TEST(LightmapExportTest, AFailedExportLeavesNoFiles) {
   EXPECT_TRUE(std::filesystem::is_empty(other));
 }
 
+// Faces as loaders may leave them: one that repeats a corner (its fan's triangle of two corners is
+// not drawn, glTF validators call it degenerate) and a surface of no area (collinear corners: its
+// vertices take a unit normal all the same). The file validates.
+TEST(LightmapExportTest, DegenerateFacesGiveValidTrianglesAndNormals) {
+  Fixture fixture;
+  Surface repeated{"repeated", {{0, 0, 0}, {0, 0, 100}, {100, 0, 100}, {100, 0, 0}}, 0, {}, {{0, 1, 1, 2, 3}}};
+  Surface line{"line", {{0, 500, 0}, {100, 500, 0}, {200, 500, 0}}, 0, {}};
+  fixture.scene.surfaces = {repeated, line};
+  fixture.baked.uvs.uv = {{std::vector<Uv>(5, texelCentre(2, 2))}, {{texelCentre(4, 4), texelCentre(5, 4), texelCentre(6, 4)}}};
+  fixture.baked.uvs.uv[0][0][2] = texelCentre(3, 3);  // the repeated corner with a coordinate of its own
+  fixture.baked.uvs.atlas = {{0}, {0}};
+  const std::filesystem::path dir = testing::scratchDirectory("lightmap-export", "degenerate");
+  const std::string path = (dir / "degenerate.glb").string();
+  Result<LightmapExport> written = writeLightmaps(path, fixture.scene, fixture.baked, {.exr = false, .rgbm = false});
+  ASSERT_TRUE(written.ok()) << written.error().message;
+  tinygltf::TinyGLTF loader;
+  tinygltf::Model model;
+  std::string error, warn;
+  ASSERT_TRUE(loader.LoadBinaryFromFile(&model, &error, &warn, path)) << error;
+  ASSERT_EQ(model.meshes.at(0).primitives.size(), 1u);
+  const tinygltf::Primitive& primitive = model.meshes[0].primitives[0];
+  const std::vector<std::uint32_t> triangles = indices(model, primitive.indices);
+  // The repeated face fans into (0,1,1') (1' the repeated corner with its own coordinate, so
+  // drawn), (0,1',2), (0,2,3); the line into one triangle of no area.
+  EXPECT_EQ(triangles.size(), 3u * 4);
+  for (std::size_t t = 0; t < triangles.size(); t += 3)
+    EXPECT_TRUE(triangles[t] != triangles[t + 1] && triangles[t + 1] != triangles[t + 2] && triangles[t] != triangles[t + 2]);
+  const std::vector<float> normal = floats(model, primitive.attributes.at("NORMAL"));
+  for (std::size_t v = 0; v < normal.size(); v += 3) EXPECT_NEAR(std::hypot(normal[v], normal[v + 1], normal[v + 2]), 1, 1e-6) << v;
+
+  // The same corner twice with one coordinate is one vertex: its fan triangle is dropped.
+  fixture.baked.uvs.uv[0][0][2] = fixture.baked.uvs.uv[0][0][1];
+  written = writeLightmaps(path, fixture.scene, fixture.baked, {.exr = false, .rgbm = false});
+  ASSERT_TRUE(written.ok()) << written.error().message;
+  EXPECT_EQ(written->triangles, 3u);
+
+  if (const std::string skip = validatorSkipReason(); !skip.empty()) GTEST_SKIP() << skip;
+  testing::CommandResult report = testing::shell("node " + std::string(LAMBERT_SOURCE_DIR) + "/tests/validate-glb.js " + LAMBERT_SOURCE_DIR +
+                                                 "/.tools/node_modules/gltf-validator " + path);
+  EXPECT_EQ(report.exitCode, 0) << report.output;
+}
+
 TEST(LightmapExportTest, FilesAreNamedAfterTheGlb) {
   EXPECT_EQ(lightmapFilePath("out/room.glb", 0, LightmapFile::Exr), "out/room-lightmap-0.exr");
   EXPECT_EQ(lightmapFilePath("room.glb", 12, LightmapFile::Rgbm), "room-lightmap-12-rgbm.png");
