@@ -5,13 +5,16 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
+#include <tiny_gltf.h>
 
 #include "lambert/io/exr.h"
 #include "lambert/io/png.h"
@@ -808,6 +811,114 @@ TEST(CliTest, ExportsPassTheKhronosGltfValidator) {
   }
   CommandResult report = shell("node " + std::string(LAMBERT_SOURCE_DIR) + "/tests/validate-glb.js " + validator + files);
   EXPECT_EQ(report.exitCode, 0) << report.output;
+}
+
+// `solve --lightmaps --export OUT.glb`: the Cornell box's own faces with their lightmaps, the
+// files beside the glb, validated; at a point of the floor the lightmap's irradiance, decoded
+// with its MOZ_lightmap intensity, is the solution's: ρ/π × E from the glb within 15% of the
+// radiance `--export-vertices` gives at the floor's vertices around it (a factor π or an exposure
+// in the lightmap convention would be far outside).
+TEST(CliTest, SolveBakesLightmapsIntoTheGlb) {
+  fs::path dir = outputDir("lightmaps");
+  const fs::path glb = dir / "box.glb", csv = dir / "box.csv";
+  CommandResult r = run("solve --scene cornell --lightmaps --texel-size 0.01 --lightmap-size 256 --json --export " + glb.string() +
+                        " --export-vertices " + csv.string());
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const nlohmann::json stats = nlohmann::json::parse(r.output.substr(r.output.find('{')));
+  ASSERT_GE(stats["lightmap_atlases"].get<int>(), 1) << r.output;
+  EXPECT_EQ(stats["lightmap_size"].get<int>(), 256);
+  EXPECT_NEAR(stats["lightmap_texel_size_m"].get<double>(), 0.01, 1e-9);
+  EXPECT_EQ(stats["lightmap_0_exr"].get<std::string>(), (dir / "box-lightmap-0.exr").string());
+  EXPECT_EQ(stats["lightmap_0_rgbm"].get<std::string>(), (dir / "box-lightmap-0-rgbm.png").string());
+  EXPECT_TRUE(fs::exists(dir / "box-lightmap-0.exr") && fs::exists(dir / "box-lightmap-0-rgbm.png"));
+
+  tinygltf::TinyGLTF loader;
+  tinygltf::Model model;
+  std::string error, warn;
+  ASSERT_TRUE(loader.LoadBinaryFromFile(&model, &error, &warn, glb.string())) << error;
+  auto floats = [&](int index) {
+    const tinygltf::Accessor& a = model.accessors.at(static_cast<std::size_t>(index));
+    const tinygltf::BufferView& view = model.bufferViews.at(static_cast<std::size_t>(a.bufferView));
+    std::vector<float> out(a.count * static_cast<std::size_t>(tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(a.type))));
+    std::memcpy(out.data(), model.buffers[0].data.data() + view.byteOffset + a.byteOffset, out.size() * sizeof(float));
+    return out;
+  };
+  // The floor point (450, 0, 120) mm, clear of both blocks, in metres; its lightmap irradiance.
+  const double qx = 0.45, qz = 0.12;
+  std::optional<Rgb> lightmapIrradiance;
+  std::size_t triangles = 0;
+  for (const tinygltf::Primitive& primitive : model.meshes.at(0).primitives) {
+    const tinygltf::Material& material = model.materials.at(static_cast<std::size_t>(primitive.material));
+    ASSERT_TRUE(material.extensions.count("MOZ_lightmap")) << material.name;
+    ASSERT_TRUE(primitive.attributes.count("TEXCOORD_1")) << material.name;
+    const tinygltf::Value& lightmap = material.extensions.at("MOZ_lightmap");
+    const double intensity = lightmap.Get("intensity").GetNumberAsDouble();
+    const tinygltf::Image& image =
+        model.images.at(static_cast<std::size_t>(model.textures.at(static_cast<std::size_t>(lightmap.Get("index").GetNumberAsInt())).source));
+    const std::vector<float> p = floats(primitive.attributes.at("POSITION")), uv = floats(primitive.attributes.at("TEXCOORD_1"));
+    const tinygltf::Accessor& a = model.accessors.at(static_cast<std::size_t>(primitive.indices));
+    const tinygltf::BufferView& view = model.bufferViews.at(static_cast<std::size_t>(a.bufferView));
+    std::vector<std::uint32_t> index(a.count);
+    std::memcpy(index.data(), model.buffers[0].data.data() + view.byteOffset + a.byteOffset, index.size() * 4);
+    triangles += index.size() / 3;
+    for (std::size_t t = 0; t + 2 < index.size(); t += 3) {
+      const std::uint32_t i = index[t], j = index[t + 1], k = index[t + 2];
+      if (std::fabs(p[3 * i + 1]) > 1e-6 || std::fabs(p[3 * j + 1]) > 1e-6 || std::fabs(p[3 * k + 1]) > 1e-6) continue;
+      // Barycentric weights of the point in the triangle's xz projection.
+      const double x0 = p[3 * i], z0 = p[3 * i + 2], x1 = p[3 * j], z1 = p[3 * j + 2], x2 = p[3 * k], z2 = p[3 * k + 2];
+      const double d = (z1 - z2) * (x0 - x2) + (x2 - x1) * (z0 - z2);
+      const double w0 = ((z1 - z2) * (qx - x2) + (x2 - x1) * (qz - z2)) / d, w1 = ((z2 - z0) * (qx - x2) + (x0 - x2) * (qz - z2)) / d;
+      const double w2 = 1 - w0 - w1;
+      if (std::fmin(w0, std::fmin(w1, w2)) < 0) continue;
+      const double u = w0 * uv[2 * i] + w1 * uv[2 * j] + w2 * uv[2 * k], v = w0 * uv[2 * i + 1] + w1 * uv[2 * j + 1] + w2 * uv[2 * k + 1];
+      const std::size_t texel = static_cast<std::size_t>(std::floor(v * image.height)) * static_cast<std::size_t>(image.width) +
+                                static_cast<std::size_t>(std::floor(u * image.width));
+      lightmapIrradiance = Rgb{intensity * image.image[4 * texel] / 255, intensity * image.image[4 * texel + 1] / 255,
+                               intensity * image.image[4 * texel + 2] / 255};
+    }
+  }
+  // The box's faces as given: 5 walls and 2 × 5 block sides and the light, all quads.
+  EXPECT_EQ(triangles, 2u * cornellBox().surfaces.size());
+  ASSERT_TRUE(lightmapIrradiance) << "no floor triangle holds the point";
+
+  Result<std::vector<VertexSample>> vertices = readVertices(csv.string());
+  ASSERT_TRUE(vertices.ok()) << vertices.error().message;
+  Rgb radiance;
+  int near = 0;
+  for (const VertexSample& s : *vertices)
+    if (std::fabs(s.position.y) < 1e-6 && s.normal.y > 0.99 && std::hypot(s.position.x - 450, s.position.z - 120) < 40) {
+      radiance += s.radiance;
+      ++near;
+    }
+  ASSERT_GT(near, 0);
+  radiance = radiance / near;
+  const Rgb white = cornellBox().materials.at(0).albedo;
+  for (int c = 0; c < 3; ++c)
+    EXPECT_NEAR(white[c] / kPi * (*lightmapIrradiance)[c], radiance[c], 0.15 * radiance[c]) << "channel " << c;
+
+  const std::string validator = std::string(LAMBERT_SOURCE_DIR) + "/.tools/node_modules/gltf-validator";
+  if (std::system("node --version > /dev/null 2>&1") != 0 || !fs::exists(validator + "/package.json"))
+    GTEST_SKIP() << "no node.js or glTF-Validator here";
+  CommandResult report = shell("node " + std::string(LAMBERT_SOURCE_DIR) + "/tests/validate-glb.js " + validator + " " + glb.string());
+  EXPECT_EQ(report.exitCode, 0) << report.output;
+}
+
+// The lightmap options need --lightmaps, --lightmaps needs --export, and the options about
+// COLOR_0 say nothing to a lightmapped glb: each refused before any work, nothing written.
+TEST(CliTest, LightmapOptionsAreRefusedWhereTheyCannotApply) {
+  fs::path dir = outputDir("lightmap-refusals");
+  const std::string glb = (dir / "box.glb").string();
+  for (const auto& [options, message] : std::vector<std::pair<std::string, std::string>>{
+           {"--lightmaps", "give --export OUT.glb"},
+           {"--texel-size 0.01 --export " + glb, "--texel-size has no effect"},
+           {"--lightmap-size 512 --export " + glb, "--lightmap-size has no effect"},
+           {"--lightmaps --bake radiance --export " + glb, "--bake has no effect"},
+           {"--lightmaps --exposure 1 --export " + glb, "--exposure has no effect"}}) {
+    CommandResult r = run("solve --scene cornell " + options);
+    EXPECT_EQ(r.exitCode, 2) << options << "\n" << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << options << "\n" << r.output;
+  }
+  EXPECT_TRUE(fs::is_empty(dir));
 }
 
 // `lambert generate building` writes a scene file over an OBJ that renders lit from inside.

@@ -1,28 +1,58 @@
 // `lambert solve`: solve a scene's radiosity and export every vertex's outgoing radiance (no
 // image), for comparison with the reference path tracer or other renderers, and with --probes the
 // light-probe volume (bake/probes.h). With --adaptive the vertices are those of the quad-tree's
-// finest level.
+// finest level. With --lightmaps, --export's glb holds the scene's own mesh with baked lightmaps
+// (io/lightmap_export.h), their files beside it.
 #include <cstdio>
 #include <memory>
 #include <string>
 
 #include "commands.h"
+#include "lambert/bake/lightmaps.h"
 #include "lambert/bake/probes.h"
 #include "lambert/core/timer.h"
+#include "lambert/io/lightmap_export.h"
 #include "lambert/io/vertices.h"
 #include "options.h"
 
 namespace lambert::cli {
 namespace {
 
+// --lightmaps and its settings (defaults: the library's, mesh/lightmap_uvs.h).
+struct LightmapCommandOptions : GivenOptions {
+  bool lightmaps = false;
+  double texelSizeMetres = 0;  // 0: the library's default for the scene
+  int size = LightmapUvOptions{}.atlasSize;
+  int padding = LightmapUvOptions{}.paddingTexels;
+};
+
 struct SolveOnlyOptions {
   SolveCommandOptions solve;
   ExportCommandOptions exported;
+  LightmapCommandOptions lightmaps;
   double exposure = 0;  // of the --export's COLOR_0
   std::string exportVertices;
   std::string probes;         // the light-probe volume (bake/probes.h); none unless asked for
   double probeSpacing = 0;    // scene units; 0: the library's default
 };
+
+// --lightmaps needs --export's glb to write into, and replaces its COLOR_0 (so --bake and
+// --exposure say nothing then); its settings need --lightmaps.
+Status checkLightmapOptions(const SolveOnlyOptions& o) {
+  if (!o.lightmaps.lightmaps)
+    return refuseGiven(o.lightmaps, {"--texel-size", "--lightmap-size", "--lightmap-padding"}, "it sets up --lightmaps, which is not asked for");
+  if (o.exported.glb.empty()) return Error{"--lightmaps writes the glb of --export and its lightmaps beside it: give --export OUT.glb"};
+  return refuseGiven(o.exported, {"--bake"}, "the glb of --lightmaps carries lightmaps, not COLOR_0");
+}
+
+LightmapBakeOptions lightmapBakeOptions(const Scene& scene, const LightmapCommandOptions& o, const SolveCommandOptions& solve) {
+  LightmapBakeOptions options;
+  options.showProgress = !solve.quiet && !solve.json;
+  options.uvs.texelSize = o.texelSizeMetres / scene.metresPerUnit;  // 0 stays 0: the library's default
+  options.uvs.atlasSize = o.size;
+  options.uvs.paddingTexels = o.padding;
+  return options;
+}
 
 int runSolve(const SolveOnlyOptions& o) {
   Timer total;
@@ -30,8 +60,13 @@ int runSolve(const SolveOnlyOptions& o) {
   if (!scene) return 2;
   const double loadSeconds = total.seconds();
   if (Status ok = checkExportOptions(o.exported); !ok) return fail("solve", ok.error().message);
-  if (o.exported.glb.empty())
-    if (Status ok = refuseGiven(o.exported, {"--exposure"}, "it scales --export's COLOR_0, and no --export is asked for"); !ok)
+  if (Status ok = checkLightmapOptions(o); !ok) return fail("solve", ok.error().message);
+  if (o.exported.glb.empty() || o.lightmaps.lightmaps)
+    if (Status ok = refuseGiven(o.exported, {"--exposure"},
+                                o.lightmaps.lightmaps ? "it scales --export's COLOR_0, and the glb of --lightmaps has none (its lightmaps hold "
+                                                        "irradiance in W/m²)"
+                                                      : "it scales --export's COLOR_0, and no --export is asked for");
+        !ok)
       return fail("solve", ok.error().message);
   if (o.probes.empty())
     if (Status ok = refuseGiven(o.solve, {"--probe-spacing"}, "it spaces --probes' grid, and no --probes is asked for"); !ok)
@@ -64,12 +99,24 @@ int runSolve(const SolveOnlyOptions& o) {
     }
     probes = std::move(*baked);
   }
-  if (Status exported = exportSolution(o.exported, engine->solution(), o.exposure); !exported) {
+  Stats lightmapFigures;
+  if (o.lightmaps.lightmaps) {
+    const SolutionView& solution = engine->solution();
+    Result<BakedLightmaps> baked = bakeLightmaps(solution, lightmapBakeOptions(solution.scene(), o.lightmaps, o.solve));
+    if (!baked) return fail("solve", baked.error().message);
+    Result<LightmapExport> written = writeLightmaps(o.exported.glb, solution.scene(), *baked);
+    if (!written) {
+      std::fprintf(stderr, "lambert solve: %s\n", written.error().message.c_str());
+      return 1;
+    }
+    lightmapFigures = lightmapStats(solution.scene(), *baked, *written);
+  } else if (Status exported = exportSolution(o.exported, engine->solution(), o.exposure); !exported) {
     std::fprintf(stderr, "lambert solve: %s\n", exported.error().message.c_str());
     return 1;
   }
   const double outputSeconds = output.seconds();
   Stats stats = engine->stats();
+  stats.append(lightmapFigures);
   if (!o.exportVertices.empty()) stats.add("vertices_file", "vertices written to", o.exportVertices);
   if (probes) {
     stats.add("probes_file", "light probes written to", o.probes);
@@ -97,6 +144,20 @@ std::function<int()> addSolveCommand(CLI::App& app) {
   addSolveOptions(*cmd, options->solve);
   addExportOptions(*cmd, options->exported);
   cmd->add_option("--exposure", options->exposure, "Exposure in stops of --export's COLOR_0")->capture_default_str();
+  LightmapCommandOptions& lightmaps = options->lightmaps;
+  lightmaps.command = cmd;
+  cmd->add_flag("--lightmaps", lightmaps.lightmaps,
+                "Bake lightmaps: --export's glb holds the scene's own mesh with each material's lightmap (MOZ_lightmap, TEXCOORD_1), "
+                "OUT-lightmap-K.exr (irradiance, W/m², half float) and OUT-lightmap-K-rgbm.png beside it");
+  cmd->add_option("--texel-size", lightmaps.texelSizeMetres, "With --lightmaps: lightmap texel size in metres")
+      ->check(CLI::Range(1e-6, 1e6))
+      ->default_str("from the scene's size");
+  cmd->add_option("--lightmap-size", lightmaps.size, "With --lightmaps: texels per side of each atlas, at most (more atlases when one is full)")
+      ->check(CLI::Range(16, 16384))
+      ->capture_default_str();
+  cmd->add_option("--lightmap-padding", lightmaps.padding, "With --lightmaps: empty texels kept around each chart")
+      ->check(CLI::Range(0, 64))
+      ->capture_default_str();
   cmd->add_option("--export-vertices", options->exportVertices,
                   "Write every mesh vertex: position, normal, outgoing radiance L = B/pi (.csv or .ply)");
   cmd->add_option("--probes", options->probes,

@@ -209,6 +209,12 @@ LightmapTexels lightmapTexels(const Scene& scene, const LightmapUvs& uvs) {
   return texels;
 }
 
+Result<BakedLightmaps> bakeLightmaps(const SolutionView& solution, const LightmapBakeOptions& options) {
+  Result<LightmapUvs> uvs = lightmapUvs(solution.scene(), options.uvs);
+  if (!uvs) return uvs.error();
+  return bakeLightmaps(solution, *uvs, options);
+}
+
 Result<BakedLightmaps> bakeLightmaps(const SolutionView& solution, const LightmapUvs& uvs, const LightmapBakeOptions& options) {
   Timer timer;
   const Scene& scene = solution.scene();

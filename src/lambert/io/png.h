@@ -17,6 +17,10 @@ Status writePng(const std::string& path, int width, int height, const std::vecto
 // The PNG encoding of 8-bit RGB, in memory (for images inside other files: .glb).
 Result<std::vector<std::uint8_t>> encodePng(int width, int height, const std::vector<std::uint8_t>& rgb8);
 
+// The same for 8-bit RGBA (an encoding that uses the fourth channel: io/lightmap_export.h's RGBM).
+// Alpha is stored as given (not premultiplied).
+Result<std::vector<std::uint8_t>> encodePngRgba(int width, int height, const std::vector<std::uint8_t>& rgba8);
+
 struct PngImage {
   int width = 0, height = 0;
   std::vector<std::uint8_t> rgb8;  // interleaved RGB, row-major, top row first
@@ -24,5 +28,12 @@ struct PngImage {
 
 // Reads any PNG as 8-bit RGB (grey and alpha are converted).
 Result<PngImage> readPng(const std::string& path);
+
+struct PngRgbaImage {
+  int width = 0, height = 0;
+  std::vector<std::uint8_t> rgba8;  // interleaved RGBA, row-major, top row first, alpha as stored
+};
+// Reads any PNG as 8-bit RGBA (opaque where the file has no alpha).
+Result<PngRgbaImage> readPngRgba(const std::string& path);
 
 }  // namespace lambert
