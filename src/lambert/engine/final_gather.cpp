@@ -36,6 +36,10 @@ struct SeenEntry {
   double seen;
 };
 
+// Irradiance is never negative: the shaped means' and the corners' corrections, added to a sum
+// that should be 0 (a covered site), leave rounding of either sign (−1e-17).
+Rgb nonNegative(const Rgb& e) { return {std::fmax(0.0, e.r), std::fmax(0.0, e.g), std::fmax(0.0, e.b)}; }
+
 // One corner weight of a close leaf source (NearFieldWeights' entry, with its vertex).
 struct NearEntry {
   std::uint32_t vertex, corner;
@@ -101,7 +105,7 @@ std::vector<Rgb> FinalGather::withCorners(const std::vector<Rgb>& gathered, cons
   parallelFor(0, gathered.size(), [&](std::size_t v) {
     Rgb e = gathered[v] - near.meanPart[v];
     for (std::uint32_t k = near.start[v]; k < near.start[v + 1]; ++k) e += cornerRadiosity[near.corner[k]] * near.weight[k];
-    out[v] = e;
+    out[v] = nonNegative(e);
   }, 1024);
   return out;
 }
@@ -335,7 +339,7 @@ std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean, FinalGath
       if (source.isLeaf() || !(term.seen > 0)) continue;
       sum += (shapedMean(site, term.source, mean) - mean[term.source]) * (term.factor * term.seen);
     }
-    out[v] = sum;
+    out[v] = nonNegative(sum);
     if (!near) return;
     for (const Term& term : gatheredTerms) {
       const HierarchyNode& source = hierarchy_.node(term.source);
