@@ -664,7 +664,7 @@ def main():
                         help="the Cornell box's quality setting (default 1e-5; 1e-4 with --quick)")
     parser.add_argument("--reference-samples", type=int, default=32768,
                         help="samples a vertex of the Cornell references (noise about 2.7%% × √(1024 / samples))")
-    parser.add_argument("--curve-link-errors", type=number_list(float), default=[1e-3, 5e-4, DEFAULT_LINK_ERROR, 1e-4, 5e-5, 2e-5, 1e-5],
+    parser.add_argument("--curve-link-errors", type=number_list(float), default=[3e-3, 1e-3, 5e-4, DEFAULT_LINK_ERROR, 1e-4, 5e-5, 2e-5, 1e-5],
                         help="lambert's time-against-error curve for the comparison with RenderPark (coarser than the "
                              "default too: RenderPark's best error, about 9%%, is above lambert's default's)")
     parser.add_argument("--curve-samples", type=int, default=8192,
