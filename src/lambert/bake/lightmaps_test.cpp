@@ -59,6 +59,12 @@ LightmapUvs gridUvs(const Scene& scene, int size, int cells, int inset) {
   return uvs;
 }
 
+Result<BakedLightmaps> quietBake(const Radiosity& engine, const LightmapUvs& uvs) {
+  LightmapBakeOptions options;
+  options.showProgress = false;
+  return bakeLightmaps(engine.solution(), uvs, options);
+}
+
 // Bilinear lookup with texel centres at (x + ½, y + ½) / size, clamped at the border.
 Rgb bilinear(const Image& image, double u, double v) {
   const double x = u * image.width - 0.5, y = v * image.height - 0.5;
@@ -77,9 +83,7 @@ TEST(LightmapTest, CornellTexelsAgreeWithThePathTracer) {
   auto engine = solved(scene, hierarchical());
   ASSERT_TRUE(engine);
   const LightmapUvs uvs = gridUvs(scene, 256, 4, 3);
-  LightmapBakeOptions options;
-  options.showProgress = false;
-  Result<BakedLightmaps> baked = bakeLightmaps(engine->solution(), uvs, options);
+  Result<BakedLightmaps> baked = quietBake(*engine, uvs);
   ASSERT_TRUE(baked.ok()) << baked.error().message;
   const LightmapTexels texels = lightmapTexels(scene, uvs);
   ASSERT_EQ(texels.points.size(), baked->texelsBaked);
@@ -135,9 +139,7 @@ TEST(LightmapTest, SeamsAreStitched) {
   auto engine = solved(scene, hierarchical());
   ASSERT_TRUE(engine);
   const LightmapUvs uvs = gridUvs(scene, 128, 2, 4);
-  LightmapBakeOptions options;
-  options.showProgress = false;
-  Result<BakedLightmaps> baked = bakeLightmaps(engine->solution(), uvs, options);
+  Result<BakedLightmaps> baked = quietBake(*engine, uvs);
   ASSERT_TRUE(baked.ok()) << baked.error().message;
   // The shared edge is vertices 1 → 4: corners 3 → 2 of face 0 and 0 → 1 of face 1.
   const std::vector<Uv>& a = uvs.uv[0][0];
@@ -160,9 +162,7 @@ TEST(LightmapTest, PaddingIsDilatedFromTheChart) {
   auto engine = solved(scene, hierarchical());
   ASSERT_TRUE(engine);
   const LightmapUvs uvs = gridUvs(scene, 64, 4, 4);
-  LightmapBakeOptions options;
-  options.showProgress = false;
-  Result<BakedLightmaps> baked = bakeLightmaps(engine->solution(), uvs, options);
+  Result<BakedLightmaps> baked = quietBake(*engine, uvs);
   ASSERT_TRUE(baked.ok()) << baked.error().message;
   const Image& image = baked->irradiance[0];
   const auto& covered = baked->covered[0];

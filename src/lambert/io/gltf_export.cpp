@@ -111,15 +111,7 @@ Status writeGlb(const std::string& path, const SolutionView& solution, const Glt
     out.primitives.push_back(primitive);
   }
   model.meshes.push_back(out);
-  tinygltf::Node node;
-  node.mesh = 0;
-  node.name = scene.name;
-  model.nodes.push_back(node);
-  model.nodes.push_back(gltf::cameraNode(model, scene));
-  tinygltf::Scene root;
-  root.nodes = {0, 1};
-  model.scenes.push_back(root);
-  model.defaultScene = 0;
+  gltf::addSceneWithCamera(model, scene);
 
   if (clipped > 0) {
     char share[32];

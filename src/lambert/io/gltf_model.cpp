@@ -146,4 +146,16 @@ Result<std::vector<std::uint8_t>> encodeGlb(tinygltf::Model& model) {
   return std::vector<std::uint8_t>(bytes.begin(), bytes.end());
 }
 
+void addSceneWithCamera(tinygltf::Model& model, const Scene& scene) {
+  tinygltf::Node node;
+  node.mesh = 0;
+  node.name = scene.name;
+  model.nodes.push_back(node);
+  model.nodes.push_back(cameraNode(model, scene));
+  tinygltf::Scene root;
+  root.nodes = {static_cast<int>(model.nodes.size()) - 2, static_cast<int>(model.nodes.size()) - 1};
+  model.scenes.push_back(root);
+  model.defaultScene = static_cast<int>(model.scenes.size()) - 1;
+}
+
 }  // namespace lambert::gltf

@@ -31,6 +31,8 @@ int addIndices(tinygltf::Model& model, const std::vector<std::uint32_t>& indices
 // The scene's camera, so that a viewer opens at lambert's view: a node at the eye whose −z looks
 // at the target, in metres (added to model.cameras; the node is returned, not added).
 tinygltf::Node cameraNode(tinygltf::Model& model, const Scene& scene);
+// The default scene: a node holding mesh 0 (named after the scene) and the scene's camera node.
+void addSceneWithCamera(tinygltf::Model& model, const Scene& scene);
 // The model as the bytes of a .glb.
 Result<std::vector<std::uint8_t>> encodeGlb(tinygltf::Model& model);
 

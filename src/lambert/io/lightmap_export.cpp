@@ -279,15 +279,7 @@ Result<LightmapExport> writeLightmaps(const std::string& glbPath, const Scene& s
   result.primitives = out.primitives.size();
   if (out.primitives.empty()) return Error{glbPath + ": the scene has no face to draw"};
   model.meshes.push_back(out);
-  tinygltf::Node node;
-  node.mesh = 0;
-  node.name = scene.name;
-  model.nodes.push_back(node);
-  model.nodes.push_back(gltf::cameraNode(model, scene));
-  tinygltf::Scene root;
-  root.nodes = {0, 1};
-  model.scenes.push_back(root);
-  model.defaultScene = 0;
+  gltf::addSceneWithCamera(model, scene);
 
   // Every file's bytes before any is written: an encoding error leaves nothing behind.
   std::vector<std::pair<std::string, std::vector<std::uint8_t>>> files;
