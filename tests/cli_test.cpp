@@ -33,7 +33,9 @@ namespace {
 namespace fs = std::filesystem;
 
 using testing::CommandResult;
+using testing::gltfValidatorSkipReason;
 using testing::shell;
+using testing::validateGlb;
 
 CommandResult run(const std::string& arguments) {
   // Tests never touch the user's cache: every run that does not choose one gets no cache.
@@ -795,9 +797,7 @@ TEST(CliTest, SidesOptionForcesEveryMaterialOneOrTwoSided) {
 // The Khronos glTF-Validator (installed by scripts/install-deps.sh from npm where npm is) finds no
 // error, warning or note in the exports of a built-in, Blender's and the textured room.
 TEST(CliTest, ExportsPassTheKhronosGltfValidator) {
-  const std::string validator = std::string(LAMBERT_SOURCE_DIR) + "/.tools/node_modules/gltf-validator";
-  if (std::system("node --version > /dev/null 2>&1") != 0) GTEST_SKIP() << "no node.js here to run the glTF-Validator";
-  if (!fs::exists(validator + "/package.json")) GTEST_SKIP() << "no glTF-Validator in .tools/ (npm was not reachable when install-deps ran)";
+  if (const std::string skip = gltfValidatorSkipReason(LAMBERT_SOURCE_DIR); !skip.empty()) GTEST_SKIP() << skip;
   fs::path dir = outputDir("validator");
   std::string files;
   for (const auto& [scene, options] : std::vector<std::pair<std::string, std::string>>{
@@ -809,7 +809,7 @@ TEST(CliTest, ExportsPassTheKhronosGltfValidator) {
     ASSERT_EQ(r.exitCode, 0) << r.output;
     files += " " + glb.string();
   }
-  CommandResult report = shell("node " + std::string(LAMBERT_SOURCE_DIR) + "/tests/validate-glb.js " + validator + files);
+  CommandResult report = validateGlb(LAMBERT_SOURCE_DIR, files);
   EXPECT_EQ(report.exitCode, 0) << report.output;
 }
 
@@ -896,10 +896,8 @@ TEST(CliTest, SolveBakesLightmapsIntoTheGlb) {
   for (int c = 0; c < 3; ++c)
     EXPECT_NEAR(white[c] / kPi * (*lightmapIrradiance)[c], radiance[c], 0.15 * radiance[c]) << "channel " << c;
 
-  const std::string validator = std::string(LAMBERT_SOURCE_DIR) + "/.tools/node_modules/gltf-validator";
-  if (std::system("node --version > /dev/null 2>&1") != 0 || !fs::exists(validator + "/package.json"))
-    GTEST_SKIP() << "no node.js or glTF-Validator here";
-  CommandResult report = shell("node " + std::string(LAMBERT_SOURCE_DIR) + "/tests/validate-glb.js " + validator + " " + glb.string());
+  if (const std::string skip = gltfValidatorSkipReason(LAMBERT_SOURCE_DIR); !skip.empty()) GTEST_SKIP() << skip;
+  CommandResult report = validateGlb(LAMBERT_SOURCE_DIR, glb.string());
   EXPECT_EQ(report.exitCode, 0) << report.output;
 }
 

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 
 namespace lambert::testing {
@@ -23,6 +24,20 @@ inline CommandResult shell(const std::string& commandLine) {
   int status = pclose(pipe);
   result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return result;
+}
+
+// The Khronos glTF-Validator (installed into .tools/ by scripts/install-deps.sh where npm is):
+// why it cannot run here, or "" where it can. Needs LAMBERT_SOURCE_DIR.
+inline std::string gltfValidatorSkipReason(const std::string& sourceDir) {
+  if (std::system("node --version > /dev/null 2>&1") != 0) return "no node.js here to run the glTF-Validator";
+  if (std::system(("test -f " + sourceDir + "/.tools/node_modules/gltf-validator/package.json").c_str()) != 0)
+    return "no glTF-Validator in .tools/ (npm was not reachable when install-deps ran)";
+  return "";
+}
+
+// tests/validate-glb.js over the files (space-separated paths): exit 0 when none has an issue.
+inline CommandResult validateGlb(const std::string& sourceDir, const std::string& files) {
+  return shell("node " + sourceDir + "/tests/validate-glb.js " + sourceDir + "/.tools/node_modules/gltf-validator " + files);
 }
 
 }  // namespace lambert::testing

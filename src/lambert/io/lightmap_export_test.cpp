@@ -126,14 +126,6 @@ const tinygltf::Value& member(const tinygltf::Value& object, const std::string& 
   return object.IsObject() && object.Has(name) ? object.Get(name) : none;
 }
 
-// The Khronos glTF-Validator over the files (tests/validate-glb.js), or why it cannot run here.
-std::string validatorSkipReason() {
-  if (std::system("node --version > /dev/null 2>&1") != 0) return "no node.js here to run the glTF-Validator";
-  if (!std::filesystem::exists(std::string(LAMBERT_SOURCE_DIR) + "/.tools/node_modules/gltf-validator/package.json"))
-    return "no glTF-Validator in .tools/ (npm was not reachable when install-deps ran)";
-  return "";
-}
-
 TEST(LightmapExportTest, GlbCarriesTheInputMeshAndEachMaterialsLightmap) {
   Fixture fixture;
   const std::filesystem::path dir = testing::scratchDirectory("lightmap-export", "glb");
@@ -288,9 +280,8 @@ TEST(LightmapExportTest, GlbCarriesTheInputMeshAndEachMaterialsLightmap) {
   EXPECT_NEAR(exportedArea, area, 1e-6 * area);
 
   // The Khronos validator finds nothing wrong (MOZ_lightmap is a vendor extension it does not know).
-  if (const std::string skip = validatorSkipReason(); !skip.empty()) GTEST_SKIP() << skip;
-  testing::CommandResult report = testing::shell("node " + std::string(LAMBERT_SOURCE_DIR) + "/tests/validate-glb.js " + LAMBERT_SOURCE_DIR +
-                                                 "/.tools/node_modules/gltf-validator " + path);
+  if (const std::string skip = testing::gltfValidatorSkipReason(LAMBERT_SOURCE_DIR); !skip.empty()) GTEST_SKIP() << skip;
+  testing::CommandResult report = testing::validateGlb(LAMBERT_SOURCE_DIR, path);
   EXPECT_EQ(report.exitCode, 0) << report.output;
 }
 
@@ -433,9 +424,8 @@ TEST(LightmapExportTest, DegenerateFacesGiveValidTrianglesAndNormals) {
   ASSERT_TRUE(written.ok()) << written.error().message;
   EXPECT_EQ(written->triangles, 3u);
 
-  if (const std::string skip = validatorSkipReason(); !skip.empty()) GTEST_SKIP() << skip;
-  testing::CommandResult report = testing::shell("node " + std::string(LAMBERT_SOURCE_DIR) + "/tests/validate-glb.js " + LAMBERT_SOURCE_DIR +
-                                                 "/.tools/node_modules/gltf-validator " + path);
+  if (const std::string skip = testing::gltfValidatorSkipReason(LAMBERT_SOURCE_DIR); !skip.empty()) GTEST_SKIP() << skip;
+  testing::CommandResult report = testing::validateGlb(LAMBERT_SOURCE_DIR, path);
   EXPECT_EQ(report.exitCode, 0) << report.output;
 }
 
