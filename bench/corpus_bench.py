@@ -10,6 +10,8 @@ loaded, faces, links, whether the solve converged, the whole process's wall time
 to written PNG) and peak resident memory, and whether the picture is usable: neither black (under a
 quarter of its pixels lit, or their median luminance under 8 of 255) nor blown out (over 10% of
 its pixels white: lamps in view are); the 1st, 50th and 99th percentiles of the lit pixels' luminance are reported.
+With --atlas-bench (build/bin/atlas_bench), each scene's lightmap atlas at 1024² is packed too
+(charts, atlases, packing efficiency).
 
 Where RenderPark is built beside lambert (--renderpark PATH, or $RENDERPARK), each MGF scene is
 also run through it with the settings its own scripts use, as an external program, and its wall
@@ -19,6 +21,7 @@ Prints one JSON document on stdout; progress on stderr. `--runs 3` gives medians
 
     bench/corpus_bench.py [--lambert build/bin/lambert] [--corpus real-scenes] [--out out/bench/corpus]
                           [--renderpark PATH] [--runs N] [--only ID,ID] [--timeout SECONDS]
+                          [--atlas-bench build/bin/atlas_bench]
 """
 import argparse
 import json
@@ -154,6 +157,7 @@ def main():
     parser.add_argument("--runs", type=int, default=1)
     parser.add_argument("--only", default="", help="comma-separated scene ids")
     parser.add_argument("--timeout", type=float, default=900, help="seconds per run")
+    parser.add_argument("--atlas-bench", default="", help="atlas_bench binary: also pack each scene's lightmap atlas (1024²)")
     args = parser.parse_args()
 
     fetched = subprocess.run([sys.executable, os.path.join(ROOT, "scripts/fetch-corpus.py"),
@@ -188,6 +192,13 @@ def main():
             rows.append(row)
             continue
         row["load_seconds"] = loaded["wall"]
+        if args.atlas_bench:
+            packed = run_in_fresh_interpreter([args.atlas_bench, "--sizes", "1024", "--only-named", path], args.timeout)
+            try:
+                atlas = next(r for r in json.loads(packed["out"])["scenes"] if r["scene"] == path)
+                row["lightmap_atlas"] = {k: atlas[k] for k in ("origin", "charts", "atlases", "efficiency", "seconds", "error") if k in atlas}
+            except (ValueError, StopIteration, KeyError):
+                row["lightmap_atlas"] = {"error": first_error(packed["err"])}
         image = os.path.join(args.out, scene["id"] + ".png")
         command = ([args.lambert, "render", "--scene", path, "--json", "-o", image] + camera_arguments(scene.get("camera")) +
                    scene.get("options", []))
