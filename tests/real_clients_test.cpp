@@ -2,7 +2,8 @@
 // docs/lightmaps.md "Real clients"). Headless Chromium draws the glb with three.js
 // (examples/web/lightmap.js) from the glb's camera, and its screenshot must agree with lambert's own
 // picture of the same glb (`--image`, render/lightmap_image.h) pixel by pixel; without the lightmap
-// it must not. Blender imports the glb with both its UV sets (tests/blender_import.py). Each test
+// it must not. Blender imports the glb with both its UV sets, the second holding TEXCOORD_1 corner
+// by corner (tests/blender_import.py, which also reads the glb's bytes itself). Each test
 // is skipped, saying why, where its client is absent (scripts/install-deps.sh installs Chromium and
 // three.js; Blender with --blender).
 #include <gtest/gtest.h>
@@ -42,6 +43,12 @@ std::string chromiumSkipReason() {
   if (!fs::exists(fs::path(LAMBERT_SOURCE_DIR) / ".tools/node_modules/three/build/three.module.js"))
     return "no three.js in .tools/ (npm three, installed by scripts/install-deps.sh where npm reaches the registry)";
   if (std::system("command -v python3 > /dev/null 2>&1") != 0) return "no python3 here to serve the page";
+  return "";
+}
+
+std::string blenderSkipReason() {
+  if (std::system("command -v blender > /dev/null 2>&1") != 0)
+    return "no blender here (Debian package blender, about 550 MB with its dependencies: scripts/install-deps.sh --blender installs it)";
   return "";
 }
 
@@ -252,6 +259,19 @@ TEST_F(RealClientsTest, ChromiumWithoutTheLightmapDisagrees) {
   std::printf("three.js without the lightmap vs lambert: mean %.2f, p99 %.0f / 255\n", d.mean, d.p99);
   EXPECT_GT(d.mean, 10.0);
   EXPECT_GT(d.p99, 50.0);
+}
+
+TEST_F(RealClientsTest, BlenderImportsTheGlbWithItsLightmapUvs) {
+  if (const std::string skip = blenderSkipReason(); !skip.empty()) GTEST_SKIP() << skip;
+  const std::string command = "timeout 120 blender -b --factory-startup --python-exit-code 1 --python " + std::string(LAMBERT_SOURCE_DIR) +
+                              "/tests/blender_import.py -- " + (*dir_ / "site/cornell.glb").string();
+  testing::CommandResult result = testing::shell(command);
+  if (result.exitCode == 77) {
+    const std::size_t at = result.output.find("blender-import: skip: ");
+    GTEST_SKIP() << (at == std::string::npos ? result.output : result.output.substr(at, result.output.find('\n', at) - at));
+  }
+  EXPECT_EQ(result.exitCode, 0) << command << "\n" << result.output;
+  EXPECT_TRUE(testing::contains(result.output, "blender-import: ok")) << result.output;
 }
 
 }  // namespace
