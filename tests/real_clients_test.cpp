@@ -221,6 +221,27 @@ void expectTheCornellBox(const PngImage& image) {
   EXPECT_GT(pixel(image.width * 9 / 10, y, 1), pixel(image.width * 9 / 10, y, 0) + 15) << "right wall not green";
 }
 
+// `solve --image` is lambert's picture of the lightmapped glb: it and its size need --lightmaps
+// (and --image), and an EXR takes no exposure; each is refused before any work.
+TEST(LightmapImageCliTest, ImageOptionsAreRefusedWhereTheyWouldDoNothing) {
+  const std::string lambert = std::string(LAMBERT_CLI_PATH) + " solve --scene cornell --no-cache ";
+  const fs::path dir = testing::scratchDirectory("clients", "refusals");
+  const std::string glb = " --export " + (dir / "a.glb").string();
+  struct Case {
+    std::string arguments, says;
+  };
+  for (const Case& c : {Case{"--image " + (dir / "a.png").string(), "--image has no effect"},
+                        Case{"--lightmaps" + glb + " --width 64", "--width has no effect"},
+                        Case{"--lightmaps" + glb + " --image " + (dir / "a.jpg").string(), ".png"},
+                        Case{"--lightmaps" + glb + " --image " + (dir / "a.exr").string() + " --exposure 1", "--exposure has no effect"},
+                        Case{"--lightmaps" + glb + " --exposure 1", "--exposure has no effect"}}) {
+    testing::CommandResult result = testing::shell(lambert + c.arguments);
+    EXPECT_EQ(result.exitCode, 2) << c.arguments << "\n" << result.output;
+    EXPECT_TRUE(testing::contains(result.output, c.says)) << c.arguments << "\n" << result.output;
+  }
+  EXPECT_TRUE(fs::is_empty(dir));
+}
+
 TEST_F(RealClientsTest, ChromiumDrawsTheGlbsLightmapAsLambertDoes) {
   if (const std::string skip = chromiumSkipReason(); !skip.empty()) GTEST_SKIP() << skip;
   std::optional<PngImage> browser = screenshot("", "browser");
