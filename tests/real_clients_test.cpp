@@ -142,15 +142,19 @@ class RealClientsTest : public ::testing::Test {
  protected:
   // One bake for every test: the Cornell box at a 128² atlas, its glb, and lambert's picture of
   // the glb from its camera.
+  // Nothing is baked where no client can run (each test then says why it is skipped).
+  static bool anyClient() { return chromiumSkipReason().empty() || blenderSkipReason().empty(); }
   static void SetUpTestSuite() {
     dir_ = new fs::path(testing::scratchDirectory("clients", "cornell"));
+    bakeOutput_ = new std::string;
+    if (!anyClient()) return;
     const fs::path glb = *dir_ / "site/cornell.glb";
     fs::create_directories(glb.parent_path());
     testing::CommandResult result =
         testing::shell(std::string(LAMBERT_CLI_PATH) + " solve --scene cornell --no-cache --lightmaps --lightmap-size 128 --export " +
                        glb.string() + " --image " + (*dir_ / "lambert.png").string() + " --width " + std::to_string(kWidth) +
                        " --height " + std::to_string(kHeight) + " --supersample 1 --json");
-    bakeOutput_ = new std::string(result.output);
+    *bakeOutput_ = result.output;
     if (result.exitCode != 0) return;
     const nlohmann::json stats = nlohmann::json::parse(result.output.substr(result.output.find('{')));
     exposureStops_ = stats["exposure_stops"].get<double>();
@@ -160,7 +164,11 @@ class RealClientsTest : public ::testing::Test {
     delete dir_;
     delete bakeOutput_;
   }
-  void SetUp() override { ASSERT_TRUE(baked_) << *bakeOutput_; }
+  void SetUp() override {
+    if (anyClient()) {
+      ASSERT_TRUE(baked_) << *bakeOutput_;
+    }
+  }
 
   // The page's screenshot in headless Chromium (software WebGL: SwiftShader), with the page's
   // URL parameters `query` added; fails the test where the page does not say it rendered.
