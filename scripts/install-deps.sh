@@ -13,11 +13,20 @@ packages=(
   libglfw3-dev libepoxy-dev libimgui-dev
   # the viewer's test draws in a real window: an X server without a screen, Mesa's software OpenGL
   xvfb xauth libgl1-mesa-dri
+  # tests/real_clients_test.cpp draws the lightmapped glb with three.js in headless Chromium
+  # (software WebGL; about 390 MB, 15 s to install)
+  chromium
 )
 # `make fuzz` (scripts/install-deps.sh --fuzz) also needs clang and its runtime, which holds
 # libFuzzer; the ordinary build does not, so they are installed only then.
 if [ "${1:-}" = "--fuzz" ]; then
   packages+=(clang-14 libclang-rt-14-dev)
+fi
+# Blender imports the lightmapped glb in tests/real_clients_test.cpp, which is skipped, saying so,
+# without it: about 550 MB and 80 s to install, so only with --blender. Its glTF importer needs
+# numpy.
+if [ "${1:-}" = "--blender" ]; then
+  packages+=(blender python3-numpy)
 fi
 
 # The Khronos glTF-Validator (npm, not Debian) checks the .glb export in the tests; optional: the
@@ -27,6 +36,12 @@ if command -v npm >/dev/null 2>&1 && [ ! -f "$tools/node_modules/gltf-validator/
   echo "install-deps: installing the Khronos glTF-Validator (npm gltf-validator@2.0.0-dev.3.10) into .tools/"
   npm install --silent --no-audit --no-fund --prefix "$tools" gltf-validator@2.0.0-dev.3.10 >/dev/null 2>&1 ||
     echo "install-deps: note: no glTF-Validator (npm failed); its test will be skipped"
+fi
+# three.js (npm) for the web page of tests/real_clients_test.cpp and examples/web/; optional as above.
+if command -v npm >/dev/null 2>&1 && [ ! -f "$tools/node_modules/three/package.json" ]; then
+  echo "install-deps: installing three.js (npm three@0.187.0) into .tools/"
+  npm install --silent --no-audit --no-fund --prefix "$tools" three@0.187.0 >/dev/null 2>&1 ||
+    echo "install-deps: note: no three.js (npm failed); the browser tests will be skipped"
 fi
 
 missing=()

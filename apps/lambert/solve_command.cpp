@@ -2,7 +2,8 @@
 // image), for comparison with the reference path tracer or other renderers, and with --probes the
 // light-probe volume (bake/probes.h). With --adaptive the vertices are those of the quad-tree's
 // finest level. With --lightmaps, --export's glb holds the scene's own mesh with baked lightmaps
-// (io/lightmap_export.h), their files beside it.
+// (io/lightmap_export.h), their files beside it; with --image, lambert's own picture of that glb
+// from its camera (render/lightmap_image.h), to hold a browser's or an engine's beside.
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -13,6 +14,7 @@
 #include "lambert/core/timer.h"
 #include "lambert/io/lightmap_export.h"
 #include "lambert/io/vertices.h"
+#include "lambert/render/lightmap_image.h"
 #include "options.h"
 
 namespace lambert::cli {
@@ -24,23 +26,30 @@ struct LightmapCommandOptions : GivenOptions {
   double texelSizeMetres = 0;  // 0: the library's default for the scene
   int size = LightmapUvOptions{}.atlasSize;
   int padding = LightmapUvOptions{}.paddingTexels;
+  std::string image;  // lambert's render of the lightmapped glb (.png or .exr); none unless asked for
+  LightmapImageOptions imageOptions;
 };
 
 struct SolveOnlyOptions {
   SolveCommandOptions solve;
   ExportCommandOptions exported;
   LightmapCommandOptions lightmaps;
-  double exposure = 0;  // of the --export's COLOR_0
+  double exposure = 0;  // of the --export's COLOR_0, or with --lightmaps of the --image
   std::string exportVertices;
   std::string probes;         // the light-probe volume (bake/probes.h); none unless asked for
   double probeSpacing = 0;    // scene units; 0: the library's default
 };
 
-// --lightmaps needs --export's glb to write into, and replaces its COLOR_0 (so --bake and
-// --exposure say nothing then); its settings need --lightmaps.
+// --lightmaps needs --export's glb to write into, and replaces its COLOR_0 (so --bake says
+// nothing then); its settings need --lightmaps, and --image's size needs --image.
 Status checkLightmapOptions(const SolveOnlyOptions& o) {
   if (!o.lightmaps.lightmaps)
-    return refuseGiven(o.lightmaps, {"--texel-size", "--lightmap-size", "--lightmap-padding"}, "it sets up --lightmaps, which is not asked for");
+    return refuseGiven(o.lightmaps, {"--texel-size", "--lightmap-size", "--lightmap-padding", "--image", "--width", "--height", "--supersample"},
+                       "it sets up --lightmaps, which is not asked for");
+  if (o.lightmaps.image.empty())
+    if (Status ok = refuseGiven(o.lightmaps, {"--width", "--height", "--supersample"}, "it sizes --image, which is not asked for"); !ok) return ok;
+  if (!o.lightmaps.image.empty())
+    if (Status ok = checkImagePath(o.lightmaps.image, o.exported); !ok) return ok;
   if (o.exported.glb.empty()) return Error{"--lightmaps writes the glb of --export and its lightmaps beside it: give --export OUT.glb"};
   return refuseGiven(o.exported, {"--bake"}, "the glb of --lightmaps carries lightmaps, not COLOR_0");
 }
@@ -61,9 +70,11 @@ int runSolve(const SolveOnlyOptions& o) {
   const double loadSeconds = total.seconds();
   if (Status ok = checkExportOptions(o.exported); !ok) return fail("solve", ok.error().message);
   if (Status ok = checkLightmapOptions(o); !ok) return fail("solve", ok.error().message);
-  if (o.exported.glb.empty() || o.lightmaps.lightmaps)
+  // --exposure scales --export's COLOR_0, or with --lightmaps the --image (the glb's lightmaps
+  // hold irradiance in W/m², never an exposed value).
+  if (o.exported.glb.empty() || (o.lightmaps.lightmaps && o.lightmaps.image.empty()))
     if (Status ok = refuseGiven(o.exported, {"--exposure"},
-                                o.lightmaps.lightmaps ? "it scales --export's COLOR_0, and the glb of --lightmaps has none (its lightmaps hold "
+                                o.lightmaps.lightmaps ? "with --lightmaps it exposes --image, which is not asked for (the glb's lightmaps hold "
                                                         "irradiance in W/m²)"
                                                       : "it scales --export's COLOR_0, and no --export is asked for");
         !ok)
@@ -110,6 +121,15 @@ int runSolve(const SolveOnlyOptions& o) {
       return 1;
     }
     lightmapFigures = lightmapStats(solution.scene(), *baked, *written);
+    if (!o.lightmaps.image.empty()) {
+      const Image image = renderLightmapped(solution.scene(), *baked, solution.scene().camera, o.lightmaps.imageOptions);
+      const double exposure = imageExposureStops(o.exported, o.exposure, solution.scene(), image, lightmapFigures);
+      if (Status ok = writeImageFile(o.lightmaps.image, image, exposure); !ok) {
+        std::fprintf(stderr, "lambert solve: %s\n", ok.error().message.c_str());
+        return 1;
+      }
+      lightmapFigures.add("image", "lightmapped image written to", o.lightmaps.image);
+    }
   } else if (Status exported = exportSolution(o.exported, engine->solution(), o.exposure); !exported) {
     std::fprintf(stderr, "lambert solve: %s\n", exported.error().message.c_str());
     return 1;
@@ -143,7 +163,8 @@ std::function<int()> addSolveCommand(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("solve", "Solve a scene's radiosity; export per-vertex radiance (CSV or PLY)");
   addSolveOptions(*cmd, options->solve);
   addExportOptions(*cmd, options->exported);
-  cmd->add_option("--exposure", options->exposure, "Exposure in stops of --export's COLOR_0")->capture_default_str();
+  cmd->add_option("--exposure", options->exposure, "Exposure in stops of --export's COLOR_0; with --lightmaps, of --image")
+      ->default_str("0; --image: the scene's, else automatic");
   LightmapCommandOptions& lightmaps = options->lightmaps;
   lightmaps.command = cmd;
   cmd->add_flag("--lightmaps", lightmaps.lightmaps,
@@ -157,6 +178,14 @@ std::function<int()> addSolveCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--lightmap-padding", lightmaps.padding, "With --lightmaps: empty texels kept around each chart")
       ->check(CLI::Range(0, 64))
+      ->capture_default_str();
+  cmd->add_option("--image", lightmaps.image,
+                  "With --lightmaps: render the glb's mesh lit by its lightmaps from the scene's (the glb's) camera, as a glTF viewer draws "
+                  "it: .png (tone mapped) or .exr (linear radiance)");
+  cmd->add_option("--width", lightmaps.imageOptions.width, "With --image: width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
+  cmd->add_option("--height", lightmaps.imageOptions.height, "With --image: height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
+  cmd->add_option("--supersample", lightmaps.imageOptions.supersample, "With --image: samples per pixel along each axis")
+      ->check(CLI::Range(1, 8))
       ->capture_default_str();
   cmd->add_option("--export-vertices", options->exportVertices,
                   "Write every mesh vertex: position, normal, outgoing radiance L = B/pi (.csv or .ply)");
