@@ -14,19 +14,14 @@ packages=(
   # the viewer's test draws in a real window: an X server without a screen, Mesa's software OpenGL
   xvfb xauth libgl1-mesa-dri
   # tests/real_clients_test.cpp draws the lightmapped glb with three.js in headless Chromium
-  # (software WebGL; about 390 MB, 15 s to install)
-  chromium
+  # (software WebGL; about 390 MB, 15 s to install), and Blender imports it (its glTF importer
+  # needs numpy; about 575 MB, 95 s to install)
+  chromium blender python3-numpy
 )
 # `make fuzz` (scripts/install-deps.sh --fuzz) also needs clang and its runtime, which holds
 # libFuzzer; the ordinary build does not, so they are installed only then.
 if [ "${1:-}" = "--fuzz" ]; then
   packages+=(clang-14 libclang-rt-14-dev)
-fi
-# Blender imports the lightmapped glb in tests/real_clients_test.cpp, which is skipped, saying so,
-# without it: about 550 MB and 80 s to install, so only with --blender. Its glTF importer needs
-# numpy.
-if [ "${1:-}" = "--blender" ]; then
-  packages+=(blender python3-numpy)
 fi
 
 # The Khronos glTF-Validator (npm, not Debian) checks the .glb export in the tests; optional: the

@@ -4,8 +4,8 @@
 // picture of the same glb (`--image`, render/lightmap_image.h) pixel by pixel; without the lightmap
 // it must not. Blender imports the glb with both its UV sets, the second holding TEXCOORD_1 corner
 // by corner (tests/blender_import.py, which also reads the glb's bytes itself). Each test
-// is skipped, saying why, where its client is absent (scripts/install-deps.sh installs Chromium and
-// three.js; Blender with --blender).
+// is skipped, saying why, where its client is absent (scripts/install-deps.sh installs Chromium,
+// three.js and Blender).
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <spawn.h>
@@ -48,7 +48,7 @@ std::string chromiumSkipReason() {
 
 std::string blenderSkipReason() {
   if (std::system("command -v blender > /dev/null 2>&1") != 0)
-    return "no blender here (Debian package blender, about 550 MB with its dependencies: scripts/install-deps.sh --blender installs it)";
+    return "no blender here (Debian package blender, about 550 MB with its dependencies: scripts/install-deps.sh installs it)";
   return "";
 }
 
