@@ -12,7 +12,8 @@
 //                            with S_k the MOZ_lightmap "intensity" of every material on atlas k.
 //   OUT-lightmap-k-rgbm.png  RGBM (Karis 2009): E = S_k · (t / 255) · (a / 255) per channel, t a
 //                            colour byte and a the alpha byte (the multiplier M = a / 255); three.js
-//                            reads it with RGBMLoader().setMaxRange(S_k), whose decode this is.
+//                            decoded as RGBMLoader().setMaxRange(S_k) does, in the three.js
+//                            releases that ship it (r187 does not: the EXR is its HDR path).
 // A renderer turns a texel into the outgoing radiance of the diffuse surface under it as
 // L = ρ/π · E (+ the surface's own emission L_e), ρ the base colour (factor × texture). This is
 // what current three.js draws for a lightmap: lights_fragment_maps adds texel × lightMapIntensity
