@@ -4,8 +4,8 @@
 #include <array>
 #include <cmath>
 #include <limits>
-#include <unordered_map>
 
+#include "lambert/bake/lightmap_fill.h"
 #include "lambert/core/parallel.h"
 #include "lambert/core/progress.h"
 #include "lambert/core/timer.h"
@@ -45,101 +45,6 @@ std::array<double, 3> nearestInTriangle(Vec2 p, Vec2 a, Vec2 b, Vec2 c) {
     }
   }
   return best;
-}
-
-// The mean of the filled 8-neighbours, for texels still empty next to filled ones, `rings` times.
-void dilate(Image& image, std::vector<std::uint8_t>& filled, int rings) {
-  const int size = image.width;
-  for (int ring = 0; ring < rings; ++ring) {
-    std::vector<std::uint8_t> next = filled;
-    Image out = image;
-    bool any = false;
-    for (int y = 0; y < size; ++y)
-      for (int x = 0; x < size; ++x) {
-        if (filled[static_cast<std::size_t>(y) * size + x]) continue;
-        Rgb sum;
-        int n = 0;
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx) {
-            const int nx = x + dx, ny = y + dy;
-            if (nx < 0 || ny < 0 || nx >= size || ny >= size || !filled[static_cast<std::size_t>(ny) * size + nx]) continue;
-            sum += image.at(nx, ny);
-            ++n;
-          }
-        if (n == 0) continue;
-        out.at(x, y) = sum * (1.0 / n);
-        next[static_cast<std::size_t>(y) * size + x] = 1;
-        any = true;
-      }
-    image = std::move(out);
-    filled = std::move(next);
-    if (!any) break;
-  }
-}
-
-// Texels on the two sides of a UV seam (an edge two faces of one surface share, placed apart in
-// the atlas) are one line of the surface: each such pair, found at half-texel steps along the
-// edge, is given the mean of the two, and a texel in several pairs the mean of its pairs'.
-// Without it, each side shows its own texels' light where the surface is continuous.
-void stitchSeams(const Scene& scene, BakedLightmaps& baked) {
-  const LightmapUvs& uvs = baked.uvs;
-  const int size = uvs.size;
-  const std::size_t perAtlas = static_cast<std::size_t>(size) * size;
-  struct Side {
-    std::uint32_t face, a, b;  // the face, and the positions of the edge's ends among its corners
-  };
-  std::vector<std::pair<std::size_t, std::size_t>> pairs;  // global texel indices (atlas × perAtlas + texel)
-  for (std::uint32_t s = 0; s < scene.surfaces.size(); ++s) {
-    const std::vector<std::vector<std::uint32_t>> faces = surfaceFaces(scene.surfaces[s]);
-    std::unordered_map<std::uint64_t, Side> firstSide;
-    for (std::uint32_t f = 0; f < faces.size(); ++f) {
-      const std::vector<std::uint32_t>& face = faces[f];
-      for (std::uint32_t k = 0; k < face.size(); ++k) {
-        const std::uint32_t a = face[k], b = face[(k + 1) % face.size()];
-        const std::uint64_t key = (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
-        const Side here{f, k, static_cast<std::uint32_t>((k + 1) % face.size())};
-        auto [it, inserted] = firstSide.try_emplace(key, here);
-        if (inserted) continue;
-        const Side there = it->second;
-        // Orient the other side's ends like this one's.
-        const bool same = faces[there.face][there.a] == a;
-        const Uv& hereA = uvs.uv[s][f][here.a];
-        const Uv& hereB = uvs.uv[s][f][here.b];
-        const Uv& thereA = uvs.uv[s][there.face][same ? there.a : there.b];
-        const Uv& thereB = uvs.uv[s][there.face][same ? there.b : there.a];
-        const std::size_t atlasHere = uvs.atlas[s][f], atlasThere = uvs.atlas[s][there.face];
-        if (atlasHere == atlasThere && hereA == thereA && hereB == thereB) continue;  // not a seam
-        const double span = std::max(std::hypot(hereB.u - hereA.u, hereB.v - hereA.v), std::hypot(thereB.u - thereA.u, thereB.v - thereA.v)) * size;
-        const int steps = std::max(1, static_cast<int>(std::ceil(2 * span)));
-        const auto texelAt = [&](const Uv& p, const Uv& q, double t, std::size_t atlas) {
-          const int x = std::clamp(static_cast<int>(std::floor((p.u + (q.u - p.u) * t) * size)), 0, size - 1);
-          const int y = std::clamp(static_cast<int>(std::floor((p.v + (q.v - p.v) * t) * size)), 0, size - 1);
-          return atlas * perAtlas + static_cast<std::size_t>(y) * size + x;
-        };
-        for (int i = 0; i <= steps; ++i) {
-          // Half a step in from the ends, where the texels are the edge's own.
-          const double t = (i + 0.5) / (steps + 1);
-          pairs.push_back({texelAt(hereA, hereB, t, atlasHere), texelAt(thereA, thereB, t, atlasThere)});
-        }
-      }
-    }
-  }
-  std::sort(pairs.begin(), pairs.end());
-  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-  const auto value = [&](std::size_t global) -> Rgb& { return baked.irradiance[global / perAtlas].pixels[global % perAtlas]; };
-  const auto covered = [&](std::size_t global) { return baked.covered[global / perAtlas][global % perAtlas] != 0; };
-  std::unordered_map<std::size_t, std::pair<Rgb, int>> sums;
-  for (const auto& [a, b] : pairs) {
-    if (!covered(a) || !covered(b) || a == b) continue;
-    const Rgb mean = (value(a) + value(b)) * 0.5;
-    auto& [sa, na] = sums[a];
-    sa += mean;
-    ++na;
-    auto& [sb, nb] = sums[b];
-    sb += mean;
-    ++nb;
-  }
-  for (const auto& [texel, sum] : sums) value(texel) = sum.first * (1.0 / sum.second);
 }
 
 }  // namespace
@@ -236,13 +141,8 @@ Result<BakedLightmaps> bakeLightmaps(const SolutionView& solution, const Lightma
     baked.covered[texels.atlas[i]][texels.texel[i]] = 1;
   }
   baked.texelsBaked = texels.points.size();
-  stitchSeams(scene, baked);
-  // Padding texels take their neighbours' light, so that bilinear filtering and mipmaps at a
-  // chart's rim do not pull in the empty space around it.
-  for (std::size_t a = 0; a < baked.irradiance.size(); ++a) {
-    std::vector<std::uint8_t> filled = baked.covered[a];
-    dilate(baked.irradiance[a], filled, std::max(1, options.uvs.paddingTexels) + 1);
-  }
+  baked.paddingRings = std::max(1, options.uvs.paddingTexels) + 1;
+  LightmapFill::plan(scene, uvs, baked.covered, baked.paddingRings).apply(baked.irradiance);
   progress.advance(1);
   progress.finish();
   baked.seconds = timer.seconds();

@@ -33,6 +33,7 @@ struct BakedLightmaps {
   // Per atlas, per texel: 1 where a face covers it, 0 where it was dilated or is empty.
   std::vector<std::vector<std::uint8_t>> covered;
   std::size_t texelsBaked = 0;
+  int paddingRings = 0;  // rings of empty texels dilated around the charts (bake/lightmap_fill.h)
   double seconds = 0;
 };
 

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 #include <tbb/enumerable_thread_specific.h>
 
@@ -125,6 +126,31 @@ Rgb FinalGather::shapedMean(const VertexSite& site, std::uint32_t s, const std::
   return total > 0 ? sum * (1 / total) : mean[s];
 }
 
+void FinalGather::shapedWeights(const VertexSite& site, std::uint32_t s, double scale,
+                                std::vector<std::pair<std::uint32_t, double>>& out, int depth) const {
+  // shapedMean's recursion, its children's shares handed down instead of their means summed.
+  const HierarchyNode& source = hierarchy_.node(s);
+  if (source.isLeaf() || depth >= kShapeDepth) {
+    out.push_back({s, scale});
+    return;
+  }
+  double total = 0;
+  for (std::uint32_t c : hierarchy_.children(s)) {
+    const HierarchyNode& child = hierarchy_.node(c);
+    const double w = std::fmax(0.0, pointToPointKernel(site.point, site.normal, child.centre, child.normal)) * child.area;
+    if (w > 0) total += w;
+  }
+  if (!(total > 0)) {
+    out.push_back({s, scale});
+    return;
+  }
+  for (std::uint32_t c : hierarchy_.children(s)) {
+    const HierarchyNode& child = hierarchy_.node(c);
+    const double w = std::fmax(0.0, pointToPointKernel(site.point, site.normal, child.centre, child.normal)) * child.area;
+    if (w > 0) shapedWeights(site, c, scale * (w / total), out, depth + 1);
+  }
+}
+
 double FinalGather::visibility(std::uint32_t vertex, std::uint32_t link, const HierarchyNode& source,
                                std::uint32_t& raysCast, bool penumbraRays) const {
   const VertexSite& site = sites_[vertex];
@@ -155,12 +181,14 @@ double FinalGather::visibility(std::uint32_t vertex, std::uint32_t link, const H
 }
 
 std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean, FinalGatherCounts* counts, const GatherVisibility* known,
-                                         GatherVisibility* record, NearFieldWeights* near) const {
+                                         GatherVisibility* record, NearFieldWeights* near, GatherWeights* weights) const {
   LAMBERT_CHECK(mean.size() == hierarchy_.nodes().size());
   if (known && known->numVertices() != sites_.size()) known = nullptr;
   // Recorded per thread (24 bytes a value, a few values a vertex), sorted into `record` after.
   tbb::enumerable_thread_specific<std::vector<SeenEntry>> used;
   tbb::enumerable_thread_specific<std::vector<NearEntry>> nearEntries;
+  // Per site, its weights on the node means, sorted by node and merged (weights only).
+  std::vector<std::vector<std::pair<std::uint32_t, float>>> siteWeights(weights ? sites_.size() : 0);
   if (near) near->meanPart.assign(sites_.size(), Rgb{});
   const std::size_t numNodes = hierarchy_.nodes().size();
   // The lowest and highest radiosity of the leaves under each node, per channel: children have
@@ -211,7 +239,9 @@ std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean, FinalGath
     // Per thread, reused from vertex to vertex (about a hundred terms each: not allocated anew).
     thread_local std::vector<Term> terms;
     thread_local std::vector<std::uint32_t> open;  // sources still to gather
+    thread_local std::vector<std::pair<std::uint32_t, double>> clusterTerms;  // (cluster source, factor × visibility)
     terms.clear();
+    clusterTerms.clear();
     const auto closeBy = [&](const HierarchyNode& source) {
       // Barnes–Hut's opening criterion on the source's bounding sphere: only seen from closer
       // than this can its children's point factors differ from shares of its own by area.
@@ -269,7 +299,10 @@ std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean, FinalGath
           const double distance = length(source.centre - site.point);
           const Vec3 w = (source.centre - site.point) / distance;
           const double factor = source.projectedArea(-w) * std::fmax(0.0, dot(site.normal, w)) / (kPi * distance * distance);
-          if (factor > 0) sum += mean[s] * (factor * linkVisibility);
+          if (factor > 0) {
+            sum += mean[s] * (factor * linkVisibility);
+            if (weights) clusterTerms.push_back({s, factor * linkVisibility});
+          }
         }
       }
     }
@@ -340,14 +373,35 @@ std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean, FinalGath
       sum += (shapedMean(site, term.source, mean) - mean[term.source]) * (term.factor * term.seen);
     }
     out[v] = nonNegative(sum);
-    if (!near) return;
-    for (const Term& term : gatheredTerms) {
+    // A close leaf source whose light NearFieldWeights takes from its corners instead.
+    const auto nearSource = [&](const Term& term) {
       const HierarchyNode& source = hierarchy_.node(term.source);
       // A partly covered leaf (a floor leaf under a block's edge) has corners in the dark whose
       // values are not light it shows: its mean is over its open part (links.h).
-      if (!source.isLeaf() || !(term.seen > 0) || mesh_.patches[source.leaf].openFraction < 1 ||
-          !(source.radius > kOpeningRatio * length(source.centre - site.point)))
-        continue;
+      return near && source.isLeaf() && term.seen > 0 && mesh_.patches[source.leaf].openFraction >= 1 &&
+             source.radius > kOpeningRatio * length(source.centre - site.point);
+    };
+    if (weights) {
+      // The sum above, term by term, as weights: the clusters gathered whole, then every element
+      // gathered whole with its shaped mean's shares (a leaf's is its own).
+      thread_local std::vector<std::pair<std::uint32_t, double>> entries;
+      entries.assign(clusterTerms.begin(), clusterTerms.end());
+      for (const Term& term : gatheredTerms)
+        if (term.seen > 0 && !nearSource(term)) shapedWeights(site, term.source, term.factor * term.seen, entries);
+      std::sort(entries.begin(), entries.end());
+      std::vector<std::pair<std::uint32_t, float>>& merged = siteWeights[v];
+      for (std::size_t i = 0; i < entries.size();) {
+        double w = 0;
+        std::size_t j = i;
+        for (; j < entries.size() && entries[j].first == entries[i].first; ++j) w += entries[j].second;
+        merged.push_back({entries[i].first, static_cast<float>(w)});
+        i = j;
+      }
+    }
+    if (!near) return;
+    for (const Term& term : gatheredTerms) {
+      const HierarchyNode& source = hierarchy_.node(term.source);
+      if (!nearSource(term)) continue;
       // The leaf's patch has the node's corners, in the node's order (ElementHierarchy::leaves).
       const std::array<double, 4> w = cornerFormFactors(site.point, site.normal, source.polygon(), source.normal);
       const std::span<const std::uint32_t> corners = mesh_.cornerIndices(source.leaf);
@@ -373,6 +427,22 @@ std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean, FinalGath
         near->corner[next[e.vertex]] = e.corner;
         near->weight[next[e.vertex]++] = e.weight;
       }
+  }
+  if (weights) {
+    weights->start.assign(sites_.size() + 1, 0);
+    for (std::size_t v = 0; v < sites_.size(); ++v) weights->start[v + 1] = weights->start[v] + static_cast<std::uint32_t>(siteWeights[v].size());
+    LAMBERT_CHECK(std::accumulate(siteWeights.begin(), siteWeights.end(), std::size_t{0},
+                                  [](std::size_t n, const auto& w) { return n + w.size(); }) < std::numeric_limits<std::uint32_t>::max());
+    weights->node.resize(weights->start.back());
+    weights->weight.resize(weights->start.back());
+    for (std::size_t v = 0; v < sites_.size(); ++v) {
+      std::size_t k = weights->start[v];
+      for (const auto& [node, w] : siteWeights[v]) {
+        weights->node[k] = node;
+        weights->weight[k++] = w;
+      }
+      std::vector<std::pair<std::uint32_t, float>>().swap(siteWeights[v]);
+    }
   }
   if (counts) {
     *counts = {};

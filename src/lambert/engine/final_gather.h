@@ -73,6 +73,20 @@ struct NearFieldWeights {
   std::size_t size() const { return weight.size(); }
 };
 
+// A gather's result as fixed weights on the node mean radiosities it read: per site, Σ weight ×
+// B̄_node is what the gather returned (before its clamp at zero), less the close leaf sources that
+// NearFieldWeights carries instead where those were asked for. The decisions the gather took from
+// the radiosity (which sources to open, whose visibility to resolve, the shaped means' children)
+// are frozen in the weights: after the light changes, the product is the gather the old decisions
+// would give, the basis of lightmap updates without a new gather (bake/lightmap_updates.h).
+struct GatherWeights {
+  std::vector<std::uint32_t> start;  // per site and one more: site v's entries are [start[v], start[v + 1])
+  std::vector<std::uint32_t> node;   // per entry: a hierarchy node, each at most once per site
+  std::vector<float> weight;         // per entry: F × visibility (× the shaped mean's share), dimensionless
+  std::size_t size() const { return weight.size(); }
+  std::size_t bytes() const { return start.size() * sizeof(std::uint32_t) + node.size() * sizeof(std::uint32_t) + weight.size() * sizeof(float); }
+};
+
 // What one final gather did, summed over the vertices (and the most at any one vertex).
 struct FinalGatherCounts {
   std::uint64_t vertices = 0;         // vertices gathered (those with a leaf)
@@ -104,9 +118,11 @@ class FinalGather {
   // earlier gather over the same hierarchy, links and vertices, read instead of cast again; record,
   // if given, receives every visibility value this gather used (those read included).
   // near, if given, receives the close leaf sources' weights (their F × B̄_s stays in the result).
+  // weights, if given, receives the result's weights on the node means (without the close leaf
+  // sources where near is given).
   std::vector<Rgb> irradiance(const std::vector<Rgb>& nodeMeanRadiosity, FinalGatherCounts* counts = nullptr,
                               const GatherVisibility* known = nullptr, GatherVisibility* record = nullptr,
-                              NearFieldWeights* near = nullptr) const;
+                              NearFieldWeights* near = nullptr, GatherWeights* weights = nullptr) const;
   // The irradiance at every vertex with each close leaf source's light taken from its corners'
   // radiosities, B_u = emitted_u + ρ_u (E_u + direct_u) (per vertex, W/m²), solved by Jacobi
   // iteration from `gathered` (the gather's result with B̄_s) until no radiosity changes by more
@@ -135,6 +151,9 @@ class FinalGather {
   // Source s's mean radiosity as the vertex weighs it: its descendants' means, each by its
   // point kernel × area, kShapeDepth levels down (final_gather.cpp).
   Rgb shapedMean(const VertexSite& site, std::uint32_t s, const std::vector<Rgb>& mean, int depth = 0) const;
+  // The same mean as weights on those descendants, `scale` times each, appended to `out`.
+  void shapedWeights(const VertexSite& site, std::uint32_t s, double scale, std::vector<std::pair<std::uint32_t, double>>& out,
+                     int depth = 0) const;
   const ElementHierarchy& hierarchy_;
   const Links& links_;
   const RayCaster& caster_;

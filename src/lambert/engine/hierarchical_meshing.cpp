@@ -1,4 +1,5 @@
 #include "lambert/engine/hierarchical_meshing.h"
+#include "lambert/engine/point_gather.h"
 
 #include <algorithm>
 #include <cmath>
@@ -481,8 +482,8 @@ double insideness(const HierarchyNode& node, const Vec3& p) {
 
 }  // namespace
 
-Result<std::vector<Rgb>> HierarchicalMeshing::pointIrradiance(const ElementSolution& solution,
-                                                              std::span<const SurfacePoint> points) const {
+Result<PointGather> HierarchicalMeshing::pointGather(const ElementSolution& solution, std::span<const SurfacePoint> points,
+                                                     PointGatherPart part) const {
   // Each face's root elements (one, or its triangle fan's), then down to the leaf that holds the
   // point (the child it lies deepest inside: points on an edge go either way alike).
   std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> roots;
@@ -491,7 +492,9 @@ Result<std::vector<Rgb>> HierarchicalMeshing::pointIrradiance(const ElementSolut
     const HierarchyNode& n = hierarchy_.node(i);
     if (!n.isCluster() && n.parent != kNoNode && hierarchy_.node(n.parent).isCluster()) roots[faceKey(n.surface, n.face)].push_back(i);
   }
-  std::vector<VertexSite> sites(points.size());
+  PointGather out;
+  out.rayEpsilon = epsilon_;
+  out.sites.resize(points.size());
   std::vector<std::uint32_t> leafOfSite(points.size(), kNoNode);
   const double nudge = 1e-4 * sceneDiagonal(scene_);
   for (std::size_t i = 0; i < points.size(); ++i)
@@ -517,19 +520,54 @@ Result<std::vector<Rgb>> HierarchicalMeshing::pointIrradiance(const ElementSolut
     const Vec3 onPlane = q.point - leaf.normal * dot(q.point - leaf.centre, leaf.normal);
     const Vec3 inward = leaf.centre - onPlane;
     const double distance = length(inward);
-    sites[i].point = distance > nudge ? onPlane + inward * (nudge / distance) : leaf.centre;
-    sites[i].normal = leaf.normal;
+    out.sites[i].point = distance > nudge ? onPlane + inward * (nudge / distance) : leaf.centre;
+    out.sites[i].normal = leaf.normal;
     leafOfSite[i] = leaf.leaf;
   }, 256);
-  const FinalGather gather(hierarchy_, leaves_, *links_, *caster_, epsilon_, sites, std::move(leafOfSite), options_.links.visibilityRays,
+  out.leaf = std::move(leafOfSite);
+  if (part != PointGatherPart::Sites) gatherAt(solution, part, out);
+  return out;
+}
+
+void HierarchicalMeshing::gatherAt(const ElementSolution& solution, PointGatherPart part, PointGather& out) const {
+  const bool withWeights = part == PointGatherPart::LightAndWeights;
+  const FinalGather gather(hierarchy_, leaves_, *links_, *caster_, epsilon_, out.sites, out.leaf, options_.links.visibilityRays,
                            options_.links.seed);
   std::vector<Rgb> mean;
   transport_->pull(solution.radiosity, mean);
-  NearFieldWeights near;
-  const std::vector<Rgb> gathered = gather.irradiance(mean, nullptr, nullptr, nullptr, &near);
+  const std::vector<Rgb> gathered = gather.irradiance(mean, nullptr, nullptr, nullptr, &out.near, withWeights ? &out.nodes : nullptr);
   const VertexQuantity radiosity = VertexQuantity::Radiosity;
-  std::vector<Rgb> irradiance =
-      FinalGather::withCorners(gathered, near, vertexSolution(solution, std::span<const VertexQuantity>(&radiosity, 1)).front());
+  out.fromSurfaces = FinalGather::withCorners(gathered, out.near, vertexSolution(solution, std::span<const VertexQuantity>(&radiosity, 1)).front());
+  if (!withWeights) out.near = {};
+}
+
+Result<PointGather> HierarchicalMeshing::vertexGather(const ElementSolution& solution, std::span<const std::uint32_t> vertices,
+                                                      PointGatherPart part) const {
+  const std::vector<VertexSite> sites = vertexSites(leaves_.mesh, 1e-4 * sceneDiagonal(scene_));
+  const std::vector<std::uint32_t> leaf = FinalGather::gatheringLeaves(leaves_.mesh);
+  PointGather out;
+  out.rayEpsilon = epsilon_;
+  for (std::uint32_t v : vertices) {
+    if (v >= sites.size()) return Error{"vertex " + std::to_string(v) + ": no such vertex in the solution's vertex mesh"};
+    out.sites.push_back(sites[v]);
+    out.leaf.push_back(leaf[v]);
+  }
+  if (part != PointGatherPart::Sites) gatherAt(solution, part, out);
+  return out;
+}
+
+Result<std::vector<Rgb>> HierarchicalMeshing::nodeMeanRadiosity(const ElementSolution& solution) const {
+  std::vector<Rgb> mean;
+  transport_->pull(solution.radiosity, mean);
+  return mean;
+}
+
+Result<std::vector<Rgb>> HierarchicalMeshing::pointIrradiance(const ElementSolution& solution,
+                                                              std::span<const SurfacePoint> points) const {
+  Result<PointGather> gathered = pointGather(solution, points, PointGatherPart::Light);
+  if (!gathered) return gathered.error();
+  std::vector<Rgb> irradiance = std::move(gathered->fromSurfaces);
+  const std::vector<VertexSite>& sites = gathered->sites;
   if (!solution.lights.empty())
     parallelFor(0, irradiance.size(), [&](std::size_t i) {
       for (const Light& light : solution.lights)

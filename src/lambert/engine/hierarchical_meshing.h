@@ -42,6 +42,11 @@ class HierarchicalMeshing final : public Meshing {
   // The final gather (engine/final_gather.h) at every vertex, with the lights' direct light
   // evaluated there too; T-junction vertices are then constrained to their edges.
   Result<std::vector<Rgb>> pointIrradiance(const ElementSolution& solution, std::span<const SurfacePoint> points) const override;
+  Result<PointGather> pointGather(const ElementSolution& solution, std::span<const SurfacePoint> points, PointGatherPart part) const override;
+  Result<std::vector<Rgb>> nodeMeanRadiosity(const ElementSolution& solution) const override;
+  Result<PointGather> vertexGather(const ElementSolution& solution, std::span<const std::uint32_t> vertices, PointGatherPart part) const override;
+  // PointGather's light (and weights) at its sites, each through its leaf.
+  void gatherAt(const ElementSolution& solution, PointGatherPart part, PointGather& out) const;
   std::vector<std::vector<Rgb>> vertexSolution(const ElementSolution& solution,
                                                std::span<const VertexQuantity> quantities) const override;
   void startSolve(const SolveBudget& budget) override;

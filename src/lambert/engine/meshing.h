@@ -68,6 +68,10 @@ class Meshing {
 
   // SolutionView::pointIrradiance: by default an Error (only hierarchical meshing gathers).
   virtual Result<std::vector<Rgb>> pointIrradiance(const ElementSolution& solution, std::span<const SurfacePoint> points) const;
+  // SolutionView::pointGather and nodeMeanRadiosity: likewise Errors but for hierarchical meshing.
+  virtual Result<PointGather> pointGather(const ElementSolution& solution, std::span<const SurfacePoint> points, PointGatherPart part) const;
+  virtual Result<std::vector<Rgb>> nodeMeanRadiosity(const ElementSolution& solution) const;
+  virtual Result<PointGather> vertexGather(const ElementSolution& solution, std::span<const std::uint32_t> vertices, PointGatherPart part) const;
   // The strategy's figures: mesh, form-factor method, times, cache.
   virtual void addStats(Stats& stats) const = 0;
   // Writes the cache file if it is out of date (only the adaptive table can be).

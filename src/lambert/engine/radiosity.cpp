@@ -1,4 +1,5 @@
 #include "lambert/engine/radiosity.h"
+#include "lambert/engine/point_gather.h"
 
 #include <algorithm>
 #include <cmath>
@@ -48,6 +49,19 @@ Result<std::unique_ptr<Meshing>> makeMeshing(const Scene& scene, const Radiosity
 Result<std::vector<Rgb>> Meshing::pointIrradiance(const ElementSolution&, std::span<const SurfacePoint>) const {
   return Error{"light at points of the faces (lightmaps) is gathered over the hierarchical method's links: solve with "
                "--method hierarchical (the default) instead of the flat method"};
+}
+
+Result<PointGather> Meshing::pointGather(const ElementSolution&, std::span<const SurfacePoint>, PointGatherPart) const {
+  return Error{"light at points of the faces (lightmaps) is gathered over the hierarchical method's links: solve with "
+               "--method hierarchical (the default) instead of the flat method"};
+}
+
+Result<PointGather> Meshing::vertexGather(const ElementSolution&, std::span<const std::uint32_t>, PointGatherPart) const {
+  return Error{"light at the vertices as weights is gathered over the hierarchical method's links: solve with --method hierarchical (the default)"};
+}
+
+Result<std::vector<Rgb>> Meshing::nodeMeanRadiosity(const ElementSolution&) const {
+  return Error{"node mean radiosities are the hierarchical method's: solve with --method hierarchical (the default)"};
 }
 
 std::vector<std::vector<Rgb>> Meshing::vertexSolution(const ElementSolution& solution,
@@ -315,6 +329,23 @@ Result<std::vector<Rgb>> SolutionView::pointIrradiance(std::span<const SurfacePo
   const Radiosity& e = *engine_;
   return e.meshing_->pointIrradiance({e.radiosity_, e.injected_, e.surfaceEmitted_, e.problem_.albedo, e.lights_, e.scene_.metresPerUnit},
                                      points);
+}
+
+Result<PointGather> SolutionView::pointGather(std::span<const SurfacePoint> points, PointGatherPart part) const {
+  const Radiosity& e = *engine_;
+  return e.meshing_->pointGather({e.radiosity_, e.injected_, e.surfaceEmitted_, e.problem_.albedo, e.lights_, e.scene_.metresPerUnit},
+                                 points, part);
+}
+
+Result<PointGather> SolutionView::vertexGather(std::span<const std::uint32_t> vertices, PointGatherPart part) const {
+  const Radiosity& e = *engine_;
+  return e.meshing_->vertexGather({e.radiosity_, e.injected_, e.surfaceEmitted_, e.problem_.albedo, e.lights_, e.scene_.metresPerUnit},
+                                  vertices, part);
+}
+
+Result<std::vector<Rgb>> SolutionView::nodeMeanRadiosity() const {
+  const Radiosity& e = *engine_;
+  return e.meshing_->nodeMeanRadiosity({e.radiosity_, e.injected_, e.surfaceEmitted_, e.problem_.albedo, e.lights_, e.scene_.metresPerUnit});
 }
 
 std::vector<Rgb> SolutionView::vertexRadiance() const {

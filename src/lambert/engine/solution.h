@@ -21,6 +21,8 @@
 namespace lambert {
 
 class Radiosity;
+struct PointGather;  // engine/point_gather.h
+enum class PointGatherPart;
 
 // A point on one of the scene's own faces where a consumer asks for the light (a lightmap texel).
 struct SurfacePoint {
@@ -78,6 +80,17 @@ class SolutionView {
   // The hierarchical method only (the other methods' elements carry no links to gather over):
   // an Error saying so for the others.
   Result<std::vector<Rgb>> pointIrradiance(std::span<const SurfacePoint> points) const;
+  // Its two parts apart: where each point is gathered (the site shadow rays to the lights start
+  // from), the light from the surfaces there, and the weights that give that light again from a
+  // later solution, as `part` asks (engine/point_gather.h). Hierarchical only.
+  Result<PointGather> pointGather(std::span<const SurfacePoint> points, PointGatherPart part) const;
+  // The same at vertices of vertexMesh(), where vertexValues gathers them (their sites), for
+  // what their radiosity B = E + ρ (E_surfaces + E_lights) will be after the light changes.
+  Result<PointGather> vertexGather(std::span<const std::uint32_t> vertices, PointGatherPart part) const;
+  // Per node of the hierarchy (the hierarchical method's elements and clusters): the mean
+  // radiosity B̄ of the leaves under it, W/m², what PointGather's node weights multiply.
+  // Hierarchical only (an Error for the others).
+  Result<std::vector<Rgb>> nodeMeanRadiosity() const;
   const std::vector<Rgb>& vertexMeshAlbedo() const;
 
  private:
