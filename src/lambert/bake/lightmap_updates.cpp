@@ -242,6 +242,7 @@ Result<LightmapUpdater> LightmapUpdater::create(const SolutionView& view, const 
   for (const Rgb& e : u.baked_) meanIrradiance += e.maxComponent() / static_cast<double>(n);
   u.changeFloor_ = kChangeTolerance * meanIrradiance;
   u.fill_ = LightmapFill::plan(scene, u.uvs_, u.covered_, u.paddingRings_);
+  u.texelChanged_.assign(n, 1);  // the first update writes every texel
   u.lightmaps_.assign(static_cast<std::size_t>(baked.uvs.numAtlases), Image{size, size, std::vector<Rgb>(perAtlas)});
 
   u.stats_.texels = n;
@@ -273,7 +274,8 @@ Status LightmapUpdater::update(const SolutionView& view) {
   const std::vector<Light>& lights = view.lights();
   const double metresPerUnit = view.scene().metresPerUnit;
   const bool sameLights = lights.size() == lights_.size();
-  const auto retrace = [&](const std::vector<VertexSite>& sites, std::vector<std::vector<Rgb>>& perLight) {
+  const auto retrace = [&](const std::vector<VertexSite>& sites, std::vector<std::vector<Rgb>>& perLight, std::vector<std::uint8_t>& any) {
+    any.assign(sites.size(), sameLights ? 0 : 1);
     if (!sameLights) perLight.assign(lights.size(), std::vector<Rgb>(sites.size()));
     std::size_t traced = 0;
     for (std::size_t l = 0; l < lights.size(); ++l) {
@@ -286,12 +288,16 @@ Status LightmapUpdater::update(const SolutionView& view) {
         direct[t] = irradiance(lights[l], sites[t].point, sites[t].normal, view.caster(), rayEpsilon_, metresPerUnit);
         retraced[t] = 1;
       }, 256);
-      for (std::uint8_t r : retraced) traced += r;
+      for (std::size_t t = 0; t < sites.size(); ++t) {
+        traced += retraced[t];
+        any[t] |= retraced[t];
+      }
     }
     return traced;
   };
-  const std::size_t traced = retrace(site_, direct_);
-  retrace(vertexSite_, vertexDirect_);
+  std::vector<std::uint8_t> texelRetraced, cornerRetraced;
+  const std::size_t traced = retrace(site_, direct_, texelRetraced);
+  retrace(vertexSite_, vertexDirect_, cornerRetraced);
   lights_ = lights;
 
   // The nodes whose change matters, and the corner vertices and gather points they reach.
@@ -358,7 +364,13 @@ Status LightmapUpdater::update(const SolutionView& view) {
   stats_.gatherPointsUpdated = touched;
 
   const std::uint64_t perAtlas = static_cast<std::uint64_t>(uvs_.size) * uvs_.size;
+  // Only the texels this update changes, and those the last one changed (back to their bake).
   parallelFor(0, n, [&](std::size_t t) {
+    bool changed = texelRetraced[t] != 0;
+    for (std::uint32_t k = interpStart_[t]; k < interpStart_[t + 1] && !changed; ++k) changed = pointTouched[interpPoint_[k]] != 0;
+    const bool wasChanged = texelChanged_[t] != 0;
+    texelChanged_[t] = changed;
+    if (!changed && !wasChanged) return;
     Rgb e = baked_[t] - bakedDirect_[t];
     for (std::uint32_t k = interpStart_[t]; k < interpStart_[t + 1]; ++k) e += change[interpPoint_[k]] * interpWeight_[k];
     for (const std::vector<Rgb>& direct : direct_) e += direct[t];

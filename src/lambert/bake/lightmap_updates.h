@@ -111,6 +111,7 @@ class LightmapUpdater {
   std::vector<float> nodeLargestWeight_;
   std::vector<std::uint32_t> pointsOfNodeStart_, pointsOfNode_, cornersOfNodeStart_, cornersOfNode_, pointsOfCornerStart_, pointsOfCorner_;
   double changeFloor_ = 0;  // W/m²: a node's change × its largest weight below this is not read
+  std::vector<std::uint8_t> texelChanged_;  // per texel: the last update moved it off its bake
   LightmapFill fill_;
   std::vector<Image> lightmaps_;
   LightmapUpdateStats stats_;

@@ -95,6 +95,7 @@ bool HierarchicalMeshing::loadLinks(const std::vector<Light>& lights, std::vecto
   if (!loaded->splits.empty()) leaves_ = hierarchy_.leaves(scene_);
   leafMeshNodes_ = hierarchy_.nodes().size();
   for (std::size_t i = 0; i < leaves_.mesh.numPatches(); ++i) leaves_.mesh.patches[i].openFraction = loaded->openFraction[i];
+  ++leafMeshGeneration_;
   measuredLeafNodes_ = hierarchy_.leafNodes();
   links_ = loaded->links;
   transport_ = std::make_shared<HierarchicalTransport>(hierarchy_, links_, openFractions(leaves_.mesh), patchAlbedo(scene_, leaves_.mesh));
@@ -210,6 +211,7 @@ void HierarchicalMeshing::rebuildLeaves() {
   Timer coverage;
   for (std::size_t l = 0; l < open.size(); ++l) leaves_.mesh.patches[l].openFraction = open[l];
   measureOpenFractions(leaves_.mesh, *caster_, measure);
+  ++leafMeshGeneration_;
   measuredLeafNodes_ = leafNodes;
   coverageSeconds_ += coverage.seconds();
 }
@@ -308,7 +310,18 @@ Result<bool> HierarchicalMeshing::refine(const std::vector<Light>& lights, std::
 }
 
 std::vector<Rgb> HierarchicalMeshing::vertexValues(const std::vector<Rgb>& perElement) const {
-  return leafVertexValues(leaves_, perElement);
+  std::shared_ptr<const VertexInterpolation> interpolation;
+  {
+    const std::lock_guard<std::mutex> lock(interpolationMutex_);
+    if (!interpolation_ || interpolationGeneration_ != leafMeshGeneration_) {
+      interpolation_ = std::make_shared<const VertexInterpolation>(leaves_.mesh);
+      interpolationGeneration_ = leafMeshGeneration_;
+    }
+    interpolation = interpolation_;
+  }
+  std::vector<Rgb> values = interpolation->apply(perElement);
+  constrainHangingVertices(leaves_, values);
+  return values;
 }
 
 std::vector<std::vector<Rgb>> HierarchicalMeshing::vertexSolution(const ElementSolution& solution,

@@ -116,6 +116,12 @@ class HierarchicalMeshing final : public Meshing {
   mutable std::size_t nearFieldWeights_ = 0;
   mutable int nearFieldIterations_ = 0;
   mutable double gatherSeconds_ = 0;
+  // vertexValues' interpolation over the leaf mesh, made once per leaf mesh (lightmap updates
+  // call it every frame): leafMeshGeneration_ counts the leaf meshes (and their open fractions).
+  int leafMeshGeneration_ = 0;
+  mutable std::mutex interpolationMutex_;
+  mutable std::shared_ptr<const VertexInterpolation> interpolation_;
+  mutable int interpolationGeneration_ = -1;
 };
 
 }  // namespace lambert
