@@ -442,6 +442,9 @@ Status runViewer(const ViewerOptions& options, Stats& stats) {
       SolveWorker worker(options.scene, options.radiosity, options.budget, state.display.flat, bake);
       std::shared_ptr<const LightmapFrame> lightmaps;
       std::shared_ptr<const ProbeFrame> probes;
+      // What the last frame showed (swapped): script waits end on what is on screen.
+      std::shared_ptr<const LightmapFrame> lightmapsOnScreen;
+      std::shared_ptr<const ProbeFrame> probesOnScreen;
       // From a change of the lights to the lightmaps (probes) baked for them on screen.
       double lightsChangedAt = -1;
       bool lightmapsAwaited = false, probesAwaited = false;
@@ -481,8 +484,8 @@ Status runViewer(const ViewerOptions& options, Stats& stats) {
         const bool upToDate = !shown->preview && shown->lights == currentLights;
         lightmaps = worker.latestLightmaps();
         probes = worker.latestProbes();
-        const bool lightmapsUpToDate = lightmaps && lightmaps->lights == currentLights;
-        const bool probesUpToDate = probes && probes->lights == currentLights;
+        const bool lightmapsUpToDate = lightmapsOnScreen && lightmapsOnScreen->lights == currentLights;
+        const bool probesUpToDate = probesOnScreen && probesOnScreen->lights == currentLights;
         if (upToDate && shown->settled && convergedSeconds == 0) convergedSeconds = clock.seconds();
 
         // The script: run commands until one waits.
@@ -613,6 +616,8 @@ Status runViewer(const ViewerOptions& options, Stats& stats) {
         const double cpuSeconds = cpu.seconds();
         glfwSwapBuffers(window);
         // On screen once swapped: a light change's lightmaps and probes.
+        lightmapsOnScreen = drawLightmaps ? lightmaps : nullptr;
+        probesOnScreen = sphereSh ? probes : nullptr;
         // (The lights as they are now: a script may have changed them since the frame began.)
         if (lightmapsAwaited || probesAwaited) {
           const std::vector<Light> drawnFor = state.animation.lightsAt(steadyClockSeconds());
