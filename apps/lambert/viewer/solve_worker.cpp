@@ -293,7 +293,7 @@ bool SolveWorker::bake() {
   if (lightmaps) {
     {
       std::lock_guard lock(mutex_);
-      baking_ = "baking lightmaps…";
+      baking_ = "baking lightmaps...";
     }
     Timer timer;
     if (!uvs_) {
@@ -317,7 +317,7 @@ bool SolveWorker::bake() {
   if (probes) {
     {
       std::lock_guard lock(mutex_);
-      baking_ = "baking light probes…";
+      baking_ = "baking light probes...";
     }
     Timer timer;
     Result<ProbeVolume> volume = bakeProbes(view, bake_.probeOptions);

@@ -307,7 +307,7 @@ void drawPanel(ViewerState& state, const Snapshot& snapshot, const SolveWorker& 
       if (probes && !sphereLit) ImGui::Text("  no valid probe around the sphere: inside geometry");
     }
     if (std::string baking = worker.baking(); !baking.empty()) ImGui::Text("%s", baking.c_str());
-    else if ((d.lightmaps && !lightmaps) || (d.probes && !probes)) ImGui::Text("waiting for a converged solution to bake…");
+    else if ((d.lightmaps && !lightmaps) || (d.probes && !probes)) ImGui::Text("waiting for a converged solution to bake...");
   }
   if (ImGui::CollapsingHeader("Camera", ImGuiTreeNodeFlags_DefaultOpen)) {
     int mode = state.camera.fly ? 1 : 0;
