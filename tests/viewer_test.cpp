@@ -311,6 +311,14 @@ TEST(ViewerTest, ABadScriptIsRefusedWithItsLineBeforeAnyWindowOpens) {
   result = shell("env -u DISPLAY " + kCli + " view --scene cornell-spots --script " + script.string());
   EXPECT_EQ(result.exitCode, 2) << result.output;
   EXPECT_TRUE(contains(result.output, ":1: light 5 does not exist")) << result.output;
+
+  // Lightmaps gather at texels over the hierarchy's links: a flat mesh cannot have them.
+  result = shell("env -u DISPLAY " + kCli + " view --scene cornell-spots --method flat --patches 200 --lightmaps --frames 1");
+  EXPECT_EQ(result.exitCode, 2) << result.output;
+  EXPECT_TRUE(contains(result.output, "--lightmaps needs the hierarchical method")) << result.output;
+  result = shell("env -u DISPLAY " + kCli + " view --scene cornell-spots --probe-spacing 30 --frames 1");
+  EXPECT_EQ(result.exitCode, 2) << result.output;
+  EXPECT_TRUE(contains(result.output, "no --probes is asked for")) << result.output;
 }
 
 TEST(ViewerTest, WithoutADisplayItSaysSoAndExits) {
