@@ -5,6 +5,7 @@
 #include <string>
 
 #include "commands.h"
+#include "lambert/bake/probes.h"
 #include "options.h"
 #include "viewer/viewer.h"
 
@@ -24,6 +25,12 @@ struct ViewCommandOptions : GivenOptions {
   double updateMilliseconds = 4;
   long long shotsPerUpdate = 0;
   int sweepsPerUpdate = 0;
+  bool lightmaps = false;
+  int lightmapSize = 256;
+  bool probes = false;
+  double probeSpacing = 0;
+  std::vector<double> sphere;  // x y z
+  double sphereRadius = 0;
 };
 
 int runView(const ViewCommandOptions& o) {
@@ -69,6 +76,25 @@ int runView(const ViewCommandOptions& o) {
     if (Status ok = viewer::checkScriptLights(*v.script, scene->lights.size()); !ok) return fail("view", ok.error().message);
     v.vsync = false;
   }
+  // Lightmaps and probes (baked by the radiosity thread from each converged solution).
+  if (!o.lightmaps)
+    if (Status ok = refuseGiven(o, {"--lightmap-size"}, "it sizes --lightmaps' atlases, and no --lightmaps is asked for"); !ok)
+      return fail("view", ok.error().message);
+  if (o.lightmaps && radiosity->meshing != MeshStrategy::Hierarchical)
+    return fail("view", "--lightmaps needs the hierarchical method (the default): only it gathers at the lightmaps' texels");
+  if (!o.probes)
+    if (Status ok = refuseGiven(o, {"--probe-spacing"}, "it spaces --probes' grid, and no --probes is asked for"); !ok)
+      return fail("view", ok.error().message);
+  v.display.lightmaps = o.lightmaps;
+  v.display.probes = o.probes;
+  v.bake.uvs.atlasSize = o.lightmapSize;
+  v.bake.probeOptions.spacing = o.probeSpacing;
+  if (Result<ProbeVolume> grid = probeGrid(*scene, v.bake.probeOptions); !grid) return fail("view", grid.error().message);
+  // The sphere: where asked, else the middle of the scene's box; a 25th of its diagonal across.
+  const Bounds bounds = sceneBounds(*scene);
+  v.sphereCentre = o.sphere.empty() ? (bounds.lo + bounds.hi) * 0.5 : Vec3{o.sphere[0], o.sphere[1], o.sphere[2]};
+  v.sphereRadius = o.sphereRadius > 0 ? o.sphereRadius : length(bounds.hi - bounds.lo) / 25;
+
   v.radiosity = std::move(*radiosity);
   v.radiosity.hierarchical.links.showProgress = false;  // the window shows progress
   v.radiosity.formFactors.showProgress = false;
@@ -117,6 +143,18 @@ std::function<int()> addViewCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--shots-per-update", options->shotsPerUpdate, "Radiosity budget per update in shots (shoot)")->check(CLI::Range(1LL, 1000000000LL));
   cmd->add_option("--sweeps-per-update", options->sweepsPerUpdate, "Radiosity budget per update in sweeps (gs, jacobi)")->check(CLI::Range(1, 1000000));
+  cmd->add_flag("--lightmaps", options->lightmaps,
+               "Draw the scene's own faces with lightmaps baked from each converged solution (hierarchical method; docs/viewer.md)");
+  cmd->add_option("--lightmap-size", options->lightmapSize, "With --lightmaps: texels per side of each atlas")
+      ->check(CLI::Range(16, 4096))
+      ->capture_default_str();
+  cmd->add_flag("--probes", options->probes, "Bake light probes from each converged solution and draw a sphere lit by them");
+  cmd->add_option("--probe-spacing", options->probeSpacing, "Distance between --probes' probes, scene units (default: about 4096 probes over the box)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--sphere", options->sphere, "The probe sphere's centre X Y Z, scene units (default: the middle of the scene's box)")
+      ->expected(3);
+  cmd->add_option("--sphere-radius", options->sphereRadius, "The probe sphere's radius, scene units (default: a 25th of the box's diagonal)")
+      ->check(CLI::PositiveNumber);
   return [options] { return runView(*options); };
 }
 

@@ -198,6 +198,8 @@ Result<unsigned> meshProgram(int lightCount) {
 
 }  // namespace
 
+Result<unsigned> linkProgram(const std::string& vertex, const std::string& fragment, const char* name) { return link(vertex, fragment, name); }
+
 Result<std::unique_ptr<MeshRenderer>> MeshRenderer::create() {
   std::unique_ptr<MeshRenderer> r(new MeshRenderer());
   // Every program up front: a light switched on later must not stall a frame, or fail then.
@@ -315,27 +317,34 @@ void MeshRenderer::draw(const Snapshot& snapshot, const Eigen::Matrix4f& viewPro
     glBindVertexArray(edgeArray_);
     glDrawArrays(GL_LINES, 0, edgeEnds_);
   }
-  if (settings.lightMarkers && !snapshot.lights.empty()) {
-    // Each point or spot light as a square, a spot also with its axis; the selected one in yellow.
-    glEnable(GL_PROGRAM_POINT_SIZE);
-    glDisable(GL_DEPTH_TEST);
-    glBindVertexArray(markerArray_);
-    glBindBuffer(GL_ARRAY_BUFFER, markerBuffer_);
-    for (std::size_t i = 0; i < snapshot.lights.size(); ++i) {
-      const Light& light = snapshot.lights[i];
-      if (light.kind == LightKind::Directional) continue;
-      const Vec3 tip = light.position + normalize(light.direction) * markerSize * 8;
-      const float points[6] = {static_cast<float>(light.position.x), static_cast<float>(light.position.y), static_cast<float>(light.position.z),
-                               static_cast<float>(tip.x),            static_cast<float>(tip.y),            static_cast<float>(tip.z)};
-      glBufferData(GL_ARRAY_BUFFER, sizeof points, points, GL_STREAM_DRAW);
-      const bool selected = static_cast<int>(i) == selectedLight;
-      glUniform4f(uniform(lineProgram_, "lineColour"), selected ? 1.0f : 0.9f, selected ? 0.85f : 0.9f, selected ? 0.1f : 0.9f, 1.0f);
-      glUniform1f(uniform(lineProgram_, "pointSize"), selected ? 12.0f : 8.0f);
-      glDrawArrays(GL_POINTS, 0, 1);
-      if (light.kind == LightKind::Spot) glDrawArrays(GL_LINES, 0, 2);
-    }
-    glEnable(GL_DEPTH_TEST);
+  if (settings.lightMarkers) drawLightMarkers(snapshot.lights, viewProjection, selectedLight, markerSize);
+  glBindVertexArray(0);
+}
+
+void MeshRenderer::drawLightMarkers(const std::vector<Light>& lights, const Eigen::Matrix4f& viewProjection, int selectedLight,
+                                    double markerSize) {
+  if (lights.empty()) return;
+  glUseProgram(lineProgram_);
+  glUniformMatrix4fv(uniform(lineProgram_, "viewProjection"), 1, GL_FALSE, viewProjection.data());
+  // Each point or spot light as a square, a spot also with its axis; the selected one in yellow.
+  glEnable(GL_PROGRAM_POINT_SIZE);
+  glDisable(GL_DEPTH_TEST);
+  glBindVertexArray(markerArray_);
+  glBindBuffer(GL_ARRAY_BUFFER, markerBuffer_);
+  for (std::size_t i = 0; i < lights.size(); ++i) {
+    const Light& light = lights[i];
+    if (light.kind == LightKind::Directional) continue;
+    const Vec3 tip = light.position + normalize(light.direction) * markerSize * 8;
+    const float points[6] = {static_cast<float>(light.position.x), static_cast<float>(light.position.y), static_cast<float>(light.position.z),
+                             static_cast<float>(tip.x),            static_cast<float>(tip.y),            static_cast<float>(tip.z)};
+    glBufferData(GL_ARRAY_BUFFER, sizeof points, points, GL_STREAM_DRAW);
+    const bool selected = static_cast<int>(i) == selectedLight;
+    glUniform4f(uniform(lineProgram_, "lineColour"), selected ? 1.0f : 0.9f, selected ? 0.85f : 0.9f, selected ? 0.1f : 0.9f, 1.0f);
+    glUniform1f(uniform(lineProgram_, "pointSize"), selected ? 12.0f : 8.0f);
+    glDrawArrays(GL_POINTS, 0, 1);
+    if (light.kind == LightKind::Spot) glDrawArrays(GL_LINES, 0, 2);
   }
+  glEnable(GL_DEPTH_TEST);
   glBindVertexArray(0);
 }
 

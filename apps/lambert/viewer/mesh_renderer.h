@@ -28,7 +28,15 @@ struct DisplaySettings {
   // script sets one: for scenes that set none, without --exposure.
   bool autoExposure = false;
   bool lightMarkers = true;  // not in screenshots
+  // The scene's own faces lit by baked lightmaps (viewer/baked_renderer.h) instead of the
+  // solution's elements, once the first lightmaps are baked.
+  bool lightmaps = false;
+  bool probes = false;       // the probe-lit sphere
 };
+
+// Compiles and links a vertex and a fragment shader (full sources, #version line included);
+// the error names the program and gives OpenGL's log.
+Result<unsigned> linkProgram(const std::string& vertex, const std::string& fragment, const char* name);
 
 class MeshRenderer {
  public:
@@ -43,6 +51,9 @@ class MeshRenderer {
   // Draws the uploaded snapshot into the current framebuffer.
   void draw(const Snapshot& snapshot, const Eigen::Matrix4f& viewProjection, const Eigen::Vector3f& eye,
             const DisplaySettings& settings, double metresPerUnit, int selectedLight, double markerSize);
+  // The light markers alone (draw() draws them where settings.lightMarkers says), over what is
+  // in the framebuffer: for pictures drawn by another renderer.
+  void drawLightMarkers(const std::vector<Light>& lights, const Eigen::Matrix4f& viewProjection, int selectedLight, double markerSize);
 
  private:
   MeshRenderer() = default;

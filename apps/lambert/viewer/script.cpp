@@ -85,6 +85,21 @@ Result<ScriptStep> parseStep(const std::vector<std::string>& w) {
     if (Status ok = timeout(step.timeoutSeconds); !ok) return ok.error();
     return finish(step);
   }
+  if (command == "wait-lightmaps") {
+    WaitForLightmaps step;
+    if (Status ok = timeout(step.timeoutSeconds); !ok) return ok.error();
+    return finish(step);
+  }
+  if (command == "wait-probes") {
+    WaitForProbes step;
+    if (Status ok = timeout(step.timeoutSeconds); !ok) return ok.error();
+    return finish(step);
+  }
+  if (command == "sphere") {
+    Result<Vec3> centre = p.takeVec3("the sphere's centre");
+    if (!centre) return centre.error();
+    return finish(SetSphere{*centre});
+  }
   if (command == "screenshot" || command == "screenshot-window") {
     if (w.size() != 2) return Error{"'" + command + "' takes one PNG path"};
     if (w[1].size() < 5 || w[1].substr(w[1].size() - 4) != ".png") return Error{"a screenshot is a .png, not '" + w[1] + "'"};
@@ -143,14 +158,14 @@ Result<ScriptStep> parseStep(const std::vector<std::string>& w) {
     return Error{"unknown light property '" + property + "' (position, direction, aim, intensity or cone)"};
   }
   if (command == "lighting" || command == "shading" || command == "wireframe" || command == "false-colour" ||
-      command == "srgb" || command == "ambient" || command == "exposure") {
+      command == "srgb" || command == "ambient" || command == "exposure" || command == "lightmaps" || command == "probes") {
     if (w.size() != 2) return Error{"'" + command + "' takes one value"};
     if (Status ok = checkDisplaySetting(command, w[1]); !ok) return ok.error();
     return ScriptStep{SetDisplay{command, w[1]}};
   }
   return Error{"unknown command '" + command +
-               "' (frames, wait-solution, wait-converged, screenshot, screenshot-window, camera, orbit, light, select, play, pause, lighting, shading, "
-               "wireframe, false-colour, srgb, ambient, exposure)"};
+               "' (frames, wait-solution, wait-converged, wait-lightmaps, wait-probes, sphere, screenshot, screenshot-window, camera, orbit, light, select, play, pause, lighting, shading, "
+               "wireframe, false-colour, srgb, ambient, exposure, lightmaps, probes)"};
 }
 
 }  // namespace

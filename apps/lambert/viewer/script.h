@@ -18,6 +18,12 @@ struct DrawFrames { int frames = 1; };
 struct WaitForSolution { double timeoutSeconds = 300; };
 // Draw until the solution for the current lights has converged and is on screen.
 struct WaitForConvergence { double timeoutSeconds = 300; };
+// Draw until the lightmaps (or the probes) baked for the current lights are on screen; the
+// display must show them (`lightmaps on`, `probes on`).
+struct WaitForLightmaps { double timeoutSeconds = 300; };
+struct WaitForProbes { double timeoutSeconds = 300; };
+// Move the probe-lit sphere's centre to a point (scene units).
+struct SetSphere { Vec3 centre; };
 // The 3-D view (without the panels) of the frame just drawn, as a PNG.
 struct Screenshot {
   std::string path;
@@ -39,7 +45,7 @@ struct SelectLight { int light = 0; };
 // Play or pause the scene's light animation.
 struct SetPlaying { bool playing = false; };
 
-using ScriptStep = std::variant<DrawFrames, WaitForSolution, WaitForConvergence, Screenshot, SetCamera, OrbitCamera,
+using ScriptStep = std::variant<DrawFrames, WaitForSolution, WaitForConvergence, WaitForLightmaps, WaitForProbes, SetSphere, Screenshot, SetCamera, OrbitCamera,
                                 SetLightPosition, SetLightDirection, AimLight, SetLightIntensity, SetLightCone, SetDisplay,
                                 SetPlaying, SelectLight>;
 

@@ -199,8 +199,10 @@ std::shared_ptr<const Snapshot> previewSnapshot(const Scene& scene) {
   return snapshot;
 }
 
-SolveWorker::SolveWorker(Scene scene, RadiosityOptions options, UpdateBudget budget, bool flat)
-    : scene_(std::move(scene)), options_(std::move(options)), budget_(budget), startTime_(steadyClockSeconds()), flat_(flat) {
+SolveWorker::SolveWorker(Scene scene, RadiosityOptions options, UpdateBudget budget, bool flat, BakeSettings bake)
+    : scene_(std::move(scene)), options_(std::move(options)), budget_(budget), startTime_(steadyClockSeconds()), flat_(flat),
+      bake_(std::move(bake)) {
+  bake_.probeOptions.showProgress = false;  // the panel shows progress
   animation_.base = scene_.lights;
   thread_ = std::thread([this] { run(); });
 }
@@ -230,6 +232,108 @@ void SolveWorker::setFlat(bool flat) {
     flatChanged_ = true;
   }
   wake_.notify_all();
+}
+
+void SolveWorker::setBaking(bool lightmaps, bool probes) {
+  {
+    std::lock_guard lock(mutex_);
+    if (bake_.lightmaps == lightmaps && bake_.probes == probes) return;
+    bake_.lightmaps = lightmaps;
+    bake_.probes = probes;
+  }
+  wake_.notify_all();
+}
+
+std::shared_ptr<const LightmapFrame> SolveWorker::latestLightmaps() const {
+  std::lock_guard lock(mutex_);
+  return lightmaps_;
+}
+
+std::shared_ptr<const ProbeFrame> SolveWorker::latestProbes() const {
+  std::lock_guard lock(mutex_);
+  return probes_;
+}
+
+std::string SolveWorker::baking() const {
+  std::lock_guard lock(mutex_);
+  return baking_;
+}
+
+bool SolveWorker::bakeDue() const {
+  const std::vector<Light>& lights = engine_->lights();
+  return (bake_.lightmaps && (!lightmaps_ || lightmaps_->lights != lights)) || (bake_.probes && (!probes_ || probes_->lights != lights));
+}
+
+Result<std::vector<Image>> SolveWorker::refreshLightmaps(const SolutionView& view) {
+  // Every refresh is a full bake over the same UVs (seconds: bake/lightmaps.h gathers per texel).
+  // An incremental update from the warm re-solve (bake/lightmap_updates.h's LightmapUpdater:
+  // create(view, baked) once, then update(view) after each re-solve) replaces this body alone.
+  LightmapBakeOptions options;
+  options.uvs = bake_.uvs;
+  options.showProgress = false;
+  Result<BakedLightmaps> baked = bakeLightmaps(view, *uvs_, options);
+  if (!baked) return baked.error();
+  return std::move(baked->irradiance);
+}
+
+bool SolveWorker::bake() {
+  const SolutionView& view = engine_->solution();
+  bool lightmaps, probes;
+  {
+    std::lock_guard lock(mutex_);
+    lightmaps = bake_.lightmaps && (!lightmaps_ || lightmaps_->lights != engine_->lights());
+    probes = bake_.probes && (!probes_ || probes_->lights != engine_->lights());
+  }
+  auto fail = [&](const std::string& message) {
+    std::lock_guard lock(mutex_);
+    error_ = message;
+    baking_.clear();
+    return false;
+  };
+  if (lightmaps) {
+    {
+      std::lock_guard lock(mutex_);
+      baking_ = "baking lightmaps...";
+    }
+    Timer timer;
+    if (!uvs_) {
+      Result<LightmapUvs> uvs = lightmapUvs(scene_, bake_.uvs);
+      if (!uvs) return fail("lightmaps: " + uvs.error().message);
+      uvs_ = std::make_shared<const LightmapUvs>(std::move(*uvs));
+    }
+    Result<std::vector<Image>> irradiance = refreshLightmaps(view);
+    if (!irradiance) return fail("lightmaps: " + irradiance.error().message);
+    auto frame = std::make_shared<LightmapFrame>();
+    frame->lights = engine_->lights();
+    frame->uvs = uvs_;
+    frame->irradiance = std::move(*irradiance);
+    frame->seconds = timer.seconds();
+    std::lock_guard lock(mutex_);
+    frame->version = ++bakeVersion_;
+    figures_.lightmapBakes += 1;
+    figures_.lightmapSeconds += frame->seconds;
+    lightmaps_ = std::move(frame);
+  }
+  if (probes) {
+    {
+      std::lock_guard lock(mutex_);
+      baking_ = "baking light probes...";
+    }
+    Timer timer;
+    Result<ProbeVolume> volume = bakeProbes(view, bake_.probeOptions);
+    if (!volume) return fail("probes: " + volume.error().message);
+    auto frame = std::make_shared<ProbeFrame>();
+    frame->lights = engine_->lights();
+    frame->volume = std::move(*volume);
+    std::lock_guard lock(mutex_);
+    frame->version = ++bakeVersion_;
+    figures_.probeBakes += 1;
+    figures_.probeSeconds += timer.seconds();
+    probes_ = std::move(frame);
+  }
+  std::lock_guard lock(mutex_);
+  baking_.clear();
+  return true;
 }
 
 std::shared_ptr<const Snapshot> SolveWorker::latest() const {
@@ -277,11 +381,21 @@ void SolveWorker::run() {
     {
       std::unique_lock lock(mutex_);
       // Asleep while converged, until the lights, the animation or the shading change.
+      // Lightmaps and probes are baked from each converged solution before the next lights are
+      // taken (points gather over the links, not at the vertices, so the vertex gather need not
+      // come first): moves that come during a bake are taken together by the next solve, which
+      // is baked in turn once it converges, so the baked light follows a moving light.
+      const bool converged = !needsSolve && last.converged;
       wake_.wait(lock, [&] {
         return stop_ || flatChanged_ || needsSolve || gatherPending || animation_.playing ||
-               animation_.lightsAt(steadyClockSeconds()) != engine_->lights();
+               animation_.lightsAt(steadyClockSeconds()) != engine_->lights() || (converged && bakeDue());
       });
       if (stop_) return;
+      if (converged && bakeDue()) {
+        lock.unlock();
+        if (!bake()) return;
+        continue;
+      }
       if (animation_.playing && budget_.maxUpdatesPerSecond > 0) {
         const double wait = lastUpdate + 1 / budget_.maxUpdatesPerSecond - steadyClockSeconds();
         if (wait > 0 && wake_.wait_for(lock, std::chrono::duration<double>(wait), [&] { return stop_; })) return;

@@ -12,6 +12,8 @@
 #include <thread>
 #include <vector>
 
+#include "lambert/bake/lightmaps.h"
+#include "lambert/bake/probes.h"
 #include "lambert/core/stats.h"
 #include "lambert/engine/radiosity.h"
 
@@ -81,6 +83,32 @@ struct UpdateBudget {
   double maxUpdatesPerSecond = 90;
 };
 
+// What the worker bakes from each settled solution: lightmaps over the scene's own faces
+// (bake/lightmaps.h; the hierarchical method only, which gathers at points) and a probe volume
+// (bake/probes.h). Either can be switched off and on while the viewer runs.
+struct BakeSettings {
+  bool lightmaps = false;
+  LightmapUvOptions uvs;  // the atlases (the viewer's default is smaller than solve's: see view_command.cpp)
+  bool probes = false;
+  ProbeOptions probeOptions;  // spacing, rays per probe
+};
+
+// Lightmaps baked for one set of lights, ready to draw. Immutable once published.
+struct LightmapFrame {
+  std::uint64_t version = 0;
+  std::vector<Light> lights;           // the lights they were baked for
+  std::shared_ptr<const LightmapUvs> uvs;  // shared by every frame: the faces' layout never changes
+  std::vector<Image> irradiance;       // per atlas: E in W/m² per texel, top row first
+  double seconds = 0;                  // baking (or updating) them
+};
+
+// A probe volume baked for one set of lights.
+struct ProbeFrame {
+  std::uint64_t version = 0;
+  std::vector<Light> lights;
+  ProbeVolume volume;
+};
+
 struct WorkerFigures {
   long long updates = 0;         // solve calls that published a snapshot
   double solveSeconds = 0;       // in Radiosity::solve (inject + solve), summed
@@ -88,12 +116,16 @@ struct WorkerFigures {
   double maxUpdateSeconds = 0;   // the longest solve + snapshot
   long long lightUpdates = 0;    // updates that began with new lights
   double lightUpdateSeconds = 0; // their solve + snapshot, summed
+  long long lightmapBakes = 0;   // lightmap frames published (the first bake and every refresh)
+  double lightmapSeconds = 0;    // their baking, summed
+  long long probeBakes = 0;
+  double probeSeconds = 0;
 };
 
 class SolveWorker {
  public:
   // Starts the thread: it creates the engine (mesh, BVH, form factors) and solves.
-  SolveWorker(Scene scene, RadiosityOptions options, UpdateBudget budget, bool flat);
+  SolveWorker(Scene scene, RadiosityOptions options, UpdateBudget budget, bool flat, BakeSettings bake = {});
   ~SolveWorker();  // stops and joins
   SolveWorker(const SolveWorker&) = delete;
   SolveWorker& operator=(const SolveWorker&) = delete;
@@ -102,6 +134,14 @@ class SolveWorker {
   void setAnimation(LightAnimation animation);
   // Per-element (flat) or per-vertex (Gouraud) values in the next snapshot.
   void setFlat(bool flat);
+  // Bake lightmaps, probes, from the next settled solution on (off: no more bakes; the last
+  // frames stay available).
+  void setBaking(bool lightmaps, bool probes);
+  // The newest lightmaps and probes, or null before the first bake.
+  std::shared_ptr<const LightmapFrame> latestLightmaps() const;
+  std::shared_ptr<const ProbeFrame> latestProbes() const;
+  // What the worker is baking now ("" when nothing), for the panel.
+  std::string baking() const;
 
   // The newest snapshot, or null before the first solve step.
   std::shared_ptr<const Snapshot> latest() const;
@@ -117,6 +157,13 @@ class SolveWorker {
  private:
   void run();
   void publish(const Radiosity& engine, const SolveCallReport& report, bool meshStale, bool visibilityStale, bool gathered);
+  // Whether a settled solution for the engine's lights still lacks the lightmaps or probes asked
+  // for (under mutex_).
+  bool bakeDue() const;
+  // Bakes what bakeDue says is missing and publishes it. False on an error (in error_).
+  bool bake();
+  // The one place where lightmaps follow a new solution: a full bake over the fixed UVs.
+  Result<std::vector<Image>> refreshLightmaps(const SolutionView& view);
 
   Scene scene_;
   RadiosityOptions options_;
@@ -134,6 +181,12 @@ class SolveWorker {
   std::string error_;
   WorkerFigures figures_;
   std::atomic<bool> ready_{false};
+  BakeSettings bake_;
+  std::shared_ptr<const LightmapUvs> uvs_;  // made at the first bake
+  std::shared_ptr<const LightmapFrame> lightmaps_;
+  std::shared_ptr<const ProbeFrame> probes_;
+  std::string baking_;
+  std::uint64_t bakeVersion_ = 0;
 
   // Worker-thread state kept while the drawn mesh stays the same: its corners, outlines and
   // per-vertex emission, and (while the lights stay too) each light's visibility at each corner.

@@ -19,6 +19,7 @@
 #include "lambert/io/png.h"
 #include "lambert/light/lights.h"
 #include "lambert/mesh/mesh.h"
+#include "viewer/baked_renderer.h"
 
 namespace lambert::viewer {
 namespace {
@@ -128,7 +129,7 @@ struct FrameFigures {
 // Plays a Script: commands run at the start of a frame until one has to wait (frames to draw, a
 // solution to arrive, a screenshot of this frame).
 struct ScriptPlayer {
-  enum class Waiting { None, Frames, Solution, Converged };
+  enum class Waiting { None, Frames, Solution, Converged, Lightmaps, Probes };
 
   const Script* script = nullptr;  // null: no script, a user drives
   std::size_t next = 0, current = 0;
@@ -149,6 +150,8 @@ struct ViewerState {
   LightAnimation animation;  // the lights as edited, turned by their angular velocity over time
   int selectedLight = -1;
   bool screenshotRequested = false;  // F12 or the panel's button: taken in the next frame
+  Vec3 sphereCentre;                 // the probe-lit sphere
+  bool lightmapsAvailable = false;   // the method gathers at points (hierarchical)
 };
 
 // Play or pause: the animation's time carries on from where it is now.
@@ -177,6 +180,18 @@ Status applyCommand(const ScriptStep& step, ViewerState& state, ScriptPlayer& pl
           player.waiting = ScriptPlayer::Waiting::Converged;
           player.timeout = s.timeoutSeconds;
           player.waitTimer = Timer();
+        } else if constexpr (std::is_same_v<T, WaitForLightmaps>) {
+          if (!state.display.lightmaps) return Error{"the lightmaps are off: 'lightmaps on' first"};
+          player.waiting = ScriptPlayer::Waiting::Lightmaps;
+          player.timeout = s.timeoutSeconds;
+          player.waitTimer = Timer();
+        } else if constexpr (std::is_same_v<T, WaitForProbes>) {
+          if (!state.display.probes) return Error{"the probes are off: 'probes on' first"};
+          player.waiting = ScriptPlayer::Waiting::Probes;
+          player.timeout = s.timeoutSeconds;
+          player.waitTimer = Timer();
+        } else if constexpr (std::is_same_v<T, SetSphere>) {
+          state.sphereCentre = s.centre;
         } else if constexpr (std::is_same_v<T, Screenshot>) {
           screenshot = s;
         } else if constexpr (std::is_same_v<T, SetCamera>) {
@@ -212,6 +227,10 @@ Status applyCommand(const ScriptStep& step, ViewerState& state, ScriptPlayer& pl
           else if (s.setting == "srgb") d.srgb = on;
           else if (s.setting == "ambient") d.ambient = on;
           else if (s.setting == "exposure") d.exposure = std::strtod(s.value.c_str(), nullptr), d.autoExposure = false;
+          else if (s.setting == "lightmaps") {
+            if (on && !state.lightmapsAvailable) return Error{"lightmaps need the hierarchical method (--method hierarchical)"};
+            d.lightmaps = on;
+          } else if (s.setting == "probes") d.probes = on;
         } else if constexpr (std::is_same_v<T, SelectLight>) {
           state.selectedLight = s.light;
         } else if constexpr (std::is_same_v<T, SetPlaying>) {
@@ -223,7 +242,8 @@ Status applyCommand(const ScriptStep& step, ViewerState& state, ScriptPlayer& pl
 }
 
 // The panel: what the solve is doing, the display toggles, the camera and the lights.
-void drawPanel(ViewerState& state, const Snapshot& snapshot, const SolveWorker& worker, const ViewerOptions& options) {
+void drawPanel(ViewerState& state, const Snapshot& snapshot, const SolveWorker& worker, const ViewerOptions& options,
+               const LightmapFrame* lightmaps, const ProbeFrame* probes, bool sphereLit) {
   ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
   ImGui::Begin("lambert", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
   ImGui::Text("%s", options.scene.name.c_str());
@@ -264,6 +284,30 @@ void drawPanel(ViewerState& state, const Snapshot& snapshot, const SolveWorker& 
     if (ImGui::SliderFloat(d.autoExposure ? "exposure (stops, auto)" : "exposure (stops)", &exposure, -20, 20, "%.1f"))
       d.exposure = exposure, d.autoExposure = false;
     if (ImGui::Button("screenshot (F12)")) state.screenshotRequested = true;
+  }
+  if (ImGui::CollapsingHeader("Baked light", ImGuiTreeNodeFlags_DefaultOpen)) {
+    DisplaySettings& d = state.display;
+    const std::vector<Light> current = state.animation.lightsAt(steadyClockSeconds());
+    if (state.lightmapsAvailable) {
+      ImGui::Checkbox("lightmaps", &d.lightmaps);
+      if (d.lightmaps && lightmaps)
+        ImGui::Text("  %d atlas(es) of %d², baked in %.2f s%s", lightmaps->uvs->numAtlases, lightmaps->uvs->size, lightmaps->seconds,
+                    lightmaps->lights == current ? "" : " (older lights)");
+    } else {
+      ImGui::TextDisabled("lightmaps: --method hierarchical only");
+    }
+    ImGui::Checkbox("probe sphere (arrows, PgUp/PgDn)", &d.probes);
+    if (d.probes) {
+      float c[3] = {static_cast<float>(state.sphereCentre.x), static_cast<float>(state.sphereCentre.y), static_cast<float>(state.sphereCentre.z)};
+      const Bounds b = sceneBounds(options.scene);
+      if (ImGui::DragFloat3("sphere", c, static_cast<float>(length(b.hi - b.lo) * 0.002))) state.sphereCentre = {c[0], c[1], c[2]};
+      if (probes)
+        ImGui::Text("  %zu probes (%zu valid), spacing %.3g%s", probes->volume.numProbes(), probes->volume.numValid, probes->volume.spacing,
+                    probes->lights == current ? "" : " (older lights)");
+      if (probes && !sphereLit) ImGui::Text("  no valid probe around the sphere: inside geometry");
+    }
+    if (std::string baking = worker.baking(); !baking.empty()) ImGui::Text("%s", baking.c_str());
+    else if ((d.lightmaps && !lightmaps) || (d.probes && !probes)) ImGui::Text("waiting for a converged solution to bake...");
   }
   if (ImGui::CollapsingHeader("Camera", ImGuiTreeNodeFlags_DefaultOpen)) {
     int mode = state.camera.fly ? 1 : 0;
@@ -374,24 +418,48 @@ Status runViewer(const ViewerOptions& options, Stats& stats) {
   Status result = Ok{};
   {
     Result<std::unique_ptr<MeshRenderer>> renderer = MeshRenderer::create();
+    Result<std::unique_ptr<BakedRenderer>> bakedRenderer = Error{"no OpenGL programs"};
+    if (renderer) bakedRenderer = BakedRenderer::create(options.scene);
     if (!renderer) {
       result = renderer.error();
+    } else if (!bakedRenderer) {
+      result = bakedRenderer.error();
     } else {
       ViewerState state;
       state.camera.camera = options.scene.camera;
       state.display = options.display;
       state.animation.base = options.scene.lights;
       state.animation.setAt = steadyClockSeconds();
+      state.sphereCentre = options.sphereCentre;
+      state.lightmapsAvailable = options.radiosity.meshing == MeshStrategy::Hierarchical;
+      if (!state.lightmapsAvailable) state.display.lightmaps = false;
       const Bounds bounds = sceneBounds(options.scene);
       const double diagonal = length(bounds.hi - bounds.lo);
 
-      SolveWorker worker(options.scene, options.radiosity, options.budget, state.display.flat);
+      BakeSettings bake = options.bake;
+      bake.lightmaps = state.display.lightmaps;
+      bake.probes = state.display.probes;
+      SolveWorker worker(options.scene, options.radiosity, options.budget, state.display.flat, bake);
+      std::shared_ptr<const LightmapFrame> lightmaps;
+      std::shared_ptr<const ProbeFrame> probes;
+      // What the last frame showed (swapped): script waits end on what is on screen.
+      std::shared_ptr<const LightmapFrame> lightmapsOnScreen;
+      std::shared_ptr<const ProbeFrame> probesOnScreen;
+      // From a change of the lights to the lightmaps (probes) baked for them on screen.
+      double lightsChangedAt = -1;
+      bool lightmapsAwaited = false, probesAwaited = false;
+      struct Latency {
+        long long count = 0;
+        double sum = 0, max = 0;
+        void add(double seconds) { count += 1, sum += seconds, max = std::max(max, seconds); }
+      } lightmapLatency, probeLatency;
+      double lightmapUploadSeconds = 0;
       std::shared_ptr<const Snapshot> shown = previewSnapshot(options.scene);
       ScriptPlayer player;
       player.script = options.script ? &*options.script : nullptr;
       LightAnimation sentAnimation = state.animation;
 
-      FrameFigures all, playing;
+      FrameFigures all, playing, lightmapped;
       Timer clock;
       double lastTime = clock.seconds();
       bool firstSolutionShown = false;
@@ -412,7 +480,12 @@ Status runViewer(const ViewerOptions& options, Stats& stats) {
           if (!firstSolutionShown) firstSolutionShown = true, firstSolutionSeconds = clock.seconds();
         }
         if (state.display.autoExposure && !shown->preview) state.display.exposure = shown->autoExposureStops;
-        const bool upToDate = !shown->preview && shown->lights == state.animation.lightsAt(steadyClockSeconds());
+        const std::vector<Light> currentLights = state.animation.lightsAt(steadyClockSeconds());
+        const bool upToDate = !shown->preview && shown->lights == currentLights;
+        lightmaps = worker.latestLightmaps();
+        probes = worker.latestProbes();
+        const bool lightmapsUpToDate = lightmapsOnScreen && lightmapsOnScreen->lights == currentLights;
+        const bool probesUpToDate = probesOnScreen && probesOnScreen->lights == currentLights;
         if (upToDate && shown->settled && convergedSeconds == 0) convergedSeconds = clock.seconds();
 
         // The script: run commands until one waits.
@@ -422,9 +495,14 @@ Status runViewer(const ViewerOptions& options, Stats& stats) {
           if (player.waiting == W::Frames && player.framesLeft <= 0) player.waiting = W::None;
           if (player.waiting == W::Solution && !shown->preview) player.waiting = W::None;
           if (player.waiting == W::Converged && upToDate && shown->settled) player.waiting = W::None;
-          if ((player.waiting == W::Solution || player.waiting == W::Converged) && player.waitTimer.seconds() > player.timeout) {
-            result = Error{player.where() + ": " + (player.waiting == W::Solution ? "no solution" : "not converged") + " within " +
-                           std::to_string(player.timeout) + " s"};
+          if (player.waiting == W::Lightmaps && lightmapsUpToDate) player.waiting = W::None;
+          if (player.waiting == W::Probes && probesUpToDate) player.waiting = W::None;
+          if (player.waiting != W::None && player.waiting != W::Frames && player.waitTimer.seconds() > player.timeout) {
+            const char* what = player.waiting == W::Solution    ? "no solution"
+                               : player.waiting == W::Converged ? "not converged"
+                               : player.waiting == W::Lightmaps ? "no lightmaps for these lights"
+                                                                : "no probes for these lights";
+            result = Error{player.where() + ": " + what + " within " + std::to_string(player.timeout) + " s"};
             break;
           }
           while (player.waiting == W::None && screenshot.path.empty() && player.next < player.script->lines.size()) {
@@ -467,6 +545,15 @@ Status runViewer(const ViewerOptions& options, Stats& stats) {
           const std::pair<int, Vec3> keys[] = {{GLFW_KEY_W, f}, {GLFW_KEY_S, -f}, {GLFW_KEY_D, r}, {GLFW_KEY_A, -r}, {GLFW_KEY_E, u}, {GLFW_KEY_Q, -u}};
           for (const auto& [key, direction] : keys)
             if (glfwGetKey(window, key) == GLFW_PRESS) state.camera.move(direction * speed);
+          if (state.display.probes) {
+            // The probe sphere: arrows move it over the ground (right and forward as the camera
+            // looks), Page Up and Page Down along the up axis.
+            const Vec3 ahead = normalize(f - u * dot(f, u));
+            const std::pair<int, Vec3> sphereKeys[] = {{GLFW_KEY_RIGHT, r}, {GLFW_KEY_LEFT, -r}, {GLFW_KEY_UP, ahead}, {GLFW_KEY_DOWN, -ahead},
+                                                       {GLFW_KEY_PAGE_UP, u}, {GLFW_KEY_PAGE_DOWN, -u}};
+            for (const auto& [key, direction] : sphereKeys)
+              if (glfwGetKey(window, key) == GLFW_PRESS) state.sphereCentre += direction * (speed * 0.5);
+          }
           if (ImGui::IsKeyPressed(GLFW_KEY_F12)) state.screenshotRequested = true;
           if (ImGui::IsKeyPressed(GLFW_KEY_SPACE) && !state.animation.base.empty()) setPlaying(state.animation, !state.animation.playing);
         }
@@ -476,8 +563,11 @@ Status runViewer(const ViewerOptions& options, Stats& stats) {
         if (!(state.animation == sentAnimation)) {
           worker.setAnimation(state.animation);
           sentAnimation = state.animation;
+          lightsChangedAt = clock.seconds();
+          lightmapsAwaited = probesAwaited = true;
         }
         worker.setFlat(state.display.flat);
+        worker.setBaking(state.display.lightmaps, state.display.probes);
 
         // The 3-D view; screenshots take it before the panel is drawn over it.
         glViewport(0, 0, fbWidth, fbHeight);
@@ -490,7 +580,24 @@ Status runViewer(const ViewerOptions& options, Stats& stats) {
         renderer.value()->upload(*shown);
         const double uploadSeconds = upload.seconds();
         const Eigen::Vector3f eye = toFloat(state.camera.camera.eye);
-        renderer.value()->draw(*shown, viewProjection, eye, display, options.scene.metresPerUnit, state.selectedLight, diagonal * 0.004);
+        const bool drawLightmaps = display.lightmaps && lightmaps;
+        if (drawLightmaps) {
+          Timer lightmapUpload;
+          bakedRenderer.value()->upload(*lightmaps);
+          lightmapUploadSeconds = std::max(lightmapUploadSeconds, lightmapUpload.seconds());
+          bakedRenderer.value()->drawLightmapped(*lightmaps, viewProjection, display);
+        } else {
+          DisplaySettings meshDisplay = display;
+          meshDisplay.lightMarkers = false;  // drawn last, over the sphere too
+          renderer.value()->draw(*shown, viewProjection, eye, meshDisplay, options.scene.metresPerUnit, state.selectedLight, diagonal * 0.004);
+        }
+        std::optional<ShRgb> sphereSh;
+        if (display.probes && probes) {
+          sphereSh = probes->volume.irradianceShAt(state.sphereCentre);
+          if (sphereSh)
+            bakedRenderer.value()->drawSphere(*sphereSh, state.sphereCentre, options.sphereRadius, options.sphereAlbedo, viewProjection, display);
+        }
+        if (display.lightMarkers) renderer.value()->drawLightMarkers(shown->lights, viewProjection, state.selectedLight, diagonal * 0.004);
         // F12 and `screenshot` take the 3-D view alone; `screenshot-window` the panels too.
         auto save = [&](const std::string& path) {
           if (Status saved = saveScreenshot(path, fbWidth, fbHeight); !saved)
@@ -501,15 +608,25 @@ Status runViewer(const ViewerOptions& options, Stats& stats) {
         if (capture) save(screenshot.path.empty() ? "lambert-screenshot.png" : screenshot.path);
         if (!result) break;
 
-        drawPanel(state, *shown, worker, options);
+        drawPanel(state, *shown, worker, options, lightmaps.get(), probes.get(), sphereSh.has_value());
         ImGui::Render();
         ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
         if (screenshot.withPanels) save(screenshot.path);
         if (!result) break;
         const double cpuSeconds = cpu.seconds();
         glfwSwapBuffers(window);
+        // On screen once swapped: a light change's lightmaps and probes.
+        lightmapsOnScreen = drawLightmaps ? lightmaps : nullptr;
+        probesOnScreen = sphereSh ? probes : nullptr;
+        // (The lights as they are now: a script may have changed them since the frame began.)
+        if (lightmapsAwaited || probesAwaited) {
+          const std::vector<Light> drawnFor = state.animation.lightsAt(steadyClockSeconds());
+          if (lightmapsAwaited && drawLightmaps && lightmaps->lights == drawnFor)
+            lightmapLatency.add(clock.seconds() - lightsChangedAt), lightmapsAwaited = false;
+          if (probesAwaited && sphereSh && probes->lights == drawnFor) probeLatency.add(clock.seconds() - lightsChangedAt), probesAwaited = false;
+        }
 
-        for (FrameFigures* f : {&all, state.animation.playing ? &playing : nullptr}) {
+        for (FrameFigures* f : {&all, state.animation.playing ? &playing : nullptr, drawLightmaps ? &lightmapped : nullptr}) {
           if (!f) continue;
           f->frames += 1;
           f->seconds += clock.seconds() - frameStart;
@@ -528,6 +645,11 @@ Status runViewer(const ViewerOptions& options, Stats& stats) {
       stats.add("frame_cpu_ms_mean", "viewer's own time per frame (input, upload, draw calls, panel)",
                 all.frames ? 1e3 * all.cpuSeconds / all.frames : 0.0, "ms");
       stats.add("upload_ms_mean", "snapshot upload per frame", all.frames ? 1e3 * all.uploadSeconds / all.frames : 0.0, "ms");
+      if (lightmapped.frames > 0) {
+        stats.add("lightmap_frames", "frames drawn with lightmaps", static_cast<std::int64_t>(lightmapped.frames));
+        stats.add("lightmap_frame_ms_mean", "frame time with lightmaps (mean)", 1e3 * lightmapped.seconds / lightmapped.frames, "ms");
+        stats.add("lightmap_frame_cpu_ms_mean", "viewer's own time per frame with lightmaps", 1e3 * lightmapped.cpuSeconds / lightmapped.frames, "ms");
+      }
       if (playing.frames > 0) {
         stats.add("playing_frames", "frames while the lights moved", static_cast<std::int64_t>(playing.frames));
         stats.add("playing_frames_per_second", "frames per second while the lights moved", playing.frames / playing.seconds, "/s");
@@ -544,6 +666,23 @@ Status runViewer(const ViewerOptions& options, Stats& stats) {
       stats.add("light_update_ms_mean", "radiosity update for moved lights (mean)",
                 worker_.lightUpdates ? 1e3 * worker_.lightUpdateSeconds / worker_.lightUpdates : 0.0, "ms");
       stats.add("first_solution_seconds", "first solution on screen after", firstSolutionSeconds, "s");
+      if (worker_.lightmapBakes > 0) {
+        stats.add("lightmap_bakes", "lightmap bakes", static_cast<std::int64_t>(worker_.lightmapBakes));
+        stats.add("lightmap_bake_ms_mean", "lightmap bake (mean)", 1e3 * worker_.lightmapSeconds / worker_.lightmapBakes, "ms");
+        stats.add("lightmap_upload_ms_max", "lightmap texture upload (max)", 1e3 * lightmapUploadSeconds, "ms");
+      }
+      if (lightmapLatency.count > 0) {
+        stats.add("lightmap_light_moves", "light changes whose lightmaps reached the screen", static_cast<std::int64_t>(lightmapLatency.count));
+        stats.add("lightmap_move_to_screen_ms_mean", "from a light change to its lightmaps on screen (mean)",
+                  1e3 * lightmapLatency.sum / lightmapLatency.count, "ms");
+        stats.add("lightmap_move_to_screen_ms_max", "from a light change to its lightmaps on screen (max)", 1e3 * lightmapLatency.max, "ms");
+      }
+      if (worker_.probeBakes > 0) {
+        stats.add("probe_bakes", "probe volume bakes", static_cast<std::int64_t>(worker_.probeBakes));
+        stats.add("probe_bake_ms_mean", "probe volume bake (mean)", 1e3 * worker_.probeSeconds / worker_.probeBakes, "ms");
+      }
+      if (probeLatency.count > 0)
+        stats.add("probe_move_to_screen_ms_mean", "from a light change to its probes on screen (mean)", 1e3 * probeLatency.sum / probeLatency.count, "ms");
       stats.add("converged_seconds", "converged on screen after", convergedSeconds, "s");
     }
   }

@@ -23,6 +23,12 @@ struct ViewerOptions {
   DisplaySettings display;
   std::optional<Script> script;    // played headless, then the viewer exits
   bool vsync = true;               // off for scripts: frames as fast as they draw
+  // Lightmaps and light probes baked by the radiosity thread (display.lightmaps, display.probes
+  // say whether at the start); lightmaps need the hierarchical method.
+  BakeSettings bake;
+  Vec3 sphereCentre;               // the probe-lit sphere, scene units
+  double sphereRadius = 1;
+  Rgb sphereAlbedo = Rgb::gray(0.8);
 };
 
 // Runs the viewer until its window closes or its script ends. Returns 0, or an error (no display,

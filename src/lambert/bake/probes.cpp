@@ -176,6 +176,39 @@ Rgb ProbeVolume::irradiance(std::size_t probe, const Vec3& unitNormal) const {
   return evaluateSh(irradianceSh(probe), unitNormal);
 }
 
+std::optional<ShRgb> ProbeVolume::irradianceShAt(const Vec3& p) const {
+  if (valid.empty()) return std::nullopt;
+  // The cell holding p (clamped onto the grid) and p's place in it, per axis.
+  std::array<std::uint32_t, 3> lo{};
+  std::array<double, 3> t{};
+  for (int a = 0; a < 3; ++a) {
+    const double g = std::fmin(std::fmax((p[a] - origin[a]) / spacing, 0.0), dims[a] - 1.0);
+    lo[a] = std::min(static_cast<std::uint32_t>(g), dims[a] > 1 ? dims[a] - 2 : 0u);
+    t[a] = dims[a] > 1 ? g - lo[a] : 0;
+  }
+  ShRgb sum{};
+  double weights = 0;
+  for (int corner = 0; corner < 8; ++corner) {
+    std::array<std::size_t, 3> index{};
+    double w = 1;
+    for (int a = 0; a < 3; ++a) {
+      const int step = corner >> a & 1;
+      if (step && dims[a] == 1) w = 0;
+      index[a] = lo[a] + static_cast<std::size_t>(step);
+      w *= step ? t[a] : 1 - t[a];
+    }
+    if (w <= 0) continue;
+    const std::size_t probe = index[0] + dims[0] * (index[1] + dims[1] * index[2]);
+    if (!valid[probe]) continue;
+    const ShRgb sh = irradianceSh(probe);
+    for (int k = 0; k < kShCoefficients; ++k) sum[k] += sh[k] * w;
+    weights += w;
+  }
+  if (weights <= 0) return std::nullopt;
+  for (Rgb& c : sum) c = c / weights;
+  return sum;
+}
+
 Result<ProbeVolume> probeGrid(const Scene& scene, const ProbeOptions& options) {
   if (!std::isfinite(options.spacing) || options.spacing < 0)
     return Error{"probe spacing must be a positive number of scene units (or 0 for the default), not " +

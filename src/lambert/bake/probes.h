@@ -106,6 +106,13 @@ struct ProbeVolume {
   ShRgb irradianceSh(std::size_t probe) const;
   // E(n) at one probe.
   Rgb irradiance(std::size_t probe, const Vec3& unitNormal) const;
+  // The irradiance SH at any point: the eight probes of the grid cell around it blended
+  // trilinearly over those that are valid (invalid probes left out, the weights of the rest
+  // renormalised); a point outside the grid takes the nearest place on it. None where no probe
+  // around it is valid (inside geometry). As examples/read_probes.cpp blends, which reads the
+  // file alone; clamp E(n) = evaluateSh(sh, n) at zero where it is used (L2 rings below zero
+  // facing a dark region opposite a bright one).
+  std::optional<ShRgb> irradianceShAt(const Vec3& position) const;
 };
 
 // The grid the options give for the scene (no probe computed): origin, spacing and dims, with

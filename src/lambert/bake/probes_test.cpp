@@ -396,5 +396,56 @@ TEST(ProbesTest, GridIsCentredAndRefusesNonsense) {
   EXPECT_NE(tooMany.error().message.find("spacing of at least"), std::string::npos);
 }
 
+// A hand-made 3 × 2 × 2 grid whose coefficient k of channel c is a linear function of the
+// probe's position: trilinear blending reproduces a linear function exactly, so at any point
+// inside the grid irradianceShAt must give that function's value (a closed form, not the code's
+// own arithmetic); with a probe marked invalid, the blend of the other seven renormalised.
+TEST(ProbesTest, IrradianceShAtBlendsTrilinearlyOverTheValidProbes) {
+  ProbeVolume volume;
+  volume.origin = {10, -4, 2};
+  volume.spacing = 2;
+  volume.dims = {3, 2, 2};
+  const std::size_t n = 12;
+  volume.valid.assign(n, 1);
+  volume.coefficients.resize(n * kProbeFloats);
+  auto linear = [](const Vec3& p, int k, int c) { return 1.0 + 0.5 * k + c + 0.25 * p.x - 0.5 * p.y + 0.125 * (k + 1) * p.z; };
+  for (std::size_t probe = 0; probe < n; ++probe)
+    for (int k = 0; k < kShCoefficients; ++k)
+      for (int c = 0; c < 3; ++c)
+        volume.coefficients[probe * kProbeFloats + 3 * k + c] = static_cast<float>(linear(volume.position(probe), k, c));
+  volume.numValid = n;
+
+  const Vec3 inside{12.5, -3.0, 3.5};  // in the cell of probes (1..2, 0..1, 0..1): t = (0.25, 0.5, 0.75)
+  std::optional<ShRgb> sh = volume.irradianceShAt(inside);
+  ASSERT_TRUE(sh);
+  for (int k = 0; k < kShCoefficients; ++k)
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR((*sh)[k][c], linear(inside, k, c), 1e-5) << k << " " << c;
+
+  // Outside the grid: the nearest place on it (the grid's box clamps each axis).
+  const Vec3 outside{0, 100, 3.5}, clamped{10, -2, 3.5};
+  sh = volume.irradianceShAt(outside);
+  ASSERT_TRUE(sh);
+  for (int k = 0; k < kShCoefficients; ++k) EXPECT_NEAR((*sh)[k].g, linear(clamped, k, 1), 1e-5);
+
+  // Probe (2, 1, 1), weight 0.25 · 0.5 · 0.75 at `inside`, inside geometry: the other seven,
+  // renormalised. Its value is taken out of the exact linear blend by hand.
+  const std::size_t corner = 2 + 3 * (1 + 2 * 1);
+  const double w = 0.25 * 0.5 * 0.75;
+  volume.valid[corner] = 0;
+  std::fill_n(volume.coefficients.begin() + static_cast<std::ptrdiff_t>(corner * kProbeFloats), kProbeFloats, 0.0f);
+  sh = volume.irradianceShAt(inside);
+  ASSERT_TRUE(sh);
+  for (int k = 0; k < kShCoefficients; ++k)
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR((*sh)[k][c], (linear(inside, k, c) - w * linear(volume.position(corner), k, c)) / (1 - w), 1e-5);
+
+  // Every probe of the cell inside geometry: nothing to read.
+  for (std::size_t probe = 0; probe < n; ++probe)
+    if (volume.position(probe).x >= 12) volume.valid[probe] = 0;
+  EXPECT_FALSE(volume.irradianceShAt(inside));
+  // The cell next to it still reads its valid side.
+  EXPECT_TRUE(volume.irradianceShAt(Vec3{11, -3, 3}));
+}
+
 }  // namespace
 }  // namespace lambert
