@@ -265,14 +265,18 @@ bool SolveWorker::bakeDue() const {
 }
 
 Result<std::vector<Image>> SolveWorker::refreshLightmaps(const SolutionView& view) {
-  // Every refresh is a full bake over the same UVs (seconds: bake/lightmaps.h gathers per texel).
-  // An incremental update from the warm re-solve (bake/lightmap_updates.h's LightmapUpdater:
-  // create(view, baked) once, then update(view) after each re-solve) replaces this body alone.
+  // After the first bake, the lightmaps follow each re-solve through the updater (one sparse
+  // product over the solution's change, bake/lightmap_updates.h) instead of a new bake; where it
+  // cannot (the hierarchy was refined again), a bake starts it afresh.
+  if (updater_ && updater_->update(view)) return updater_->lightmaps();
   LightmapBakeOptions options;
   options.uvs = bake_.uvs;
   options.showProgress = false;
   Result<BakedLightmaps> baked = bakeLightmaps(view, *uvs_, options);
   if (!baked) return baked.error();
+  Result<LightmapUpdater> updater = LightmapUpdater::create(view, *baked);
+  if (!updater) return updater.error();
+  updater_ = std::make_unique<LightmapUpdater>(std::move(*updater));
   return std::move(baked->irradiance);
 }
 

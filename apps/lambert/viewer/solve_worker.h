@@ -12,6 +12,7 @@
 #include <thread>
 #include <vector>
 
+#include "lambert/bake/lightmap_updates.h"
 #include "lambert/bake/lightmaps.h"
 #include "lambert/bake/probes.h"
 #include "lambert/core/stats.h"
@@ -162,7 +163,8 @@ class SolveWorker {
   bool bakeDue() const;
   // Bakes what bakeDue says is missing and publishes it. False on an error (in error_).
   bool bake();
-  // The one place where lightmaps follow a new solution: a full bake over the fixed UVs.
+  // The one place where lightmaps follow a new solution: the first a bake over the fixed UVs,
+  // then updates from the weights it recorded.
   Result<std::vector<Image>> refreshLightmaps(const SolutionView& view);
 
   Scene scene_;
@@ -183,6 +185,7 @@ class SolveWorker {
   std::atomic<bool> ready_{false};
   BakeSettings bake_;
   std::shared_ptr<const LightmapUvs> uvs_;  // made at the first bake
+  std::unique_ptr<LightmapUpdater> updater_;  // made with the first bake
   std::shared_ptr<const LightmapFrame> lightmaps_;
   std::shared_ptr<const ProbeFrame> probes_;
   std::string baking_;
