@@ -6,6 +6,7 @@
 
 #include "lambert/bake/lightmap_updates.h"
 #include "lambert/bake/lightmaps.h"
+#include "lambert/engine/point_gather.h"
 #include "lambert/engine/radiosity.h"
 #include "lambert/scene/builtin.h"
 
@@ -124,6 +125,32 @@ TEST_F(LightmapUpdateTest, UpdatesFollowMovingSpotsAsAFreshBakeDoes) {
     std::printf("turned %.2f rad: stale %.3f, every texel rms %.4f max %.3f, lattice rms %.4f max %.3f, traced %zu of %zu\n", angle,
                 stale.rms, exact.rms, exact.max, lattice.rms, lattice.max, updater->stats().directTexelsTraced, updater->stats().texels);
   }
+}
+
+// The recorded weights are the gather's own arithmetic: over the node means and the corner
+// vertices' radiosity of the same solution they give the light the gather returned.
+TEST_F(LightmapUpdateTest, GatherWeightsReproduceTheGatherTheyWereRecordedFrom) {
+  const SolutionView& view = engine_->solution();
+  const LightmapTexels texels = lightmapTexels(scene_, baked_.uvs);
+  std::vector<SurfacePoint> points;
+  for (std::size_t i = 0; i < texels.points.size(); i += 7) points.push_back(texels.points[i]);
+  auto gathered = view.pointGather(points, PointGatherPart::LightAndWeights);
+  ASSERT_TRUE(gathered.ok()) << gathered.error().message;
+  auto mean = view.nodeMeanRadiosity();
+  ASSERT_TRUE(mean.ok());
+  const std::vector<Rgb> corners = view.vertexValues(VertexQuantity::Radiosity);
+  ASSERT_EQ(gathered->nodes.start.size(), points.size() + 1);
+  double largest = 0, withCorners = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    Rgb e;
+    for (std::uint32_t k = gathered->nodes.start[i]; k < gathered->nodes.start[i + 1]; ++k) e += (*mean)[gathered->nodes.node[k]] * gathered->nodes.weight[k];
+    for (std::uint32_t k = gathered->near.start[i]; k < gathered->near.start[i + 1]; ++k) e += corners[gathered->near.corner[k]] * gathered->near.weight[k];
+    if (gathered->near.start[i + 1] > gathered->near.start[i]) ++withCorners;
+    largest = std::fmax(largest, gathered->fromSurfaces[i].g);
+    EXPECT_NEAR(std::fmax(0.0, e.g), gathered->fromSurfaces[i].g, 1e-5 * (1 + gathered->fromSurfaces[i].g)) << i;
+  }
+  EXPECT_GT(largest, 0);
+  EXPECT_GT(withCorners, 0);  // the corner weights are exercised too
 }
 
 TEST_F(LightmapUpdateTest, TheFlatMethodIsRefused) {
