@@ -1,5 +1,4 @@
 #include "lambert/engine/hierarchical_meshing.h"
-#include "lambert/engine/point_gather.h"
 
 #include <algorithm>
 #include <cmath>
@@ -13,6 +12,7 @@
 #include "lambert/core/warning.h"
 #include "lambert/engine/final_gather.h"
 #include "lambert/engine/link_cache.h"
+#include "lambert/engine/point_gather.h"
 #include "lambert/formfactor/cache_file.h"
 #include "lambert/geometry/coverage.h"
 #include "lambert/light/emission.h"

@@ -1,5 +1,4 @@
 #include "lambert/engine/radiosity.h"
-#include "lambert/engine/point_gather.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,6 +8,7 @@
 #include "lambert/formfactor/cache_file.h"
 #include "lambert/engine/adaptive_meshing.h"
 #include "lambert/engine/hierarchical_meshing.h"
+#include "lambert/engine/point_gather.h"
 #include "lambert/engine/uniform_meshing.h"
 #include "lambert/light/emission.h"
 #include "lambert/light/injection.h"
