@@ -6,11 +6,16 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <utility>
 
 #include <cmath>
 #include <ctime>
 #include <fstream>
 #include <string>
+
+#include "lambert/core/error.h"
 
 namespace lambert::bench {
 
@@ -90,6 +95,16 @@ inline double peakRssMib() {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   return std::max(roundDigits(static_cast<double>(usage.ru_maxrss) / 1024.0, 1), currentRssMib());
+}
+
+// The result, or its error after the benchmark's name on stderr and exit 1.
+template <typename T>
+T orExit(Result<T> result, const char* benchmark) {
+  if (!result) {
+    std::fprintf(stderr, "%s: %s\n", benchmark, result.error().message.c_str());
+    std::exit(1);
+  }
+  return std::move(*result);
 }
 
 }  // namespace lambert::bench

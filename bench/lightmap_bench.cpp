@@ -37,15 +37,6 @@ struct Options {
   int runs = 3;
 };
 
-template <typename T>
-T orExit(Result<T> result) {
-  if (!result) {
-    std::fprintf(stderr, "lightmap_bench: %s\n", result.error().message.c_str());
-    std::exit(1);
-  }
-  return std::move(*result);
-}
-
 Options parseOptions(int argc, char** argv) {
   Options options;
   CLI::App app{"lightmap_bench: bake lightmaps of the 10⁵-face building after its solve, as JSON"};
@@ -65,11 +56,11 @@ Options parseOptions(int argc, char** argv) {
 
 int main(int argc, char** argv) {
   const Options options = parseOptions(argc, argv);
-  const Scene scene = orExit(generateBuilding({options.rooms, options.faceSize, 1}));
+  const Scene scene = orExit(generateBuilding({options.rooms, options.faceSize, 1}), "lightmap_bench");
   RadiosityOptions radiosity;  // the CLI's default: hierarchical
   Timer solveTimer;
-  std::unique_ptr<Radiosity> engine = orExit(Radiosity::create(scene, radiosity));
-  orExit(engine->solve());
+  std::unique_ptr<Radiosity> engine = orExit(Radiosity::create(scene, radiosity), "lightmap_bench");
+  orExit(engine->solve(), "lightmap_bench");
   const double solveSeconds = solveTimer.seconds();
   const double rssAfterSolve = currentRssMib();
   const SolutionView& view = engine->solution();
@@ -83,7 +74,7 @@ int main(int argc, char** argv) {
   double efficiency = 0;
   for (int run = 0; run < options.runs; ++run) {
     Timer timer;  // what a user waits for after the solve: the charts, the atlas and the bake
-    const BakedLightmaps baked = orExit(bakeLightmaps(view, bake));
+    const BakedLightmaps baked = orExit(bakeLightmaps(view, bake), "lightmap_bench");
     seconds.push_back(timer.seconds());
     texels = baked.texelsBaked;
     atlases = baked.uvs.numAtlases;

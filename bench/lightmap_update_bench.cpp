@@ -41,15 +41,6 @@ struct Options {
   int frames = 30;
 };
 
-template <typename T>
-T orExit(Result<T> result) {
-  if (!result) {
-    std::fprintf(stderr, "lightmap_update_bench: %s\n", result.error().message.c_str());
-    std::exit(1);
-  }
-  return std::move(*result);
-}
-
 Options parseOptions(int argc, char** argv) {
   Options options;
   CLI::App app{"lightmap_update_bench: lightmap updates while a spot moves through the 10⁵-face building, as JSON"};
@@ -74,7 +65,7 @@ double median(std::vector<double> values) {
 
 int main(int argc, char** argv) {
   const Options options = parseOptions(argc, argv);
-  Scene scene = orExit(generateBuilding({options.rooms, options.faceSize, 1}));
+  Scene scene = orExit(generateBuilding({options.rooms, options.faceSize, 1}), "lightmap_update_bench");
   // A spot under the first office's ceiling, sweeping across its floor (hierarchical_bench's).
   Light spot;
   spot.name = "bench spot";
@@ -90,34 +81,34 @@ int main(int argc, char** argv) {
     return l;
   };
   scene.lights.push_back(aimed(0));
-  std::unique_ptr<Radiosity> engine = orExit(Radiosity::create(scene, RadiosityOptions{}));
-  orExit(engine->solve());
+  std::unique_ptr<Radiosity> engine = orExit(Radiosity::create(scene, RadiosityOptions{}), "lightmap_update_bench");
+  orExit(engine->solve(), "lightmap_update_bench");
   const SolutionView& view = engine->solution();
   LightmapBakeOptions bake;
   bake.uvs.atlasSize = options.lightmapSize;
   bake.showProgress = false;
   Timer bakeTimer;
-  const BakedLightmaps baked = orExit(bakeLightmaps(view, bake));
+  const BakedLightmaps baked = orExit(bakeLightmaps(view, bake), "lightmap_update_bench");
   const double bakeSeconds = bakeTimer.seconds();
   const double rssBefore = currentRssMib();
-  LightmapUpdater updater = orExit(LightmapUpdater::create(view, baked));
+  LightmapUpdater updater = orExit(LightmapUpdater::create(view, baked), "lightmap_update_bench");
   const double rssAfter = currentRssMib();
 
   std::vector<double> solveSeconds, updateSeconds, traced;
   for (int frame = 1; frame <= options.frames; ++frame) {
     engine->setLights({aimed(frame)});
     Timer solveTimer;
-    orExit(engine->solve({.maxSweeps = 1}));
+    orExit(engine->solve({.maxSweeps = 1}), "lightmap_update_bench");
     solveSeconds.push_back(solveTimer.seconds());
     Timer updateTimer;
-    orExit(updater.update(view));
+    orExit(updater.update(view), "lightmap_update_bench");
     updateSeconds.push_back(updateTimer.seconds());
     traced.push_back(static_cast<double>(updater.stats().directTexelsTraced));
   }
   // The spot stops: converge, update, and compare with a fresh bake of the same solution.
-  orExit(engine->solve());
-  orExit(updater.update(view));
-  const BakedLightmaps fresh = orExit(bakeLightmaps(view, baked.uvs, bake));
+  orExit(engine->solve(), "lightmap_update_bench");
+  orExit(updater.update(view), "lightmap_update_bench");
+  const BakedLightmaps fresh = orExit(bakeLightmaps(view, baked.uvs, bake), "lightmap_update_bench");
   double sum2 = 0, sumFresh = 0, largest = 0, staleSum2 = 0;
   std::size_t n = 0;
   for (std::size_t a = 0; a < fresh.irradiance.size(); ++a)

@@ -135,7 +135,7 @@ Result<LightmapUpdater> LightmapUpdater::create(const SolutionView& view, const 
   std::vector<std::uint32_t>().swap(at);
 
   // The weights at the gather points, and the solution they were recorded against.
-  Result<PointGather> gathered = view.pointGather(gatherPoints, PointGatherPart::LightAndWeights);
+  Result<PointGather> gathered = view.pointGather(gatherPoints, PointGatherPart::Weights);
   if (!gathered) return gathered.error();
   u.nodeWeights_ = std::move(gathered->nodes);
   u.cornerWeights_ = std::move(gathered->near);
@@ -176,7 +176,7 @@ Result<LightmapUpdater> LightmapUpdater::create(const SolutionView& view, const 
   }
   if (gatherPoints.size() > latticePoints) {
     const std::vector<SurfacePoint> refined(gatherPoints.begin() + static_cast<std::ptrdiff_t>(latticePoints), gatherPoints.end());
-    Result<PointGather> more = view.pointGather(refined, PointGatherPart::LightAndWeights);
+    Result<PointGather> more = view.pointGather(refined, PointGatherPart::Weights);
     if (!more) return more.error();
     // Appended to the lattice points' lists.
     const auto append = [](std::vector<std::uint32_t>& start, const std::vector<std::uint32_t>& moreStart) {
@@ -199,7 +199,7 @@ Result<LightmapUpdater> LightmapUpdater::create(const SolutionView& view, const 
     return it != u.cornerVertex_.end() && *it == vertex ? static_cast<std::uint32_t>(it - u.cornerVertex_.begin()) : kNoTexel;
   };
   for (std::uint32_t& c : u.cornerWeights_.corner) c = subsetIndex(c);
-  Result<PointGather> corners = view.vertexGather(u.cornerVertex_, PointGatherPart::LightAndWeights);
+  Result<PointGather> corners = view.vertexGather(u.cornerVertex_, PointGatherPart::Weights);
   if (!corners) return corners.error();
   u.vertexNodeWeights_ = std::move(corners->nodes);
   u.vertexNearWeights_ = std::move(corners->near);

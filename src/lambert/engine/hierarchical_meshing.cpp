@@ -543,12 +543,13 @@ Result<PointGather> HierarchicalMeshing::pointGather(const ElementSolution& solu
 }
 
 void HierarchicalMeshing::gatherAt(const ElementSolution& solution, PointGatherPart part, PointGather& out) const {
-  const bool withWeights = part == PointGatherPart::LightAndWeights;
+  const bool withWeights = part == PointGatherPart::LightAndWeights || part == PointGatherPart::Weights;
   const FinalGather gather(hierarchy_, leaves_, *links_, *caster_, epsilon_, out.sites, out.leaf, options_.links.visibilityRays,
                            options_.links.seed);
   std::vector<Rgb> mean;
   transport_->pull(solution.radiosity, mean);
   const std::vector<Rgb> gathered = gather.irradiance(mean, nullptr, nullptr, nullptr, &out.near, withWeights ? &out.nodes : nullptr);
+  if (part == PointGatherPart::Weights) return;
   const VertexQuantity radiosity = VertexQuantity::Radiosity;
   out.fromSurfaces = FinalGather::withCorners(gathered, out.near, vertexSolution(solution, std::span<const VertexQuantity>(&radiosity, 1)).front());
   if (!withWeights) out.near = {};

@@ -14,8 +14,9 @@
 namespace lambert {
 
 // What SolutionView::pointGather computes: the sites alone (where a lightmap's texels are lit
-// from), the surfaces' light there too, or that and its weights.
-enum class PointGatherPart { Sites, Light, LightAndWeights };
+// from), the surfaces' light there too, that and its weights, or the weights alone (no vertex
+// final gather for the close sources' corners: only the light needs their radiosity).
+enum class PointGatherPart { Sites, Light, LightAndWeights, Weights };
 
 struct PointGather {
   // Each point as it was gathered: on its leaf's plane, nudged off the leaf's edges toward its
@@ -25,7 +26,7 @@ struct PointGather {
   // vertex no leaf uses.
   std::vector<std::uint32_t> leaf;
   // Per point: the irradiance from the surfaces (links), W/m²; the lights' direct light not
-  // included (empty for PointGatherPart::Sites).
+  // included (empty for PointGatherPart::Sites and Weights).
   std::vector<Rgb> fromSurfaces;
   // The offset shadow rays start above a site, along its normal (scene units).
   double rayEpsilon = 0;
