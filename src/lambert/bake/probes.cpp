@@ -18,6 +18,7 @@
 #include "lambert/engine/solution.h"
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/light/lights.h"
+#include "lambert/mesh/vertex_radiosity.h"
 
 namespace lambert {
 namespace {
@@ -48,35 +49,6 @@ int roundedRays(int rays) { return static_cast<int>(std::bit_ceil(static_cast<un
 void addScaled(ShRgb& sh, const Vec3& direction, const Rgb& value) {
   const std::array<double, kShCoefficients> y = shBasis(direction);
   for (int k = 0; k < kShCoefficients; ++k) sh[k] += value * y[k];
-}
-
-// The solution's outgoing radiance at point x on patch `patch` of the vertex mesh: its corners'
-// radiance interpolated over the fan triangle (0, j, j + 1) that holds x, as the rasterizer
-// shades it. x is the ray's hit, on the patch up to rounding: barycentrics are clamped.
-Rgb radianceOnPatch(const Mesh& mesh, const std::vector<Rgb>& vertexRadiance, std::uint32_t patch, const Vec3& x) {
-  const Patch& p = mesh.patches[patch];
-  const Vec3& a = mesh.positions[p.vertices[0]];
-  double bestInside = -INFINITY;
-  Rgb best;
-  for (std::uint32_t j = 1; j + 1 < p.numCorners; ++j) {
-    const Vec3& b = mesh.positions[p.vertices[j]];
-    const Vec3& c = mesh.positions[p.vertices[j + 1]];
-    const Vec3 n = cross(b - a, c - a);
-    const double twiceArea = dot(n, n);
-    if (!(twiceArea > 0)) continue;
-    // Barycentrics by signed sub-areas projected onto the triangle's normal.
-    double wa = dot(cross(b - x, c - x), n) / twiceArea;
-    double wb = dot(cross(c - x, a - x), n) / twiceArea;
-    double wc = dot(cross(a - x, b - x), n) / twiceArea;
-    const double inside = std::fmin(wa, std::fmin(wb, wc));
-    if (inside <= bestInside) continue;
-    bestInside = inside;
-    wa = std::fmax(wa, 0.0), wb = std::fmax(wb, 0.0), wc = std::fmax(wc, 0.0);
-    const double sum = wa + wb + wc;
-    best = (vertexRadiance[p.vertices[0]] * wa + vertexRadiance[p.vertices[j]] * wb +
-            vertexRadiance[p.vertices[j + 1]] * wc) / sum;
-  }
-  return best;
 }
 
 void putU32(std::vector<std::uint8_t>& out, std::uint32_t v) {
@@ -280,7 +252,7 @@ Result<ProbeVolume> bakeProbes(const SolutionView& solution, const ProbeOptions&
         ++backFaces;
         return {};
       }
-      return radianceOnPatch(mesh, vertexRadiance, hit->patch, p + w * hit->t);
+      return valueOnPatch(mesh, vertexRadiance, hit->patch, p + w * hit->t);
     }, rays, options.seed, probe);
     progress.advance();
     if (backFaces > allowedBackFaces) return;

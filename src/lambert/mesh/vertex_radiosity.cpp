@@ -140,4 +140,29 @@ std::vector<VertexSite> vertexSites(const Mesh& mesh, double nudge) {
   return sites;
 }
 
+Rgb valueOnPatch(const Mesh& mesh, const std::vector<Rgb>& vertexValues, std::uint32_t patch, const Vec3& x) {
+  const Patch& p = mesh.patches[patch];
+  const Vec3& a = mesh.positions[p.vertices[0]];
+  double bestInside = -INFINITY;
+  Rgb best;
+  for (std::uint32_t j = 1; j + 1 < p.numCorners; ++j) {
+    const Vec3& b = mesh.positions[p.vertices[j]];
+    const Vec3& c = mesh.positions[p.vertices[j + 1]];
+    const Vec3 n = cross(b - a, c - a);
+    const double twiceArea = dot(n, n);
+    if (!(twiceArea > 0)) continue;
+    // Barycentrics by signed sub-areas projected onto the triangle's normal.
+    double wa = dot(cross(b - x, c - x), n) / twiceArea;
+    double wb = dot(cross(c - x, a - x), n) / twiceArea;
+    double wc = dot(cross(a - x, b - x), n) / twiceArea;
+    const double inside = std::fmin(wa, std::fmin(wb, wc));
+    if (inside <= bestInside) continue;
+    bestInside = inside;
+    wa = std::fmax(wa, 0.0), wb = std::fmax(wb, 0.0), wc = std::fmax(wc, 0.0);
+    const double sum = wa + wb + wc;
+    best = (vertexValues[p.vertices[0]] * wa + vertexValues[p.vertices[j]] * wb + vertexValues[p.vertices[j + 1]] * wc) / sum;
+  }
+  return best;
+}
+
 }  // namespace lambert

@@ -64,4 +64,9 @@ struct VertexSite {
 };
 std::vector<VertexSite> vertexSites(const Mesh& mesh, double nudge);
 
+// A per-vertex quantity at point x on patch `patch` of the mesh: its corners' values interpolated
+// over the fan triangle (0, j, j + 1) that holds x, as the rasterizer's Gouraud shading draws it.
+// x is a ray's hit, on the patch up to rounding: barycentrics are clamped.
+Rgb valueOnPatch(const Mesh& mesh, const std::vector<Rgb>& vertexValues, std::uint32_t patch, const Vec3& x);
+
 }  // namespace lambert

@@ -16,13 +16,11 @@
 #include <string>
 
 #include "lambert/core/error.h"
+#include "lambert/core/photometric.h"  // kLumensPerWatt
 #include "lambert/scene/regions.h"
 #include "lambert/scene/scene.h"
 
 namespace lambert {
-
-// Candela → W/sr and lux → W/m²: the luminous efficacy glTF and Blender convert with.
-inline constexpr double kLumensPerWatt = 683;
 
 Result<Scene> readGltf(const std::string& path, const RegionOptions& regions = {});
 

@@ -1,0 +1,202 @@
+#include "lambert/design/illuminance.h"
+
+#include <algorithm>
+#include <atomic>
+#include <bit>
+#include <cmath>
+#include <string>
+
+#include "lambert/core/parallel.h"
+#include "lambert/core/progress.h"
+#include "lambert/core/rng.h"
+#include "lambert/core/sampling.h"
+#include "lambert/core/timer.h"
+#include "lambert/engine/solution.h"
+#include "lambert/geometry/ray_caster.h"
+#include "lambert/light/emission.h"
+#include "lambert/light/lights.h"
+#include "lambert/mesh/vertex_radiosity.h"
+
+namespace lambert {
+namespace {
+
+// An emitting triangle of the scene (a fan triangle of an emitting face): its corners, front
+// normal and emitted radiosity B_e = π L_e, W/m².
+struct EmitterTriangle {
+  std::array<Vec3, 3> corners;
+  Vec3 normal;
+  Rgb radiosity;
+};
+
+std::vector<EmitterTriangle> emitterTriangles(const Scene& scene) {
+  std::vector<EmitterTriangle> out;
+  for (const Surface& surface : scene.surfaces) {
+    const Rgb radiosity = meanEmittedRadiance(scene, surface) * kPi;
+    if (!(radiosity.maxComponent() > 0)) continue;
+    for (const std::vector<std::uint32_t>& face : surfaceFaces(surface)) {
+      const std::vector<Vec3> polygon = facePositions(surface, face);
+      for (std::size_t k = 1; k + 1 < polygon.size(); ++k) {
+        const Vec3 areaVector = cross(polygon[k] - polygon[0], polygon[k + 1] - polygon[0]);
+        if (!(length(areaVector) > 0)) continue;
+        out.push_back({{polygon[0], polygon[k], polygon[k + 1]}, normalize(areaVector), radiosity});
+      }
+    }
+  }
+  return out;
+}
+
+// The part of a convex polygon on the positive side of the plane through x with normal n
+// (Sutherland–Hodgman against one plane).
+std::vector<Vec3> clipInFront(std::span<const Vec3> polygon, const Vec3& x, const Vec3& n) {
+  std::vector<Vec3> out;
+  for (std::size_t i = 0; i < polygon.size(); ++i) {
+    const Vec3& a = polygon[i];
+    const Vec3& b = polygon[(i + 1) % polygon.size()];
+    const double da = dot(a - x, n), db = dot(b - x, n);
+    if (da > 0) out.push_back(a);
+    if ((da > 0) != (db > 0) && da != db) out.push_back(a + (b - a) * (da / (da - db)));
+  }
+  return out;
+}
+
+// The same directions at every point, each in the point's own frame: a scrambled (0,2)-sequence
+// mapped to the cosine-weighted hemisphere (Malley's method: the unit disc lifted onto it),
+// z along the normal.
+std::vector<Vec3> cosineDirections(int rays, std::uint64_t seed) {
+  const int count = static_cast<int>(std::bit_ceil(static_cast<unsigned>(std::max(rays, 1))));
+  Pcg32 rng(seed, 0x1ec7);
+  const std::uint32_t su = rng.nextUint(), sv = rng.nextUint();
+  std::vector<Vec3> out(count);
+  for (int k = 0; k < count; ++k) {
+    const auto [u, v] = scrambledZeroTwo(static_cast<std::uint32_t>(k), su, sv);
+    const double r = std::sqrt(u), phi = 2 * kPi * v;
+    out[k] = {r * std::cos(phi), r * std::sin(phi), std::sqrt(std::fmax(0.0, 1 - u))};
+  }
+  return out;
+}
+
+}  // namespace
+
+double pointToPolygonFormFactor(const Vec3& x, const Vec3& n, std::span<const Vec3> polygon) {
+  const std::vector<Vec3> front = clipInFront(polygon, x, n);
+  if (front.size() < 3) return 0;
+  // Lambert's contour integral: each edge (r_i, r_{i+1}) seen from x subtends θ_i, and its plane
+  // through x has unit normal û_i; F = 1/(2π) Σ θ_i n·û_i, positive for one winding. The polygon
+  // lies wholly in front of x after the clip, so the sum's sign is the winding's alone.
+  double sum = 0;
+  for (std::size_t i = 0; i < front.size(); ++i) {
+    const Vec3 a = front[i] - x, b = front[(i + 1) % front.size()] - x;
+    const Vec3 c = cross(a, b);
+    const double cLength = length(c);
+    if (!(cLength > 0)) continue;
+    const double theta = std::atan2(cLength, dot(a, b));
+    sum += theta * dot(n, c) / cLength;
+  }
+  return std::fabs(sum) / (2 * kPi);
+}
+
+struct IlluminanceMeter::State {
+  explicit State(const SolutionView& s) : solution(s) {}
+  SolutionView solution;
+  IlluminanceOptions options;
+  std::unique_ptr<RayCaster> vertexCaster;  // over solution.vertexMesh(), for the hemisphere rays
+  std::vector<Rgb> vertexIrradiance;        // E per vertex of the vertex mesh
+  std::vector<EmitterTriangle> emitters;
+  std::vector<Vec3> directions;
+  double epsilon = 0;
+  double setupSeconds = 0;
+  mutable std::atomic<std::uint64_t> emitterRays{0};
+};
+
+IlluminanceMeter::IlluminanceMeter(const SolutionView& solution, const IlluminanceOptions& options)
+    : state_(std::make_unique<State>(solution)) {
+  const Timer timer;
+  State& s = *state_;
+  s.options = options;
+  const Mesh& mesh = solution.vertexMesh();
+  s.vertexCaster = makeEmbreeRayCaster(mesh);
+  s.vertexIrradiance = solution.vertexValues(VertexQuantity::Irradiance);
+  s.emitters = emitterTriangles(solution.scene());
+  s.directions = cosineDirections(options.indirectRays, options.seed);
+  s.epsilon = rayEpsilon(mesh);
+  s.setupSeconds = timer.seconds();
+}
+
+IlluminanceMeter::~IlluminanceMeter() = default;
+IlluminanceMeter::IlluminanceMeter(IlluminanceMeter&&) noexcept = default;
+IlluminanceMeter& IlluminanceMeter::operator=(IlluminanceMeter&&) noexcept = default;
+
+double IlluminanceMeter::setupSeconds() const { return state_->setupSeconds; }
+
+std::uint64_t IlluminanceMeter::raysCast() const {
+  return state_->vertexCaster->raysCast() + state_->emitterRays.load() ;
+}
+
+Result<std::vector<PointIrradiance>> IlluminanceMeter::measure(std::span<const CalculationPoint> points) const {
+  const State& s = *state_;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Vec3& n = points[i].normal;
+    const Vec3& p = points[i].position;
+    if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)))
+      return Error{"point " + std::to_string(i) + ": its position is not finite"};
+    if (!(std::isfinite(n.x) && std::isfinite(n.y) && std::isfinite(n.z) && length(n) > 0))
+      return Error{"point " + std::to_string(i) + ": its normal is zero or not finite"};
+  }
+  const Mesh& mesh = s.solution.vertexMesh();
+  const std::vector<Rgb>& albedo = s.solution.vertexMeshAlbedo();
+  const std::vector<Light>& lights = s.solution.lights();
+  const RayCaster& shadows = s.solution.caster();
+  const double metresPerUnit = s.solution.scene().metresPerUnit;
+  const int samples = std::max(s.options.emitterSamples, 1);
+  Pcg32 rng(s.options.seed, 0xe31);
+  const std::uint32_t su = rng.nextUint(), sv = rng.nextUint();
+
+  std::vector<PointIrradiance> out(points.size());
+  Progress progress("illuminance", points.size(), s.options.showProgress);
+  parallelFor(0, points.size(), [&](std::size_t i) {
+    const Vec3 n = normalize(points[i].normal);
+    const Vec3 x = points[i].position;
+    const Vec3 origin = x + n * s.epsilon;
+    PointIrradiance& e = out[i];
+    for (const Light& light : lights) e.direct += irradiance(light, x, n, shadows, s.epsilon, metresPerUnit);
+    std::uint64_t rays = 0;
+    for (const EmitterTriangle& t : s.emitters) {
+      if (!(dot(origin - t.corners[0], t.normal) > 0)) continue;  // behind the emitter: its back does not emit
+      const double formFactor = pointToPolygonFormFactor(x, n, t.corners);
+      if (!(formFactor > 0)) continue;
+      const std::vector<Vec3> front = clipInFront(t.corners, x, n);
+      double visible = 0, total = 0;
+      for (int k = 0; k < samples; ++k) {
+        const auto [u, v] = scrambledZeroTwo(static_cast<std::uint32_t>(k), su, sv);
+        const Vec3 y = sampleConvexPolygon(front, u, v);
+        const Vec3 d = y - origin;
+        const double r2 = lengthSquared(d);
+        if (!(r2 > 0)) continue;
+        const double weight = std::fmax(0.0, dot(d, n)) * std::fmax(0.0, -dot(d, t.normal)) / (r2 * r2);
+        if (!(weight > 0)) continue;
+        total += weight;
+        ++rays;
+        // The ray stops short of the emitter by the lift epsilon, so that it does not hit it.
+        const double tMax = 1 - s.epsilon / std::sqrt(r2);
+        if (tMax > 0 && !shadows.occluded(Ray{origin, d, 0, tMax})) visible += weight;
+      }
+      if (total > 0) e.direct += t.radiosity * (formFactor * visible / total);
+    }
+    if (rays) s.emitterRays.fetch_add(rays, std::memory_order_relaxed);
+    Vec3 tangent, bitangent;
+    orthonormalBasis(n, tangent, bitangent);
+    Rgb reflected;
+    for (const Vec3& local : s.directions) {
+      const Vec3 w = tangent * local.x + bitangent * local.y + n * local.z;
+      const std::optional<RayHit> hit = s.vertexCaster->intersect(Ray{origin, w, 0, INFINITY});
+      if (!hit || !hit->frontFace) continue;
+      reflected += albedo[hit->patch] * valueOnPatch(mesh, s.vertexIrradiance, hit->patch, origin + w * hit->t);
+    }
+    e.indirect = reflected / static_cast<double>(s.directions.size());
+    progress.advance();
+  }, 16);
+  progress.finish();
+  return out;
+}
+
+}  // namespace lambert

@@ -1,0 +1,89 @@
+#pragma once
+// Illuminance at calculation points: what a lighting designer asks of a solved scene ("how many
+// lux reach this desk"), at any point and facing any way — on a face, or in the air above the
+// floor where a work plane lies (the points of design/calculation_grid.h).
+//
+// The irradiance E at a point x with unit normal n is split as lighting programs report it:
+//  - direct: from every light (point, spot, directional, luminaire, sky), with a shadow ray each
+//    (light/lights.h irradiance), plus the emitting surfaces' own emission. An emitting triangle
+//    of radiosity B_e gives B_e·F·V̄: F its exact unoccluded point-to-polygon form factor
+//    (Lambert's contour integral, F = 1/(2π) Σ_i θ_i n·û_i over its edges, after clipping it to
+//    the half-space in front of x), V̄ the kernel-weighted visible fraction of `emitterSamples`
+//    stratified points on it (weights cos θ_x cos θ_y / r²). Exact where the emitter is wholly
+//    visible or wholly hidden; consistent in between.
+//  - indirect: the light the surfaces reflect, ∫ L_r cos θ dω over the hemisphere about n, from
+//    `indirectRays` cosine-weighted stratified directions (a scrambled (0,2)-sequence):
+//    E_ind = (1/N) Σ ρ_hit E_hit, where E_hit is the solution's irradiance at the hit
+//    (SolutionView::vertexValues(Irradiance) interpolated over the hit patch) and ρ_hit its
+//    albedo, so that the emission is not counted twice. A ray that meets a back face or nothing
+//    brings nothing. Every point uses the same directions (in its own frame): the estimate's error
+//    is then a smooth field over a grid of points, not speckle that would break isolux lines.
+//
+// Cost: per point, a shadow ray per light that faces it, emitterSamples rays per emitting
+// triangle in front of it, and indirectRays rays; the solution's vertex irradiance once (the
+// hierarchical method's final gather at the vertices). Parallel over points; the result does not
+// depend on the thread count.
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "lambert/core/error.h"
+#include "lambert/core/rgb.h"
+#include "lambert/core/vec3.h"
+
+namespace lambert {
+
+struct Mesh;
+class RayCaster;
+class SolutionView;
+
+// A point the illuminance is asked for, in the scene's frame and units (y up).
+struct CalculationPoint {
+  Vec3 position;
+  Vec3 normal;  // unit: the side whose light is measured (up for a work plane)
+};
+
+// The irradiance at a point, W/m² (RGB), as it is reported: lux = illuminanceLux(E)
+// (core/photometric.h).
+struct PointIrradiance {
+  Rgb direct;    // lights and emitting surfaces, with their shadows
+  Rgb indirect;  // reflected by the surfaces
+  Rgb total() const { return direct + indirect; }
+};
+
+struct IlluminanceOptions {
+  int indirectRays = 256;   // hemisphere directions per point (rounded up to a power of two)
+  int emitterSamples = 16;  // visibility samples per emitting triangle in front of a point
+  std::uint64_t seed = 1;
+  bool showProgress = false;  // a progress line on a terminal
+};
+
+// Measures the irradiance at points of a solved scene. Made once per solution (it takes the
+// solution's vertex irradiance and builds a ray caster over its vertex mesh), then asked for as
+// many points as wanted. The solution must outlive it and stay unchanged while it is used.
+class IlluminanceMeter {
+ public:
+  IlluminanceMeter(const SolutionView& solution, const IlluminanceOptions& options = {});
+  ~IlluminanceMeter();
+  IlluminanceMeter(IlluminanceMeter&&) noexcept;
+  IlluminanceMeter& operator=(IlluminanceMeter&&) noexcept;
+
+  // An Error for a point whose normal is not a finite non-zero vector (naming its index).
+  Result<std::vector<PointIrradiance>> measure(std::span<const CalculationPoint> points) const;
+  // Rays cast by measure() so far (shadow rays, emitter visibility and hemisphere rays).
+  std::uint64_t raysCast() const;
+  // Seconds spent making the meter (mostly the solution's vertex irradiance).
+  double setupSeconds() const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+// The unoccluded form factor from a point x with unit normal n to a planar polygon (any winding;
+// the part of it behind x's plane clipped away): the fraction of a Lambertian emitter's radiosity
+// B that reaches x as irradiance, E = B·F (Lambert 1760; Baum, Rushmeier & Winget 1989, eq. 4).
+double pointToPolygonFormFactor(const Vec3& x, const Vec3& n, std::span<const Vec3> polygon);
+
+}  // namespace lambert
