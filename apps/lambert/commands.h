@@ -18,6 +18,7 @@ std::function<int()> addScenesCommand(CLI::App& app);
 std::function<int()> addInfoCommand(CLI::App& app);
 std::function<int()> addGenerateCommand(CLI::App& app);
 std::function<int()> addViewCommand(CLI::App& app);
+std::function<int()> addReportCommand(CLI::App& app);
 
 // Path-tracer options shared by `reference` and `compare`.
 void addReferenceOptions(CLI::App& command, ReferenceOptions& options);

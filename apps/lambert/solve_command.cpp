@@ -9,6 +9,7 @@
 #include <string>
 
 #include "commands.h"
+#include "lighting_options.h"
 #include "lambert/bake/lightmaps.h"
 #include "lambert/bake/probes.h"
 #include "lambert/core/timer.h"
@@ -38,7 +39,20 @@ struct SolveOnlyOptions {
   std::string exportVertices;
   std::string probes;         // the light-probe volume (bake/probes.h); none unless asked for
   double probeSpacing = 0;    // scene units; 0: the library's default
+  LightingCommandOptions lighting;
+  std::string exportPoints;  // --points' rows with their lux
+  std::string exportGrids;   // prefix of each grid's CSV and false-colour PNG
 };
+
+// --points and --export-points come together; --export-grids needs a grid to write.
+Status checkLightingOptions(const SolveOnlyOptions& o) {
+  if (o.lighting.points.empty() != o.exportPoints.empty())
+    return Error{o.exportPoints.empty() ? "--points needs --export-points OUT.csv to write its lux to"
+                                        : "--export-points writes the lux at --points' points: give --points IN.csv"};
+  if (!o.exportGrids.empty() && o.lighting.workPlanes.empty() && o.lighting.grids.empty())
+    return Error{"--export-grids writes each --work-plane's and --grid's CSV and picture, and none is asked for"};
+  return Ok{};
+}
 
 // --lightmaps needs --export's glb to write into, and replaces its COLOR_0 (so --bake says
 // nothing then); its settings need --lightmaps, and --image's size needs --image.
@@ -70,6 +84,10 @@ int runSolve(const SolveOnlyOptions& o) {
   const double loadSeconds = total.seconds();
   if (Status ok = checkExportOptions(o.exported); !ok) return fail("solve", ok.error().message);
   if (Status ok = checkLightmapOptions(o); !ok) return fail("solve", ok.error().message);
+  if (Status ok = checkLightingOptions(o); !ok) return fail("solve", ok.error().message);
+  PointsTable pointsTable;
+  Result<LightingRequest> lightingRequested = lightingRequest(*scene, o.lighting, &pointsTable, !o.solve.quiet && !o.solve.json);
+  if (!lightingRequested) return fail("solve", lightingRequested.error().message);
   // --exposure scales --export's COLOR_0, or with --lightmaps the --image (the glb's lightmaps
   // hold irradiance in W/m², never an exposed value).
   if (o.exported.glb.empty() || (o.lightmaps.lightmaps && o.lightmaps.image.empty()))
@@ -134,8 +152,30 @@ int runSolve(const SolveOnlyOptions& o) {
     std::fprintf(stderr, "lambert solve: %s\n", exported.error().message.c_str());
     return 1;
   }
+  Stats lightingFigures;
+  if (o.lighting.any()) {
+    Result<LightingResults> lighting = measureLighting(engine->solution(), *lightingRequested);
+    if (!lighting) return fail("solve", lighting.error().message);
+    if (!o.exportPoints.empty()) {
+      if (Status ok = writePointsCsv(o.exportPoints, pointsTable, lighting->points); !ok) {
+        std::fprintf(stderr, "lambert solve: %s\n", ok.error().message.c_str());
+        return 1;
+      }
+      lightingFigures.add("points_file", "illuminance at points written to", o.exportPoints);
+    }
+    if (!o.exportGrids.empty()) {
+      Result<std::vector<std::string>> files = writeGridFiles(o.exportGrids, *lighting, engine->solution().scene().fileFrame);
+      if (!files) {
+        std::fprintf(stderr, "lambert solve: %s\n", files.error().message.c_str());
+        return 1;
+      }
+      lightingFigures.add("grid_files", "grid files written", static_cast<std::int64_t>(files->size()));
+    }
+    addLightingStats(lightingFigures, *lighting);
+  }
   const double outputSeconds = output.seconds();
   Stats stats = engine->stats();
+  stats.append(lightingFigures);
   stats.append(lightmapFigures);
   if (!o.exportVertices.empty()) stats.add("vertices_file", "vertices written to", o.exportVertices);
   if (probes) {
@@ -194,6 +234,12 @@ std::function<int()> addSolveCommand(CLI::App& app) {
   cmd->add_option("--probe-spacing", options->probeSpacing,
                   "Distance between --probes' probes, scene units (default: about 4096 probes over the box)")
       ->check(CLI::PositiveNumber);
+  addLightingOptions(*cmd, options->lighting);
+  cmd->add_option("--export-points", options->exportPoints,
+                  "Write --points' rows with E_direct, E_indirect and E in lux appended (CSV)");
+  cmd->add_option("--export-grids", options->exportGrids,
+                  "Write each --work-plane's and --grid's points (PREFIX<name>.csv, lux) and false-colour picture with isolux lines "
+                  "(PREFIX<name>.png); PREFIX may be a folder ending in /");
   return [options] { return runSolve(*options); };
 }
 

@@ -99,7 +99,14 @@ FalseColourImage falseColourImage(const CalculationGrid& grid, std::span<const d
   const int pw = std::max(1, static_cast<int>(std::lround(lu / pixelSize)));
   const int ph = std::max(1, static_cast<int>(std::lround(lv / pixelSize)));
   const int scale = 2, margin = 16, titleHeight = 2 * 12 * scale + margin, legendWidth = 150;
-  Canvas canvas(margin + pw + margin + legendWidth, titleHeight + ph + margin + 12 * scale);
+  const GridStatistics stats = gridStatistics(values);
+  const std::string title = options.title.empty() ? grid.name : options.title;
+  const std::string unit = std::string(" ").append(options.unit);
+  const std::string figures = "Eavg " + formatValue(stats.average) + unit + "   Emin " + formatValue(stats.minimum) + unit + "   Emax " +
+                              formatValue(stats.maximum) + unit + "   U0 " + formatValue(stats.uniformity) + "   Emin/Emax " +
+                              formatValue(stats.minOverMax) + "   " + std::to_string(stats.points) + " points";
+  const int textWidth = std::max(Canvas::textWidth(title, scale), Canvas::textWidth(figures, scale)) + 2 * margin;
+  Canvas canvas(std::max(margin + pw + margin + legendWidth, textWidth), titleHeight + std::max(ph, 120) + margin + 12 * scale);
 
   // The field at plane pixel (x, y): bilinear between the cell centres that have points (the
   // nearest such centre's value where a neighbour is missing); NaN outside the grid's cells.
@@ -150,15 +157,8 @@ FalseColourImage falseColourImage(const CalculationGrid& grid, std::span<const d
       }
     }
   // Title: the name, then the statistics.
-  const GridStatistics stats = gridStatistics(values);
-  const std::string title = options.title.empty() ? grid.name : options.title;
   canvas.text(margin, margin / 2, title, scale, black);
-  const std::string unit = " " + options.unit;
-  canvas.text(margin, margin / 2 + 12 * scale,
-              "Eavg " + formatValue(stats.average) + unit + "   Emin " + formatValue(stats.minimum) + unit + "   Emax " +
-                  formatValue(stats.maximum) + unit + "   U0 " + formatValue(stats.uniformity) + "   Emin/Emax " +
-                  formatValue(stats.minOverMax) + "   " + std::to_string(stats.points) + " points",
-              scale, black);
+  canvas.text(margin, margin / 2 + 12 * scale, figures, scale, black);
   // Legend: the colour bar from 0 (bottom) to the top of the scale, its levels marked.
   const int barX = margin + pw + margin, barTop = titleHeight, barHeight = std::max(ph, 120), barWidth = 24;
   for (int y = 0; y < barHeight && barTop + y < canvas.height; ++y)
