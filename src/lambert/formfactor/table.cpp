@@ -288,7 +288,8 @@ std::size_t boundRowSums(FormFactorMatrix& F, std::span<const Rgb> albedo) {
   std::size_t scaled = 0;
   for (Eigen::Index i = 0; i < F.rows(); ++i) {
     const double sum = F.row(i).cast<double>().sum();
-    if (!(albedo[static_cast<std::size_t>(i)].maxComponent() * sum > kRowContraction)) continue;
+    const double rho = albedo[static_cast<std::size_t>(i)].maxComponent();
+    if (!(rho * sum > rowContractionBound(rho))) continue;
     // Rounded down, so that the float row sums to at most 1.
     F.row(i) *= std::nextafter(static_cast<float>(1 / sum), 0.0f);
     ++scaled;

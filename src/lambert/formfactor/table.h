@@ -110,6 +110,13 @@ void normalizeRows(FormFactorMatrix& F);
 // estimation noise around a true sum of at most 1, balanced by rows below it: scaling them too
 // would bias closed scenes dark. Returns how many rows it scaled.
 inline constexpr double kRowContraction = 0.95;
+// The bound on ρ·S itself, for a receiver whose albedo's largest channel is ρ: kRowContraction,
+// or half way from ρ to 1 where that is higher. A fixed 0.95 leaves rows no room above 1 once
+// ρ ≥ 0.95: every noisy row above 1 was cut to 1 while those below stayed, and the gain 1/(1 − ρ)
+// = 20 turned that into a room 11% dark (CIE 171 §5.8's cube at ρ = 0.95, the hierarchy's rows up
+// to 1.025: 984 of 1536 leaves cut). With (1 + ρ)/2, rows up to 1 + (1 − ρ)/(2ρ) keep their
+// noise (1.026 at ρ = 0.95) and ρS ≤ (1 + ρ)/2 < 1 still makes every sweep a contraction.
+inline double rowContractionBound(double albedo) { return albedo > 2 * kRowContraction - 1 ? 0.5 * (1 + albedo) : kRowContraction; }
 std::size_t boundRowSums(FormFactorMatrix& F, std::span<const Rgb> albedo);
 
 }  // namespace lambert

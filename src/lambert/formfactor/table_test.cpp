@@ -470,3 +470,30 @@ TEST(FormFactorTableFileTest, EmptyTableRoundTrips) {
 
 }  // namespace
 }  // namespace lambert
+
+namespace lambert {
+namespace {
+
+TEST(RowContractionBoundTest, RowsAboveOneByNoiseAreKeptAtHighReflectance) {
+  // At ρ = 0.95 a fixed bound of 0.95 on ρS would cut every row above 1 — the noise of estimated
+  // rows around a true sum of 1 — and a closed room 11% dark (CIE 171 §5.8, engine/cie171_test).
+  // The bound half way from ρ to 1 keeps rows up to 1 + (1 − ρ)/(2ρ) = 1.0263 as measured, scales
+  // those above to 1, and every row it leaves has ρS < 1 (a contraction). Below ρ = 0.9 it is 0.95.
+  EXPECT_DOUBLE_EQ(rowContractionBound(0.5), 0.95);
+  EXPECT_DOUBLE_EQ(rowContractionBound(0.9), 0.95);
+  EXPECT_DOUBLE_EQ(rowContractionBound(0.95), 0.975);
+  EXPECT_DOUBLE_EQ(rowContractionBound(0.99), 0.995);
+  FormFactorMatrix F = FormFactorMatrix::Zero(3, 3);
+  F(0, 1) = 0.52f, F(0, 2) = 0.50f;  // 1.02: noise, kept
+  F(1, 0) = 0.53f, F(1, 2) = 0.50f;  // 1.03: above 1.0263, scaled to 1
+  F(2, 0) = 0.40f, F(2, 1) = 0.50f;  // 0.90: kept
+  const std::vector<Rgb> albedo(3, Rgb::gray(0.95));
+  EXPECT_EQ(boundRowSums(F, albedo), 1u);
+  EXPECT_NEAR(F.row(0).sum(), 1.02, 1e-6);
+  EXPECT_NEAR(F.row(1).sum(), 1.0, 1e-6);
+  EXPECT_NEAR(F.row(2).sum(), 0.90, 1e-6);
+  for (int i = 0; i < 3; ++i) EXPECT_LT(0.95 * F.row(i).sum(), 1.0) << "row " << i;
+}
+
+}  // namespace
+}  // namespace lambert

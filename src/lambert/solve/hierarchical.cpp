@@ -5,6 +5,7 @@
 
 #include "lambert/core/error.h"
 #include "lambert/core/parallel.h"
+#include "lambert/formfactor/table.h"
 
 namespace lambert {
 namespace {
@@ -42,7 +43,8 @@ HierarchicalTransport::HierarchicalTransport(const ElementHierarchy& hierarchy, 
     const double sum = rowSum[nodeOfLeaf_[l]];
     LAMBERT_CHECK(std::isfinite(sum) && sum >= 0);
     largestRowSum_ = std::fmax(largestRowSum_, sum);
-    const bool scale = leafAlbedo[l].maxComponent() * sum > kContraction;
+    const double rho = leafAlbedo[l].maxComponent();
+    const bool scale = rho * sum > rowContractionBound(rho);
     rowsScaled_ += scale;
     leafGain_[l] = leafOpenFraction[l] * (scale ? 1 / sum : 1.0);
   }

@@ -34,8 +34,8 @@ class HierarchicalTransport final : public Transport {
                     bool inPlace) const override;
 
   const Links& links() const { return *links_; }
-  // The bound on ρ·Σ K above which a leaf's Σ K is scaled to 1 (leafGain_ below).
-  static constexpr double kContraction = 0.95;
+  // The bound on ρ·Σ K above which a leaf's Σ K is scaled to 1 (leafGain_ below): the flat
+  // methods' rowContractionBound(ρ) (formfactor/table.h), 0.95 or (1 + ρ)/2 where that is higher.
   // The largest Σ K a leaf gathers over its own links and its ancestors' before the bound, and
   // how many leaves the bound scaled down.
   double largestRowSum() const { return largestRowSum_; }
@@ -56,10 +56,10 @@ class HierarchicalTransport final : public Transport {
   // A link's K is the irradiance of its receiver's open part (formfactor/links.h): a leaf takes
   // its open share f of what it and its ancestors gather, E = f·ΣK·B̄_s, a mean over its area.
   // The bound. Where the K of the links at a leaf and at its ancestors sum to S with ρS above
-  // kContraction (ρ: the leaf albedo's largest channel), the estimate is far above the truth
-  // (at most 1: a receiver gathers at most its whole hemisphere) and what the leaf gathers is
-  // scaled by 1/S; below, S is left as measured. Every leaf then has ρ·S ≤ max(ρ_max,
-  // kContraction) < 1, every pulled mean is at most its leaves' largest value, and so one sweep
+  // rowContractionBound(ρ) (ρ: the leaf albedo's largest channel; 0.95, or (1 + ρ)/2 for ρ above
+  // 0.9), the estimate is far above the truth (at most 1: a receiver gathers at most its whole
+  // hemisphere) and what the leaf gathers is scaled by 1/S; below, S is left as measured. Every
+  // leaf then has ρ·S ≤ max(0.95, (1 + ρ_max)/2) < 1, every pulled mean is at most its leaves' largest value, and so one sweep
   // shrinks the largest open radiosity's distance to the solution by that factor: B = E + ρKB is
   // a contraction and no sweep can diverge (docs/hierarchical.md, "The bound"). Rows above 1 by
   // less are estimation noise around a true sum of at most 1 (different quadrature points and
