@@ -20,27 +20,61 @@
 namespace lambert {
 namespace {
 
-// An emitting triangle of the scene (a fan triangle of an emitting face): its corners, front
-// normal and emitted radiosity B_e = π L_e, W/m².
+// An emitting surface is integrated explicitly at a point where the bound on its light there is
+// at least this share of the largest emitter's bound (see IlluminanceMeter::measure).
+constexpr double kExplicitShare = 0.02;
+
+// An emitting triangle of the scene (a fan triangle of an emitting face): its corners and front
+// normal.
 struct EmitterTriangle {
   std::array<Vec3, 3> corners;
   Vec3 normal;
-  Rgb radiosity;
 };
 
-std::vector<EmitterTriangle> emitterTriangles(const Scene& scene) {
-  std::vector<EmitterTriangle> out;
-  for (const Surface& surface : scene.surfaces) {
+// An emitting surface: its triangles (a range of Emitters::triangles), its emitted radiosity
+// B_e = π L_e (W/m²), and a bounding sphere and area for the bound on what it can give a point.
+struct EmitterSurface {
+  std::uint32_t first = 0, count = 0;
+  Rgb radiosity;
+  double luminance = 0;  // of radiosity
+  Vec3 centre;
+  double radius = 0, area = 0;
+};
+
+struct Emitters {
+  std::vector<EmitterTriangle> triangles;
+  std::vector<EmitterSurface> surfaces;
+  std::vector<int> ofSceneSurface;  // per scene surface: its index in surfaces, or −1
+};
+
+Emitters sceneEmitters(const Scene& scene) {
+  Emitters out;
+  out.ofSceneSurface.assign(scene.surfaces.size(), -1);
+  for (std::size_t index = 0; index < scene.surfaces.size(); ++index) {
+    const Surface& surface = scene.surfaces[index];
     const Rgb radiosity = meanEmittedRadiance(scene, surface) * kPi;
     if (!(radiosity.maxComponent() > 0)) continue;
+    EmitterSurface e;
+    e.first = static_cast<std::uint32_t>(out.triangles.size());
+    e.radiosity = radiosity;
+    e.luminance = radiosity.luminance();
+    Vec3 lo{INFINITY, INFINITY, INFINITY}, hi = -lo;
     for (const std::vector<std::uint32_t>& face : surfaceFaces(surface)) {
       const std::vector<Vec3> polygon = facePositions(surface, face);
+      for (const Vec3& p : polygon) lo = componentMin(lo, p), hi = componentMax(hi, p);
       for (std::size_t k = 1; k + 1 < polygon.size(); ++k) {
         const Vec3 areaVector = cross(polygon[k] - polygon[0], polygon[k + 1] - polygon[0]);
         if (!(length(areaVector) > 0)) continue;
-        out.push_back({{polygon[0], polygon[k], polygon[k + 1]}, normalize(areaVector), radiosity});
+        out.triangles.push_back({{polygon[0], polygon[k], polygon[k + 1]}, normalize(areaVector)});
+        e.area += length(areaVector) / 2;
       }
     }
+    e.count = static_cast<std::uint32_t>(out.triangles.size()) - e.first;
+    if (e.count == 0) continue;
+    e.centre = (lo + hi) / 2;
+    e.radius = length(hi - lo) / 2;
+    out.ofSceneSurface[index] = static_cast<int>(out.surfaces.size());
+    out.surfaces.push_back(e);
   }
   return out;
 }
@@ -101,7 +135,8 @@ struct IlluminanceMeter::State {
   IlluminanceOptions options;
   std::unique_ptr<RayCaster> vertexCaster;  // over solution.vertexMesh(), for the hemisphere rays
   std::vector<Rgb> vertexIrradiance;        // E per vertex of the vertex mesh
-  std::vector<EmitterTriangle> emitters;
+  Emitters emitters;
+  std::vector<Rgb> patchEmission;  // B_e per patch of the vertex mesh
   std::vector<Vec3> directions;
   double epsilon = 0;
   double setupSeconds = 0;
@@ -116,7 +151,8 @@ IlluminanceMeter::IlluminanceMeter(const SolutionView& solution, const Illuminan
   const Mesh& mesh = solution.vertexMesh();
   s.vertexCaster = makeEmbreeRayCaster(mesh);
   s.vertexIrradiance = solution.vertexValues(VertexQuantity::Irradiance);
-  s.emitters = emitterTriangles(solution.scene());
+  s.emitters = sceneEmitters(solution.scene());
+  s.patchEmission = emittedRadiosity(solution.scene(), mesh);
   s.directions = cosineDirections(options.indirectRays, options.seed);
   s.epsilon = rayEpsilon(mesh);
   s.setupSeconds = timer.seconds();
@@ -159,40 +195,82 @@ Result<std::vector<PointIrradiance>> IlluminanceMeter::measure(std::span<const C
     const Vec3 origin = x + n * s.epsilon;
     PointIrradiance& e = out[i];
     for (const Light& light : lights) e.direct += irradiance(light, x, n, shadows, s.epsilon, metresPerUnit);
+    // The emitting surfaces: each one's unoccluded light is bounded by B_e·min(1, A/(π (d − r)²))
+    // (the kernel cos θ_x cos θ_y / (π r²) is at most 1/(π r²)); those whose bound is at least
+    // kExplicitShare of the largest are integrated explicitly, the rest (far or small: a
+    // building's other rooms) are left to the hemisphere rays below, which count the emission of
+    // exactly those emitters where they hit them — two disjoint estimators, no emitter counted
+    // twice or missed.
     std::uint64_t rays = 0;
-    for (const EmitterTriangle& t : s.emitters) {
-      if (!(dot(origin - t.corners[0], t.normal) > 0)) continue;  // behind the emitter: its back does not emit
-      const double formFactor = pointToPolygonFormFactor(x, n, t.corners);
-      if (!(formFactor > 0)) continue;
-      const std::vector<Vec3> front = clipInFront(t.corners, x, n);
-      double visible = 0, total = 0;
-      for (int k = 0; k < samples; ++k) {
-        const auto [u, v] = scrambledZeroTwo(static_cast<std::uint32_t>(k), su, sv);
-        const Vec3 y = sampleConvexPolygon(front, u, v);
-        const Vec3 d = y - origin;
-        const double r2 = lengthSquared(d);
-        if (!(r2 > 0)) continue;
-        const double weight = std::fmax(0.0, dot(d, n)) * std::fmax(0.0, -dot(d, t.normal)) / (r2 * r2);
-        if (!(weight > 0)) continue;
-        total += weight;
-        ++rays;
-        // The ray stops short of the emitter by the lift epsilon, so that it does not hit it.
-        const double tMax = 1 - s.epsilon / std::sqrt(r2);
-        if (tMax > 0 && !shadows.occluded(Ray{origin, d, 0, tMax})) visible += weight;
+    thread_local std::vector<double> bound;
+    thread_local std::vector<char> explicitly;
+    bound.assign(s.emitters.surfaces.size(), 0);
+    explicitly.assign(s.emitters.surfaces.size(), 0);
+    double largestBound = 0;
+    for (std::size_t k = 0; k < s.emitters.surfaces.size(); ++k) {
+      const EmitterSurface& surface = s.emitters.surfaces[k];
+      const Vec3 toCentre = surface.centre - origin;
+      if (dot(toCentre, n) < -surface.radius) continue;  // wholly behind the point's plane
+      const double gap = length(toCentre) - surface.radius;
+      const double factorBound = gap > 0 ? std::fmin(1.0, surface.area / (kPi * gap * gap)) : 1.0;
+      bound[k] = surface.luminance * factorBound;
+      largestBound = std::fmax(largestBound, bound[k]);
+    }
+    for (std::size_t k = 0; k < s.emitters.surfaces.size(); ++k) {
+      if (!(bound[k] > 0) || bound[k] < kExplicitShare * largestBound) continue;
+      explicitly[k] = 1;
+      const EmitterSurface& surface = s.emitters.surfaces[k];
+      // Each triangle's exact unoccluded factor, then its visibility from a share of
+      // emitterSamples in proportion to its factor (at least one).
+      thread_local std::vector<double> factors;
+      factors.assign(surface.count, 0);
+      double surfaceFactor = 0;
+      for (std::uint32_t t = 0; t < surface.count; ++t) {
+        const EmitterTriangle& triangle = s.emitters.triangles[surface.first + t];
+        if (!(dot(origin - triangle.corners[0], triangle.normal) > 0)) continue;  // behind it: its back does not emit
+        factors[t] = pointToPolygonFormFactor(x, n, triangle.corners);
+        surfaceFactor += factors[t];
       }
-      if (total > 0) e.direct += t.radiosity * (formFactor * visible / total);
+      if (!(surfaceFactor > 0)) continue;
+      double visibleFactor = 0;
+      for (std::uint32_t t = 0; t < surface.count; ++t) {
+        if (!(factors[t] > 0)) continue;
+        const EmitterTriangle& triangle = s.emitters.triangles[surface.first + t];
+        const std::vector<Vec3> front = clipInFront(triangle.corners, x, n);
+        const int count = std::max(1, static_cast<int>(std::lround(samples * factors[t] / surfaceFactor)));
+        double visible = 0, total = 0;
+        for (int j = 0; j < count; ++j) {
+          const auto [u, v] = scrambledZeroTwo(static_cast<std::uint32_t>(j), su, sv);
+          const Vec3 y = sampleConvexPolygon(front, u, v);
+          const Vec3 d = y - origin;
+          const double r2 = lengthSquared(d);
+          if (!(r2 > 0)) continue;
+          const double weight = std::fmax(0.0, dot(d, n)) * std::fmax(0.0, -dot(d, triangle.normal)) / (r2 * r2);
+          if (!(weight > 0)) continue;
+          total += weight;
+          ++rays;
+          // The ray stops short of the emitter by the lift epsilon, so that it does not hit it.
+          const double tMax = 1 - s.epsilon / std::sqrt(r2);
+          if (tMax > 0 && !shadows.occluded(Ray{origin, d, 0, tMax})) visible += weight;
+        }
+        if (total > 0) visibleFactor += factors[t] * visible / total;
+      }
+      e.direct += surface.radiosity * visibleFactor;
     }
     if (rays) s.emitterRays.fetch_add(rays, std::memory_order_relaxed);
     Vec3 tangent, bitangent;
     orthonormalBasis(n, tangent, bitangent);
-    Rgb reflected;
+    Rgb reflected, emitted;
     for (const Vec3& local : s.directions) {
       const Vec3 w = tangent * local.x + bitangent * local.y + n * local.z;
       const std::optional<RayHit> hit = s.vertexCaster->intersect(Ray{origin, w, 0, INFINITY});
       if (!hit || !hit->frontFace) continue;
       reflected += albedo[hit->patch] * valueOnPatch(mesh, s.vertexIrradiance, hit->patch, origin + w * hit->t);
+      const int emitter = s.emitters.ofSceneSurface[mesh.patches[hit->patch].surface];
+      if (emitter >= 0 && !explicitly[emitter]) emitted += s.patchEmission[hit->patch];
     }
     e.indirect = reflected / static_cast<double>(s.directions.size());
+    e.direct += emitted / static_cast<double>(s.directions.size());
     progress.advance();
   }, 16);
   progress.finish();

@@ -5,12 +5,16 @@
 //
 // The irradiance E at a point x with unit normal n is split as lighting programs report it:
 //  - direct: from every light (point, spot, directional, luminaire, sky), with a shadow ray each
-//    (light/lights.h irradiance), plus the emitting surfaces' own emission. An emitting triangle
-//    of radiosity B_e gives B_e·F·V̄: F its exact unoccluded point-to-polygon form factor
-//    (Lambert's contour integral, F = 1/(2π) Σ_i θ_i n·û_i over its edges, after clipping it to
-//    the half-space in front of x), V̄ the kernel-weighted visible fraction of `emitterSamples`
-//    stratified points on it (weights cos θ_x cos θ_y / r²). Exact where the emitter is wholly
-//    visible or wholly hidden; consistent in between.
+//    (light/lights.h irradiance), plus the emitting surfaces' own emission. An emitting surface
+//    whose light at x may matter (its bound B_e·min(1, A/(π (d − r)²)) at least 2% of the largest
+//    emitter's bound there) is integrated explicitly: each of its triangles gives B_e·F·V̄, F its
+//    exact unoccluded point-to-polygon form factor (Lambert's contour integral, F = 1/(2π) Σ_i θ_i
+//    n·û_i over its edges, after clipping it to the half-space in front of x), V̄ the
+//    kernel-weighted visible fraction (weights cos θ_x cos θ_y / r²) of stratified points on it,
+//    `emitterSamples` per surface shared by the triangles' factors (at least one each). Exact
+//    where the emitter is wholly visible or wholly hidden; consistent in between. The other
+//    emitters (a building's other rooms, small far lamps) are counted by the hemisphere rays
+//    below where they meet them: the two estimators split the emitters, so none is counted twice.
 //  - indirect: the light the surfaces reflect, ∫ L_r cos θ dω over the hemisphere about n, from
 //    `indirectRays` cosine-weighted stratified directions (a scrambled (0,2)-sequence):
 //    E_ind = (1/N) Σ ρ_hit E_hit, where E_hit is the solution's irradiance at the hit
@@ -54,7 +58,7 @@ struct PointIrradiance {
 
 struct IlluminanceOptions {
   int indirectRays = 256;   // hemisphere directions per point (rounded up to a power of two)
-  int emitterSamples = 16;  // visibility samples per emitting triangle in front of a point
+  int emitterSamples = 16;  // visibility samples per emitting surface integrated explicitly at a point
   std::uint64_t seed = 1;
   bool showProgress = false;  // a progress line on a terminal
 };

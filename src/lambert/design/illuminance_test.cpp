@@ -131,6 +131,46 @@ TEST(IlluminanceTest, EmittingSquareOverABlackFloorWithAndWithoutAPlate) {
   }
 }
 
+// Emitters far from a point are counted by the hemisphere rays, near ones explicitly: a panel
+// 2 m above the point (explicit) and rings of 240 small tiles 5–8 m away (each bounded under 2%
+// of the panel, so gathered), together a third as bright as the panel. Both parts against the
+// unoccluded quadrature of each emitter (a black floor: nothing else).
+TEST(IlluminanceTest, FarEmittersAreGatheredAndNearOnesIntegrated) {
+  Scene scene;
+  scene.name = "panel and tiles";
+  scene.materials = {{"black", Rgb::gray(0)}};
+  scene.surfaces.push_back({"floor", {{-20, 0, -20}, {-20, 0, 20}, {20, 0, 20}, {20, 0, -20}}, 0, {}});
+  const double h = 2;
+  scene.surfaces.push_back({"panel", {{-0.25, h, -0.25}, {0.25, h, -0.25}, {0.25, h, 0.25}, {-0.25, h, 0.25}}, 0, Rgb::gray(1)});
+  struct Tile {
+    Vec3 corner;
+  };
+  std::vector<Tile> tiles;
+  for (int ring = 0; ring < 4; ++ring)
+    for (int k = 0; k < 60; ++k) {
+      const double r = 5 + ring * 1.0, a = 2 * kPi * (k + 0.5 * ring) / 60;
+      const Vec3 c{r * std::cos(a) - 0.1, h, r * std::sin(a) - 0.1};
+      tiles.push_back({c});
+      scene.surfaces.push_back({"tile", {c, c + Vec3{0.2, 0, 0}, c + Vec3{0.2, 0, 0.2}, c + Vec3{0, 0, 0.2}}, 0, Rgb::gray(1)});
+    }
+  auto engine = solved(scene, MeshStrategy::Uniform);
+  ASSERT_TRUE(engine);
+  IlluminanceOptions options;
+  options.indirectRays = 4096;
+  const IlluminanceMeter meter(engine->solution(), options);
+  const std::vector<CalculationPoint> point{{{0, 0, 0}, {0, 1, 0}}};
+  Result<std::vector<PointIrradiance>> measured = meter.measure(point);
+  ASSERT_TRUE(measured.ok());
+  const double panel = kPi * quadratureFactor({0, 0, 0}, {0, 1, 0}, {-0.25, h, -0.25}, {0.5, 0, 0}, {0, 0, 0.5}, 200);
+  double far = 0;
+  for (const Tile& t : tiles) far += kPi * quadratureFactor({0, 0, 0}, {0, 1, 0}, t.corner, {0.2, 0, 0}, {0, 0, 0.2}, 20);
+  std::printf("panel %.5f, tiles %.5f, measured %.5f W/m²\n", panel, far, (*measured)[0].direct.g);
+  EXPECT_GT(far, 0.3 * panel);  // the gathered part matters
+  EXPECT_NEAR((*measured)[0].direct.g, panel + far, 0.02 * (panel + far));
+  EXPECT_GT((*measured)[0].direct.g, panel + 0.8 * far);  // the tiles are counted, once
+  EXPECT_LT((*measured)[0].direct.g, panel + 1.2 * far);
+}
+
 // A point light of I W/sr at height h over a black floor: E = I cos³γ / h² (CIE 171:2006 §5.2's
 // closed form), in metres: the scene is in millimetres here.
 TEST(IlluminanceTest, PointLightOverAPlaneFollowsTheCosineCubedLaw) {
