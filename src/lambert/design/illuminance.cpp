@@ -93,6 +93,8 @@ std::vector<Vec3> clipInFront(std::span<const Vec3> polygon, const Vec3& x, cons
   return out;
 }
 
+double polygonArea(std::span<const Vec3> polygon) { return length(polygonAreaVector(std::vector<Vec3>(polygon.begin(), polygon.end()))) / 2; }
+
 // The same directions at every point, each in the point's own frame: a scrambled (0,2)-sequence
 // mapped to the cosine-weighted hemisphere (Malley's method: the unit disc lifted onto it),
 // z along the normal.
@@ -220,41 +222,50 @@ Result<std::vector<PointIrradiance>> IlluminanceMeter::measure(std::span<const C
       if (!(bound[k] > 0) || bound[k] < kExplicitShare * largestBound) continue;
       explicitly[k] = 1;
       const EmitterSurface& surface = s.emitters.surfaces[k];
-      // Each triangle's exact unoccluded factor, then its visibility from a share of
-      // emitterSamples in proportion to its factor (at least one).
-      thread_local std::vector<double> factors;
-      factors.assign(surface.count, 0);
+      // Each triangle's exact unoccluded factor; then the surface's visible share from
+      // emitterSamples stratified points, each in a triangle picked in proportion to its factor
+      // (the sequence's first coordinate picks it and is reused, rescaled, within it).
+      thread_local std::vector<double> cumulative;
+      cumulative.assign(surface.count, 0);
       double surfaceFactor = 0;
       for (std::uint32_t t = 0; t < surface.count; ++t) {
         const EmitterTriangle& triangle = s.emitters.triangles[surface.first + t];
-        if (!(dot(origin - triangle.corners[0], triangle.normal) > 0)) continue;  // behind it: its back does not emit
-        factors[t] = pointToPolygonFormFactor(x, n, triangle.corners);
-        surfaceFactor += factors[t];
+        if (dot(origin - triangle.corners[0], triangle.normal) > 0)  // behind it, its back does not emit
+          surfaceFactor += pointToPolygonFormFactor(x, n, triangle.corners);
+        cumulative[t] = surfaceFactor;
       }
       if (!(surfaceFactor > 0)) continue;
-      double visibleFactor = 0;
-      for (std::uint32_t t = 0; t < surface.count; ++t) {
-        if (!(factors[t] > 0)) continue;
+      // Where the first emitterSamples points do not all agree (a penumbra), four times as many.
+      double visible = 0, total = 0;
+      for (int j = 0; j < 4 * samples; ++j) {
+        if (j == samples && (visible == 0 || visible == total)) break;
+        auto [u, v] = scrambledZeroTwo(static_cast<std::uint32_t>(j), su, sv);
+        const double pick = u * surfaceFactor;
+        const std::uint32_t t = static_cast<std::uint32_t>(
+            std::min<std::ptrdiff_t>(std::upper_bound(cumulative.begin(), cumulative.end(), pick) - cumulative.begin(), surface.count - 1));
+        const double below = t ? cumulative[t - 1] : 0, share = cumulative[t] - below;
+        if (!(share > 0)) continue;
+        u = std::clamp((pick - below) / share, 0.0, 1.0 - 1e-12);
         const EmitterTriangle& triangle = s.emitters.triangles[surface.first + t];
         const std::vector<Vec3> front = clipInFront(triangle.corners, x, n);
-        const int count = std::max(1, static_cast<int>(std::lround(samples * factors[t] / surfaceFactor)));
-        double visible = 0, total = 0;
-        for (int j = 0; j < count; ++j) {
-          const auto [u, v] = scrambledZeroTwo(static_cast<std::uint32_t>(j), su, sv);
-          const Vec3 y = sampleConvexPolygon(front, u, v);
-          const Vec3 d = y - origin;
-          const double r2 = lengthSquared(d);
-          if (!(r2 > 0)) continue;
-          const double weight = std::fmax(0.0, dot(d, n)) * std::fmax(0.0, -dot(d, triangle.normal)) / (r2 * r2);
-          if (!(weight > 0)) continue;
-          total += weight;
-          ++rays;
-          // The ray stops short of the emitter by the lift epsilon, so that it does not hit it.
-          const double tMax = 1 - s.epsilon / std::sqrt(r2);
-          if (tMax > 0 && !shadows.occluded(Ray{origin, d, 0, tMax})) visible += weight;
-        }
-        if (total > 0) visibleFactor += factors[t] * visible / total;
+        if (front.size() < 3) continue;
+        const Vec3 y = sampleConvexPolygon(front, u, v);
+        const Vec3 d = y - origin;
+        const double r2 = lengthSquared(d);
+        if (!(r2 > 0)) continue;
+        // The kernel over the density the pick gives the point (∝ its triangle's factor over the
+        // part's area): a consistent ratio estimate of the visible share.
+        const double kernel = std::fmax(0.0, dot(d, n)) * std::fmax(0.0, -dot(d, triangle.normal)) / (r2 * r2);
+        const double density = share / polygonArea(front);
+        if (!(kernel > 0) || !(density > 0)) continue;
+        const double weight = kernel / density;
+        total += weight;
+        ++rays;
+        // The ray stops short of the emitter by the lift epsilon, so that it does not hit it.
+        const double tMax = 1 - s.epsilon / std::sqrt(r2);
+        if (tMax > 0 && !shadows.occluded(Ray{origin, d, 0, tMax})) visible += weight;
       }
+      const double visibleFactor = total > 0 ? surfaceFactor * visible / total : 0;
       e.direct += surface.radiosity * visibleFactor;
     }
     if (rays) s.emitterRays.fetch_add(rays, std::memory_order_relaxed);
