@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <functional>
 
 #include "lambert/core/warning.h"
@@ -34,7 +35,7 @@ double simpson2d(const std::function<double(double, double)>& f, double a0, doub
 TEST(SkyTest, TraditionalOvercastHorizontalIlluminanceIsSevenPiOverNine) {
   for (double lz : {1.0, 8000.0}) {
     SkyModel sky = SkyModel::traditionalOvercast(lz);
-    EXPECT_NEAR(sky.horizontalIlluminance(), 7 * kPi * lz / 9, 1e-5 * lz);
+    EXPECT_NEAR(sky.horizontalIlluminance(), 7 * kPi * lz / 9, 1e-8 * lz);
     EXPECT_NEAR(sky.luminance({0, 1, 0}), lz, 1e-12 * lz);
     EXPECT_NEAR(sky.luminance({1, 1e-9, 0}), lz / 3, 1e-6 * lz);       // a third at the horizon
     EXPECT_NEAR(sky.luminance({0, 1, std::sqrt(3.0)}), lz * 2 / 3, 1e-9 * lz);  // elevation 30°
@@ -46,7 +47,7 @@ TEST(SkyTest, TraditionalOvercastHorizontalIlluminanceIsSevenPiOverNine) {
 TEST(SkyTest, UniformSkyTypeFiveGivesPiTimesItsLuminance) {
   Result<SkyModel> sky = SkyModel::cieStandard(5, 40, 25, 1000);
   ASSERT_TRUE(sky);
-  EXPECT_NEAR(sky->horizontalIlluminance(), kPi * 1000, 1e-3);
+  EXPECT_NEAR(sky->horizontalIlluminance(), kPi * 1000, 1e-6);
   for (Vec3 w : {Vec3{0, 1, 0}, Vec3{1, 0.01, 0}, Vec3{-1, 2, 3}}) EXPECT_NEAR(sky->luminance(w), 1000, 1e-9);
 }
 
@@ -88,12 +89,13 @@ TEST(SkyTest, HorizontalIlluminanceMatchesAnIndependentQuadrature) {
     for (auto [azimuth, elevation] : {std::pair{150.0, 35.0}, std::pair{260.0, 8.0}}) {
       Result<SkyModel> sky = SkyModel::cieStandard(type, azimuth, elevation, 1);
       ASSERT_TRUE(sky);
-      // Polar coordinates on the disk (r, θ), dA = r dr dθ; r = sin Z.
-      const double e = simpson2d([&](double r, double t) {
-        const double y = std::sqrt(std::fmax(0.0, 1 - r * r));
-        return r * sky->luminance({r * std::cos(t), std::fmax(y, 1e-300), r * std::sin(t)});
-      }, 0, 1, 0, 2 * kPi, 400);
-      EXPECT_NEAR(sky->horizontalIlluminance() / e, 1, 2e-4) << type << " " << elevation;
+      // Polar coordinates on the disk (r, θ), dA = r dr dθ, with r = sin s so that the integrand
+      // stays smooth at the rim (the horizon): dr = cos s ds.
+      const double e = simpson2d([&](double s, double t) {
+        const double r = std::sin(s), y = std::cos(s);
+        return r * std::cos(s) * sky->luminance({r * std::cos(t), std::fmax(y, 1e-300), r * std::sin(t)});
+      }, 0, kPi / 2, 0, 2 * kPi, 400);
+      EXPECT_NEAR(sky->horizontalIlluminance() / e, 1, 1e-5) << type << " " << elevation;
     }
 }
 
@@ -118,16 +120,16 @@ TEST(SkyTest, UnobstructedIlluminanceOfTiltedPlanes) {
   light.kind = LightKind::Sky;
   light.sky = std::make_shared<const SkyModel>(*sky);
   const double horizontal = unshadowedIrradiance(light, {}, {0, 1, 0}, 1).g * kLumensPerWatt;
-  EXPECT_NEAR(horizontal / sky->horizontalIlluminance(), 1, 2e-3);
+  EXPECT_NEAR(horizontal / sky->horizontalIlluminance(), 1, 1e-3);
   for (double facing : {0.0, 90.0, 180.0, 270.0}) {
     const Vec3 n = skyDirection(facing, 0, {0, 0, -1}), up{0, 1, 0}, side = cross(up, n);
-    const double expected = simpson2d([&](double r, double t) {
+    const double expected = simpson2d([&](double s, double t) {
+      const double r = std::sin(s), w = std::cos(s);          // r = sin s: smooth at the rim
       const double u = r * std::cos(t), v = r * std::sin(t);  // v along up, u along the side
-      const double w = std::sqrt(std::fmax(0.0, 1 - r * r));
-      return r * sky->luminance(side * u + up * std::fmax(v, 1e-300) + n * w);
-    }, 0, 1, 0, kPi, 400);
+      return r * w * sky->luminance(side * u + up * std::fmax(v, 1e-300) + n * w);
+    }, 0, kPi / 2, 0, kPi, 400);
     const double estimated = unshadowedIrradiance(light, {}, n, 1).g * kLumensPerWatt;
-    EXPECT_NEAR(estimated / expected, 1, 5e-3) << facing;
+    EXPECT_NEAR(estimated / expected, 1, 2e-3) << facing;
   }
 }
 
@@ -160,14 +162,16 @@ Scene blackRoom(const Rect* roofHole, const Rect* facadeHole) {
   const Vec3 X{1, 0, 0}, Y{0, 1, 0}, Z{0, 0, 1};
   std::vector<Surface> s;
   s.push_back(rectangle("floor", {}, X * kWidth, Z * kDepth, Y));
-  if (roofHole)
+  if (roofHole) {
     planeWithHole(s, "roof", {0, kHeight, 0}, X, kWidth, Z, kDepth, *roofHole, -Y);
-  else
+  } else {
     s.push_back(rectangle("roof", {0, kHeight, 0}, X * kWidth, Z * kDepth, -Y));
-  if (facadeHole)
+  }
+  if (facadeHole) {
     planeWithHole(s, "facade", {}, X, kWidth, Y, kHeight, *facadeHole, Z);
-  else
+  } else {
     s.push_back(rectangle("facade", {}, X * kWidth, Y * kHeight, Z));
+  }
   s.push_back(rectangle("back", {0, 0, kDepth}, X * kWidth, Y * kHeight, -Z));
   s.push_back(rectangle("west", {}, Z * kDepth, Y * kHeight, X));
   s.push_back(rectangle("east", {kWidth, 0, 0}, Z * kDepth, Y * kHeight, -X));
@@ -239,7 +243,8 @@ double checkSkyComponent(const Scene& scene, Vec3 c, Vec3 u, Vec3 v, const std::
     for (auto [x, n] : points) {
       const double expected = skyComponentByQuadrature(*sky.sky, x, n, c, u, v);
       const double got = irradiance(light, x, n, *caster, epsilon, 1).g * kLumensPerWatt;
-      if (sky.name == "CIE type 5 sun at 135°") {  // the uniform sky: the closed form too
+      const bool openingAbove = std::min({(c - x).y, (c + u - x).y, (c + v - x).y, (c + u + v - x).y}) > 0;
+      if (sky.name == "CIE type 5 sun at 135°" && openingAbove) {  // the uniform sky: the closed form too
         const double closed = uniformSkyComponentClosedForm(sky.sky->zenithLuminance(), x, n, {c, c + u, c + u + v, c + v});
         EXPECT_NEAR(expected / closed, 1, 1e-6) << "the test's quadrature";
       }
@@ -276,6 +281,45 @@ TEST(SkyComponentTest, FacadeOpening) {
   points.push_back({{2, 1.5, kDepth - 0.01}, {0, 0, -1}});  // the back wall, facing the window
   const double worst = checkSkyComponent(scene, {1, 1, 0}, {2, 0, 0}, {0, 1.5, 0}, points, 0.01);
   std::printf("facade opening: largest error %.4f%% at %d directions\n", 100 * worst, kDefaultSkyDirections);
+}
+
+// The default direction count against a typical window: the façade room's opening seen from a
+// 0.5 m grid of points on the work plane (0.85 m), under the overcast sky (the error depends on
+// the window's solid angle, not the sky). Reports the RMS and largest errors for three counts; the
+// default must keep the RMS under 1% (docs/photometry.md, "Daylight", has the figures).
+TEST(SkyComponentTest, DefaultDirectionCountKeepsAWindowUnderOnePercent) {
+  const Rect hole{1, 3, 1, 2.5};
+  const Scene scene = blackRoom(nullptr, &hole);
+  Mesh mesh = subdivideScene(scene, 1.0);
+  auto caster = makeEmbreeRayCaster(mesh);
+  const SkyModel overcast = SkyModel::traditionalOvercast(1000);
+  std::vector<double> expected;
+  std::vector<Vec3> points;
+  for (double x = 0.25; x < kWidth; x += 0.5)
+    for (double z = 0.25; z < kDepth; z += 0.5) {
+      points.push_back({x, 0.85, z});
+      expected.push_back(skyComponentByQuadrature(overcast, points.back(), {0, 1, 0}, {1, 1, 0}, {2, 0, 0}, {0, 1.5, 0}));
+    }
+  for (int directions : {256, 1024, 4096, 16384}) {
+    Light light;
+    light.kind = LightKind::Sky;
+    light.sky = std::make_shared<const SkyModel>(overcast);
+    light.skyDirections = directions;
+    double sumSquares = 0, worst = 0;
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      const double got = irradiance(light, points[k], {0, 1, 0}, *caster, rayEpsilon(mesh), 1).g * kLumensPerWatt;
+      const double error = got / expected[k] - 1;
+      sumSquares += error * error;
+      worst = std::fmax(worst, std::fabs(error));
+      if (std::getenv("SKY_DEBUG")) std::printf("%d (%g %g %g) %.4f\n", directions, points[k].x, points[k].y, points[k].z, error);
+    }
+    const double rms = std::sqrt(sumSquares / points.size());
+    std::printf("window from %zu work-plane points, %d directions: RMS error %.3f%%, largest %.3f%%\n", points.size(), directions,
+                100 * rms, 100 * worst);
+    if (directions == kDefaultSkyDirections) {
+      EXPECT_LT(rms, 0.01);
+    }
+  }
 }
 
 // The daylight factor is the sky component over the unobstructed horizontal illuminance: under
@@ -340,7 +384,13 @@ TEST(SkySceneFileTest, ReadsSkiesAndRoundTrips) {
   Result<Scene> again = parseSceneFile(sceneFileText(*scene), "again.json");
   ASSERT_TRUE(again) << again.error().message;
   for (std::size_t l = 0; l < 3; ++l) {
-    EXPECT_EQ(*again->lights[l].sky, *scene->lights[l].sky) << l;
+    const SkyModel &read = *again->lights[l].sky, &written = *scene->lights[l].sky;
+    EXPECT_EQ(read.cieType(), written.cieType()) << l;
+    EXPECT_EQ(read.sunAzimuthDegrees(), written.sunAzimuthDegrees()) << l;
+    EXPECT_EQ(read.sunElevationDegrees(), written.sunElevationDegrees()) << l;
+    EXPECT_EQ(read.north(), written.north()) << l;
+    EXPECT_EQ(read.zenithLuminance(), written.zenithLuminance()) << l;
+    EXPECT_NEAR(read.horizontalIlluminance(), written.horizontalIlluminance(), 1e-12 * written.horizontalIlluminance()) << l;
     EXPECT_EQ(again->lights[l].skyDirections, scene->lights[l].skyDirections);
   }
 }

@@ -50,22 +50,21 @@ TEST(SunTest, EquinoxNoonElevationIsNinetyMinusLatitude) {
 }
 
 // At the June 2020 solstice (2020-06-20 21:43 UTC; EoT −1.45 min; obliquity 23.4367°) the noon
-// sun stands at 90° − latitude + 23.4367°, and overhead on the tropic of Cancer.
+// sun stands at 90° − latitude + 23.4367°. (Not overhead on the tropic: there the zenith angle is
+// first order in the hour angle, and the almanac's equation of time is good to a few seconds only.)
 TEST(SunTest, SolsticeNoonElevationAddsTheObliquity) {
   const double ut = 21 + 43.0 / 60, equationOfTimeHours = -1.45 / 60, obliquity = 23.4367;
-  double noonLongitude = 15 * (12 - ut - equationOfTimeHours);
+  const double noonLongitude = 15 * (12 - ut - equationOfTimeHours);
   for (double latitude : {51.5, 30.0, 60.0}) {
     SunPosition sun = sunPosition(latitude, noonLongitude, {2020, 6, 20, 21, 43, 0, 0}, {false});
     EXPECT_NEAR(sun.elevationDegrees(), 90 - latitude + obliquity, kHalfArcminute + 1e-3) << latitude;
   }
-  SunPosition tropic = sunPosition(obliquity, noonLongitude, {2020, 6, 20, 21, 43, 0, 0}, {false});
-  EXPECT_NEAR(tropic.zenithDegrees, 0, kHalfArcminute + 1e-3);
 }
 
 // Refraction lifts a low sun by about half a degree (Bennett: 34′ at the horizon) and a high one
 // by almost nothing.
 TEST(SunTest, RefractionLiftsALowSun) {
-  LocalTime evening{2003, 10, 17, 17, 45, 0, -7};
+  LocalTime evening{2003, 10, 17, 17, 0, 0, -7};
   SunPosition bent = sunPosition(39.742476, -105.1786, evening), straight = sunPosition(39.742476, -105.1786, evening, {false});
   ASSERT_GT(straight.elevationDegrees(), 0);
   ASSERT_LT(straight.elevationDegrees(), 5);
