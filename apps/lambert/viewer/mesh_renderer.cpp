@@ -333,7 +333,7 @@ void MeshRenderer::drawLightMarkers(const std::vector<Light>& lights, const Eige
   glBindBuffer(GL_ARRAY_BUFFER, markerBuffer_);
   for (std::size_t i = 0; i < lights.size(); ++i) {
     const Light& light = lights[i];
-    if (light.kind == LightKind::Directional) continue;
+    if (light.kind == LightKind::Directional || light.kind == LightKind::Sky) continue;
     const Vec3 tip = light.position + normalize(light.direction) * markerSize * 8;
     const float points[6] = {static_cast<float>(light.position.x), static_cast<float>(light.position.y), static_cast<float>(light.position.z),
                              static_cast<float>(tip.x),            static_cast<float>(tip.y),            static_cast<float>(tip.z)};

@@ -39,6 +39,9 @@ std::vector<Corner> triangleCorners(const Mesh& mesh) {
 // the point nothing anyway (outside a spot's cone, or behind the surface) it counts as visible:
 // no ray is needed there, and no shadow edge is drawn finer where it cannot be seen.
 float lightVisibility(const Light& light, const Vec3& x, const Vec3& n, const Vec3& origin, const RayCaster& caster) {
+  // A sky is not one direction: the pixel shader cannot draw it (it has no power there, see
+  // mesh_renderer.cpp), so there is no visibility to trace.
+  if (light.kind == LightKind::Sky) return 1.0f;
   if (unshadowedIrradiance(light, x, n, 1.0).maxComponent() <= 0) return 1.0f;
   Ray shadow = light.kind == LightKind::Directional ? Ray{origin, -normalize(light.direction), 0, INFINITY}
                                                     : Ray{origin, light.position - origin, 0, 1 - 1e-7};

@@ -326,12 +326,17 @@ void drawPanel(ViewerState& state, const Snapshot& snapshot, const SolveWorker& 
     ImGui::Text("t = %.2f s", state.animation.secondsAt(steadyClockSeconds()));
     for (std::size_t i = 0; i < state.animation.base.size(); ++i) {
       const Light& l = state.animation.base[i];
-      const char* kind = l.kind == LightKind::Point ? "point" : l.kind == LightKind::Spot ? "spot" : "directional";
+      const char* kind = l.kind == LightKind::Point ? "point" : l.kind == LightKind::Spot ? "spot" : l.kind == LightKind::Sky ? "sky" : "directional";
       std::string label = std::to_string(i) + ": " + (l.name.empty() ? std::string(kind) : l.name + " (" + kind + ")");
       if (ImGui::Selectable(label.c_str(), state.selectedLight == static_cast<int>(i))) state.selectedLight = static_cast<int>(i);
     }
     if (state.selectedLight >= 0 && state.selectedLight < static_cast<int>(state.animation.base.size())) {
       Light& l = state.animation.base[static_cast<std::size_t>(state.selectedLight)];
+      if (l.kind == LightKind::Sky) {  // a sky has no position, axis or colour to drag: its file sets it
+        ImGui::Text("sky: edit it in the scene file");
+        ImGui::End();
+        return;
+      }
       if (l.kind != LightKind::Directional) {
         float p[3] = {static_cast<float>(l.position.x), static_cast<float>(l.position.y), static_cast<float>(l.position.z)};
         const Bounds b = sceneBounds(options.scene);
@@ -379,7 +384,7 @@ int pickLight(const std::vector<Light>& lights, const Eigen::Matrix4f& viewProje
   int best = -1;
   double bestDistance = 12;
   for (std::size_t i = 0; i < lights.size(); ++i) {
-    if (lights[i].kind == LightKind::Directional) continue;
+    if (lights[i].kind == LightKind::Directional || lights[i].kind == LightKind::Sky) continue;
     Eigen::Vector4f clip = viewProjection * Eigen::Vector4f(toFloat(lights[i].position).homogeneous());
     if (clip.w() <= 0) continue;
     const double sx = (clip.x() / clip.w() * 0.5 + 0.5) * width, sy = (0.5 - clip.y() / clip.w() * 0.5) * height;

@@ -18,6 +18,7 @@
 #include "lambert/engine/solution.h"
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/light/lights.h"
+#include "lambert/light/sky.h"
 #include "lambert/mesh/vertex_radiosity.h"
 
 namespace lambert {
@@ -247,7 +248,12 @@ Result<ProbeVolume> bakeProbes(const SolutionView& solution, const ProbeOptions&
     int backFaces = 0;
     ShRgb radiance = projectRadiance([&](const Vec3& w) -> Rgb {
       const std::optional<RayHit> hit = caster->intersect(Ray{p, w, 0, INFINITY});
-      if (!hit) return {};
+      if (!hit) {  // a ray that leaves the scene sees the sky, where there is one
+        Rgb sky;
+        for (const Light& light : lights)
+          if (light.kind == LightKind::Sky && light.sky) sky += light.sky->radiance(w);
+        return sky;
+      }
       if (!hit->frontFace) {
         ++backFaces;
         return {};
@@ -259,6 +265,7 @@ Result<ProbeVolume> bakeProbes(const SolutionView& solution, const ProbeOptions&
     // The lights: a delta of E⊥ toward each light it sees (irradiance() along that very direction,
     // with its shadow ray).
     for (const Light& light : lights) {
+      if (light.kind == LightKind::Sky) continue;  // not a delta: its radiance came with the rays above
       const Vec3 toward = light.kind == LightKind::Directional ? -normalize(light.direction) : light.position - p;
       if (!(lengthSquared(toward) > 0)) continue;
       const Vec3 w = normalize(toward);

@@ -30,6 +30,7 @@
 #include <numeric>
 
 #include "lambert/engine/radiosity.h"
+#include "lambert/light/sky.h"
 #include "lambert/formfactor/cache_file.h"
 #include "lambert/link_sources_digest.h"
 #include "lambert/version.h"
@@ -102,6 +103,14 @@ void hashLight(KeyHasher& h, const Light& light) {
   hashRgb(h, light.irradiance);
   h.f64(light.coneAngleDegrees);
   h.f64(light.falloffDegrees);
+  if (light.kind == LightKind::Sky && light.sky) {
+    h.i64(light.sky->cieType());
+    h.f64(light.sky->sunAzimuthDegrees());
+    h.f64(light.sky->sunElevationDegrees());
+    h.vec3(light.sky->north());
+    h.f64(light.sky->zenithLuminance());
+    h.i64(light.skyDirections);
+  }
 }
 
 // Overflow-safe payload arithmetic: every count is checked against what the file can hold.

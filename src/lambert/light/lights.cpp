@@ -7,6 +7,7 @@
 #include "lambert/core/parallel.h"
 #include "lambert/core/rng.h"
 #include "lambert/core/sampling.h"
+#include "lambert/light/sky.h"
 
 namespace lambert {
 namespace {
@@ -60,6 +61,8 @@ double patchRadius(const Patch& patch, const PatchCorners& corners) {
 // them their shadow rays.
 bool mayReceive(const Light& light, const Cone& cone, const Patch& patch, const PatchCorners& corners) {
   if (light.kind == LightKind::Directional) return dot(patch.normal, light.direction) < 0;
+  // Only a patch facing straight down sees none of the sky above the horizon.
+  if (light.kind == LightKind::Sky) return light.sky && patch.normal.y > -1 + 1e-12;
   bool faces = false;
   for (const Vec3& c : corners) faces |= dot(light.position - c, patch.normal) > 0;
   if (!faces || light.kind != LightKind::Spot) return faces;
@@ -93,6 +96,12 @@ double spotFalloff(const Light& spot, const Vec3& towardPoint) {
 }
 
 Rgb unshadowedIrradiance(const Light& light, const Vec3& x, const Vec3& n, double metresPerUnit) {
+  if (light.kind == LightKind::Sky) {
+    // The same directions as irradiance() below, all visible: never less than the shadowed value.
+    if (!light.sky) return {};
+    const double lux = skyIlluminance(*light.sky, n, light.skyDirections, [](const Vec3&) { return true; });
+    return Rgb::gray(lux / kLumensPerWatt);
+  }
   if (light.kind == LightKind::Directional) {
     double cosine = -dot(n, normalize(light.direction));
     return cosine > 0 ? light.irradiance * cosine : Rgb{};
@@ -109,6 +118,14 @@ Rgb unshadowedIrradiance(const Light& light, const Vec3& x, const Vec3& n, doubl
 
 Rgb irradiance(const Light& light, const Vec3& x, const Vec3& n, const RayCaster& caster, double epsilon,
                double metresPerUnit) {
+  if (light.kind == LightKind::Sky) {
+    // ∫ L(ω) V(x, ω) max(0, n·ω) dω: a ray to infinity per direction above the horizon.
+    if (!light.sky) return {};
+    const Vec3 origin = x + n * epsilon;
+    const double lux = skyIlluminance(*light.sky, n, light.skyDirections,
+                                      [&](const Vec3& w) { return !caster.occluded(Ray{origin, w, 0, INFINITY}); });
+    return Rgb::gray(lux / kLumensPerWatt);
+  }
   Rgb e = unshadowedIrradiance(light, x, n, metresPerUnit);
   if (e.maxComponent() <= 0) return e;
   Vec3 origin = x + n * epsilon;

@@ -1,5 +1,7 @@
 #include "lambert/render/solution_image.h"
 
+#include <algorithm>
+
 #include "lambert/light/lights.h"
 
 namespace lambert {
@@ -22,7 +24,12 @@ RenderOptions withDirectLight(RenderOptions options, const SolutionView& solutio
 }  // namespace
 
 bool drawsLightsPerPixel(const SolutionView& solution, const SolutionImageOptions& options) {
-  return options.lighting == Lighting::Hybrid && !solution.lights().empty();
+  // A sky's direct light costs Light::skyDirections rays per estimate (4096 by default): per pixel
+  // that is hours, so a scene with a sky is drawn from its radiosity solution, which holds the
+  // sky's direct light per patch like every other light's.
+  const auto& lights = solution.lights();
+  const bool sky = std::any_of(lights.begin(), lights.end(), [](const Light& l) { return l.kind == LightKind::Sky; });
+  return options.lighting == Lighting::Hybrid && !lights.empty() && !sky;
 }
 
 Image renderSolution(const SolutionView& solution, const SolutionImageOptions& options) {

@@ -31,7 +31,8 @@ struct SolutionImageOptions {
 // Radiance L in W/(m²·sr) per pixel.
 Image renderSolution(const SolutionView& solution, const SolutionImageOptions& options);
 
-// Whether renderSolution draws the lights per pixel: hybrid lighting of a solution with lights.
+// Whether renderSolution draws the lights per pixel: hybrid lighting of a solution with lights,
+// none of them a sky (a sky is drawn from the solution: see solution_image.cpp).
 bool drawsLightsPerPixel(const SolutionView& solution, const SolutionImageOptions& options);
 
 }  // namespace lambert

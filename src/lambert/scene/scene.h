@@ -12,6 +12,8 @@
 
 namespace lambert {
 
+class SkyModel;  // light/sky.h
+
 // A colour texture (albedo or emission), decoded to linear RGB (sRGB files are decoded on load),
 // that multiplies a material's factor. Texture coordinate
 // (0, 0) is the first pixel of the first row, (1, 1) the far corner of the last, as in glTF;
@@ -75,7 +77,13 @@ enum class LightKind {
   Point,        // radiant intensity I in every direction
   Spot,         // I along its axis, fading to zero at the cone's edge
   Directional,  // parallel light (a sun): irradiance E⊥ on a surface facing it, from infinitely far
+  Sky,          // a sky dome at infinity (light/sky.h): radiance L(ω) above the horizon, entering
+                // through whatever openings the scene's geometry leaves
 };
+
+// The default direction count of a sky light's irradiance estimate (light/sky.h skyIlluminance):
+// chosen so that a window seen from inside a room gives under 1% error (docs/photometry.md, "Daylight").
+inline constexpr int kDefaultSkyDirections = 4096;
 
 struct Light {
   std::string name;
@@ -87,6 +95,8 @@ struct Light {
   double coneAngleDegrees = 30; // spot: half-angle of the cone, where the light reaches zero
   double falloffDegrees = 5;    // spot: width of the smooth edge inside the cone (the seed's "focus")
   Vec3 angularVelocity;         // rad/s about the world x, y, z axes: turns `direction` over time
+  std::shared_ptr<const SkyModel> sky;       // sky: its luminance distribution and scale
+  int skyDirections = kDefaultSkyDirections;  // sky: directions per irradiance estimate
 
   bool operator==(const Light&) const = default;
 };

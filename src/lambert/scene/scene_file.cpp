@@ -13,6 +13,9 @@
 
 #include "lambert/core/atomic_file.h"
 #include "lambert/core/text.h"
+#include "lambert/core/warning.h"
+#include "lambert/light/sky.h"
+#include "lambert/light/sun.h"
 #include "lambert/scene/builtin.h"
 #include "lambert/scene/gltf.h"
 #include "lambert/scene/mgf.h"
@@ -159,6 +162,110 @@ void checkPolygon(const std::vector<Vec3>& v, const std::string& pointer) {
     throw FieldError{pointer + "/" + std::to_string(corner), "the polygon is not convex at this vertex"};
 }
 
+// A scene's horizontal north: "north" if given (its y part dropped), else −z (east is then +x).
+Vec3 readNorth(ObjectReader& r) {
+  const Vec3 north = r.vector("north", {0, 0, -1});
+  if (!(std::fabs(north.x) + std::fabs(north.z) > 0))
+    throw FieldError{r.pointerOf("north"), "north must have a horizontal part (lambert is y-up): e.g. [0, 0, -1]"};
+  return normalize(Vec3{north.x, 0, north.z});
+}
+
+// The sun's position from a place and a local time (light/sun.h): latitude, longitude, date,
+// time, timeZone (hours east of UTC) and refraction (default true).
+SunPosition readSunFromPlace(ObjectReader& r) {
+  const double latitude = r.number("latitude", 0, -90, 90);
+  const double longitude = r.number("longitude", 0, -180, 180);
+  r.require("latitude"), r.require("longitude");
+  const std::string date = r.string("date", ""), clock = r.string("time", "");
+  if (date.empty()) throw FieldError{r.pointerOf("date"), "missing: the date as \"YYYY-MM-DD\""};
+  if (clock.empty()) throw FieldError{r.pointerOf("time"), "missing: the local time as \"HH:MM\""};
+  Result<LocalTime> time = parseLocalTime(date, clock);
+  if (!time) throw FieldError{r.pointerOf("date"), time.error().message};
+  time->timeZoneHours = r.number("timeZone", 0, -14, 14);
+  Refraction refraction;
+  refraction.apply = r.boolean("refraction", true);
+  return sunPosition(latitude, longitude, *time, refraction);
+}
+
+// The sun's azimuth and elevation in degrees: from "sun" {latitude, ...} or sunAzimuth and
+// sunElevation, or none (an empty optional) when neither is given.
+std::optional<SunPosition> readSkySun(ObjectReader& r) {
+  const bool place = r.has("sun"), angles = r.has("sunAzimuth") || r.has("sunElevation");
+  if (place && angles) throw FieldError{r.pointerOf("sun"), "give the sun either as \"sun\" (a place and time) or as sunAzimuth and sunElevation, not both"};
+  if (place) {
+    ObjectReader sun(r.require("sun"), r.pointerOf("sun"));
+    SunPosition position = readSunFromPlace(sun);
+    sun.finish("latitude, longitude, date, time, timeZone, refraction");
+    return position;
+  }
+  if (!angles) return std::nullopt;
+  SunPosition position;
+  position.azimuthDegrees = r.number("sunAzimuth", 0, -360, 360);
+  position.zenithDegrees = 90 - r.number("sunElevation", 0, -90, 90);
+  r.require("sunAzimuth"), r.require("sunElevation");
+  return position;
+}
+
+// {"type": "sky", "cie": 1..15 | "overcast", "zenithLuminance": cd/m² | "horizontalIlluminance":
+// lux, the sun, "north", "directions"} (docs/scene-format.md).
+Light readSkyLight(ObjectReader& r, Light light) {
+  light.kind = LightKind::Sky;
+  const Json& cie = r.require("cie");
+  const Vec3 north = readNorth(r);
+  const std::optional<SunPosition> sun = readSkySun(r);
+  const bool byZenith = r.has("zenithLuminance"), byHorizontal = r.has("horizontalIlluminance");
+  if (byZenith == byHorizontal)
+    throw FieldError{r.pointerOf(byZenith ? "horizontalIlluminance" : "zenithLuminance"),
+                     "give exactly one of zenithLuminance (cd/m²) and horizontalIlluminance (lux)"};
+  const double scale = byZenith ? r.number("zenithLuminance", 0, 0, 1e12) : r.number("horizontalIlluminance", 0, 0, 1e12, true);
+  SkyModel sky = SkyModel::traditionalOvercast(1, north);
+  if (cie.is_string() && cie.get<std::string>() == "overcast") {
+    if (sun) throw FieldError{r.pointerOf("cie"), "the traditional overcast sky does not depend on the sun: remove the sun, or use a CIE type 1–15"};
+    sky = SkyModel::traditionalOvercast(byZenith ? scale : 1, north);
+  } else {
+    if (!cie.is_number_integer() || cie.get<long long>() < 1 || cie.get<long long>() > 15)
+      throw FieldError{r.pointerOf("cie"), "expected a CIE standard sky type 1 to 15 or \"overcast\""};
+    const int type = static_cast<int>(cie.get<long long>());
+    const CieSkyParameters p = cieStandardSkyParameters(type);
+    if (!sun && (p.c != 0 || p.e != 0))
+      throw FieldError{r.pointerOf("cie"), "CIE sky type " + std::to_string(type) +
+                                               " depends on the sun: give \"sun\" (latitude, longitude, date, time, timeZone) or sunAzimuth and sunElevation"};
+    const SunPosition at = sun.value_or(SunPosition{});
+    Result<SkyModel> made = SkyModel::cieStandard(type, at.azimuthDegrees, at.elevationDegrees(), byZenith ? scale : 1, north);
+    if (!made) throw FieldError{r.pointerOf("cie"), made.error().message};
+    sky = *made;
+  }
+  if (byHorizontal) sky = sky.withHorizontalIlluminance(scale);
+  light.sky = std::make_shared<const SkyModel>(sky);
+  light.skyDirections = static_cast<int>(r.number("directions", kDefaultSkyDirections, 1, 1 << 24));
+  r.finish("name, type, cie, zenithLuminance, horizontalIlluminance, sun, sunAzimuth, sunElevation, north, directions");
+  return light;
+}
+
+// {"type": "sun", a place and time or azimuth and elevation, "illuminance": lux on a surface
+// facing the sun (direct normal illuminance), "north"}: a directional light.
+Light readSunLight(ObjectReader& r, const std::string& pointer, Light light) {
+  light.kind = LightKind::Directional;
+  const Vec3 north = readNorth(r);
+  SunPosition sun;
+  if (r.has("azimuth") || r.has("elevation")) {
+    sun.azimuthDegrees = r.number("azimuth", 0, -360, 360);
+    sun.zenithDegrees = 90 - r.number("elevation", 0, -90, 90);
+    r.require("azimuth"), r.require("elevation");
+  } else {
+    sun = readSunFromPlace(r);
+  }
+  const double lux = r.number("illuminance", 0, 0, 1e12);
+  r.require("illuminance");
+  light.direction = -skyDirection(sun.azimuthDegrees, sun.elevationDegrees(), north);
+  light.irradiance = Rgb::gray(sun.elevationDegrees() > 0 ? lux / kLumensPerWatt : 0);
+  if (sun.elevationDegrees() <= 0)
+    warning("scene light " + pointer + ": the sun is below the horizon (elevation " + formatNumber(sun.elevationDegrees()) +
+            "°): it gives no direct light");
+  r.finish("name, type, latitude, longitude, date, time, timeZone, refraction, azimuth, elevation, illuminance, north");
+  return light;
+}
+
 Light readLight(const Json& value, const std::string& pointer) {
   ObjectReader r(value, pointer);
   Light light;
@@ -191,9 +298,13 @@ Light readLight(const Json& value, const std::string& pointer) {
     light.irradiance = {e.x, e.y, e.z};
     light.angularVelocity = r.vector("angularVelocity", {});
     r.finish("name, type, direction, irradiance, angularVelocity");
+  } else if (type == "sky") {
+    return readSkyLight(r, light);
+  } else if (type == "sun") {
+    return readSunLight(r, pointer, light);
   } else {
     throw FieldError{r.pointerOf("type"), (type.empty() ? std::string("missing") : "unknown light type \"" + type + "\"") +
-                                              " (allowed: point, spot, directional)"};
+                                              " (allowed: point, spot, directional, sky, sun)"};
   }
   return light;
 }
@@ -589,6 +700,19 @@ std::string sceneFileText(const Scene& scene) {
         l["direction"] = triple(light.direction);
         l["irradiance"] = triple(light.irradiance);
         l["angularVelocity"] = triple(light.angularVelocity);
+        break;
+      case LightKind::Sky:
+        l["type"] = "sky";
+        if (light.sky->isTraditionalOvercast()) {
+          l["cie"] = "overcast";
+        } else {
+          l["cie"] = light.sky->cieType();
+          l["sunAzimuth"] = light.sky->sunAzimuthDegrees();
+          l["sunElevation"] = light.sky->sunElevationDegrees();
+        }
+        l["zenithLuminance"] = light.sky->zenithLuminance();
+        l["north"] = triple(light.sky->north());
+        l["directions"] = light.skyDirections;
         break;
     }
     lights.push_back(std::move(l));

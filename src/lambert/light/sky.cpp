@@ -1,0 +1,185 @@
+#include "lambert/light/sky.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "lambert/core/rng.h"
+#include "lambert/light/sun.h"
+
+namespace lambert {
+namespace {
+
+constexpr double kRadians = kPi / 180;
+
+// ISO 15469:2004 table 1: the six gradation groups (a, b) and six indicatrix groups (c, d, e), and
+// which pair each of the fifteen types combines.
+constexpr double kGradation[6][2] = {{4.0, -0.70}, {1.1, -0.8}, {0.0, -1.0}, {-1.0, -0.55}, {-1.0, -0.32}, {-1.0, -0.15}};
+constexpr double kIndicatrix[6][3] = {{0, -1.0, 0.00}, {2, -1.5, 0.15}, {5, -2.5, 0.30}, {10, -3.0, 0.45}, {16, -3.0, 0.30}, {24, -2.8, 0.15}};
+constexpr int kTypeGroups[15][2] = {{1, 1}, {1, 2}, {2, 1}, {2, 2}, {3, 1}, {3, 2}, {3, 3}, {3, 4},
+                                    {4, 2}, {4, 3}, {4, 4}, {5, 4}, {5, 5}, {6, 5}, {6, 6}};
+const char* const kDescriptions[15] = {
+    "CIE standard overcast sky, steep luminance gradation towards zenith, azimuthal uniformity",
+    "overcast, with steep luminance gradation and slight brightening towards the sun",
+    "overcast, moderately graded with azimuthal uniformity",
+    "overcast, moderately graded and slight brightening towards the sun",
+    "sky of uniform luminance",
+    "partly cloudy sky, no gradation towards zenith, slight brightening towards the sun",
+    "partly cloudy sky, no gradation towards zenith, brighter circumsolar region",
+    "partly cloudy sky, no gradation towards zenith, distinct solar corona",
+    "partly cloudy, with the obscured sun",
+    "partly cloudy, with brighter circumsolar region",
+    "white-blue sky with distinct solar corona",
+    "CIE standard clear sky, low luminance turbidity",
+    "CIE standard clear sky, polluted atmosphere",
+    "cloudless turbid sky with broad solar corona",
+    "white-blue turbid sky with broad solar corona",
+};
+
+double gradation(const CieSkyParameters& p, double cosZenith) {
+  if (cosZenith <= 0) return 1;  // exp(b / cos Z) → 0 at the horizon (b < 0 in every type)
+  return 1 + p.a * std::exp(p.b / cosZenith);
+}
+
+double indicatrix(const CieSkyParameters& p, double cosSunAngle) {
+  const double chi = std::acos(std::clamp(cosSunAngle, -1.0, 1.0));
+  return 1 + p.c * (std::exp(p.d * chi) - std::exp(p.d * kPi / 2)) + p.e * cosSunAngle * cosSunAngle;
+}
+
+}  // namespace
+
+CieSkyParameters cieStandardSkyParameters(int type) {
+  LAMBERT_CHECK(type >= 1 && type <= 15);
+  const auto [g, i] = kTypeGroups[type - 1];
+  return {kGradation[g - 1][0], kGradation[g - 1][1], kIndicatrix[i - 1][0], kIndicatrix[i - 1][1], kIndicatrix[i - 1][2]};
+}
+
+std::string cieStandardSkyDescription(int type) {
+  LAMBERT_CHECK(type >= 1 && type <= 15);
+  return kDescriptions[type - 1];
+}
+
+Result<SkyModel> SkyModel::cieStandard(int type, double sunAzimuthDegrees, double sunElevationDegrees, double zenithLuminance,
+                                       const Vec3& north) {
+  if (type < 1 || type > 15) return Error{"CIE standard sky type " + std::to_string(type) + " does not exist (types are 1 to 15)"};
+  if (!(sunElevationDegrees >= -90 && sunElevationDegrees <= 90)) return Error{"the sun's elevation must be within −90° to 90°"};
+  if (!std::isfinite(sunAzimuthDegrees)) return Error{"the sun's azimuth must be a finite number of degrees"};
+  if (!(zenithLuminance >= 0 && std::isfinite(zenithLuminance))) return Error{"the zenith luminance must be finite and not negative"};
+  if (!(std::fabs(north.x) + std::fabs(north.z) > 0)) return Error{"north must be a horizontal direction (not along y)"};
+  SkyModel sky;
+  sky.type_ = type;
+  sky.p_ = cieStandardSkyParameters(type);
+  sky.sunAzimuthDegrees_ = sunAzimuthDegrees;
+  sky.sunElevationDegrees_ = sunElevationDegrees;
+  sky.north_ = normalize(Vec3{north.x, 0, north.z});
+  sky.zenithLuminance_ = zenithLuminance;
+  sky.finish();
+  return sky;
+}
+
+SkyModel SkyModel::traditionalOvercast(double zenithLuminance, const Vec3& north) {
+  LAMBERT_CHECK(zenithLuminance >= 0 && std::isfinite(zenithLuminance));
+  LAMBERT_CHECK(std::fabs(north.x) + std::fabs(north.z) > 0);
+  SkyModel sky;
+  sky.type_ = 0;
+  sky.north_ = normalize(Vec3{north.x, 0, north.z});
+  sky.zenithLuminance_ = zenithLuminance;
+  sky.finish();
+  return sky;
+}
+
+void SkyModel::finish() {
+  sun_ = skyDirection(sunAzimuthDegrees_, sunElevationDegrees_, north_);
+  const double cosSunZenith = std::sin(sunElevationDegrees_ * kRadians);
+  normaliser_ = type_ == 0 ? 1 : 1 / (indicatrix(p_, cosSunZenith) * gradation(p_, 1));
+  // E_h = ∫₀^{2π} ∫₀^{π/2} L(Z, α) cos Z sin Z dZ dα: Simpson's rule in Z (the integrand is smooth
+  // up to the horizon, where exp(b / cos Z) and all its derivatives vanish) and the midpoint rule
+  // in α (periodic: it converges geometrically); 256 × 512 cells, accurate to about 1e-9.
+  constexpr int kZenithSteps = 256, kAzimuthSteps = 512;
+  const double dz = (kPi / 2) / kZenithSteps, da = 2 * kPi / kAzimuthSteps;
+  double sum = 0;
+  for (int i = 0; i <= kZenithSteps; ++i) {
+    const double z = i * dz;
+    const double weight = i == 0 || i == kZenithSteps ? 1 : i % 2 ? 4 : 2;
+    double ring = 0;
+    for (int j = 0; j < kAzimuthSteps; ++j) ring += relativeLuminance(z, (j + 0.5) * da);
+    sum += weight * ring * std::cos(z) * std::sin(z);
+  }
+  sum /= 3;
+  horizontalIlluminance_ = zenithLuminance_ * sum * dz * da;
+}
+
+SkyModel SkyModel::withHorizontalIlluminance(double lux) const {
+  LAMBERT_CHECK(lux > 0 && std::isfinite(lux));
+  SkyModel scaled = *this;
+  if (!(zenithLuminance_ > 0)) {  // a dark sky: its shape at Lz = 1 first
+    scaled.zenithLuminance_ = 1;
+    scaled.finish();
+    return scaled.withHorizontalIlluminance(lux);
+  }
+  const double perZenithLuminance = horizontalIlluminance_ / zenithLuminance_;
+  scaled.zenithLuminance_ = lux / perZenithLuminance;
+  scaled.horizontalIlluminance_ = lux;
+  return scaled;
+}
+
+double SkyModel::relativeFromCosines(double cosZenith, double cosSunAngle) const {
+  if (type_ == 0) return (1 + 2 * cosZenith) / 3;  // Moon and Spencer: (1 + 2 sin elevation) / 3
+  return indicatrix(p_, cosSunAngle) * gradation(p_, cosZenith) * normaliser_;
+}
+
+double SkyModel::relativeLuminance(double zenithAngle, double azimuth) const {
+  const double sunZenith = (90 - sunElevationDegrees_) * kRadians, sunAzimuth = sunAzimuthDegrees_ * kRadians;
+  const double cosSunAngle = std::cos(sunZenith) * std::cos(zenithAngle) +
+                             std::sin(sunZenith) * std::sin(zenithAngle) * std::cos(azimuth - sunAzimuth);
+  return relativeFromCosines(std::cos(zenithAngle), cosSunAngle);
+}
+
+double SkyModel::luminance(const Vec3& direction) const {
+  const double len = length(direction);
+  if (!(len > 0)) return 0;
+  const Vec3 w = direction / len;
+  if (w.y <= 0) return 0;
+  return zenithLuminance_ * relativeFromCosines(w.y, dot(w, sun_));
+}
+
+const SkyModel* daylightFactorSky(const Scene& scene) {
+  if (scene.lights.size() != 1 || scene.lights[0].kind != LightKind::Sky || !scene.lights[0].sky) return nullptr;
+  for (const Surface& surface : scene.surfaces) {
+    if (surface.emittedRadiance.maxComponent() > 0) return nullptr;
+  }
+  return scene.lights[0].sky.get();
+}
+
+int skyGridSide(int directions) {
+  int m = std::max(1, static_cast<int>(std::ceil(std::sqrt(static_cast<double>(std::max(directions, 1))) - 1e-9)));
+  while (static_cast<long>(m) * m < directions) ++m;
+  return m;
+}
+
+void skyJitter(std::uint64_t index, double& du, double& dv) {
+  const std::uint64_t h = mixBits(index * 0x9e3779b97f4a7c15ULL + 0x2545f4914f6cdd1dULL);
+  du = (h >> 40) * 0x1p-24;
+  dv = ((h >> 16) & 0xffffff) * 0x1p-24;
+}
+
+Vec3 skySquareToDirection(const Vec3& n, const Vec3& tangent, const Vec3& bitangent, double u, double v) {
+  // Shirley and Chiu's concentric map of the square onto the unit disk (it keeps the cells'
+  // shapes compact and neighbours neighbours, so the stratification and the edge test survive),
+  // then Malley's lift to the hemisphere: cosine-weighted directions.
+  const double a = 2 * u - 1, b = 2 * v - 1;
+  double r = 0, phi = 0;
+  if (a != 0 || b != 0) {
+    if (std::fabs(a) > std::fabs(b)) {
+      r = a;
+      phi = (kPi / 4) * (b / a);
+    } else {
+      r = b;
+      phi = kPi / 2 - (kPi / 4) * (a / b);
+    }
+  }
+  const double x = r * std::cos(phi), y = r * std::sin(phi);
+  const double z = std::sqrt(std::fmax(0.0, 1 - x * x - y * y));
+  return tangent * x + bitangent * y + n * z;
+}
+
+}  // namespace lambert

@@ -1,0 +1,174 @@
+#pragma once
+// Sky luminance distributions for daylight: the fifteen CIE standard general skies (ISO 15469:2004 /
+// CIE S 011/E:2003) and the traditional CIE overcast sky (Moon and Spencer 1942, adopted by the CIE
+// in 1955), scaled absolutely by a zenith luminance or an unobstructed horizontal illuminance. The
+// sky is a dome at infinity above the horizon; below it, it gives nothing (the ground is whatever
+// geometry the scene has). Its light reaches a point through a light of LightKind::Sky
+// (light/lights.h), which estimates ∫ L(ω) V(x, ω) max(0, n·ω) dω over stratified directions.
+//
+// Frame: lambert is y-up, so the zenith is +y. North is a horizontal scene direction (default −z,
+// so east = north × up = +x); azimuths run from north clockwise seen from above (east 90°).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "lambert/core/error.h"
+#include "lambert/core/rgb.h"
+#include "lambert/core/vec3.h"
+#include "lambert/scene/gltf.h"  // kLumensPerWatt
+
+namespace lambert {
+
+// Luminance (cd/m²) turns into radiance (W/(m²·sr)) for white light at kLumensPerWatt = 683 lm/W
+// (scene/gltf.h), as everywhere in lambert (docs/photometry.md).
+
+// ISO 15469 / CIE S 011 parameters: the gradation φ(Z) = 1 + a·exp(b / cos Z) (φ(90°) = 1) and
+// the scattering indicatrix f(χ) = 1 + c·(exp(d·χ) − exp(d·π/2)) + e·cos²χ.
+struct CieSkyParameters {
+  double a = 0, b = 0, c = 0, d = 0, e = 0;
+  bool operator==(const CieSkyParameters&) const = default;
+};
+
+// Standard sky types 1–15 (the standard's table 1: six gradation groups × six indicatrix groups).
+// Type 1 is the CIE standard overcast sky, 5 the uniform sky, 12 the CIE standard clear sky.
+CieSkyParameters cieStandardSkyParameters(int type);
+// The standard's short description of a type ("CIE standard overcast sky, steep luminance
+// gradation towards zenith, azimuthal uniformity", ...).
+std::string cieStandardSkyDescription(int type);
+
+class SkyModel {
+ public:
+  // CIE standard general sky `type` (1–15) with the sun at this azimuth and elevation (degrees,
+  // elevation in [−90, 90]: the formula holds for any sun, the standard for one above the
+  // horizon) and the given zenith luminance Lz in cd/m².
+  static Result<SkyModel> cieStandard(int type, double sunAzimuthDegrees, double sunElevationDegrees,
+                                      double zenithLuminance, const Vec3& north = {0, 0, -1});
+  // The traditional CIE overcast sky, L(Z) = Lz (1 + 2 cos Z) / 3: no sun dependence.
+  static SkyModel traditionalOvercast(double zenithLuminance, const Vec3& north = {0, 0, -1});
+
+  // The same sky scaled to an unobstructed horizontal illuminance of `lux` (> 0).
+  SkyModel withHorizontalIlluminance(double lux) const;
+
+  bool isTraditionalOvercast() const { return type_ == 0; }
+  int cieType() const { return type_; }  // 1–15; 0 for the traditional overcast sky
+  double sunAzimuthDegrees() const { return sunAzimuthDegrees_; }
+  double sunElevationDegrees() const { return sunElevationDegrees_; }
+  const Vec3& north() const { return north_; }
+  Vec3 sunDirection() const { return sun_; }  // toward the sun, unit, scene frame
+  double zenithLuminance() const { return zenithLuminance_; }  // cd/m²
+
+  // L(Z, α) / Lz at zenith angle Z and azimuth α (radians, α from north clockwise), by the
+  // standard's angular formula: cos χ = cos Zs cos Z + sin Zs sin Z cos(α − αs).
+  double relativeLuminance(double zenithAngle, double azimuth) const;
+  // Luminance in cd/m² seen looking along `direction` (scene frame, any length); 0 below the horizon.
+  double luminance(const Vec3& direction) const;
+  // Radiance in W/(m²·sr) per channel: white light, luminance / 683.
+  Rgb radiance(const Vec3& direction) const { return Rgb::gray(luminance(direction) / kLumensPerWatt); }
+
+  // Illuminance in lux on an unobstructed horizontal plane, ∫ L cos Z dω over the sky, by a
+  // Simpson (zenith, 256 intervals) × midpoint (azimuth, 512) rule, computed once at construction.
+  double horizontalIlluminance() const { return horizontalIlluminance_; }
+
+  bool operator==(const SkyModel&) const = default;
+
+ private:
+  SkyModel() = default;
+  double relativeFromCosines(double cosZenith, double cosSunAngle) const;
+  void finish();  // sun_, normaliser_, horizontalIlluminance_ from the rest
+
+  int type_ = 0;
+  CieSkyParameters p_;
+  double sunAzimuthDegrees_ = 0, sunElevationDegrees_ = 90;
+  Vec3 north_{0, 0, -1};
+  Vec3 sun_{0, 1, 0};
+  double zenithLuminance_ = 0;
+  double normaliser_ = 1;  // 1 / (f(Zs) φ(0))
+  double horizontalIlluminance_ = 0;
+};
+
+// Illuminance in lux at a point with unit normal n from the sky, ∫ L(ω) V(ω) max(0, n·ω) dω,
+// over an m × m grid of cells on the unit square (m² ≥ `directions`), mapped to the hemisphere
+// about n by Shirley and Chiu's concentric map with cosine weighting (pdf cos θ/π), so that
+// E = (π / m²) Σ_cells (mean of L·V over the cell). Each cell is first sampled once, at a point
+// jittered within it by a fixed hash (the same set at every point: the estimate is deterministic
+// and a smooth function of the point, never noise from point to point). A cell whose lit state
+// (L > 0 and visible) differs from one of its four neighbours' holds an edge (a window's frame, the
+// horizon; beyond the square's rim counts as dark) and is resampled on a kSkyEdgeRefinement² sub-grid: a sharp edge's error falls from
+// about a cell per edge cell to a sub-cell. `visible(ω)` says whether the point sees the sky along
+// ω; it is asked only where L(ω) > 0 (above the horizon). An opening smaller than about a cell
+// (≈ 2.8° across at 4096 directions) can fall between the first samples and be missed.
+template <class Visible>
+double skyIlluminance(const SkyModel& sky, const Vec3& n, int directions, Visible&& visible);
+
+// Sub-grid side of a cell on an edge (above).
+inline constexpr int kSkyEdgeRefinement = 4;
+
+// The grid side m for a requested count (m² ≥ directions, m ≥ 1).
+int skyGridSide(int directions);
+// The direction at (u, v) ∈ [0, 1)² about unit normal n (tangents t, b): concentric map, cosine lift.
+Vec3 skySquareToDirection(const Vec3& n, const Vec3& tangent, const Vec3& bitangent, double u, double v);
+// The fixed jitter in [0, 1)² of sample `index` of a cell: a hash, the same at every point.
+void skyJitter(std::uint64_t index, double& du, double& dv);
+
+template <class Visible>
+double skyIlluminance(const SkyModel& sky, const Vec3& n, int directions, Visible&& visible) {
+  const int m = skyGridSide(directions);
+  Vec3 t, b;
+  orthonormalBasis(n, t, b);
+  thread_local std::vector<double> luminance;  // L·V of each cell's first sample
+  luminance.assign(static_cast<std::size_t>(m) * m, 0.0);
+  for (int j = 0; j < m; ++j)
+    for (int i = 0; i < m; ++i) {
+      const std::size_t k = static_cast<std::size_t>(j) * m + i;
+      double du, dv;
+      skyJitter(k, du, dv);
+      const Vec3 w = skySquareToDirection(n, t, b, (i + du) / m, (j + dv) / m);
+      const double l = sky.luminance(w);
+      if (l > 0 && visible(w)) luminance[k] = l;
+    }
+  double sum = 0;
+  constexpr int r = kSkyEdgeRefinement;
+  for (int j = 0; j < m; ++j)
+    for (int i = 0; i < m; ++i) {
+      const std::size_t k = static_cast<std::size_t>(j) * m + i;
+      const bool lit = luminance[k] > 0;
+      // Beyond the square's edge (the hemisphere's rim, n·ω = 0) counts as dark: a lit cell on the
+      // rim may hold an edge too close to the rim for its sample to see (a window's sill seen at
+      // a grazing angle), and would otherwise count whole.
+      auto litAt = [&](int ii, int jj) { return ii >= 0 && ii < m && jj >= 0 && jj < m && luminance[static_cast<std::size_t>(jj) * m + ii] > 0; };
+      const bool edge = litAt(i - 1, j) != lit || litAt(i + 1, j) != lit || litAt(i, j - 1) != lit || litAt(i, j + 1) != lit;
+      if (!edge) {
+        sum += luminance[k];
+        continue;
+      }
+      double cell = 0;
+      for (int q = 0; q < r * r; ++q) {
+        double du, dv;
+        skyJitter((k + 1) * (r * r) + q + static_cast<std::size_t>(m) * m, du, dv);
+        const double u = (i + (q % r + du) / r) / m, v = (j + (q / r + dv) / r) / m;
+        const Vec3 w = skySquareToDirection(n, t, b, u, v);
+        const double l = sky.luminance(w);
+        if (l > 0 && visible(w)) cell += l;
+      }
+      sum += cell / (r * r);
+    }
+  return sum * kPi / (static_cast<double>(m) * m);
+}
+
+// Daylight factor in percent: interior illuminance over the unobstructed horizontal illuminance of
+// the same sky, DF = 100 · E_interior / E_h. Meant for the CIE overcast sky (type 1 or the
+// traditional one), under which it does not depend on orientation or the sky's scale.
+inline double daylightFactorPercent(double interiorLux, const SkyModel& sky) {
+  return 100 * interiorLux / sky.horizontalIlluminance();
+}
+
+// The sky a scene's daylight factor is taken under: its one light when that is a sky and nothing
+// else lights the scene (no other light, no emitting surface), else null: a daylight factor counts
+// the sky's light alone, direct and interreflected. The caller decides whether a sky other than an
+// overcast one (isOvercast) makes sense for it.
+const SkyModel* daylightFactorSky(const Scene& scene);
+// Whether the sky is one of the CIE overcast skies a daylight factor is defined under: the
+// traditional one or standard type 1.
+inline bool isOvercast(const SkyModel& sky) { return sky.isTraditionalOvercast() || sky.cieType() == 1; }
+
+}  // namespace lambert
