@@ -39,6 +39,7 @@ struct EmitterSurface {
   double luminance = 0;  // of radiosity
   Vec3 centre;
   double radius = 0, area = 0;
+  Vec3 normal;  // the front of a planar surface (every triangle facing the same way); zero otherwise
 };
 
 struct Emitters {
@@ -73,6 +74,9 @@ Emitters sceneEmitters(const Scene& scene) {
     if (e.count == 0) continue;
     e.centre = (lo + hi) / 2;
     e.radius = length(hi - lo) / 2;
+    e.normal = out.triangles[e.first].normal;
+    for (std::uint32_t t = e.first; t < e.first + e.count; ++t)
+      if (dot(out.triangles[t].normal, e.normal) < 1 - 1e-9) e.normal = {};
     out.ofSceneSurface[index] = static_cast<int>(out.surfaces.size());
     out.surfaces.push_back(e);
   }
@@ -197,8 +201,10 @@ Result<std::vector<PointIrradiance>> IlluminanceMeter::measure(std::span<const C
     const Vec3 origin = x + n * s.epsilon;
     PointIrradiance& e = out[i];
     for (const Light& light : lights) e.direct += irradiance(light, x, n, shadows, s.epsilon, metresPerUnit);
-    // The emitting surfaces: each one's unoccluded light is bounded by B_e·min(1, A/(π (d − r)²))
-    // (the kernel cos θ_x cos θ_y / (π r²) is at most 1/(π r²)); those whose bound is at least
+    // The emitting surfaces: each one's unoccluded light is bounded by
+    // B_e·min(1, A cos θ_x⁺ cos θ_y⁺ / (π (d − r)²)) over its bounding sphere (centre at d, radius
+    // r): the kernel cos θ_x cos θ_y / (π |y − x|²) with each cosine at most (its projection of
+    // the centre + r)/(d − r) (θ_y's only for a planar surface); those whose bound is at least
     // kExplicitShare of the largest are integrated explicitly, the rest (far or small: a
     // building's other rooms) are left to the hemisphere rays below, which count the emission of
     // exactly those emitters where they hit them — two disjoint estimators, no emitter counted
@@ -214,7 +220,13 @@ Result<std::vector<PointIrradiance>> IlluminanceMeter::measure(std::span<const C
       const Vec3 toCentre = surface.centre - origin;
       if (dot(toCentre, n) < -surface.radius) continue;  // wholly behind the point's plane
       const double gap = length(toCentre) - surface.radius;
-      const double factorBound = gap > 0 ? std::fmin(1.0, surface.area / (kPi * gap * gap)) : 1.0;
+      double factorBound = 1;
+      if (gap > 0) {
+        const double cosReceiver = std::clamp((dot(toCentre, n) + surface.radius) / gap, 0.0, 1.0);
+        const double cosEmitter =
+            length(surface.normal) > 0 ? std::clamp((-dot(toCentre, surface.normal) + surface.radius) / gap, 0.0, 1.0) : 1.0;
+        factorBound = std::fmin(1.0, surface.area * cosReceiver * cosEmitter / (kPi * gap * gap));
+      }
       bound[k] = surface.luminance * factorBound;
       largestBound = std::fmax(largestBound, bound[k]);
     }

@@ -6,7 +6,8 @@
 // The irradiance E at a point x with unit normal n is split as lighting programs report it:
 //  - direct: from every light (point, spot, directional, luminaire, sky), with a shadow ray each
 //    (light/lights.h irradiance), plus the emitting surfaces' own emission. An emitting surface
-//    whose light at x may matter (its bound B_e·min(1, A/(π (d − r)²)) at least 2% of the largest
+//    whose light at x may matter (its bound B_e·min(1, A cos⁺ cos⁺/(π (d − r)²)) over its bounding
+//    sphere, the cosines' bounds from the sphere too, at least 2% of the largest
 //    emitter's bound there) is integrated explicitly: each of its triangles gives B_e·F·V̄, F its
 //    exact unoccluded point-to-polygon form factor (Lambert's contour integral, F = 1/(2π) Σ_i θ_i
 //    n·û_i over its edges, after clipping it to the half-space in front of x), V̄ the
