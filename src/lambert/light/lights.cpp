@@ -77,7 +77,10 @@ Rgb meanPatchIrradiance(const Mesh& mesh, std::size_t i, const RayCaster& caster
   if (!mayReceive(light, cone, patch, corners)) return {};
   Pcg32 rng(options.seed, i);
   const std::uint32_t su = rng.nextUint(), sv = rng.nextUint();
-  const int samples = std::max(options.samplesPerPatch, 1);
+  // A sky's estimate at a point already averages thousands of directions and varies smoothly
+  // over a patch (the refinement splits patches at its edges): a few points per patch do, each
+  // costing Light::skyDirections rays.
+  const int samples = std::max(light.kind == LightKind::Sky ? std::min(options.samplesPerPatch, kSkyPointsPerPatch) : options.samplesPerPatch, 1);
   Rgb sum;
   for (int k = 0; k < samples; ++k) {
     auto [u, v] = scrambledZeroTwo(static_cast<std::uint32_t>(k), su, sv);

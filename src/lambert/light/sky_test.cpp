@@ -250,6 +250,9 @@ double checkSkyComponent(const Scene& scene, Vec3 c, Vec3 u, Vec3 v, const std::
       }
       const double error = std::fabs(got / expected - 1);
       worst = std::fmax(worst, error);
+      if (std::getenv("SKY_DEBUG"))
+        std::printf("| %s | (%g, %g, %g) n (%g, %g, %g) | %.2f | %.2f | %+.3f%% |\n", sky.name.c_str(), x.x, x.y, x.z, n.x, n.y, n.z,
+                    expected, got, 100 * (got / expected - 1));
       EXPECT_LT(error, tolerance) << sky.name << " at (" << x.x << ", " << x.y << ", " << x.z << "): " << got << " lx, expected "
                                   << expected << " lx";
     }
