@@ -29,7 +29,15 @@ Rgb irradiance(const Light& light, const Vec3& x, const Vec3& n, const RayCaster
 struct DirectLightOptions {
   int samplesPerPatch = 16;  // points per patch the irradiance is averaged over (seeds 000, 003)
   std::uint64_t seed = 1;
+  // Ward's adaptive shadow testing (light/many_lights.h): at each point the lights get shadow
+  // rays in decreasing order of their unoccluded irradiance until the untested rest is at most
+  // this fraction of the unoccluded total, which bounds the error there (|E − E_exact| ≤ τ·U).
+  // 0: every light a ray, the exact sum. With at most kPerLightInjectionLights lights the
+  // injection keeps each light's trace apart and exact (so that a moving light re-traces only
+  // its own patches); more are traced together under this tolerance.
+  double shadowTolerance = 0.01;
 };
+inline constexpr std::size_t kPerLightInjectionLights = 8;
 
 // Each patch's mean direct irradiance from one light, in W/m², over low-discrepancy points.
 std::vector<Rgb> patchIrradiance(const Mesh& mesh, const RayCaster& caster, const Light& light, double metresPerUnit,
