@@ -5,8 +5,11 @@
 // The floor (made here, metres, y up): 48 m × 24 m, 2.8 m high, closed by four walls; 60
 // clusters of four desks (desk tops 0.8 m above the floor, the work plane), each cluster split by
 // a low screen; eight columns. Every rectangle is a grid of faces no longer than --face-size.
-// The lights: a 20 × 10 grid at 2.4 m spacing, 2 cm under the ceiling, aimed straight down: wide
-// spots (60° cone, 20° soft edge, 1000 cd on the axis) until luminaires exist in the scene model.
+// The lights: a 20 × 10 grid at 2.4 m spacing, 2 cm under the ceiling, aimed straight down:
+// IES luminaires (LightKind::Luminaire, far field) from an LM-63-2002 file the bench writes, a
+// round downlight of 2000 lm with the cosine-power distribution I(γ) = I₀ cos²γ (I₀ = 3Φ/2π =
+// 955 cd, nothing above the horizontal), every 5° in γ; or (--lights spot) wide spots (60° cone,
+// 20° soft edge, 955 cd on the axis).
 //
 // Each run is timed from the scene's generation through Radiosity::create, solve() and
 // SolutionView::pointIrradiance at the work-plane points, in this process, from nothing cached.
@@ -21,6 +24,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <string>
 #include <thread>
@@ -34,6 +39,7 @@
 #include "lambert/engine/point_gather.h"
 #include "lambert/engine/radiosity.h"
 #include "lambert/light/many_lights.h"
+#include "lambert/light/photometry.h"
 
 using namespace lambert;
 using namespace lambert::bench;
@@ -51,6 +57,7 @@ constexpr int kLightsAlongX = 20, kLightsAlongZ = 10;
 enum MaterialId { kWall, kFloor, kCeiling, kDesk, kScreen, kColumn };
 
 struct Options {
+  std::string lights = "ies";  // "ies" or "spot"
   int runs = 3;
   double faceSize = 0.19;
   double tolerance = 0.01;
@@ -105,7 +112,34 @@ struct Office {
   std::vector<TaskArea> desks;
 };
 
-Office makeOffice(double faceSize) {
+constexpr double kDownlightLumens = 2000;
+const double kPeakCandela = 3 * kDownlightLumens / (2 * kPi);  // ∫ I₀cos²γ dω over the lower hemisphere = 2πI₀/3
+
+// The downlight as an IES LM-63-2002 file (absolute photometry: lumens per lamp −1, so the
+// candela values are the luminaire's own), written where `directory` says and read back by the
+// reader a user's file goes through.
+std::shared_ptr<const Photometry> downlightPhotometry(const std::filesystem::path& directory) {
+  std::filesystem::create_directories(directory);
+  const std::filesystem::path path = directory / "downlight.ies";
+  {
+    std::ofstream out(path);
+    out.precision(10);
+    out << "IESNA:LM-63-2002\n[TEST] office_bench\n[LUMINAIRE] round downlight, I = I0 cos^2(gamma), 2000 lm\nTILT=NONE\n";
+    out << "1 -1 1 19 1 1 2 -0.15 -0.15 0.02\n1 1 20\n";
+    for (int v = 0; v <= 90; v += 5) out << v << (v < 90 ? " " : "\n");
+    out << "0\n";
+    for (int v = 0; v <= 90; v += 5) {
+      const double c = std::cos(v * kPi / 180);
+      out << (v < 90 ? kPeakCandela * c * c : 0.0) << (v < 90 ? " " : "\n");
+    }
+  }
+  auto photometry = std::make_shared<const Photometry>(orExit(readIes(path.string()), "office_bench"));
+  std::error_code ignored;
+  std::filesystem::remove_all(directory, ignored);
+  return photometry;
+}
+
+Office makeOffice(double faceSize, const std::shared_ptr<const Photometry>& photometry) {
   Office office;
   Scene& scene = office.scene;
   scene.name = "open-plan office";
@@ -138,12 +172,18 @@ Office makeOffice(double faceSize) {
     for (int j = 0; j < kLightsAlongZ; ++j) {
       Light light;
       light.name = "downlight " + std::to_string(i + 1) + "," + std::to_string(j + 1);
-      light.kind = LightKind::Spot;
       light.position = {kLightSpacing * (i + 0.5), kHeight - 0.02, kLightSpacing * (j + 0.5)};
       light.direction = {0, -1, 0};
-      light.intensity = Rgb::gray(1000 / kLumensPerWatt);  // 1000 cd on the axis, white
-      light.coneAngleDegrees = 60;
-      light.falloffDegrees = 20;
+      if (photometry) {
+        light.kind = LightKind::Luminaire;
+        light.photometry = photometry;
+        light.intensity = Rgb::gray(1 / kLumensPerWatt);  // W/sr per candela, white
+      } else {
+        light.kind = LightKind::Spot;
+        light.intensity = Rgb::gray(kPeakCandela / kLumensPerWatt);  // on the axis, white
+        light.coneAngleDegrees = 60;
+        light.falloffDegrees = 20;
+      }
       scene.lights.push_back(light);
     }
   return office;
@@ -205,7 +245,9 @@ Run run(const Options& options, double tolerance, bool keepEngine) {
   Run r;
   const double cpuBefore = processCpuSeconds();
   Timer total;
-  Office office = makeOffice(options.faceSize);
+  const std::shared_ptr<const Photometry> photometry =
+      options.lights == "ies" ? downlightPhotometry(std::filesystem::temp_directory_path() / ("office_bench-" + std::to_string(getpid()))) : nullptr;
+  Office office = makeOffice(options.faceSize, photometry);
   r.points = workPlanePoints(office);
   r.generateSeconds = total.seconds();
   RadiosityOptions radiosity;  // the defaults: hierarchical radiosity, as `lambert solve`
@@ -262,6 +304,9 @@ int main(int argc, char** argv) {
   app.add_option("--face-size", options.faceSize, "longest face edge (m)")->check(CLI::Range(0.05, 2.0));
   app.add_option("--tolerance", options.tolerance, "Ward's shadow tolerance τ")->check(CLI::Range(0.0, 0.5));
   app.add_flag("--quick", options.quick, "0.5 m faces, one run");
+  app.add_option("--lights", options.lights, "ies (luminaires from an IES file the bench writes) or spot")
+      ->check(CLI::IsMember({"ies", "spot"}))
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   if (options.quick) options.faceSize = 0.5, options.runs = 1;
 
@@ -323,7 +368,8 @@ int main(int argc, char** argv) {
 
   out["faces"] = last.stats.value("faces", 0.0);
   out["lights"] = kLightsAlongX * kLightsAlongZ;
-  out["light"] = "spot, 1000 cd on the axis, 60° cone, 20° soft edge, aimed down";
+  out["light"] = options.lights == "ies" ? "IES luminaire (far field), round downlight, I = 955 cd cos²γ, 2000 lm, aimed down"
+                                         : "spot, 955 cd on the axis, 60° cone, 20° soft edge, aimed down";
   out["face_size_m"] = options.faceSize;
   out["shadow_tolerance"] = options.tolerance;
   out["work_plane_points"] = last.points.size();

@@ -12,6 +12,7 @@
 #include "lambert/core/rng.h"
 #include "lambert/core/sampling.h"
 #include "lambert/light/lights.h"
+#include "lambert/light/photometry.h"
 
 namespace lambert {
 namespace {
@@ -49,6 +50,30 @@ DirectLighting::DirectLighting(std::span<const Light> lights, double metresPerUn
   for (std::size_t l = 0; l < lights_.size(); ++l) {
     const Light& light = lights_[l];
     Prepared& p = prepared_[l];
+    if (light.kind == LightKind::Luminaire && light.luminaireModel == LuminaireModel::FarField && light.photometry &&
+        light.photometry->verticalDegrees.size() >= 2 && !light.photometry->horizontalDegrees.empty()) {
+      // E = I(C, γ)·cosθ/r² from its photometric centre (lights.cpp's luminaireSourceIrradiance,
+      // the frame and the tilt factor computed once).
+      const Photometry& photometry = *light.photometry;
+      p.fast = p.luminaire = true;
+      p.position = light.position;
+      p.frame = luminaireFrame(light);
+      double tilt = 1;
+      if (!photometry.tilt.degrees.empty()) {
+        // As lights.cpp's tiltFactor: the lamps tilt by the angle between the aim and straight down.
+        const double cosTilt = std::fmin(std::fmax(-normalize(light.direction).y, -1.0), 1.0);
+        tilt = photometry.tilt.factor(std::acos(cosTilt) / kDegrees);
+      }
+      p.intensityPerSquareMetre = light.intensity * (tilt / (metresPerUnit * metresPerUnit));
+      const std::size_t nV = photometry.verticalDegrees.size();
+      p.candelaBeyond.assign(nV, 0);
+      for (std::size_t v = nV; v-- > 0;) {
+        double largest = v + 1 < nV ? p.candelaBeyond[v + 1] : 0;
+        for (std::size_t c = 0; c < photometry.horizontalDegrees.size(); ++c) largest = std::fmax(largest, photometry.candelaGrid[c * nV + v]);
+        p.candelaBeyond[v] = largest;
+      }
+      continue;
+    }
     if (light.kind != LightKind::Point && light.kind != LightKind::Spot) continue;
     p.fast = true;
     p.position = light.position;
@@ -74,6 +99,13 @@ Rgb DirectLighting::contribution(std::size_t l, const Vec3& x, const Vec3& n) co
   if (distanceSquared <= 0) return {};
   const double cosine = dot(n, toLight);
   if (cosine <= 0) return {};
+  if (p.luminaire) {
+    const double distance = std::sqrt(distanceSquared);
+    double c = 0, gamma = 0;
+    photometricAngles(p.frame, toLight / -distance, c, gamma);
+    const double candela = lights_[l].photometry->candela(c, gamma);
+    return p.intensityPerSquareMetre * (candela * (cosine / distance) / distanceSquared);
+  }
   const double inverseDistance = 1 / std::sqrt(distanceSquared);
   double falloff = 1;
   if (p.spot) {
@@ -102,6 +134,17 @@ Rgb DirectLighting::upperBound(std::size_t l, const Vec3& centre, double radius,
   const double facing = -dot(n, toCentre) + radius;
   if (facing <= 0) return {};
   const double cosine = std::fmin(1.0, facing / nearest);
+  if (p.luminaire) {
+    // The least γ of a direction from the light into the region: the centre's, less the region's
+    // angular radius asin(radius / distance); no candela beyond it exceeds candelaBeyond there.
+    const std::vector<double>& v = lights_[l].photometry->verticalDegrees;
+    const double alpha = std::acos(std::fmin(std::fmax(dot(p.frame.nadir, toCentre) / distance, -1.0), 1.0)) / kDegrees;
+    const double gamma = std::fmax(0.0, alpha - std::asin(std::fmin(1.0, radius / distance)) / kDegrees);
+    if (gamma > v.back() + 1e-9) return {};  // beyond the measured range it emits nothing
+    const std::size_t k = static_cast<std::size_t>(std::upper_bound(v.begin(), v.end(), gamma) - v.begin());
+    const double candela = p.candelaBeyond[k > 0 ? k - 1 : 0];
+    return p.intensityPerSquareMetre * (candela * (1 + 1e-9) * cosine / (nearest * nearest));
+  }
   if (p.spot) {
     // Seen from the light the region spans β = asin(radius / distance) about its centre: it
     // reaches into the cone when the angle to the axis is below the cone's + β (lights.cpp's

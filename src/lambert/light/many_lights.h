@@ -92,9 +92,15 @@ class DirectLighting {
   // lights.cpp's spotFalloff computes per call); any other kind through unshadowedIrradiance.
   struct Prepared {
     Vec3 position, axis;
-    Rgb intensityPerSquareMetre;  // I / metresPerUnit²
+    Rgb intensityPerSquareMetre;  // I / metresPerUnit² (luminaire: per candela, tilt included)
     double cosOuter = -2, cosInner = -2, sinOuter = 0;
     bool fast = false, spot = false;
+    // A far-field luminaire: its frame and, per measured vertical angle γ_k, the largest candela
+    // of any plane at γ_k or beyond (candela interpolates monotonically between measured angles,
+    // so no direction at γ ≥ γ_k exceeds it).
+    bool luminaire = false;
+    LuminaireFrame frame;
+    std::vector<double> candelaBeyond;
   };
   Rgb contribution(std::size_t l, const Vec3& x, const Vec3& n) const;
   Rgb ward(const Vec3& x, const Vec3& n, const RayCaster& caster, double epsilon, std::span<const std::uint32_t> lights,

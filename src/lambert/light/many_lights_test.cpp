@@ -1,12 +1,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <sstream>
 
 #include "lambert/core/rng.h"
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/light/injection.h"
 #include "lambert/light/lights.h"
 #include "lambert/light/many_lights.h"
+#include "lambert/light/photometry.h"
 #include "tests/support/scenes.h"
 
 namespace lambert {
@@ -295,6 +297,75 @@ TEST(ManyLightsTest, SelectionKeepsTheBoundAndDropsFarLights) {
     // intensity to the cone's soft edge, so the far ones still carry a share), over ten at 0.1.
     EXPECT_GE(dropped, (tolerance < 0.05 ? 1 : 10) * regions) << "τ " << tolerance << ": " << dropped << " dropped";
   }
+}
+
+// A lobed, tilted luminaire distribution (not rotationally symmetric), as an LM-63-2002 file
+// every 5° in γ and 30° in C, read by the IES reader.
+std::shared_ptr<const Photometry> lobedPhotometry() {
+  std::ostringstream o;
+  o.precision(17);
+  o << "IESNA:LM-63-2002\nTILT=NONE\n1 -1 1 37 13 1 2 0 0 0\n1 1 10\n";
+  for (int v = 0; v < 37; ++v) o << v * 5 << " ";
+  o << "\n";
+  for (int h = 0; h < 13; ++h) o << h * 30 << " ";
+  o << "\n";
+  for (int h = 0; h < 13; ++h) {
+    for (int v = 0; v < 37; ++v) {
+      const double g = v * 5 * kPi / 180, c = h * 30 * kPi / 180;
+      o << (v * 5 > 95 ? 0.0 : 800 * std::pow(std::fmax(std::cos(g), 0.0), 2) * (1 + 0.6 * std::sin(g) * std::cos(c)) + 5) << " ";
+    }
+    o << "\n";
+  }
+  Result<Photometry> p = parseIes(o.str(), "lobed.ies");
+  EXPECT_TRUE(p.ok()) << p.error().message;
+  return std::make_shared<const Photometry>(std::move(*p));
+}
+
+// Far-field luminaires: the precomputed evaluation is lights.cpp's unshadowedIrradiance, their
+// bounds hold over regions, and the bound on the estimate holds under them, aimed and turned.
+TEST(ManyLightsTest, LuminairesAreEvaluatedBoundedAndWithinTheTolerance) {
+  const std::shared_ptr<const Photometry> photometry = lobedPhotometry();
+  std::vector<Light> lights;
+  Pcg32 rng(12, 12);
+  for (int k = 0; k < 80; ++k) {
+    Light l;
+    l.kind = LightKind::Luminaire;
+    l.photometry = photometry;
+    l.position = {-10 + 20 * rng.nextDouble(), 2.5 + 0.5 * rng.nextDouble(), -10 + 20 * rng.nextDouble()};
+    l.direction = normalize(Vec3{0.4 * (rng.nextDouble() - 0.5), -1, 0.4 * (rng.nextDouble() - 0.5)});
+    l.rotationDegrees = 360 * rng.nextDouble();
+    l.intensity = Rgb{1, 0.9, 0.8} / 683.0;
+    lights.push_back(l);
+  }
+  const World world = clutteredFloor();
+  const double tolerance = 0.02;
+  const DirectLighting lighting(lights, 1, tolerance);
+  int lit = 0;
+  for (int k = 0; k < 150; ++k) {
+    const Vec3 centre{-9.5 + 19 * rng.nextDouble(), 0, -9.5 + 19 * rng.nextDouble()};
+    const double radius = 0.4 * rng.nextDouble();
+    for (std::size_t l = 0; l < lights.size(); ++l) {
+      const Rgb bound = lighting.upperBound(l, centre, radius, {0, 1, 0});
+      for (int j = 0; j < 3; ++j) {
+        const Vec3 x = centre + Vec3{(rng.nextDouble() - 0.5) * radius, 0, (rng.nextDouble() - 0.5) * radius};
+        const Rgb expected = unshadowedIrradiance(lights[l], x, {0, 1, 0}, 1);
+        const Rgb got = lighting.unoccluded(l, x, {0, 1, 0});
+        lit += expected.g > 0;
+        for (int c = 0; c < 3; ++c) {
+          EXPECT_NEAR(got[c], expected[c], 1e-12 * expected[c]);
+          EXPECT_LE(expected[c], bound[c]) << "light " << l << " region " << k;
+        }
+      }
+    }
+    LightSelection selection;
+    lighting.select(centre, radius, {0, 1, 0}, selection);
+    const Vec3 x = centre + Vec3{0.3 * radius, 0, -0.2 * radius};
+    const Rgb exact = everyLight(lights, x, {0, 1, 0}, *world.caster, world.epsilon);
+    const Rgb unoccluded = lighting.unoccluded(x, {0, 1, 0});
+    const Rgb got = lighting.irradiance(x, {0, 1, 0}, *world.caster, world.epsilon, selection);
+    for (int c = 0; c < 3; ++c) EXPECT_LE(std::fabs(got[c] - exact[c]), tolerance * unoccluded[c] * (1 + 1e-9) + 1e-15) << "region " << k;
+  }
+  EXPECT_GT(lit, 10000);
 }
 
 }  // namespace

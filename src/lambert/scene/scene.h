@@ -12,6 +12,8 @@
 
 namespace lambert {
 
+class Photometry;  // light/photometry.h
+
 // A colour texture (albedo or emission), decoded to linear RGB (sRGB files are decoded on load),
 // that multiplies a material's factor. Texture coordinate
 // (0, 0) is the first pixel of the first row, (1, 1) the far corner of the last, as in glTF;
@@ -75,18 +77,37 @@ enum class LightKind {
   Point,        // radiant intensity I in every direction
   Spot,         // I along its axis, fading to zero at the cone's edge
   Directional,  // parallel light (a sun): irradiance E⊥ on a surface facing it, from infinitely far
+  Luminaire,    // a measured luminaire: intensity from its goniometric distribution (light/photometry.h)
+};
+
+// How a luminaire's light leaves it (docs/photometry.md, "Luminaires").
+enum class LuminaireModel {
+  FarField,  // a point source at its photometric centre: exact beyond about 5 luminaire sizes
+  Opening,   // its luminous opening as a grid of point sources sharing the intensity: the near field
 };
 
 struct Light {
   std::string name;
   LightKind kind = LightKind::Point;
-  Vec3 position;                // point, spot: scene units
-  Vec3 direction{0, -1, 0};     // spot: cone axis; directional: the way the light travels
-  Rgb intensity;                // point, spot: radiant intensity I in W/sr (spot: on its axis)
+  Vec3 position;                // point, spot, luminaire: scene units (luminaire: photometric centre)
+  Vec3 direction{0, -1, 0};     // spot: cone axis; directional: the way the light travels;
+                                // luminaire: its aim, the photometric nadir γ = 0 (default straight down)
+  // Point, spot: radiant intensity I in W/sr (spot: on its axis). Luminaire: W/sr per candela of its
+  // photometry, i.e. colour × multiplier / 683 (white: 1/683 in each channel, so that the
+  // luminance-weighted lux of its irradiance equals the photometric illuminance).
+  Rgb intensity;
   Rgb irradiance;               // directional: E⊥ in W/m² on a surface facing the light
   double coneAngleDegrees = 30; // spot: half-angle of the cone, where the light reaches zero
   double falloffDegrees = 5;    // spot: width of the smooth edge inside the cone (the seed's "focus")
   Vec3 angularVelocity;         // rad/s about the world x, y, z axes: turns `direction` over time
+  // Luminaire: the candela distribution (shared by every light of one file), the turn in degrees
+  // of its C = 0 half plane about the aim (counter-clockwise seen from behind the luminaire, as C
+  // runs; at 0 it points along the scene's +x made perpendicular to the aim, or −z for an aim
+  // along x), how its light leaves it, and the grid of its opening per side (Opening model).
+  std::shared_ptr<const Photometry> photometry = nullptr;
+  double rotationDegrees = 0;
+  LuminaireModel luminaireModel = LuminaireModel::FarField;
+  int openingSamplesPerSide = 4;
 
   bool operator==(const Light&) const = default;
 };
