@@ -61,10 +61,10 @@ in vec4 vVisibility[VISIBILITY_VECTORS];
 uniform int lightKind[16];        // 0 point, 1 spot, 2 directional, 3 luminaire
 uniform vec3 lightPosition[16];
 uniform vec3 lightDirection[16];  // unit
-uniform vec3 lightPower[16];      // I in W/sr, or E⊥ in W/m² (directional)
+uniform vec3 lightPower[16];      // I in W/sr, or E⊥ in W/m² (directional), or a luminaire's colour × multiplier
 uniform vec2 lightCone[16];       // cos(outer), cos(inner)
 uniform vec3 lightC0[16];         // luminaire: the direction of its C = 0 half plane (unit); lightDirection: its nadir
-// Luminaire i's candela × tilt factor (lights.cpp: luminaireIntensity), resampled every 5°: rows
+// Luminaire i's candela × tilt factor / 683 (lights.cpp: luminaireIntensity), resampled every 5°: rows
 // i·37 + γ/5, columns C/5 (0..72, the last repeating C = 0), filtered bilinearly.
 uniform sampler2D candelaTable;
 uniform float metresPerUnit;
@@ -274,8 +274,7 @@ void MeshRenderer::uploadCandelaTable(const std::vector<Light>& lights, int ligh
   for (int i = 0; i < lightCount; ++i) {
     Light light = lights[static_cast<std::size_t>(i)];
     if (light.kind != LightKind::Luminaire || !light.photometry) continue;
-    // The candela × tilt along each (C, γ) of the grid, as luminaireIntensity gives it for W/sr
-    // of 1 per cd.
+    // The candela × tilt / 683 along each (C, γ) of the grid: luminaireIntensity for a white light.
     light.intensity = Rgb::gray(1);
     light.rotationDegrees = 0;
     const LuminaireFrame frame = luminaireFrame(light);

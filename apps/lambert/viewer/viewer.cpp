@@ -357,7 +357,7 @@ void drawPanel(ViewerState& state, const Snapshot& snapshot, const SolveWorker& 
       if (strength > 0) colour[0] = static_cast<float>(power.r / strength), colour[1] = static_cast<float>(power.g / strength), colour[2] = static_cast<float>(power.b / strength);
       float value = static_cast<float>(strength);
       bool recoloured = ImGui::ColorEdit3("colour", colour);
-      recoloured |= ImGui::DragFloat(l.kind == LightKind::Directional ? "E (W/m²)" : l.kind == LightKind::Luminaire ? "W/sr per cd" : "I (W/sr)", &value, std::max(0.01f, value * 0.01f), 0,
+      recoloured |= ImGui::DragFloat(l.kind == LightKind::Directional ? "E (W/m²)" : l.kind == LightKind::Luminaire ? "colour × multiplier" : "I (W/sr)", &value, std::max(0.01f, value * 0.01f), 0,
                                      1e9f, "%.3g");
       if (recoloured) power = Rgb{colour[0], colour[1], colour[2]} * std::max(0.0f, value);
       if (l.kind == LightKind::Spot) {

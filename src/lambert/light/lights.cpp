@@ -8,6 +8,7 @@
 #include "lambert/core/rng.h"
 #include "lambert/core/sampling.h"
 #include "lambert/light/photometry.h"
+#include "lambert/scene/gltf.h"  // kLumensPerWatt
 
 namespace lambert {
 namespace {
@@ -134,7 +135,7 @@ Rgb luminaireIntensity(const Light& light, const LuminaireFrame& frame, double t
   if (!light.photometry) return {};
   double c = 0, gamma = 0;
   photometricAngles(frame, outward, c, gamma);
-  return light.intensity * (light.photometry->candela(c, gamma) * tilt);
+  return light.intensity * (light.photometry->candela(c, gamma) * tilt / kLumensPerWatt);
 }
 
 // E = I(direction) cosθ / r² from a point source at `source` sending `share` of the luminaire's

@@ -29,7 +29,7 @@ LuminaireFrame luminaireFrame(const Light& light);
 void photometricAngles(const LuminaireFrame& frame, const Vec3& direction, double& cDegrees, double& gammaDegrees);
 // Radiant intensity in W/sr that a luminaire sends along the unit direction `outward`: its
 // candela × the tilt factor of its aim (IES TILT, the angle between the aim and straight down −y)
-// × light.intensity (W/sr per cd).
+// × light.intensity (its colour × multiplier) / 683 lm/W.
 Rgb luminaireIntensity(const Light& light, const Vec3& outward);
 // The point sources a luminaire is lit from, in scene units: its centre (FarField), or the centres
 // of an n × m grid over its luminous opening (Opening: n, m ≤ openingSamplesPerSide in

@@ -75,13 +75,16 @@ void expectMatchesAtMeasuredAngles(const Photometry& p, const Distribution& f, d
     for (double g : p.verticalDegrees) EXPECT_NEAR(p.candela(c, g), scale * f(c, g), 1e-9 * (1 + scale * f(c, g))) << c << " " << g;
 }
 
-// Distributions with exactly one symmetry each, positive everywhere.
+// Distributions with exactly one symmetry each, positive everywhere, and smooth on the sphere (a
+// harmonic cos mC or sin mC fades as sin^m γ toward the poles, where every C plane meets).
+double sin2(double g) { return std::pow(std::sin(g * kDeg), 2); }
 double rotational(double, double g) { return 500 * (1 + std::cos(g * kDeg)) + 20; }
-double quadrant(double c, double g) { return 300 + 200 * std::cos(2 * c * kDeg) * std::sin(g * kDeg) + 100 * std::cos(g * kDeg); }
-double bilateral(double c, double g) { return 300 + 150 * std::cos(c * kDeg) * std::sin(g * kDeg) + 50 * std::cos(2 * c * kDeg); }
+double quadrant(double c, double g) { return 300 + 200 * std::cos(2 * c * kDeg) * sin2(g) + 100 * std::cos(g * kDeg); }
+double bilateral(double c, double g) { return 300 + 150 * std::cos(c * kDeg) * std::sin(g * kDeg) + 50 * std::cos(2 * c * kDeg) * sin2(g); }
+double bilateralC90(double c, double g) { return 300 + 150 * std::sin(c * kDeg) * std::sin(g * kDeg) + 50 * std::cos(2 * c * kDeg) * sin2(g); }
 double asymmetric(double c, double g) {
   return 300 + 150 * std::cos(c * kDeg) * std::sin(g * kDeg) + 90 * std::sin(c * kDeg) * std::sin(g * kDeg) +
-         40 * std::sin(3 * c * kDeg) * std::sin(g * kDeg);
+         40 * std::sin(3 * c * kDeg) * std::pow(std::sin(g * kDeg), 3);
 }
 
 TEST(PhotometryTest, IesSymmetriesExpandToTheWholeSphere) {
@@ -94,22 +97,20 @@ TEST(PhotometryTest, IesSymmetriesExpandToTheWholeSphere) {
                {range(0, 90, 15), quadrant, 24},
                {range(0, 180, 15), bilateral, 24},
                {range(0, 360, 15), asymmetric, 24},
-               {range(90, 270, 15), [](double c, double g) { return bilateral(c - 90, g) + 0 * g; }, 24}};
+               {range(90, 270, 15), bilateralC90, 24}};
   for (const Case& k : cases) {
     IesSpec spec;
     spec.vertical = vertical;
     spec.horizontal = k.horizontal;
-    // The 90–270° file mirrors about the 90–270 plane: its f must have that symmetry.
-    Distribution f = k.f;
-    if (k.horizontal.front() == 90) f = [](double c, double g) { return 300 + 150 * std::sin(c * kDeg) * std::sin(g * kDeg) + 50 * std::cos(2 * c * kDeg); };
+    const Distribution& f = k.f;
     Result<Photometry> p = parseIes(iesText(spec, f), "sym.ies");
     ASSERT_TRUE(p.ok()) << p.error().message;
     EXPECT_EQ(p->horizontalDegrees.size(), k.planes);
     EXPECT_EQ(p->verticalDegrees.size(), vertical.size());
     expectMatchesAtMeasuredAngles(*p, f);
-    // Between the measured planes and angles too, within the interpolation's error.
+    // Between the measured planes (15°) and angles (10°) too, within 0.5 % of the peak.
     for (double c = 7; c < 360; c += 31)
-      for (double g = 3; g < 180; g += 17) EXPECT_NEAR(p->candela(c, g), f(c, g), 0.01 * f(c, g)) << c << " " << g;
+      for (double g = 3; g < 180; g += 17) EXPECT_NEAR(p->candela(c, g), f(c, g), 0.005 * p->maxCandela()) << c << " " << g;
   }
 }
 
@@ -204,7 +205,7 @@ TEST(PhotometryTest, IesRefusesTypesAAndBAndRepairsNegativeCandela) {
 }
 
 // Interpolation: the measured values exactly, and a smooth distribution between them (cos γ every
-// 5°, as a real downlight's file samples it) within 0.05 % of its peak.
+// 5°, as a real downlight's file samples it, C every 22.5°) within 0.12 % of its peak.
 TEST(PhotometryTest, InterpolationReproducesMeasuredPointsAndASmoothDistribution) {
   IesSpec s;
   s.vertical = range(0, 90, 5);
@@ -220,7 +221,7 @@ TEST(PhotometryTest, InterpolationReproducesMeasuredPointsAndASmoothDistribution
       EXPECT_GE(value, 0);
       worst = std::fmax(worst, std::fabs(value - f(c, g)));
     }
-  EXPECT_LT(worst, 0.0005 * 1000 * 1.2) << worst;
+  EXPECT_LT(worst, 0.0012 * 1000 * 1.2) << worst;
   // Above the last vertical angle the luminaire sends nothing.
   EXPECT_EQ(p->candela(10, 95), 0);
   // Never negative, even where data plunge to zero (a sharp beam edge): a monotone cubic does not
@@ -230,7 +231,7 @@ TEST(PhotometryTest, InterpolationReproducesMeasuredPointsAndASmoothDistribution
   ASSERT_TRUE(beam.ok());
   for (double g = 0; g <= 90; g += 0.1) {
     EXPECT_GE(beam->candela(0, g), 0) << g;
-    EXPECT_LE(beam->candela(0, g), 5000) << g;
+    EXPECT_LE(beam->candela(0, g), 5000 * (1 + 1e-12)) << g;
   }
 }
 
@@ -284,8 +285,8 @@ std::string ldtText(const LdtSpec& s, const Distribution& f, double lorOverride 
 }
 
 TEST(PhotometryTest, EulumdatSymmetriesUnitsAndDimensions) {
-  const Distribution c90 = [](double c, double g) { return 300 + 150 * std::sin(c * kDeg) * std::sin(g * kDeg) + 50 * std::cos(2 * c * kDeg); };
-  const Distribution fs[] = {asymmetric, rotational, bilateral, c90, quadrant};
+  const Distribution fs[] = {asymmetric, rotational, bilateral, bilateralC90, quadrant};
+  WarningCapture warnings;  // these files' LOR is not their intensities' (checked below)
   for (int isym = 0; isym <= 4; ++isym) {
     LdtSpec s;
     s.isym = isym;
@@ -383,9 +384,9 @@ TEST(PhotometryTest, DamagedFilesAreRepairedOrRefusedNeverCrash) {
         switch (rng.nextUint() % 3) {
           case 0: text[at] = garbage[rng.nextUint() % sizeof garbage]; break;
           case 1: text.erase(at, 1 + rng.nextUint() % 6); break;
-          case 2: text.insert(at, 1, garbage[rng.nextUint() % sizeof garbage]); break;
+          case 2: text = text.substr(0, at) + garbage[rng.nextUint() % sizeof garbage] + text.substr(at); break;
         }
-        if (text.empty()) text = "x";
+        if (text.empty()) text.push_back('x');
       }
       check(text);
     }

@@ -642,7 +642,7 @@ class Reader {
       light.rotationDegrees = std::atan2(dot(c0, unturned.c90), dot(c0, unturned.c0)) * 180 / kPi;
       if (xf.mirrors())
         warnOnce("ies-mirror", "ies: a mirroring transform would run the luminaire's C planes the other way; it is placed unmirrored");
-      light.intensity = Rgb::gray(multiplier / kLumensPerWatt);
+      light.intensity = Rgb::gray(multiplier);
       lights_.push_back(std::move(light));
     });
   }

@@ -92,9 +92,9 @@ struct Light {
   Vec3 position;                // point, spot, luminaire: scene units (luminaire: photometric centre)
   Vec3 direction{0, -1, 0};     // spot: cone axis; directional: the way the light travels;
                                 // luminaire: its aim, the photometric nadir γ = 0 (default straight down)
-  // Point, spot: radiant intensity I in W/sr (spot: on its axis). Luminaire: W/sr per candela of its
-  // photometry, i.e. colour × multiplier / 683 (white: 1/683 in each channel, so that the
-  // luminance-weighted lux of its irradiance equals the photometric illuminance).
+  // Point, spot: radiant intensity I in W/sr (spot: on its axis). Luminaire: colour × multiplier (white:
+  // 1 per channel); it sends I [W/sr] = candela × intensity / 683 lm/W per channel, so that the lux
+  // of its irradiance (683 × Rec. 709 luminance) is the photometric illuminance.
   Rgb intensity;
   Rgb irradiance;               // directional: E⊥ in W/m² on a surface facing the light
   double coneAngleDegrees = 30; // spot: half-angle of the cone, where the light reaches zero

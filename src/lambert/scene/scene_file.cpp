@@ -217,7 +217,7 @@ Light readLight(const Json& value, const std::string& pointer, const std::string
     const double multiplier = r.number("multiplier", 1, 0, 1e6);
     const Rgb colour = r.colour("color", {1, 1, 1}, 1e6, false);
     // White (1, 1, 1) has luminance 1 (Rec. 709 weights sum to 1): cd/683 W/sr per channel.
-    light.intensity = colour * (multiplier / kLumensPerWatt);
+    light.intensity = colour * multiplier;
     const std::string model = r.string("model", "point");
     if (model == "area") {
       light.luminaireModel = LuminaireModel::Opening;
@@ -640,7 +640,7 @@ std::string sceneFileText(const Scene& scene) {
         l["position"] = triple(light.position);
         l["aim"] = triple(light.direction);
         l["rotationDegrees"] = light.rotationDegrees;
-        l["color"] = triple(Vec3{light.intensity.r, light.intensity.g, light.intensity.b} * kLumensPerWatt);
+        l["color"] = triple(Vec3{light.intensity.r, light.intensity.g, light.intensity.b});
         if (light.luminaireModel == LuminaireModel::Opening) {
           l["model"] = "area";
           l["openingSamples"] = light.openingSamplesPerSide;
