@@ -177,7 +177,7 @@ Office makeOffice(double faceSize, const std::shared_ptr<const Photometry>& phot
       if (photometry) {
         light.kind = LightKind::Luminaire;
         light.photometry = photometry;
-        light.intensity = Rgb::gray(1 / kLumensPerWatt);  // W/sr per candela, white
+        light.intensity = Rgb::gray(1);  // white: W/sr = candela / 683
       } else {
         light.kind = LightKind::Spot;
         light.intensity = Rgb::gray(kPeakCandela / kLumensPerWatt);  // on the axis, white

@@ -13,6 +13,7 @@
 #include "lambert/core/sampling.h"
 #include "lambert/light/lights.h"
 #include "lambert/light/photometry.h"
+#include "lambert/scene/gltf.h"  // kLumensPerWatt
 
 namespace lambert {
 namespace {
@@ -64,7 +65,8 @@ DirectLighting::DirectLighting(std::span<const Light> lights, double metresPerUn
         const double cosTilt = std::fmin(std::fmax(-normalize(light.direction).y, -1.0), 1.0);
         tilt = photometry.tilt.factor(std::acos(cosTilt) / kDegrees);
       }
-      p.intensityPerSquareMetre = light.intensity * (tilt / (metresPerUnit * metresPerUnit));
+      // intensity is colour × multiplier: W/sr = candela × intensity / 683 lm/W (scene.h).
+      p.intensityPerSquareMetre = light.intensity * (tilt / (kLumensPerWatt * metresPerUnit * metresPerUnit));
       const std::size_t nV = photometry.verticalDegrees.size();
       p.candelaBeyond.assign(nV, 0);
       for (std::size_t v = nV; v-- > 0;) {

@@ -334,7 +334,7 @@ TEST(ManyLightsTest, LuminairesAreEvaluatedBoundedAndWithinTheTolerance) {
     l.position = {-10 + 20 * rng.nextDouble(), 2.5 + 0.5 * rng.nextDouble(), -10 + 20 * rng.nextDouble()};
     l.direction = normalize(Vec3{0.4 * (rng.nextDouble() - 0.5), -1, 0.4 * (rng.nextDouble() - 0.5)});
     l.rotationDegrees = 360 * rng.nextDouble();
-    l.intensity = Rgb{1, 0.9, 0.8} / 683.0;
+    l.intensity = Rgb{1, 0.9, 0.8};  // colour: W/sr = candela × this / 683
     lights.push_back(l);
   }
   const World world = clutteredFloor();
