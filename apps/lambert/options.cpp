@@ -97,6 +97,11 @@ void addSolveOptions(CLI::App& cmd, SolveCommandOptions& o) {
   cmd.add_option("--light-samples", o.lightSamples, "Points per element the lights' direct light is averaged over")
       ->check(CLI::Range(1, 4096))
       ->capture_default_str();
+  cmd.add_option("--shadow-tolerance", o.shadowTolerance,
+                 "Many lights: the share of a point's unoccluded direct light that may go without shadow rays (Ward's adaptive "
+                 "shadow testing, docs/photometry.md); the error is at most this share. 0: every light a ray")
+      ->check(CLI::Range(0.0, 0.5))
+      ->capture_default_str();
   cmd.add_option("--solver", o.solver,
                  "Solver: gs (Gauss-Seidel) or jacobi; the flat method also direct or shoot (progressive), and naming either "
                  "chooses --method flat")
@@ -350,7 +355,7 @@ int fail(const std::string& command, const std::string& message) {
 
 const std::initializer_list<const char*>& solveOnlyOptions() {
   static const std::initializer_list<const char*> options = {
-      "--formfactor", "--samples", "--hemicube-resolution", "--hemisphere-rays", "--light-samples", "--solver",
+      "--formfactor", "--samples", "--hemicube-resolution", "--hemisphere-rays", "--light-samples", "--shadow-tolerance", "--solver",
       "--tolerance", "--max-iterations", "--cache-dir", "--no-cache", "--normalize-rows", "--adaptive", "--base-edge",
       "--max-level", "--gradient-threshold", "--adapt-passes", "--method", "--link-error", "--min-area", "--visibility-rays",
       "--no-clusters", "--refine-passes"};
@@ -408,7 +413,7 @@ Result<RadiosityOptions> radiosityOptions(const Scene& scene, const SolveCommand
       {o.formFactor != FormFactorMethod::HemisphereRays, {"--hemisphere-rays"}, "it is for --formfactor hemisphere, not " + method},
       {solver == SolverKind::Direct, {"--tolerance", "--max-iterations"}, "the direct solver is exact; they are for gs, jacobi and shoot"},
       {o.noCache, {"--cache-dir"}, "--no-cache turns the cache off"},
-      {scene.lights.empty(), {"--light-samples"}, "scene '" + scene.name + "' has no point, spot or directional lights"},
+      {scene.lights.empty(), {"--light-samples", "--shadow-tolerance"}, "scene '" + scene.name + "' has no point, spot or directional lights"},
   };
   for (const Rule& rule : rules)
     if (rule.unused)
@@ -436,6 +441,7 @@ Result<RadiosityOptions> radiosityOptions(const Scene& scene, const SolveCommand
   r.formFactors.showProgress = !o.quiet && !o.json;
   r.normalizeRows = o.normalizeRows;
   r.directLight.samplesPerPatch = o.lightSamples;
+  r.directLight.shadowTolerance = o.shadowTolerance;
   r.directLight.seed = o.seed;
   r.solver = solver;
   r.tolerance = tolerance;
@@ -451,7 +457,7 @@ Result<Mesh> exportedVertexMesh(const Scene& scene, const SolveCommandOptions& o
   // --no-cache is not refused: it asks for nothing to be read or written, which the uniform mesh needs.
   if (options->meshing == MeshStrategy::Uniform)
     if (Status s = refuseGiven(o, {"--formfactor", "--samples", "--hemicube-resolution", "--hemisphere-rays", "--normalize-rows",
-                                   "--light-samples", "--solver", "--tolerance", "--max-iterations", "--cache-dir", "--memory-limit"},
+                                   "--light-samples", "--shadow-tolerance", "--solver", "--tolerance", "--max-iterations", "--cache-dir", "--memory-limit"},
                                "the uniform mesh's vertices depend on --patches or --max-edge alone (--method flat chooses it)");
         !s)
       return s.error();

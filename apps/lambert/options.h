@@ -43,6 +43,7 @@ struct SolveCommandOptions : MeshCommandOptions {
   int hemicubeResolution = 256;
   int hemisphereRays = 1024;
   int lightSamples = 16;
+  double shadowTolerance = 0.01;  // DirectLightOptions::shadowTolerance (Ward's τ; 0: exact)
   SolverKind solver = SolverKind::GaussSeidel;
   double tolerance = 1e-7;
   int maxIterations = 1000;

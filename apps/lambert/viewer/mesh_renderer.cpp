@@ -6,6 +6,8 @@
 
 #include <epoxy/gl.h>
 
+#include "lambert/light/lights.h"
+
 namespace lambert::viewer {
 namespace {
 
@@ -56,11 +58,15 @@ in vec3 vIndirect;
 in vec3 vEmitted;
 flat in float vTwinned;
 in vec4 vVisibility[VISIBILITY_VECTORS];
-uniform int lightKind[16];        // 0 point, 1 spot, 2 directional
+uniform int lightKind[16];        // 0 point, 1 spot, 2 directional, 3 luminaire
 uniform vec3 lightPosition[16];
 uniform vec3 lightDirection[16];  // unit
-uniform vec3 lightPower[16];      // I in W/sr, or E⊥ in W/m² (directional)
+uniform vec3 lightPower[16];      // I in W/sr, or E⊥ in W/m² (directional), or a luminaire's colour × multiplier
 uniform vec2 lightCone[16];       // cos(outer), cos(inner)
+uniform vec3 lightC0[16];         // luminaire: the direction of its C = 0 half plane (unit); lightDirection: its nadir
+// Luminaire i's candela × tilt factor / 683 (lights.cpp: luminaireIntensity), resampled every 5°: rows
+// i·37 + γ/5, columns C/5 (0..72, the last repeating C = 0), filtered bilinearly.
+uniform sampler2D candelaTable;
 uniform float metresPerUnit;
 uniform int mode;                 // 0 both, 1 direct, 2 indirect
 uniform vec3 ambient;             // W/m²
@@ -80,6 +86,14 @@ vec3 irradiance(int i, vec3 x, vec3 n) {
   if (cosine <= 0.0 || distanceSquared <= 0.0) return vec3(0.0);
   float falloff = 1.0;
   if (lightKind[i] == 1) falloff = smoothstep(lightCone[i].x, lightCone[i].y, dot(lightDirection[i], -toLight) * inversesqrt(distanceSquared));
+  if (lightKind[i] == 3) {
+    vec3 outward = -toLight * inversesqrt(distanceSquared);
+    float gamma = degrees(acos(clamp(dot(outward, lightDirection[i]), -1.0, 1.0)));
+    vec3 c90 = cross(lightC0[i], lightDirection[i]);
+    float c = degrees(atan(dot(outward, c90), dot(outward, lightC0[i])));
+    if (c < 0.0) c += 360.0;
+    falloff = texture(candelaTable, vec2((c / 5.0 + 0.5) / 73.0, (float(i * 37) + gamma / 5.0 + 0.5) / float(37 * 16))).r;
+  }
   return lightPower[i] * (falloff * cosine / (distanceSquared * metresPerUnit * metresPerUnit));
 }
 
@@ -243,6 +257,43 @@ MeshRenderer::~MeshRenderer() {
   glDeleteProgram(lineProgram_);
   for (GLuint array : {meshArray_, edgeArray_, markerArray_}) glDeleteVertexArrays(1, &array);
   for (GLuint buffer : {meshBuffer_, edgeBuffer_, markerBuffer_}) glDeleteBuffers(1, &buffer);
+  if (candelaTexture_ != 0) glDeleteTextures(1, &candelaTexture_);
+}
+
+void MeshRenderer::uploadCandelaTable(const std::vector<Light>& lights, int lightCount) {
+  // What the table holds: each drawn luminaire's photometry and tilt (the rest is in uniforms).
+  std::vector<std::pair<const Photometry*, double>> key(static_cast<std::size_t>(lightCount), {nullptr, 0.0});
+  for (int i = 0; i < lightCount; ++i) {
+    const Light& light = lights[static_cast<std::size_t>(i)];
+    if (light.kind == LightKind::Luminaire) key[static_cast<std::size_t>(i)] = {light.photometry.get(), normalize(light.direction).y};
+  }
+  if (candelaTexture_ != 0 && key == candelaTableKey_) return;
+  candelaTableKey_ = key;
+  constexpr int kColumns = 73, kRows = 37;
+  std::vector<float> table(static_cast<std::size_t>(kColumns * kRows * kMaxPixelLights), 0.0f);
+  for (int i = 0; i < lightCount; ++i) {
+    Light light = lights[static_cast<std::size_t>(i)];
+    if (light.kind != LightKind::Luminaire || !light.photometry) continue;
+    // The candela × tilt / 683 along each (C, γ) of the grid: luminaireIntensity for a white light.
+    light.intensity = Rgb::gray(1);
+    light.rotationDegrees = 0;
+    const LuminaireFrame frame = luminaireFrame(light);
+    for (int row = 0; row < kRows; ++row)
+      for (int column = 0; column < kColumns; ++column) {
+        const double gamma = row * 5 * kPi / 180, c = column * 5 * kPi / 180;
+        const Vec3 outward = frame.nadir * std::cos(gamma) + (frame.c0 * std::cos(c) + frame.c90 * std::sin(c)) * std::sin(gamma);
+        table[static_cast<std::size_t>((i * kRows + row) * kColumns + column)] = static_cast<float>(luminaireIntensity(light, outward).g);
+      }
+  }
+  if (candelaTexture_ == 0) glGenTextures(1, &candelaTexture_);
+  glActiveTexture(GL_TEXTURE0 + kCandelaUnit);
+  glBindTexture(GL_TEXTURE_2D, candelaTexture_);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_R32F, kColumns, kRows * kMaxPixelLights, 0, GL_RED, GL_FLOAT, table.data());
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glActiveTexture(GL_TEXTURE0);
 }
 
 void MeshRenderer::upload(const Snapshot& snapshot) {
@@ -271,10 +322,15 @@ void MeshRenderer::draw(const Snapshot& snapshot, const Eigen::Matrix4f& viewPro
   glUniformMatrix4fv(uniform(program, "viewProjection"), 1, GL_FALSE, viewProjection.data());
   int kinds[kMaxPixelLights] = {};
   float positions[3 * kMaxPixelLights] = {}, directions[3 * kMaxPixelLights] = {}, powers[3 * kMaxPixelLights] = {},
-        cones[2 * kMaxPixelLights] = {};
+        cones[2 * kMaxPixelLights] = {}, c0s[3 * kMaxPixelLights] = {};
+  uploadCandelaTable(snapshot.lights, lightCount);
   for (int i = 0; i < lightCount; ++i) {
     const Light& light = snapshot.lights[static_cast<std::size_t>(i)];
-    kinds[i] = light.kind == LightKind::Point ? 0 : light.kind == LightKind::Spot ? 1 : 2;
+    kinds[i] = light.kind == LightKind::Point ? 0 : light.kind == LightKind::Spot ? 1 : light.kind == LightKind::Directional ? 2 : 3;
+    if (light.kind == LightKind::Luminaire) {
+      const Vec3 c0 = luminaireFrame(light).c0;
+      for (int c = 0; c < 3; ++c) c0s[3 * i + c] = static_cast<float>(c0[c]);
+    }
     const Vec3 direction = normalize(light.direction);
     const Rgb power = light.kind == LightKind::Directional ? light.irradiance : light.intensity;
     const double outer = light.coneAngleDegrees * kPi / 180, inner = std::fmax(outer - light.falloffDegrees * kPi / 180, 0.0);
@@ -291,6 +347,11 @@ void MeshRenderer::draw(const Snapshot& snapshot, const Eigen::Matrix4f& viewPro
   glUniform3fv(uniform(program, "lightDirection"), kMaxPixelLights, directions);
   glUniform3fv(uniform(program, "lightPower"), kMaxPixelLights, powers);
   glUniform2fv(uniform(program, "lightCone"), kMaxPixelLights, cones);
+  glUniform3fv(uniform(program, "lightC0"), kMaxPixelLights, c0s);
+  glActiveTexture(GL_TEXTURE0 + kCandelaUnit);
+  glBindTexture(GL_TEXTURE_2D, candelaTexture_);
+  glUniform1i(uniform(program, "candelaTable"), kCandelaUnit);
+  glActiveTexture(GL_TEXTURE0);
   glUniform1f(uniform(program, "metresPerUnit"), static_cast<float>(metresPerUnit));
   glUniform1i(uniform(program, "mode"), static_cast<int>(settings.lighting));
   const Rgb ambient = settings.ambient ? snapshot.ambient : Rgb{};
@@ -342,7 +403,7 @@ void MeshRenderer::drawLightMarkers(const std::vector<Light>& lights, const Eige
     glUniform4f(uniform(lineProgram_, "lineColour"), selected ? 1.0f : 0.9f, selected ? 0.85f : 0.9f, selected ? 0.1f : 0.9f, 1.0f);
     glUniform1f(uniform(lineProgram_, "pointSize"), selected ? 12.0f : 8.0f);
     glDrawArrays(GL_POINTS, 0, 1);
-    if (light.kind == LightKind::Spot) glDrawArrays(GL_LINES, 0, 2);
+    if (light.kind == LightKind::Spot || light.kind == LightKind::Luminaire) glDrawArrays(GL_LINES, 0, 2);  // the axis, the aim
   }
   glEnable(GL_DEPTH_TEST);
   glBindVertexArray(0);

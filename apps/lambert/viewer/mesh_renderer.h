@@ -6,6 +6,8 @@
 #include <array>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -57,6 +59,12 @@ class MeshRenderer {
 
  private:
   MeshRenderer() = default;
+  // The luminaires' candela tables (the shader's candelaTable), rebuilt when a drawn luminaire's
+  // photometry or tilt changes.
+  void uploadCandelaTable(const std::vector<Light>& lights, int lightCount);
+  static constexpr int kCandelaUnit = 3;  // the texture unit the table is bound to
+  unsigned candelaTexture_ = 0;
+  std::vector<std::pair<const Photometry*, double>> candelaTableKey_;
   std::array<unsigned, kMaxPixelLights + 1> meshPrograms_{};  // by the number of lights drawn per pixel
   unsigned lineProgram_ = 0;
   unsigned meshArray_ = 0, meshBuffer_ = 0, edgeArray_ = 0, edgeBuffer_ = 0, markerArray_ = 0, markerBuffer_ = 0;

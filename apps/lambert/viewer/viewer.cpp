@@ -326,7 +326,8 @@ void drawPanel(ViewerState& state, const Snapshot& snapshot, const SolveWorker& 
     ImGui::Text("t = %.2f s", state.animation.secondsAt(steadyClockSeconds()));
     for (std::size_t i = 0; i < state.animation.base.size(); ++i) {
       const Light& l = state.animation.base[i];
-      const char* kind = l.kind == LightKind::Point ? "point" : l.kind == LightKind::Spot ? "spot" : l.kind == LightKind::Sky ? "sky" : "directional";
+      const char* kind = l.kind == LightKind::Point ? "point" : l.kind == LightKind::Spot ? "spot" : l.kind == LightKind::Sky ? "sky"
+                         : l.kind == LightKind::Directional ? "directional" : "luminaire";
       std::string label = std::to_string(i) + ": " + (l.name.empty() ? std::string(kind) : l.name + " (" + kind + ")");
       if (ImGui::Selectable(label.c_str(), state.selectedLight == static_cast<int>(i))) state.selectedLight = static_cast<int>(i);
     }
@@ -362,7 +363,7 @@ void drawPanel(ViewerState& state, const Snapshot& snapshot, const SolveWorker& 
       if (strength > 0) colour[0] = static_cast<float>(power.r / strength), colour[1] = static_cast<float>(power.g / strength), colour[2] = static_cast<float>(power.b / strength);
       float value = static_cast<float>(strength);
       bool recoloured = ImGui::ColorEdit3("colour", colour);
-      recoloured |= ImGui::DragFloat(l.kind == LightKind::Directional ? "E (W/m²)" : "I (W/sr)", &value, std::max(0.01f, value * 0.01f), 0,
+      recoloured |= ImGui::DragFloat(l.kind == LightKind::Directional ? "E (W/m²)" : l.kind == LightKind::Luminaire ? "colour × multiplier" : "I (W/sr)", &value, std::max(0.01f, value * 0.01f), 0,
                                      1e9f, "%.3g");
       if (recoloured) power = Rgb{colour[0], colour[1], colour[2]} * std::max(0.0f, value);
       if (l.kind == LightKind::Spot) {

@@ -33,6 +33,9 @@ bool mayLight(const Light& light, const VertexSite& site) {
       return dot(site.normal, light.direction) < 0;
     case LightKind::Point:
       return dot(site.normal, light.position - site.point) > 0;
+    case LightKind::Luminaire:
+      // An opening's sources lie off its centre, so only the far-field point is judged by it.
+      return light.luminaireModel != LuminaireModel::FarField || dot(site.normal, light.position - site.point) > 0;
     case LightKind::Spot: {
       const Vec3 toPoint = site.point - light.position;
       const double distance = length(toPoint);

@@ -17,6 +17,7 @@
 #include "lambert/geometry/coverage.h"
 #include "lambert/light/emission.h"
 #include "lambert/light/lights.h"
+#include "lambert/light/many_lights.h"
 
 namespace lambert {
 namespace {
@@ -42,7 +43,7 @@ std::vector<double> openFractions(const Mesh& mesh) {
 }  // namespace
 
 HierarchicalMeshing::HierarchicalMeshing(const Scene& scene, const RadiosityOptions& options)
-    : scene_(scene), options_(options.hierarchical), memoryLimitBytes_(options.memoryLimitBytes), hierarchy_(scene) {
+    : scene_(scene), options_(options.hierarchical), shadowTolerance_(options.directLight.shadowTolerance), memoryLimitBytes_(options.memoryLimitBytes), hierarchy_(scene) {
   buildSeconds_ = created_.seconds();
   Timer leafTimer;
   leaves_ = hierarchy_.leaves(scene_);
@@ -145,19 +146,41 @@ void HierarchicalMeshing::splitAtLightEdges(const std::vector<Light>& lights, do
   for (std::size_t i = 0; i < frontier.size(); ++i) frontierAlbedo[i] = albedo[i].maxComponent();
   std::vector<std::uint32_t> next;
   std::vector<double> nextAlbedo;
+  const DirectLighting lighting(lights, scene_.metresPerUnit, 0);
   while (!frontier.empty()) {
     std::vector<char> split(frontier.size(), 0);
-    std::vector<std::uint32_t> samples(frontier.size(), 0);  // points × lights evaluated
+    std::vector<std::uint32_t> samples(frontier.size(), 0), rays(frontier.size(), 0);  // points × lights evaluated; shadow rays
     parallelFor(0, frontier.size(), [&](std::size_t i) {
       const HierarchyNode& e = hierarchy_.node(frontier[i]);
       if (e.area * 0.25 < minArea) return;
       Vec3 points[5] = {e.centre};
       for (std::size_t k = 0; k < e.numCorners; ++k) points[k + 1] = lerp(e.corners[k], e.centre, 0.1);
-      for (const Light& light : lights) {
+      double radius = 0;
+      for (std::size_t k = 0; k < e.numCorners; ++k) radius = std::fmax(radius, length(e.corners[k] - e.centre));
+      radius *= 1 + 1e-9;
+      for (std::size_t l = 0; l < lights.size(); ++l) {
+        // First the light's bound over the element's sphere (no evaluation at its points): most
+        // of many lights are far, or hold the element outside their cones.
+        if (frontierAlbedo[i] * lighting.upperBound(l, e.centre, radius, e.normal).maxComponent() * e.area * (1 + 1e-9) <= threshold) continue;
         samples[i] += e.numCorners + 1u;
+        // The light's variation over the points is at most its largest unoccluded value there:
+        // where ρ times that times the area cannot exceed the threshold, no shadow ray can make
+        // this light split the element, and none is traced (a cull that changes no split; the
+        // margin covers the rounding between the precomputed and lights.cpp's evaluation). With
+        // many lights most are far or outside their cones from most elements.
+        double unoccluded[5] = {}, largest = 0;
+        for (std::size_t k = 0; k <= e.numCorners; ++k) {
+          unoccluded[k] = lighting.unoccluded(l, points[k], e.normal).maxComponent();
+          largest = std::fmax(largest, unoccluded[k]);
+        }
+        if (frontierAlbedo[i] * largest * e.area * (1 + 1e-9) <= threshold) continue;
         double lo = INFINITY, hi = 0;
         for (std::size_t k = 0; k <= e.numCorners; ++k) {
-          double value = irradiance(light, points[k], e.normal, *caster_, epsilon_, scene_.metresPerUnit).maxComponent();
+          double value = 0;
+          if (unoccluded[k] > 0) {
+            ++rays[i];
+            value = irradiance(lights[l], points[k], e.normal, *caster_, epsilon_, scene_.metresPerUnit).maxComponent();
+          }
           lo = std::fmin(lo, value);
           hi = std::fmax(hi, value);
         }
@@ -167,6 +190,7 @@ void HierarchicalMeshing::splitAtLightEdges(const std::vector<Light>& lights, do
         }
       }
     }, 16);
+    for (std::uint32_t n : rays) lightEdgeRays_ += n;
     for (std::uint32_t n : samples) lightSamples_ += n;
     next.clear();
     nextAlbedo.clear();
@@ -237,9 +261,10 @@ Result<bool> HierarchicalMeshing::refine(const std::vector<Light>& lights, std::
     std::vector<Rgb> albedo = patchAlbedo(scene_, leaves_.mesh);
     double power = 0;
     std::vector<Rgb> direct(leaves_.mesh.numPatches());
+    const DirectLighting lighting(lights, scene_.metresPerUnit, shadowTolerance_);
     parallelFor(0, direct.size(), [&](std::size_t i) {
       const Patch& p = leaves_.mesh.patches[i];
-      for (const Light& light : lights) direct[i] += albedo[i] * irradiance(light, p.centroid, p.normal, *caster_, epsilon_, scene_.metresPerUnit);
+      direct[i] = albedo[i] * lighting.irradiance(p.centroid, p.normal, *caster_, epsilon_);
     }, 64);
     for (std::size_t i = 0; i < direct.size(); ++i) power += (emitted[i] + direct[i]).maxComponent() * leaves_.mesh.patches[i].area;
     if (options_.refineAtLights && !lights.empty()) splitAtLightEdges(lights, options_.links.linkError * power, report);
@@ -249,8 +274,7 @@ Result<bool> HierarchicalMeshing::refine(const std::vector<Light>& lights, std::
     estimate.assign(leaves_.mesh.numPatches(), Rgb{});
     parallelFor(0, estimate.size(), [&](std::size_t i) {
       const Patch& p = leaves_.mesh.patches[i];
-      estimate[i] = emitted[i];
-      for (const Light& light : lights) estimate[i] += albedo[i] * irradiance(light, p.centroid, p.normal, *caster_, epsilon_, scene_.metresPerUnit);
+      estimate[i] = emitted[i] + albedo[i] * lighting.irradiance(p.centroid, p.normal, *caster_, epsilon_);
     }, 64);
     // Every surface that reflects will be lit by the bounces too: add what each would reflect of
     // the first light spread evenly and reflected to convergence (Cohen et al. 1988's ambient
@@ -384,12 +408,12 @@ std::vector<std::vector<Rgb>> HierarchicalMeshing::vertexSolution(const ElementS
   // The lights' direct irradiance at the vertices: every quantity needs it, through the close
   // sources' corner radiosities if not directly.
   std::vector<Rgb> direct(sites.size()), emitted(sites.size()), albedo(sites.size());
+  const DirectLighting lighting(solution.lights, solution.metresPerUnit, shadowTolerance_);
   parallelFor(0, direct.size(), [&](std::size_t v) {
     if (leaf[v] == kNoNode) return;
     emitted[v] = solution.emitted[leaf[v]];
     albedo[v] = solution.albedo[leaf[v]];
-    for (const Light& light : solution.lights)
-      direct[v] += irradiance(light, sites[v].point, sites[v].normal, *caster_, epsilon_, solution.metresPerUnit);
+    direct[v] = lighting.irradiance(sites[v].point, sites[v].normal, *caster_, epsilon_);
   }, 64);
   NearFieldWeights near;
   int nearIterations = 0;
@@ -582,11 +606,14 @@ Result<std::vector<Rgb>> HierarchicalMeshing::pointIrradiance(const ElementSolut
   if (!gathered) return gathered.error();
   std::vector<Rgb> irradiance = std::move(gathered->fromSurfaces);
   const std::vector<VertexSite>& sites = gathered->sites;
-  if (!solution.lights.empty())
+  if (!solution.lights.empty()) {
+    // The lights' share by Ward's adaptive shadow testing (light/many_lights.h): within
+    // shadowTolerance_ of the unoccluded light at each point, exact when it is 0.
+    const DirectLighting lighting(solution.lights, solution.metresPerUnit, shadowTolerance_);
     parallelFor(0, irradiance.size(), [&](std::size_t i) {
-      for (const Light& light : solution.lights)
-        irradiance[i] += lambert::irradiance(light, sites[i].point, sites[i].normal, *caster_, epsilon_, solution.metresPerUnit);
+      irradiance[i] += lighting.irradiance(sites[i].point, sites[i].normal, *caster_, epsilon_);
     }, 64);
+  }
   return irradiance;
 }
 
@@ -610,7 +637,8 @@ void HierarchicalMeshing::addStats(Stats& stats) const {
   stats.add("links_estimated", "links estimated", count(refinement_.estimated));
   stats.add("visibility_rays", "visibility rays", count(refinement_.rays));
   stats.add("light_splits", "elements split at light edges", count(lightSplits_));
-  stats.add("light_edge_samples", "light-edge samples (points × lights)", count(lightSamples_));
+  stats.add("light_edge_samples", "light-edge samples (points × lights not culled by their bounds)", count(lightSamples_));
+  stats.add("light_edge_rays", "light-edge shadow rays (lights that could split an element)", count(lightEdgeRays_));
   const double linkBytes = static_cast<double>(links_->bytes());
   const double nodeBytes = static_cast<double>(hierarchy_.bytes());
   stats.add("link_bytes", "link memory", linkBytes / (1024.0 * 1024.0), "MiB");

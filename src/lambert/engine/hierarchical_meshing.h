@@ -66,6 +66,7 @@ class HierarchicalMeshing final : public Meshing {
 
   const Scene& scene_;  // the engine's, which owns this strategy
   HierarchicalOptions options_;
+  double shadowTolerance_ = 0;  // DirectLightOptions::shadowTolerance: Ward's τ at every point lit here
   double memoryLimitBytes_ = 0;  // RadiosityOptions::memoryLimitBytes
   Timer created_;  // started before the hierarchy is built
   ElementHierarchy hierarchy_;
@@ -79,7 +80,7 @@ class HierarchicalMeshing final : public Meshing {
   std::shared_ptr<const HierarchicalTransport> transport_;
   int passesDone_ = 0;
   RefinementReport refinement_;
-  std::uint64_t lightSplits_ = 0, lightSamples_ = 0;
+  std::uint64_t lightSplits_ = 0, lightSamples_ = 0, lightEdgeRays_ = 0;
   double buildSeconds_ = 0, bvhSeconds_ = 0, lightSeconds_ = 0, leafSeconds_ = 0, coverageSeconds_ = 0, transportSeconds_ = 0;
   struct LinkCacheFile {
     std::string directory;        // RadiosityOptions::cacheDirectory; empty: off

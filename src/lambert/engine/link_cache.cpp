@@ -193,6 +193,8 @@ std::uint64_t linkCacheKey(const Scene& scene, const std::vector<Light>& lights,
   h.u64(hierarchical.links.seed);
   h.i64(hierarchical.refinePasses);
   h.u32(hierarchical.refineAtLights ? 1 : 0);
+  // The lights' first estimate, which the first pass refines from, is Ward's (many_lights.h).
+  h.f64(options.directLight.shadowTolerance);
   // The solves between passes, which the later passes refine from; a single pass refines before
   // any solve and hands the solve no warm start.
   h.u32(hierarchical.refinePasses > 1 ? 1 : 0);

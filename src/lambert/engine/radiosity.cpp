@@ -262,6 +262,12 @@ Stats Radiosity::stats() const {
     stats.add("lights", "lights", static_cast<std::int64_t>(lights_.size()));
     stats.add("shadow_rays", "direct-light shadow rays", static_cast<std::int64_t>(shadowRays_));
     stats.add("inject_seconds", "direct-light injection time", injectSeconds_, "s");
+    stats.add("shadow_tolerance", "shadow tolerance τ (Ward; 0: every light a ray)", options_.directLight.shadowTolerance);
+    if (const DirectLightingCounts& c = injection_->counts(); c.points > 0) {
+      const double points = static_cast<double>(c.points);
+      stats.add("lights_reaching_per_point", "lights reaching a point (mean, many-light injection)", static_cast<double>(c.lightsReaching) / points);
+      stats.add("shadow_rays_per_point", "shadow rays per point (mean, many-light injection)", static_cast<double>(c.shadowRays) / points);
+    }
   }
   stats.add("solver", "solver", solverName(options_.solver));
   stats.add("solves", "solves", static_cast<std::int64_t>(solves_));

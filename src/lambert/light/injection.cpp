@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "lambert/light/many_lights.h"
+
 namespace lambert {
 
 DirectLightInjection::DirectLightInjection(DirectLightOptions options) : options_(options) {}
@@ -27,6 +29,8 @@ DirectLightInjection::Update DirectLightInjection::update(const Mesh& mesh, cons
   if (!lights.empty() && !tree_) tree_ = std::make_unique<PatchSphereTree>(mesh);
   Update update;
   update.allPatches = startAfresh;
+  if (options_.shadowTolerance > 0 && lights.size() > kPerLightInjectionLights) return updateTogether(mesh, caster, albedo, lights, metresPerUnit, startAfresh);
+  together_ = false;
   for (std::size_t l = 0; l < lights.size(); ++l) {
     if (lights_[l] && *lights_[l] == lights[l]) continue;
     std::vector<Rgb>& injected = perLight_[l];
@@ -68,7 +72,49 @@ DirectLightInjection::Update DirectLightInjection::update(const Mesh& mesh, cons
   return update;
 }
 
+// Many lights: every patch's light from all of them at once, each point's shadow rays chosen by
+// Ward's adaptive testing (many_lights.h), so that the cost follows the lights that matter at a
+// point rather than leaves × lights. The estimate at a point is not a sum of per-light parts
+// (the untested lights are weighted by the tested ones' visibility), so nothing is kept per light:
+// any change traces every light again. Only the patches some light may reach are traced (the
+// union of PatchSphereTree's candidates; every patch when one light is not a spot).
+DirectLightInjection::Update DirectLightInjection::updateTogether(const Mesh& mesh, const RayCaster& caster, const std::vector<Rgb>& albedo,
+                                                                  const std::vector<Light>& lights, double metresPerUnit, bool startAfresh) {
+  const std::size_t n = mesh.numPatches();
+  Update update;
+  bool same = !startAfresh && together_;
+  for (std::size_t l = 0; same && l < lights.size(); ++l) same = lights_[l] && *lights_[l] == lights[l];
+  if (same) return update;
+  perLight_.assign(lights.size(), {});  // the per-light path's memory, released
+  traced_.assign(lights.size(), {});
+  for (std::size_t l = 0; l < lights.size(); ++l) lights_[l] = lights[l];
+  together_ = true;
+  std::vector<char> reached(n, 0);
+  for (const Light& light : lights) {
+    if (light.kind != LightKind::Spot) {
+      std::fill(reached.begin(), reached.end(), 1);
+      break;
+    }
+    for (std::uint32_t i : tree_->candidates(light)) reached[i] = 1;
+  }
+  std::vector<std::uint32_t> patches;
+  for (std::uint32_t i = 0; i < n; ++i)
+    if (reached[i]) patches.push_back(i);
+  std::vector<Rgb> irradiance(n);
+  const DirectLighting lighting(lights, metresPerUnit, options_.shadowTolerance);
+  DirectLightingCounts counts;
+  patchIrradiance(mesh, caster, lighting, options_, *epsilon_, patches, irradiance, &counts);
+  total_.assign(n, Rgb{});
+  for (std::uint32_t i : patches) total_[i] = albedo[i] * irradiance[i];
+  counts_.add(counts);
+  update.lightsTraced = static_cast<int>(lights.size());
+  update.changed = true;
+  update.allPatches = true;
+  return update;
+}
+
 void DirectLightInjection::reset() {
+  together_ = false;
   lights_.clear();
   perLight_.clear();
   traced_.clear();

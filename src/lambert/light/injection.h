@@ -8,6 +8,11 @@
 // and only the patches it lit before or lights now are cleared and summed again: an update
 // costs the spot's patches and O(log n) each, not the mesh, and gives every patch the same bits
 // a trace of every light on every patch would.
+//
+// More than kPerLightInjectionLights lights under a shadow tolerance (DirectLightOptions) are
+// traced together instead, each point's shadow rays chosen by Ward's adaptive testing
+// (many_lights.h): no per-light arrays (200 lights × 10⁵ patches would be 0.5 GB of them), and
+// any change traces them all again.
 #include <memory>
 #include <optional>
 #include <vector>
@@ -15,6 +20,7 @@
 #include "lambert/core/rgb.h"
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/light/lights.h"
+#include "lambert/light/many_lights.h"
 #include "lambert/mesh/mesh.h"
 
 namespace lambert {
@@ -43,6 +49,9 @@ class DirectLightInjection {
   // Σ_l ρ_i E_l,i per patch of the mesh last updated for, W/m² (zeros without lights).
   const std::vector<Rgb>& total() const { return total_; }
   const DirectLightOptions& options() const { return options_; }
+  // Points, lights reaching them and shadow rays of the many-light traces (more than
+  // kPerLightInjectionLights lights under a shadow tolerance), summed over every update.
+  const DirectLightingCounts& counts() const { return counts_; }
 
  private:
   DirectLightOptions options_;
@@ -55,6 +64,11 @@ class DirectLightInjection {
   // Of the mesh last updated for, made at its first update.
   std::unique_ptr<PatchSphereTree> tree_;
   std::optional<double> epsilon_;
+  // Whether total_ holds the lights traced together (updateTogether), not per light.
+  bool together_ = false;
+  DirectLightingCounts counts_;
+  Update updateTogether(const Mesh& mesh, const RayCaster& caster, const std::vector<Rgb>& albedo, const std::vector<Light>& lights,
+                        double metresPerUnit, bool startAfresh);
 };
 
 }  // namespace lambert

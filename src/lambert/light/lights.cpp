@@ -8,6 +8,8 @@
 #include "lambert/core/rng.h"
 #include "lambert/core/sampling.h"
 #include "lambert/light/sky.h"
+#include "lambert/light/photometry.h"
+#include "lambert/core/photometric.h"
 
 namespace lambert {
 namespace {
@@ -63,6 +65,8 @@ bool mayReceive(const Light& light, const Cone& cone, const Patch& patch, const 
   if (light.kind == LightKind::Directional) return dot(patch.normal, light.direction) < 0;
   // Only a patch facing straight down sees none of the sky above the horizon.
   if (light.kind == LightKind::Sky) return light.sky && patch.normal.y > -1 + 1e-12;
+  // An opening's sources lie off its centre: a patch edge-on to the centre may face some of them.
+  if (light.kind == LightKind::Luminaire && light.luminaireModel == LuminaireModel::Opening) return true;
   bool faces = false;
   for (const Vec3& c : corners) faces |= dot(light.position - c, patch.normal) > 0;
   if (!faces || light.kind != LightKind::Spot) return faces;
@@ -98,12 +102,104 @@ double spotFalloff(const Light& spot, const Vec3& towardPoint) {
   return smoothstep(std::cos(outer), std::cos(inner), cosAngle);
 }
 
+LuminaireFrame luminaireFrame(const Light& light) {
+  LuminaireFrame f;
+  f.nadir = normalize(light.direction);
+  // C = 0 along the scene's +x made perpendicular to the aim (−z when the aim lies along x).
+  Vec3 reference{1, 0, 0};
+  Vec3 c0 = reference - f.nadir * dot(f.nadir, reference);
+  if (length(c0) < 1e-6) {
+    reference = {0, 0, -1};
+    c0 = reference - f.nadir * dot(f.nadir, reference);
+  }
+  c0 = normalize(c0);
+  const Vec3 c90 = cross(c0, f.nadir);
+  const double r = light.rotationDegrees * kDegrees;
+  f.c0 = c0 * std::cos(r) + c90 * std::sin(r);
+  f.c90 = cross(f.c0, f.nadir);
+  return f;
+}
+
+void photometricAngles(const LuminaireFrame& frame, const Vec3& direction, double& cDegrees, double& gammaDegrees) {
+  const double cosGamma = std::fmin(std::fmax(dot(direction, frame.nadir), -1.0), 1.0);
+  gammaDegrees = std::acos(cosGamma) / kDegrees;
+  cDegrees = std::atan2(dot(direction, frame.c90), dot(direction, frame.c0)) / kDegrees;
+  if (cDegrees < 0) cDegrees += 360;
+}
+
+namespace {
+
+// The IES tilt factor of a luminaire as aimed: its lamps tilt with it, by the angle between its
+// aim and straight down (LM-63-2002 §5.8; lamp geometry 1, the common one, tilts about any axis).
+double tiltFactor(const Light& light) {
+  if (!light.photometry || light.photometry->tilt.degrees.empty()) return 1;
+  const double cosTilt = std::fmin(std::fmax(-normalize(light.direction).y, -1.0), 1.0);
+  return light.photometry->tilt.factor(std::acos(cosTilt) / kDegrees);
+}
+
+Rgb luminaireIntensity(const Light& light, const LuminaireFrame& frame, double tilt, const Vec3& outward) {
+  if (!light.photometry) return {};
+  double c = 0, gamma = 0;
+  photometricAngles(frame, outward, c, gamma);
+  return light.intensity * (light.photometry->candela(c, gamma) * tilt / kLumensPerWatt);
+}
+
+// E = I(direction) cosθ / r² from a point source at `source` sending `share` of the luminaire's
+// intensity, r in metres.
+Rgb luminaireSourceIrradiance(const Light& light, const LuminaireFrame& frame, double tilt, double share, const Vec3& source,
+                              const Vec3& x, const Vec3& n, double metresPerUnit) {
+  const Vec3 toLight = source - x;
+  const double distanceSquared = lengthSquared(toLight);
+  if (!(distanceSquared > 0)) return {};
+  const double distance = std::sqrt(distanceSquared);
+  const double cosine = dot(n, toLight) / distance;
+  if (cosine <= 0) return {};
+  return luminaireIntensity(light, frame, tilt, toLight / -distance) * (share * cosine / (distanceSquared * metresPerUnit * metresPerUnit));
+}
+
+}  // namespace
+
+Rgb luminaireIntensity(const Light& light, const Vec3& outward) {
+  return luminaireIntensity(light, luminaireFrame(light), tiltFactor(light), normalize(outward));
+}
+
+std::vector<Vec3> luminaireSources(const Light& light, double metresPerUnit) {
+  if (light.luminaireModel != LuminaireModel::Opening || !light.photometry) return {light.position};
+  const Photometry& p = *light.photometry;
+  const double longest = std::fmax(p.openingLength, p.openingWidth);
+  if (!(longest > 0)) return {light.position};
+  const int perSide = std::max(1, light.openingSamplesPerSide);
+  const int nLength = std::max(1, static_cast<int>(std::lround(perSide * p.openingLength / longest)));
+  const int nWidth = std::max(1, static_cast<int>(std::lround(perSide * p.openingWidth / longest)));
+  const LuminaireFrame frame = luminaireFrame(light);
+  std::vector<Vec3> sources;
+  for (int i = 0; i < nLength; ++i)
+    for (int j = 0; j < nWidth; ++j) {
+      // Cell centres, as fractions of the sides from the centre: (i + ½)/n − ½.
+      const double a = (i + 0.5) / nLength - 0.5, b = (j + 0.5) / nWidth - 0.5;
+      if (p.round && a * a + b * b > 0.25) continue;
+      sources.push_back(light.position + (frame.c0 * (a * p.openingLength) + frame.c90 * (b * p.openingWidth)) / metresPerUnit);
+    }
+  if (sources.empty()) sources.push_back(light.position);
+  return sources;
+}
+
 Rgb unshadowedIrradiance(const Light& light, const Vec3& x, const Vec3& n, double metresPerUnit) {
   if (light.kind == LightKind::Sky) {
     // The same directions as irradiance() below, all visible: never less than the shadowed value.
     if (!light.sky) return {};
     const double lux = skyIlluminance(*light.sky, n, light.skyDirections, [](const Vec3&) { return true; });
     return Rgb::gray(lux / kLumensPerWatt);
+  }
+  if (light.kind == LightKind::Luminaire) {
+    const LuminaireFrame frame = luminaireFrame(light);
+    const double tilt = tiltFactor(light);
+    if (light.luminaireModel == LuminaireModel::FarField)
+      return luminaireSourceIrradiance(light, frame, tilt, 1.0, light.position, x, n, metresPerUnit);
+    const std::vector<Vec3> sources = luminaireSources(light, metresPerUnit);
+    Rgb e;
+    for (const Vec3& s : sources) e += luminaireSourceIrradiance(light, frame, tilt, 1.0 / sources.size(), s, x, n, metresPerUnit);
+    return e;
   }
   if (light.kind == LightKind::Directional) {
     double cosine = -dot(n, normalize(light.direction));
@@ -128,6 +224,20 @@ Rgb irradiance(const Light& light, const Vec3& x, const Vec3& n, const RayCaster
     const double lux = skyIlluminance(*light.sky, n, light.skyDirections,
                                       [&](const Vec3& w) { return !caster.occluded(Ray{origin, w, 0, INFINITY}); });
     return Rgb::gray(lux / kLumensPerWatt);
+  }
+  if (light.kind == LightKind::Luminaire && light.luminaireModel == LuminaireModel::Opening) {
+    // Each of the opening's sources with its own shadow ray: a partly hidden opening gives a
+    // penumbra.
+    const LuminaireFrame frame = luminaireFrame(light);
+    const double tilt = tiltFactor(light);
+    const std::vector<Vec3> sources = luminaireSources(light, metresPerUnit);
+    const Vec3 origin = x + n * epsilon;
+    Rgb e;
+    for (const Vec3& s : sources) {
+      const Rgb part = luminaireSourceIrradiance(light, frame, tilt, 1.0 / sources.size(), s, x, n, metresPerUnit);
+      if (part.maxComponent() > 0 && !caster.occluded(Ray{origin, s - origin, 0, 1 - 1e-7})) e += part;
+    }
+    return e;
   }
   Rgb e = unshadowedIrradiance(light, x, n, metresPerUnit);
   if (e.maxComponent() <= 0) return e;

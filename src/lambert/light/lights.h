@@ -18,6 +18,25 @@ namespace lambert {
 // The spot's smooth edge: 1 inside the inner cone, 0 outside coneAngle, smoothstep between.
 double spotFalloff(const Light& spot, const Vec3& towardPoint);
 
+// A luminaire's photometric axes in the scene: the nadir (γ = 0, its aim) and the directions of
+// its C = 0° and C = 90° half planes (C turns from c0 toward c90, counter-clockwise seen from
+// above a luminaire aimed down: for the default aim −y and no rotation, c0 = +x and c90 = −z).
+struct LuminaireFrame {
+  Vec3 nadir, c0, c90;
+};
+LuminaireFrame luminaireFrame(const Light& light);
+// The (C, γ) in degrees of a unit direction leaving the luminaire.
+void photometricAngles(const LuminaireFrame& frame, const Vec3& direction, double& cDegrees, double& gammaDegrees);
+// Radiant intensity in W/sr that a luminaire sends along the unit direction `outward`: its
+// candela × the tilt factor of its aim (IES TILT, the angle between the aim and straight down −y)
+// × light.intensity (its colour × multiplier) / 683 lm/W.
+Rgb luminaireIntensity(const Light& light, const Vec3& outward);
+// The point sources a luminaire is lit from, in scene units: its centre (FarField), or the centres
+// of an n × m grid over its luminous opening (Opening: n, m ≤ openingSamplesPerSide in
+// proportion to the sides; a round opening keeps the cells whose centres lie inside it), each
+// sending 1/count of the intensity. A luminaire without an opening size is one point either way.
+std::vector<Vec3> luminaireSources(const Light& light, double metresPerUnit);
+
 // Irradiance E in W/m² that `light` gives a point x with unit normal n, ignoring occluders.
 // metresPerUnit converts scene distances so that the inverse-square law is in metres.
 Rgb unshadowedIrradiance(const Light& light, const Vec3& x, const Vec3& n, double metresPerUnit);
@@ -33,7 +52,15 @@ inline constexpr int kSkyPointsPerPatch = 4;
 struct DirectLightOptions {
   int samplesPerPatch = 16;  // points per patch the irradiance is averaged over (seeds 000, 003)
   std::uint64_t seed = 1;
+  // Ward's adaptive shadow testing (light/many_lights.h): at each point the lights get shadow
+  // rays in decreasing order of their unoccluded irradiance until the untested rest is at most
+  // this fraction of the unoccluded total, which bounds the error there (|E − E_exact| ≤ τ·U).
+  // 0: every light a ray, the exact sum. With at most kPerLightInjectionLights lights the
+  // injection keeps each light's trace apart and exact (so that a moving light re-traces only
+  // its own patches); more are traced together under this tolerance.
+  double shadowTolerance = 0.01;
 };
+inline constexpr std::size_t kPerLightInjectionLights = 8;
 
 // Each patch's mean direct irradiance from one light, in W/m², over low-discrepancy points.
 std::vector<Rgb> patchIrradiance(const Mesh& mesh, const RayCaster& caster, const Light& light, double metresPerUnit,

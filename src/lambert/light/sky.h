@@ -15,7 +15,7 @@
 #include "lambert/core/error.h"
 #include "lambert/core/rgb.h"
 #include "lambert/core/vec3.h"
-#include "lambert/scene/gltf.h"  // kLumensPerWatt
+#include "lambert/core/photometric.h"  // kLumensPerWatt
 
 namespace lambert {
 

@@ -14,6 +14,8 @@
 #include <type_traits>
 
 #include "lambert/core/warning.h"
+#include "lambert/light/lights.h"
+#include "lambert/light/photometry.h"
 #include "lambert/scene/gltf.h"
 
 namespace lambert {
@@ -344,6 +346,7 @@ class Reader {
     if (numFaces == 0) throw ParseError{top.string() + ": no faces (lambert needs surfaces: f, sph, cyl, cone, ring, torus, prism); a library of materials and colours, as MGF's Materials/*.mgf are, is included (i) by a scene that has them"};
     if (dropped.total() > 0) warning(top.string() + ": " + dropped.describe());
     if (scene.surfaces.empty()) throw ParseError{top.string() + ": every face is degenerate (" + dropped.describe() + ")"};
+    scene.lights = lights_;
     scene.camera = cameraViewingScene(scene);
     // The file's own frame: z up, in metres; every point read went through zUpToYUp.
     const Affine toScene = zUpToYUp();
@@ -379,6 +382,8 @@ class Reader {
   std::map<std::string, int> materialIndex_;  // "name#version" → index into materials_
   std::vector<PolygonMesh> meshes_;
   std::map<std::string, std::size_t> meshIndex_;
+  std::vector<Light> lights_;
+  std::map<std::string, std::shared_ptr<const Photometry>> photometries_;  // each IES file read once
 
   // --- the current line, for messages ---
   const SourceFile* file_ = nullptr;
@@ -397,7 +402,8 @@ class Reader {
         {"cmix", "cmix w1 colour1 w2 colour2 ..."}, {"rd", "rd ρ"}, {"ed", "ed ε (lm/m²)"}, {"td", "td τ"}, {"rs", "rs ρ α"},
         {"ts", "ts τ α"}, {"ir", "ir n k"}, {"sides", "sides 1|2"}, {"f", "f v1 v2 v3 ..."}, {"sph", "sph centre radius"},
         {"cyl", "cyl v1 radius v2"}, {"cone", "cone v1 r1 v2 r2"}, {"ring", "ring centre rmin rmax"}, {"torus", "torus centre rmin rmax"},
-        {"prism", "prism v1 v2 v3 ... length"}, {"i", "i file [xf arguments]"}};
+        {"prism", "prism v1 v2 v3 ... length"}, {"i", "i file [xf arguments]"},
+        {"ies", "ies file [-m multiplier] [xf arguments]"}};
     auto it = forms.find(k);
     return it == forms.end() ? std::string() : "; write it as '" + it->second + "'";
   }
@@ -595,6 +601,52 @@ class Reader {
     line_ = savedLine;
   }
 
+  // MGF 2.0 "ies pathname [-m multiplier] [transform]": an IES luminaire at the origin of the
+  // current frame, aimed down its −z (the photometric nadir), its 0–180° plane along x and its
+  // 90–270° plane along y (MGF's notes on IES files), placed by the enclosing and its own
+  // transforms (its own applied as an xf around it, arrays included); the file relative to the
+  // including one. Its candela values times the multiplier, in white.
+  void luminaire() {
+    expectAtLeast(1);
+    const std::string& name = arg(0);
+    double multiplier = 1;
+    std::size_t xfFrom = 2;
+    if (numArgs() >= 2 && arg(1) == "-m") {
+      if (numArgs() < 3) fail("ies: -m needs a multiplier; write it as 'ies file [-m multiplier] [transform]'");
+      multiplier = number(arg(2));
+      if (!(multiplier > 0)) fail("ies: the multiplier must be positive, got '" + arg(2) + "'");
+      xfFrom = 4;
+    }
+    const fs::path target = (file_->directory / name).lexically_normal();
+    auto cached = photometries_.find(target.string());
+    if (cached == photometries_.end()) {
+      Result<Photometry> read = readPhotometry(target.string());
+      if (!read) fail("ies '" + name + "': " + read.error().message);
+      cached = photometries_.emplace(target.string(), std::make_shared<const Photometry>(std::move(*read))).first;
+    }
+    const XfSpec spec = parseXf(xfFrom);
+    forEachInstance(spec, [&] {
+      const Affine& xf = xf_.back();
+      Light light;
+      light.kind = LightKind::Luminaire;
+      light.name = name + " " + std::to_string(lights_.size());
+      light.photometry = cached->second;
+      light.position = xf.point({0, 0, 0});
+      const auto direction = [&](const Vec3& v) { return normalize(xf.point(v) - light.position); };
+      light.direction = direction({0, 0, -1});
+      // The turn about the aim that brings lambert's default C = 0 (luminaireFrame) onto the
+      // transformed x axis.
+      light.rotationDegrees = 0;
+      const LuminaireFrame unturned = luminaireFrame(light);
+      const Vec3 c0 = direction({1, 0, 0});
+      light.rotationDegrees = std::atan2(dot(c0, unturned.c90), dot(c0, unturned.c0)) * 180 / kPi;
+      if (xf.mirrors())
+        warnOnce("ies-mirror", "ies: a mirroring transform would run the luminaire's C planes the other way; it is placed unmirrored");
+      light.intensity = Rgb::gray(multiplier);
+      lights_.push_back(std::move(light));
+    });
+  }
+
   // --- contexts ---
 
   VertexContext& vertex(const std::string& name) {
@@ -760,8 +812,10 @@ class Reader {
       std::vector<Vec3> base;
       for (std::size_t i = 0; i + 1 < numArgs(); ++i) base.push_back(vertex(arg(i)).position);
       prism(base, number(arg(numArgs() - 1)));
-    } else if (k == "fh" || k == "ies") {
-      warnOnce(k, k == "fh" ? std::string("fh (face with holes) is not supported yet; skipped") : std::string("ies (IES luminaire) is not supported; skipped"));
+    } else if (k == "ies") {
+      luminaire();
+    } else if (k == "fh") {
+      warnOnce(k, "fh (face with holes) is not supported yet; skipped");
     } else {
       warnOnce(k, "unknown entity '" + k + "' skipped");
     }

@@ -34,8 +34,11 @@
 //     negative radius (both radii of a cone or torus) turns them inward; a ring faces along its
 //     centre vertex's normal; a prism is extruded away from its face's normal (all faces out), or
 //     toward it when the length is negative (all in).
+//   ies file [-m multiplier] [transform]: an IES (or EULUMDAT .ldt) luminaire, relative to the
+//     including file, as a LightKind::Luminaire at the origin of its frame, aimed down its −z,
+//     its C = 0 plane along its x (MGF's notes on IES files), candela × multiplier, white.
 // What is ignored: td, rs, ts, ir (one warning per kind: lambert is diffuse-only and opaque); fh
-//   and ies (one warning each: unsupported); unknown entities (one warning per kind, file:line).
+//   (one warning: unsupported); unknown entities (one warning per kind, file:line).
 // What is repaired, with a warning naming file:line: rd above 1 (lowered below 1, as RenderPark
 //   does); a colour that is no real colour (above); an o or xf end with nothing to end (ignored);
 //   an o name of several words (joined);

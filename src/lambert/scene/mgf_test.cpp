@@ -7,6 +7,8 @@
 #include <functional>
 
 #include "lambert/core/warning.h"
+#include "lambert/light/lights.h"
+#include "lambert/light/photometry.h"
 #include "tests/support/files.h"
 
 namespace lambert {
@@ -666,6 +668,57 @@ o
   EXPECT_EQ(array.count("t.mgf:7: unbalanced xf: no xf ends this array (-a) in its file; it ends at the end of the file"), 1);
   EXPECT_NEAR(totalArea(*repeated), 3 * 0.5, 1e-12);
   EXPECT_TRUE(hasVertex(*repeated, fromMgf({1, 0, 4})));
+}
+
+}  // namespace
+}  // namespace lambert
+
+namespace lambert {
+namespace {
+
+// MGF's ies entity: the luminaire at its frame's origin, aimed down its −z, C = 0 along its x;
+// -m multiplies the candela; a transform (an array here) places copies. MGF is z-up: a −z aim is
+// lambert's −y, and −rz 90 turns C = 0 from +x to MGF's −y, lambert's +z.
+TEST(MgfTest, IesEntityPlacesLuminairesByItsTransform) {
+  const fs::path dir = testing::scratchDirectory("mgf", "ies");
+  write(dir / "lamps" / "down.ies",
+        "IESNA:LM-63-2002\nTILT=NONE\n1 -1 1 3 1 1 2 0.2 0.2 0\n1 1 10\n0 45 90\n0\n100 80 0\n");
+  write(dir / "t.mgf", std::string(R"(v a =
+	p 0 0 0
+v b =
+	p 1 0 0
+v c =
+	p 0 1 0
+f a b c
+ies lamps/down.ies -m 2 -t 1 2 3 -a 2 -t 0 5 0
+ies lamps/down.ies -rz -90 -t 0 0 4
+)"));
+  WarningCapture warnings;
+  Result<Scene> scene = readMgf((dir / "t.mgf").string());
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  EXPECT_EQ(warnings.messages().size(), 0u);
+  ASSERT_EQ(scene->lights.size(), 3u);
+  for (const Light& l : scene->lights) {
+    EXPECT_EQ(l.kind, LightKind::Luminaire);
+    ASSERT_TRUE(l.photometry);
+    EXPECT_LT(length(l.direction - Vec3{0, -1, 0}), 1e-12);
+  }
+  EXPECT_EQ(scene->lights[0].photometry, scene->lights[2].photometry);  // read once
+  EXPECT_LT(length(scene->lights[0].position - fromMgf({1, 2, 3})), 1e-12);
+  EXPECT_LT(length(scene->lights[1].position - fromMgf({1, 7, 3})), 1e-12);
+  EXPECT_LT(length(scene->lights[2].position - fromMgf({0, 0, 4})), 1e-12);
+  EXPECT_EQ(scene->lights[0].intensity.g, 2);
+  EXPECT_EQ(scene->lights[2].intensity.g, 1);
+  EXPECT_NEAR(scene->lights[0].rotationDegrees, 0, 1e-9);
+  EXPECT_LT(length(luminaireFrame(scene->lights[2]).c0 - fromMgf({0, -1, 0})), 1e-12);
+  // 45° from the nadir straight below the first: I = 2 × 80 cd at 45°, E = I cos³45° / h².
+  const Rgb e = unshadowedIrradiance(scene->lights[0], fromMgf({1, 2 + 3, 0}), {0, 1, 0}, 1);
+  EXPECT_NEAR(e.g * 683, 160 * std::pow(std::cos(kPi / 4), 3) / 9, 1e-9);
+  // A missing file is an error naming the MGF line.
+  write(dir / "bad.mgf", "ies nowhere.ies\n");
+  Result<Scene> bad = readMgf((dir / "bad.mgf").string());
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.error().message.find("bad.mgf:1: ies 'nowhere.ies'"), std::string::npos) << bad.error().message;
 }
 
 }  // namespace

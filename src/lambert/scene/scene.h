@@ -13,6 +13,7 @@
 namespace lambert {
 
 class SkyModel;  // light/sky.h
+class Photometry;  // light/photometry.h
 
 // A colour texture (albedo or emission), decoded to linear RGB (sRGB files are decoded on load),
 // that multiplies a material's factor. Texture coordinate
@@ -79,6 +80,13 @@ enum class LightKind {
   Directional,  // parallel light (a sun): irradiance E⊥ on a surface facing it, from infinitely far
   Sky,          // a sky dome at infinity (light/sky.h): radiance L(ω) above the horizon, entering
                 // through whatever openings the scene's geometry leaves
+  Luminaire,    // a measured luminaire: intensity from its goniometric distribution (light/photometry.h)
+};
+
+// How a luminaire's light leaves it (docs/photometry.md, "Luminaires").
+enum class LuminaireModel {
+  FarField,  // a point source at its photometric centre: exact beyond about 5 luminaire sizes
+  Opening,   // its luminous opening as a grid of point sources sharing the intensity: the near field
 };
 
 // The default direction count of a sky light's irradiance estimate (light/sky.h skyIlluminance):
@@ -88,15 +96,27 @@ inline constexpr int kDefaultSkyDirections = 4096;
 struct Light {
   std::string name;
   LightKind kind = LightKind::Point;
-  Vec3 position;                // point, spot: scene units
-  Vec3 direction{0, -1, 0};     // spot: cone axis; directional: the way the light travels
-  Rgb intensity;                // point, spot: radiant intensity I in W/sr (spot: on its axis)
+  Vec3 position;                // point, spot, luminaire: scene units (luminaire: photometric centre)
+  Vec3 direction{0, -1, 0};     // spot: cone axis; directional: the way the light travels;
+                                // luminaire: its aim, the photometric nadir γ = 0 (default straight down)
+  // Point, spot: radiant intensity I in W/sr (spot: on its axis). Luminaire: colour × multiplier (white:
+  // 1 per channel); it sends I [W/sr] = candela × intensity / 683 lm/W per channel, so that the lux
+  // of its irradiance (683 × Rec. 709 luminance) is the photometric illuminance.
+  Rgb intensity;
   Rgb irradiance;               // directional: E⊥ in W/m² on a surface facing the light
   double coneAngleDegrees = 30; // spot: half-angle of the cone, where the light reaches zero
   double falloffDegrees = 5;    // spot: width of the smooth edge inside the cone (the seed's "focus")
   Vec3 angularVelocity;         // rad/s about the world x, y, z axes: turns `direction` over time
   std::shared_ptr<const SkyModel> sky;       // sky: its luminance distribution and scale
   int skyDirections = kDefaultSkyDirections;  // sky: directions per irradiance estimate
+  // Luminaire: the candela distribution (shared by every light of one file), the turn in degrees
+  // of its C = 0 half plane about the aim (counter-clockwise seen from behind the luminaire, as C
+  // runs; at 0 it points along the scene's +x made perpendicular to the aim, or −z for an aim
+  // along x), how its light leaves it, and the grid of its opening per side (Opening model).
+  std::shared_ptr<const Photometry> photometry = nullptr;
+  double rotationDegrees = 0;
+  LuminaireModel luminaireModel = LuminaireModel::FarField;
+  int openingSamplesPerSide = 4;
 
   bool operator==(const Light&) const = default;
 };

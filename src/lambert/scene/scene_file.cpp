@@ -16,6 +16,7 @@
 #include "lambert/core/warning.h"
 #include "lambert/light/sky.h"
 #include "lambert/light/sun.h"
+#include "lambert/light/photometry.h"
 #include "lambert/scene/builtin.h"
 #include "lambert/scene/gltf.h"
 #include "lambert/scene/mgf.h"
@@ -266,7 +267,10 @@ Light readSunLight(ObjectReader& r, const std::string& pointer, Light light) {
   return light;
 }
 
-Light readLight(const Json& value, const std::string& pointer) {
+// Each photometric file read once per scene, however many luminaires share it.
+using PhotometryCache = std::map<std::string, std::shared_ptr<const Photometry>>;
+
+Light readLight(const Json& value, const std::string& pointer, const std::string& scenePath, PhotometryCache& photometries) {
   ObjectReader r(value, pointer);
   Light light;
   light.name = r.string("name", "light " + pointer.substr(pointer.rfind('/') + 1));
@@ -302,9 +306,45 @@ Light readLight(const Json& value, const std::string& pointer) {
     return readSkyLight(r, light);
   } else if (type == "sun") {
     return readSunLight(r, pointer, light);
+  } else if (type == "ies") {
+    // A measured luminaire (docs/scene-format.md, docs/photometry.md "Luminaires").
+    light.kind = LightKind::Luminaire;
+    const Json& fileValue = r.require("file");
+    if (!fileValue.is_string() || fileValue.get<std::string>().empty())
+      throw FieldError{r.pointerOf("file"), "expected the path of an IES (.ies) or EULUMDAT (.ldt) file, found " + typeName(fileValue)};
+    const std::string file = (std::filesystem::path(scenePath).parent_path() / fileValue.get<std::string>()).string();
+    auto cached = photometries.find(file);
+    if (cached == photometries.end()) {
+      Result<Photometry> read = readPhotometry(file);
+      if (!read) throw FieldError{r.pointerOf("file"), read.error().message};
+      cached = photometries.emplace(file, std::make_shared<const Photometry>(std::move(*read))).first;
+    }
+    light.photometry = cached->second;
+    light.position = ObjectReader::checkedTriple(r.require("position"), r.pointerOf("position"), -maxVector, maxVector);
+    light.direction = r.vector("aim", {0, -1, 0});
+    if (!(length(light.direction) > 0)) throw FieldError{r.pointerOf("aim"), "the aim must not be zero"};
+    light.direction = normalize(light.direction);
+    light.rotationDegrees = r.number("rotationDegrees", 0, -360, 360);
+    const double multiplier = r.number("multiplier", 1, 0, 1e6);
+    const Rgb colour = r.colour("color", {1, 1, 1}, 1e6, false);
+    // White (1, 1, 1) has luminance 1 (Rec. 709 weights sum to 1): cd/683 W/sr per channel.
+    light.intensity = colour * multiplier;
+    const std::string model = r.string("model", "point");
+    if (model == "area") {
+      light.luminaireModel = LuminaireModel::Opening;
+      const double perSide = r.number("openingSamples", 4, 1, 16);
+      light.openingSamplesPerSide = static_cast<int>(perSide);
+      if (perSide != light.openingSamplesPerSide)
+        throw FieldError{r.pointerOf("openingSamples"), "expected a whole number of sources per side"};
+    } else if (model != "point") {
+      throw FieldError{r.pointerOf("model"), "unknown luminaire model \"" + model + "\" (allowed: point, the far field; area, the luminous opening)"};
+    } else if (r.has("openingSamples")) {
+      throw FieldError{r.pointerOf("openingSamples"), "applies to \"model\": \"area\" only"};
+    }
+    r.finish("name, type, file, position, aim, rotationDegrees, multiplier, color, model, openingSamples");
   } else {
     throw FieldError{r.pointerOf("type"), (type.empty() ? std::string("missing") : "unknown light type \"" + type + "\"") +
-                                              " (allowed: point, spot, directional, sky, sun)"};
+                                              " (allowed: point, spot, directional, ies, sky, sun)"};
   }
   return light;
 }
@@ -520,7 +560,9 @@ Scene readScene(const Json& document, const std::string& path) {
     scene.surfaces.push_back(std::move(surface));
   }
   const Json& lights = r.array("lights");
-  for (std::size_t l = 0; l < lights.size(); ++l) scene.lights.push_back(readLight(lights[l], "/lights/" + std::to_string(l)));
+  PhotometryCache photometries;
+  for (std::size_t l = 0; l < lights.size(); ++l)
+    scene.lights.push_back(readLight(lights[l], "/lights/" + std::to_string(l), path, photometries));
 
   std::optional<Camera> meshCamera;
   const Json& meshes = r.array("meshes");
@@ -713,6 +755,20 @@ std::string sceneFileText(const Scene& scene) {
         l["zenithLuminance"] = light.sky->zenithLuminance();
         l["north"] = triple(light.sky->north());
         l["directions"] = light.skyDirections;
+        break;
+      case LightKind::Luminaire:
+        LAMBERT_CHECK(light.photometry != nullptr);
+        l["type"] = "ies";
+        // Absolute: the written scene file need not lie beside the photometric file.
+        l["file"] = std::filesystem::absolute(light.photometry->path).lexically_normal().string();
+        l["position"] = triple(light.position);
+        l["aim"] = triple(light.direction);
+        l["rotationDegrees"] = light.rotationDegrees;
+        l["color"] = triple(Vec3{light.intensity.r, light.intensity.g, light.intensity.b});
+        if (light.luminaireModel == LuminaireModel::Opening) {
+          l["model"] = "area";
+          l["openingSamples"] = light.openingSamplesPerSide;
+        }
         break;
     }
     lights.push_back(std::move(l));

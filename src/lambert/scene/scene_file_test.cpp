@@ -202,7 +202,7 @@ TEST(SceneFileTest, BadFilesAreRefusedNamingThePathAndTheRule) {
        "bad.json: /lights/0/coneAngleDegrees: 120 is out of range: allowed (0, 90]"},
       {"{" + base + R"(, "lights": [{"type": "spot", "position": [0,1,0], "direction": [0,-1,0], "intensity": [1,1,1], "coneAngleDegrees": 20, "falloffDegrees": 30}]})",
        "/lights/0/falloffDegrees: 30 is out of range: allowed [0, 20]"},
-      {"{" + base + R"(, "lights": [{"type": "laser"}]})", "/lights/0/type: unknown light type \"laser\" (allowed: point, spot, directional, sky, sun)"},
+      {"{" + base + R"(, "lights": [{"type": "laser"}]})", "/lights/0/type: unknown light type \"laser\" (allowed: point, spot, directional, ies, sky, sun)"},
       {"{" + base + R"(, "lights": [{"type": "directional", "direction": [0,0,0], "irradiance": [1,1,1]}]})", "/lights/0/direction: the direction must not be zero"},
       {"{" + base + R"(, "lights": [{"type": "point", "position": "here", "intensity": [1,1,1]}]})", "/lights/0/position: expected an array of 3 numbers, found a string"},
       {R"({"materials": [{"name": "m", "albedo": [1, 0.5, 0.5]}], )" + surface + "}", "/materials/0/albedo/0: 1 is out of range: allowed [0, 1)"},
