@@ -69,7 +69,13 @@ void addLightingStats(Stats& stats, const LightingResults& results) {
     stats.add(key + "e_max", label + "E_max", m.statistics.maximum, "lx");
     stats.add(key + "u0", label + "U0 = E_min/E_avg", m.statistics.uniformity);
     stats.add(key + "min_over_max", label + "E_min/E_max", m.statistics.minOverMax);
+    if (!m.daylightFactor.empty()) {
+      stats.add(key + "df_avg", label + "daylight factor, mean", m.daylight.average, "%");
+      stats.add(key + "df_min", label + "daylight factor, least", m.daylight.minimum, "%");
+      stats.add(key + "df_max", label + "daylight factor, most", m.daylight.maximum, "%");
+    }
   }
+  if (results.skyHorizontalLux > 0) stats.add("sky_horizontal_lux", "overcast sky, unobstructed horizontal illuminance", results.skyHorizontalLux, "lx");
   stats.add("illuminance_points", "illuminance points", static_cast<std::int64_t>(results.pointsMeasured));
   stats.add("illuminance_setup_seconds", "illuminance setup time (vertex irradiance)", results.setupSeconds, "s");
   stats.add("illuminance_seconds", "illuminance time", results.measureSeconds, "s");

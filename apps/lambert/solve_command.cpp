@@ -157,7 +157,7 @@ int runSolve(const SolveOnlyOptions& o) {
     Result<LightingResults> lighting = measureLighting(engine->solution(), *lightingRequested);
     if (!lighting) return fail("solve", lighting.error().message);
     if (!o.exportPoints.empty()) {
-      if (Status ok = writePointsCsv(o.exportPoints, pointsTable, lighting->points); !ok) {
+      if (Status ok = writePointsCsv(o.exportPoints, pointsTable, lighting->points, lighting->pointDaylightFactor); !ok) {
         std::fprintf(stderr, "lambert solve: %s\n", ok.error().message.c_str());
         return 1;
       }

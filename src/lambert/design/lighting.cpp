@@ -7,6 +7,7 @@
 #include "lambert/core/timer.h"
 #include "lambert/engine/solution.h"
 #include "lambert/io/png.h"
+#include "lambert/light/sky.h"
 
 namespace lambert {
 
@@ -38,6 +39,17 @@ Result<LightingResults> measureLighting(const SolutionView& solution, const Ligh
   results.raysCast = meter.raysCast();
   std::size_t next = request.points.size();
   results.points.assign(measured->begin(), measured->begin() + static_cast<std::ptrdiff_t>(next));
+  // A daylight factor where the scene is lit by an overcast sky alone.
+  const SkyModel* sky = daylightFactorSky(scene);
+  if (sky && !isOvercast(*sky)) sky = nullptr;
+  if (sky) results.skyHorizontalLux = sky->horizontalIlluminance();
+  auto daylightFactors = [&](const std::vector<PointIrradiance>& irradiance) {
+    std::vector<double> df;
+    if (sky)
+      for (const PointIrradiance& e : irradiance) df.push_back(daylightFactorPercent(illuminanceLux(e.total()), *sky));
+    return df;
+  };
+  results.pointDaylightFactor = daylightFactors(results.points);
   for (CalculationGrid& grid : grids) {
     MeasuredGrid m;
     m.irradiance.assign(measured->begin() + static_cast<std::ptrdiff_t>(next),
@@ -45,6 +57,8 @@ Result<LightingResults> measureLighting(const SolutionView& solution, const Ligh
     next += grid.points.size();
     for (const PointIrradiance& e : m.irradiance) m.lux.push_back(illuminanceLux(e.total()));
     m.statistics = gridStatistics(m.lux);
+    m.daylightFactor = daylightFactors(m.irradiance);
+    m.daylight = gridStatistics(m.daylightFactor);
     m.grid = std::move(grid);
     results.grids.push_back(std::move(m));
   }
@@ -84,7 +98,7 @@ Result<std::vector<std::string>> writeGridFiles(const std::string& prefix, const
     for (std::size_t h = 0; h < g; ++h)
       if (gridFileStem(results.grids[h].grid.name) == stem) stem.append(1, '-').append(std::to_string(g + 1));
     const std::string csv = prefix + stem + ".csv", png = prefix + stem + ".png";
-    if (Status ok = writePointsCsv(csv, gridTable(m.grid, frame), m.irradiance); !ok) return ok.error();
+    if (Status ok = writePointsCsv(csv, gridTable(m.grid, frame), m.irradiance, m.daylightFactor); !ok) return ok.error();
     const FalseColourImage picture = falseColourImage(m.grid, m.lux, image);
     if (Status ok = writePng(png, picture.width, picture.height, picture.rgb); !ok) return ok.error();
     written.push_back(csv);

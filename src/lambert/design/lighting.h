@@ -28,11 +28,17 @@ struct MeasuredGrid {
   std::vector<PointIrradiance> irradiance;  // per grid point, W/m²
   std::vector<double> lux;                  // per grid point, illuminanceLux(total)
   GridStatistics statistics;                // of lux
+  // Under an overcast sky that alone lights the scene (light/sky.h daylightFactorSky, isOvercast):
+  // the daylight factor per point, DF = 100 · E / E_h,unobstructed (%), and its statistics; else empty.
+  std::vector<double> daylightFactor;
+  GridStatistics daylight;
 };
 
 struct LightingResults {
   std::vector<MeasuredGrid> grids;
   std::vector<PointIrradiance> points;  // per requested point
+  std::vector<double> pointDaylightFactor;  // per requested point, % (as MeasuredGrid::daylightFactor)
+  double skyHorizontalLux = 0;              // E_h of the sky the daylight factors are taken under; 0: none
   double setupSeconds = 0;              // the meter's setup (the solution's vertex irradiance)
   double measureSeconds = 0;            // every point of every grid and the points
   std::uint64_t pointsMeasured = 0;

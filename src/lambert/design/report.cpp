@@ -8,6 +8,8 @@
 #include "lambert/engine/solution.h"
 #include "lambert/io/png.h"
 #include "lambert/light/emission.h"
+#include "lambert/light/photometry.h"
+#include "lambert/light/sky.h"
 
 namespace lambert {
 namespace {
@@ -49,6 +51,8 @@ std::string lightKind(LightKind kind) {
     case LightKind::Point: return "point";
     case LightKind::Spot: return "spot";
     case LightKind::Directional: return "directional";
+    case LightKind::Sky: return "sky";
+    case LightKind::Luminaire: return "luminaire";
   }
   return "light";
 }
@@ -120,13 +124,20 @@ Result<std::string> lightingReportHtml(const ReportInput& input) {
     h += "<table id=\"grids\"><tr><th class=\"name\">surface</th><th>points</th><th>spacing (m)</th><th>E<sub>avg</sub> (lx)</th>"
          "<th>E<sub>min</sub> (lx)</th><th>E<sub>max</sub> (lx)</th><th>U<sub>0</sub> = E<sub>min</sub>/E<sub>avg</sub></th>"
          "<th>E<sub>min</sub>/E<sub>max</sub></th></tr>\n";
+    const bool daylight = lighting.skyHorizontalLux > 0;
+    if (daylight) h.replace(h.rfind("</tr>\n"), 6, "<th>DF<sub>avg</sub> (%)</th><th>DF<sub>min</sub> (%)</th></tr>\n");
     for (const MeasuredGrid& m : lighting.grids) {
       const GridStatistics& s = m.statistics;
+      const std::string df = daylight ? "<td>" + fixed(m.daylight.average, 2) + "</td><td>" + fixed(m.daylight.minimum, 2) + "</td>" : "";
       h += "<tr><td class=\"name\">" + escaped(m.grid.name) + "</td><td>" + std::to_string(s.points) + "</td><td>" +
            fixed(m.grid.spacingU * scene.metresPerUnit, 2) + "</td><td>" + fixed(s.average) + "</td><td>" + fixed(s.minimum) +
-           "</td><td>" + fixed(s.maximum) + "</td><td>" + fixed(s.uniformity, 2) + "</td><td>" + fixed(s.minOverMax, 2) + "</td></tr>\n";
+           "</td><td>" + fixed(s.maximum) + "</td><td>" + fixed(s.uniformity, 2) + "</td><td>" + fixed(s.minOverMax, 2) + "</td>" + df + "</tr>\n";
     }
-    h += "</table></section>\n";
+    h += "</table>\n";
+    if (daylight)
+      h += "<p>Daylight factor DF = 100 · E / E<sub>h</sub> under the overcast sky that alone lights the scene, its unobstructed "
+           "horizontal illuminance E<sub>h</sub> = " + fixed(lighting.skyHorizontalLux, 0) + " lx.</p>\n";
+    h += "</section>\n";
   }
   for (std::size_t g = 0; g < lighting.grids.size(); ++g) {
     const MeasuredGrid& m = lighting.grids[g];
@@ -158,14 +169,22 @@ Result<std::string> lightingReportHtml(const ReportInput& input) {
   // Lights and emitters in photometric units.
   h += "<section id=\"lights\"><h2>Light sources</h2>\n";
   if (!solution.lights().empty()) {
-    h += "<table><tr><th class=\"name\">light</th><th class=\"name\">type</th><th>position (scene units)</th><th>intensity (cd)</th>"
-         "<th>illuminance (lx)</th></tr>\n";
+    h += "<table><tr><th class=\"name\">light</th><th class=\"name\">type</th><th>position (scene units)</th><th>peak intensity (cd)</th>"
+         "<th>luminous flux (lm)</th><th>illuminance (lx)</th></tr>\n";
     for (const Light& light : solution.lights()) {
-      const bool directional = light.kind == LightKind::Directional;
+      const bool placed = light.kind != LightKind::Directional && light.kind != LightKind::Sky;
+      std::string candela = "—", flux = "—", lux = "—";
+      if (light.kind == LightKind::Point || light.kind == LightKind::Spot) candela = fixed(kLumensPerWatt * light.intensity.luminance());
+      if (light.kind == LightKind::Point) flux = fixed(4 * kPi * kLumensPerWatt * light.intensity.luminance());
+      if (light.kind == LightKind::Luminaire && light.photometry) {
+        candela = fixed(light.photometry->maxCandela() * light.intensity.luminance());
+        flux = fixed(light.photometry->luminousFlux() * light.intensity.luminance());
+      }
+      if (light.kind == LightKind::Directional) lux = fixed(kLumensPerWatt * light.irradiance.luminance()) + " (normal)";
+      if (light.kind == LightKind::Sky && light.sky) lux = fixed(light.sky->horizontalIlluminance()) + " (horizontal, unobstructed)";
       h += "<tr><td class=\"name\">" + escaped(light.name) + "</td><td class=\"name\">" + lightKind(light.kind) + "</td><td>" +
-           (directional ? std::string("—") : general(light.position.x) + ", " + general(light.position.y) + ", " + general(light.position.z)) +
-           "</td><td>" + (directional ? std::string("—") : fixed(kLumensPerWatt * light.intensity.luminance())) + "</td><td>" +
-           (directional ? fixed(kLumensPerWatt * light.irradiance.luminance()) : std::string("—")) + "</td></tr>\n";
+           (placed ? general(light.position.x) + ", " + general(light.position.y) + ", " + general(light.position.z) : std::string("—")) +
+           "</td><td>" + candela + "</td><td>" + flux + "</td><td>" + lux + "</td></tr>\n";
     }
     h += "</table>\n";
   }

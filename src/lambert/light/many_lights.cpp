@@ -14,6 +14,7 @@
 #include "lambert/light/lights.h"
 #include "lambert/light/photometry.h"
 #include "lambert/core/photometric.h"  // kLumensPerWatt
+#include "lambert/scene/scene.h"
 
 namespace lambert {
 namespace {

@@ -16,6 +16,7 @@
 #include "lambert/core/rgb.h"
 #include "lambert/core/vec3.h"
 #include "lambert/core/photometric.h"  // kLumensPerWatt
+#include "lambert/scene/scene.h"
 
 namespace lambert {
 
