@@ -23,6 +23,9 @@ namespace {
 // An emitting surface is integrated explicitly at a point where the bound on its light there is
 // at least this share of the largest emitter's bound (see IlluminanceMeter::measure).
 constexpr double kExplicitShare = 0.02;
+// Below this share of the largest bound, an emitter is integrated explicitly only where one probe
+// ray finds it visible.
+constexpr double kProbeShare = 0.25;
 
 // An emitting triangle of the scene (a fan triangle of an emitting face): its corners and front
 // normal.
@@ -232,8 +235,18 @@ Result<std::vector<PointIrradiance>> IlluminanceMeter::measure(std::span<const C
     }
     for (std::size_t k = 0; k < s.emitters.surfaces.size(); ++k) {
       if (!(bound[k] > 0) || bound[k] < kExplicitShare * largestBound) continue;
-      explicitly[k] = 1;
       const EmitterSurface& surface = s.emitters.surfaces[k];
+      // A lesser emitter (another room's lamp) is first probed with one ray to its first
+      // triangle's centroid: hidden, it is left to the hemisphere rays like a far one (the split
+      // is still decided before those rays, so each emitter is counted by one estimator).
+      if (bound[k] < kProbeShare * largestBound) {
+        const EmitterTriangle& first = s.emitters.triangles[surface.first];
+        const Vec3 d = (first.corners[0] + first.corners[1] + first.corners[2]) / 3 - origin;
+        const double tMax = 1 - s.epsilon / std::fmax(length(d), 1e-300);
+        ++rays;
+        if (dot(d, n) <= 0 || tMax <= 0 || shadows.occluded(Ray{origin, d, 0, tMax})) continue;
+      }
+      explicitly[k] = 1;
       // Each triangle's exact unoccluded factor; then the surface's visible share from
       // emitterSamples stratified points, each in a triangle picked in proportion to its factor
       // (the sequence's first coordinate picks it and is reused, rescaled, within it).

@@ -14,7 +14,9 @@
 //    kernel-weighted visible fraction (weights cos θ_x cos θ_y / r²) of stratified points on it,
 //    `emitterSamples` per surface, each in a triangle picked in proportion to its factor, and four
 //    times as many where those disagree (a penumbra: 16 gave 7% there on the Cornell floor). Exact
-//    where the emitter is wholly visible or wholly hidden; consistent in between. The other
+//    where the emitter is wholly visible or wholly hidden; consistent in between. An emitter
+//    under a quarter of the largest bound is integrated so only where one probe ray to it finds
+//    it visible (another room's lamp costs a ray, not emitterSamples). The other
 //    emitters (a building's other rooms, small far lamps) are counted by the hemisphere rays
 //    below where they meet them: the two estimators split the emitters, so none is counted twice.
 //  - indirect: the light the surfaces reflect, ∫ L_r cos θ dω over the hemisphere about n, from
