@@ -6,7 +6,7 @@
 // point's direct and indirect light); the median, its parts, rays per second.
 // Prints one JSON document on stdout.
 //
-//   illuminance_bench [--rooms 64] [--face-size 0.25] [--points 100000] [--runs 3]
+//   illuminance_bench [--rooms 64] [--face-size 0.25] [--points 100000] [--runs 3] [--indirect-rays 256]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -38,6 +38,7 @@ struct Options {
   double faceSize = 0.25;
   int points = 100000;
   int runs = 3;
+  int indirectRays = IlluminanceOptions{}.indirectRays;
 };
 
 Options parseOptions(int argc, char** argv) {
@@ -47,6 +48,9 @@ Options parseOptions(int argc, char** argv) {
   app.add_option("--face-size", options.faceSize, "Largest face of the building, m")->check(CLI::Range(0.01, 100.0))->capture_default_str();
   app.add_option("--points", options.points, "Points on the work plane, about")->check(CLI::Range(1, 10000000))->capture_default_str();
   app.add_option("--runs", options.runs, "Runs timed (the median is reported)")->check(CLI::Range(1, 99))->capture_default_str();
+  app.add_option("--indirect-rays", options.indirectRays, "Hemisphere rays per point (lambert's --illuminance-rays)")
+      ->check(CLI::Range(1, 1 << 16))
+      ->capture_default_str();
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -77,7 +81,9 @@ int main(int argc, char** argv) {
   double average = 0;
   for (int run = 0; run < options.runs; ++run) {
     Timer timer;  // what a user waits for after the solve: the meter and every point
-    const IlluminanceMeter meter(view);
+    IlluminanceOptions illuminance;
+    illuminance.indirectRays = options.indirectRays;
+    const IlluminanceMeter meter(view, illuminance);
     const std::vector<PointIrradiance> e = orExit(meter.measure(grid.points), "illuminance_bench");
     seconds.push_back(timer.seconds());
     setup.push_back(meter.setupSeconds());
@@ -99,6 +105,7 @@ int main(int argc, char** argv) {
   doc["scene"] = {{"rooms", options.rooms}, {"face_size_m", options.faceSize}, {"faces", faces}, {"lights", scene.lights.size()}};
   doc["solve_seconds"] = bench::seconds(solveSeconds);
   doc["points"] = grid.points.size();
+  doc["indirect_rays"] = options.indirectRays;
   doc["spacing_m"] = roundDigits(plane.spacingMetres, 4);
   doc["mean_lux"] = roundDigits(average, 1);
   doc["seconds"] = Json::array();
