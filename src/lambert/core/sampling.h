@@ -54,6 +54,24 @@ inline UnitSquarePoint scrambledZeroTwo(std::uint32_t index, std::uint32_t scram
   return {vanDerCorput(index, scrambleU) * 0x1p-32, sobolSecondDimension(index, scrambleV) * 0x1p-32};
 }
 
+// Shirley & Chiu's concentric map of (u, v) ∈ [0,1)² onto the unit disc: area-preserving, and it
+// keeps cells compact and neighbours neighbours, so a stratified pattern stays stratified. Lifted
+// onto the hemisphere (z = √(1 − x² − y²), Malley's method) it gives cosine-weighted directions.
+inline UnitSquarePoint concentricDisk(double u, double v) {
+  const double a = 2 * u - 1, b = 2 * v - 1;
+  double r = 0, phi = 0;
+  if (a != 0 || b != 0) {
+    if (std::fabs(a) > std::fabs(b)) {
+      r = a;
+      phi = (kPi / 4) * (b / a);
+    } else {
+      r = b;
+      phi = kPi / 2 - (kPi / 4) * (a / b);
+    }
+  }
+  return {r * std::cos(phi), r * std::sin(phi)};
+}
+
 // Maps (u, v) ∈ [0,1)² onto the triangle with equal area (Shirley & Chiu's warp, which keeps the
 // square's stratification).
 inline Vec3 sampleTriangle(const std::array<Vec3, 3>& triangle, double u, double v) {

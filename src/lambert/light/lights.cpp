@@ -16,11 +16,6 @@ namespace {
 
 constexpr double kDegrees = kPi / 180;
 
-double smoothstep(double edge0, double edge1, double x) {
-  if (edge0 == edge1) return x < edge0 ? 0 : 1;
-  double t = std::fmin(std::fmax((x - edge0) / (edge1 - edge0), 0.0), 1.0);
-  return t * t * (3 - 2 * t);
-}
 
 // A spot's cone as mayReceive tests every patch against it: the unit axis and the cosine and sine
 // of the half angle, computed once per light rather than per patch.
@@ -182,6 +177,12 @@ std::vector<Vec3> luminaireSources(const Light& light, double metresPerUnit) {
     }
   if (sources.empty()) sources.push_back(light.position);
   return sources;
+}
+
+double smoothstep(double edge0, double edge1, double x) {
+  if (edge0 == edge1) return x < edge0 ? 0 : 1;
+  double t = std::fmin(std::fmax((x - edge0) / (edge1 - edge0), 0.0), 1.0);
+  return t * t * (3 - 2 * t);
 }
 
 Rgb unshadowedIrradiance(const Light& light, const Vec3& x, const Vec3& n, double metresPerUnit) {

@@ -15,6 +15,9 @@
 
 namespace lambert {
 
+// Hermite smoothstep: 0 below edge0, 1 above edge1, 3t² − 2t³ between (a step where they are equal).
+double smoothstep(double edge0, double edge1, double x);
+
 // The spot's smooth edge: 1 inside the inner cone, 0 outside coneAngle, smoothstep between.
 double spotFalloff(const Light& spot, const Vec3& towardPoint);
 

@@ -21,12 +21,6 @@ namespace {
 
 constexpr double kDegrees = kPi / 180;
 
-// As lights.cpp's: the spot's smooth edge between the outer and inner cone cosines.
-double smoothstep(double edge0, double edge1, double x) {
-  if (edge0 == edge1) return x < edge0 ? 0 : 1;
-  double t = std::fmin(std::fmax((x - edge0) / (edge1 - edge0), 0.0), 1.0);
-  return t * t * (3 - 2 * t);
-}
 
 // The shadow ray lights.cpp's irradiance() traces.
 bool occluded(const Light& light, const Vec3& x, const Vec3& n, const RayCaster& caster, double epsilon) {

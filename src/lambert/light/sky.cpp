@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "lambert/core/rng.h"
+#include "lambert/core/sampling.h"
 #include "lambert/light/sun.h"
 
 namespace lambert {
@@ -163,21 +164,9 @@ void skyJitter(std::uint64_t index, double& du, double& dv) {
 }
 
 Vec3 skySquareToDirection(const Vec3& n, const Vec3& tangent, const Vec3& bitangent, double u, double v) {
-  // Shirley and Chiu's concentric map of the square onto the unit disk (it keeps the cells'
-  // shapes compact and neighbours neighbours, so the stratification and the edge test survive),
-  // then Malley's lift to the hemisphere: cosine-weighted directions.
-  const double a = 2 * u - 1, b = 2 * v - 1;
-  double r = 0, phi = 0;
-  if (a != 0 || b != 0) {
-    if (std::fabs(a) > std::fabs(b)) {
-      r = a;
-      phi = (kPi / 4) * (b / a);
-    } else {
-      r = b;
-      phi = kPi / 2 - (kPi / 4) * (a / b);
-    }
-  }
-  const double x = r * std::cos(phi), y = r * std::sin(phi);
+  // The concentric map keeps the cells' shapes compact and neighbours neighbours, so the
+  // stratification and the edge test survive; Malley's lift makes the directions cosine-weighted.
+  const auto [x, y] = concentricDisk(u, v);
   const double z = std::sqrt(std::fmax(0.0, 1 - x * x - y * y));
   return tangent * x + bitangent * y + n * z;
 }

@@ -7,6 +7,7 @@
 #include "lambert/core/parallel.h"
 #include "lambert/core/progress.h"
 #include "lambert/core/rng.h"
+#include "lambert/core/sampling.h"
 #include "lambert/formfactor/kernels.h"
 #include "lambert/light/emission.h"
 #include "lambert/light/lights.h"
@@ -25,18 +26,7 @@ constexpr int kMaxCulledBacks = 64;
 // Cosine-weighted unit direction about n (pdf cosθ/π), by Shirley & Chiu's concentric map of the
 // square onto the disc, which keeps the (0,2)-sequence's stratification.
 Vec3 cosineDirection(const Vec3& n, UnitSquarePoint s) {
-  double a = 2 * s.u - 1, b = 2 * s.v - 1;
-  double r = 0, phi = 0;
-  if (a != 0 || b != 0) {
-    if (std::fabs(a) > std::fabs(b)) {
-      r = a;
-      phi = (kPi / 4) * (b / a);
-    } else {
-      r = b;
-      phi = kPi / 2 - (kPi / 4) * (a / b);
-    }
-  }
-  double dx = r * std::cos(phi), dy = r * std::sin(phi);
+  const auto [dx, dy] = concentricDisk(s.u, s.v);
   double dz = std::sqrt(std::fmax(0.0, 1 - dx * dx - dy * dy));
   Vec3 t, bt;
   orthonormalBasis(n, t, bt);
