@@ -39,6 +39,7 @@ int runReport(ReportOptions o) {
   PointsTable points;
   Result<LightingRequest> request = lightingRequest(*scene, o.lighting, &points, !o.solve.quiet && !o.solve.json);
   if (!request) return fail("report", request.error().message);
+  request->illuminance.shadowTolerance = o.solve.shadowTolerance;  // the solve's own testing of the lights
   std::unique_ptr<Radiosity> engine = makeEngine("report", *scene, o.solve);
   if (!engine) return 2;
   if (Result<SolveCallReport> solved = engine->solve(); !solved) return fail("report", solved.error().message);

@@ -88,6 +88,7 @@ int runSolve(const SolveOnlyOptions& o) {
   PointsTable pointsTable;
   Result<LightingRequest> lightingRequested = lightingRequest(*scene, o.lighting, &pointsTable, !o.solve.quiet && !o.solve.json);
   if (!lightingRequested) return fail("solve", lightingRequested.error().message);
+  lightingRequested->illuminance.shadowTolerance = o.solve.shadowTolerance;  // the solve's own testing of the lights
   // --exposure scales --export's COLOR_0, or with --lightmaps the --image (the glb's lightmaps
   // hold irradiance in W/m², never an exposed value).
   if (o.exported.glb.empty() || (o.lightmaps.lightmaps && o.lightmaps.image.empty()))

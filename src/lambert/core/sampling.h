@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <span>
 
+#include "lambert/core/rgb.h"  // kPi
 #include "lambert/core/vec3.h"
 
 namespace lambert {

@@ -15,6 +15,7 @@
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/light/emission.h"
 #include "lambert/light/lights.h"
+#include "lambert/light/many_lights.h"
 #include "lambert/mesh/vertex_radiosity.h"
 
 namespace lambert {
@@ -146,6 +147,7 @@ struct IlluminanceMeter::State {
   std::vector<Rgb> vertexIrradiance;        // E per vertex of the vertex mesh
   Emitters emitters;
   std::vector<Rgb> patchEmission;  // B_e per patch of the vertex mesh
+  std::unique_ptr<DirectLighting> lighting;
   std::vector<Vec3> directions;
   double epsilon = 0;
   double setupSeconds = 0;
@@ -161,6 +163,7 @@ IlluminanceMeter::IlluminanceMeter(const SolutionView& solution, const Illuminan
   s.vertexCaster = makeEmbreeRayCaster(mesh);
   s.vertexIrradiance = solution.vertexValues(VertexQuantity::Irradiance);
   s.emitters = sceneEmitters(solution.scene());
+  s.lighting = std::make_unique<DirectLighting>(solution.lights(), solution.scene().metresPerUnit, options.shadowTolerance);
   s.patchEmission = emittedRadiosity(solution.scene(), mesh);
   s.directions = cosineDirections(options.indirectRays, options.seed);
   s.epsilon = rayEpsilon(mesh);
@@ -191,7 +194,6 @@ Result<std::vector<PointIrradiance>> IlluminanceMeter::measure(std::span<const C
   const std::vector<Rgb>& albedo = s.solution.vertexMeshAlbedo();
   const std::vector<Light>& lights = s.solution.lights();
   const RayCaster& shadows = s.solution.caster();
-  const double metresPerUnit = s.solution.scene().metresPerUnit;
   const int samples = std::max(s.options.emitterSamples, 1);
   Pcg32 rng(s.options.seed, 0xe31);
   const std::uint32_t su = rng.nextUint(), sv = rng.nextUint();
@@ -203,7 +205,7 @@ Result<std::vector<PointIrradiance>> IlluminanceMeter::measure(std::span<const C
     const Vec3 x = points[i].position;
     const Vec3 origin = x + n * s.epsilon;
     PointIrradiance& e = out[i];
-    for (const Light& light : lights) e.direct += irradiance(light, x, n, shadows, s.epsilon, metresPerUnit);
+    if (!lights.empty()) e.direct += s.lighting->irradiance(x, n, shadows, s.epsilon);
     // The emitting surfaces: each one's unoccluded light is bounded by
     // B_e·min(1, A cos θ_x⁺ cos θ_y⁺ / (π (d − r)²)) over its bounding sphere (centre at d, radius
     // r): the kernel cos θ_x cos θ_y / (π |y − x|²) with each cosine at most (its projection of

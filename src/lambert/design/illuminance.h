@@ -4,8 +4,9 @@
 // floor where a work plane lies (the points of design/calculation_grid.h).
 //
 // The irradiance E at a point x with unit normal n is split as lighting programs report it:
-//  - direct: from every light (point, spot, directional, luminaire, sky), with a shadow ray each
-//    (light/lights.h irradiance), plus the emitting surfaces' own emission. An emitting surface
+//  - direct: from every light (point, spot, directional, luminaire, sky), with shadow rays (Ward's
+//    adaptive testing over many lights, light/many_lights.h: within shadowTolerance × the
+//    unoccluded light), plus the emitting surfaces' own emission. An emitting surface
 //    whose light at x may matter (its bound B_e·min(1, A cos⁺ cos⁺/(π (d − r)²)) over its bounding
 //    sphere, the cosines' bounds from the sphere too, at least 2% of the largest
 //    emitter's bound there) is integrated explicitly: each of its triangles gives B_e·F·V̄, F its
@@ -63,6 +64,9 @@ struct PointIrradiance {
 struct IlluminanceOptions {
   int indirectRays = 256;   // hemisphere directions per point (rounded up to a power of two)
   int emitterSamples = 16;  // visibility samples per emitting surface integrated explicitly at a point
+  // The lights' shadow testing (light/many_lights.h, Ward's adaptive testing): at most this share of
+  // a point's unoccluded direct light is left untested; 0 traces a ray to every light that reaches.
+  double shadowTolerance = 0.01;
   std::uint64_t seed = 1;
   bool showProgress = false;  // a progress line on a terminal
 };
