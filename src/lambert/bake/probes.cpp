@@ -233,7 +233,7 @@ Result<ProbeVolume> bakeProbes(const SolutionView& solution, const ProbeOptions&
   const Mesh& mesh = solution.vertexMesh();
   const std::unique_ptr<RayCaster> caster = makeEmbreeRayCaster(mesh);
   const Timer radianceTimer;
-  const std::vector<Rgb> vertexRadiance = solution.vertexRadiance();
+  const PatchInterpolation vertexRadiance(mesh, solution.vertexRadiance());
   volume.radianceSeconds = radianceTimer.seconds();
   const std::vector<Light>& lights = solution.lights();
   const RayCaster& shadowCaster = solution.caster();
@@ -258,7 +258,7 @@ Result<ProbeVolume> bakeProbes(const SolutionView& solution, const ProbeOptions&
         ++backFaces;
         return {};
       }
-      return valueOnPatch(mesh, vertexRadiance, hit->patch, p + w * hit->t);
+      return vertexRadiance.at(hit->patch, p + w * hit->t);
     }, rays, options.seed, probe);
     progress.advance();
     if (backFaces > allowedBackFaces) return;

@@ -12,6 +12,7 @@
 #include "lambert/core/sampling.h"
 #include "lambert/core/timer.h"
 #include "lambert/engine/solution.h"
+#include "lambert/formfactor/kernels.h"
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/light/emission.h"
 #include "lambert/light/lights.h"
@@ -87,21 +88,19 @@ Emitters sceneEmitters(const Scene& scene) {
   return out;
 }
 
-// The part of a convex polygon on the positive side of the plane through x with normal n
-// (Sutherland–Hodgman against one plane).
-std::vector<Vec3> clipInFront(std::span<const Vec3> polygon, const Vec3& x, const Vec3& n) {
-  std::vector<Vec3> out;
-  for (std::size_t i = 0; i < polygon.size(); ++i) {
-    const Vec3& a = polygon[i];
-    const Vec3& b = polygon[(i + 1) % polygon.size()];
-    const double da = dot(a - x, n), db = dot(b - x, n);
-    if (da > 0) out.push_back(a);
-    if ((da > 0) != (db > 0) && da != db) out.push_back(a + (b - a) * (da / (da - db)));
-  }
-  return out;
+// A convex polygon's area (a fan from its first corner).
+double polygonArea(std::span<const Vec3> polygon) {
+  Vec3 twice;
+  for (std::size_t k = 1; k + 1 < polygon.size(); ++k) twice += cross(polygon[k] - polygon[0], polygon[k + 1] - polygon[0]);
+  return length(twice) / 2;
 }
 
-double polygonArea(std::span<const Vec3> polygon) { return length(polygonAreaVector(std::vector<Vec3>(polygon.begin(), polygon.end()))) / 2; }
+// An emitting triangle's part above a point's plane: at most four corners.
+struct ClippedTriangle {
+  std::array<Vec3, 4> corners;
+  std::size_t count = 0;
+  double area = 0;
+};
 
 // The same directions at every point, each in the point's own frame: a scrambled (0,2)-sequence
 // mapped to the cosine-weighted hemisphere (Malley's method: the unit disc lifted onto it),
@@ -121,30 +120,12 @@ std::vector<Vec3> cosineDirections(int rays, std::uint64_t seed) {
 
 }  // namespace
 
-double pointToPolygonFormFactor(const Vec3& x, const Vec3& n, std::span<const Vec3> polygon) {
-  const std::vector<Vec3> front = clipInFront(polygon, x, n);
-  if (front.size() < 3) return 0;
-  // Lambert's contour integral: each edge (r_i, r_{i+1}) seen from x subtends θ_i, and its plane
-  // through x has unit normal û_i; F = 1/(2π) Σ θ_i n·û_i, positive for one winding. The polygon
-  // lies wholly in front of x after the clip, so the sum's sign is the winding's alone.
-  double sum = 0;
-  for (std::size_t i = 0; i < front.size(); ++i) {
-    const Vec3 a = front[i] - x, b = front[(i + 1) % front.size()] - x;
-    const Vec3 c = cross(a, b);
-    const double cLength = length(c);
-    if (!(cLength > 0)) continue;
-    const double theta = std::atan2(cLength, dot(a, b));
-    sum += theta * dot(n, c) / cLength;
-  }
-  return std::fabs(sum) / (2 * kPi);
-}
-
 struct IlluminanceMeter::State {
   explicit State(const SolutionView& s) : solution(s) {}
   SolutionView solution;
   IlluminanceOptions options;
   std::unique_ptr<RayCaster> vertexCaster;  // over solution.vertexMesh(), for the hemisphere rays
-  std::vector<Rgb> vertexIrradiance;        // E per vertex of the vertex mesh
+  std::unique_ptr<PatchInterpolation> reflected;  // ρ·E on the vertex mesh's patches (E per vertex)
   Emitters emitters;
   std::vector<Rgb> patchEmission;  // B_e per patch of the vertex mesh
   std::unique_ptr<DirectLighting> lighting;
@@ -161,7 +142,7 @@ IlluminanceMeter::IlluminanceMeter(const SolutionView& solution, const Illuminan
   s.options = options;
   const Mesh& mesh = solution.vertexMesh();
   s.vertexCaster = makeEmbreeRayCaster(mesh);
-  s.vertexIrradiance = solution.vertexValues(VertexQuantity::Irradiance);
+  s.reflected = std::make_unique<PatchInterpolation>(mesh, solution.vertexValues(VertexQuantity::Irradiance), solution.vertexMeshAlbedo());
   s.emitters = sceneEmitters(solution.scene());
   s.lighting = std::make_unique<DirectLighting>(solution.lights(), solution.scene().metresPerUnit, options.shadowTolerance);
   s.patchEmission = emittedRadiosity(solution.scene(), mesh);
@@ -191,7 +172,6 @@ Result<std::vector<PointIrradiance>> IlluminanceMeter::measure(std::span<const C
       return Error{"point " + std::to_string(i) + ": its normal is zero or not finite"};
   }
   const Mesh& mesh = s.solution.vertexMesh();
-  const std::vector<Rgb>& albedo = s.solution.vertexMeshAlbedo();
   const std::vector<Light>& lights = s.solution.lights();
   const RayCaster& shadows = s.solution.caster();
   const int samples = std::max(s.options.emitterSamples, 1);
@@ -230,10 +210,10 @@ Result<std::vector<PointIrradiance>> IlluminanceMeter::measure(std::span<const C
         const double cosReceiver = std::clamp((dot(toCentre, n) + surface.radius) / gap, 0.0, 1.0);
         const double cosEmitter =
             length(surface.normal) > 0 ? std::clamp((-dot(toCentre, surface.normal) + surface.radius) / gap, 0.0, 1.0) : 1.0;
-        factorBound = std::fmin(1.0, surface.area * cosReceiver * cosEmitter / (kPi * gap * gap));
+        factorBound = std::min(1.0, surface.area * cosReceiver * cosEmitter / (kPi * gap * gap));
       }
       bound[k] = surface.luminance * factorBound;
-      largestBound = std::fmax(largestBound, bound[k]);
+      largestBound = std::max(largestBound, bound[k]);
     }
     for (std::size_t k = 0; k < s.emitters.surfaces.size(); ++k) {
       if (!(bound[k] > 0) || bound[k] < kExplicitShare * largestBound) continue;
@@ -249,16 +229,25 @@ Result<std::vector<PointIrradiance>> IlluminanceMeter::measure(std::span<const C
         if (dot(d, n) <= 0 || tMax <= 0 || shadows.occluded(Ray{origin, d, 0, tMax})) continue;
       }
       explicitly[k] = 1;
-      // Each triangle's exact unoccluded factor; then the surface's visible share from
-      // emitterSamples stratified points, each in a triangle picked in proportion to its factor
-      // (the sequence's first coordinate picks it and is reused, rescaled, within it).
+      // Each triangle's exact unoccluded factor (its part above x's plane, kept for the samples);
+      // then the surface's visible share from emitterSamples stratified points, each in a
+      // triangle picked in proportion to its factor (the sequence's first coordinate picks it and
+      // is reused, rescaled, within it).
       thread_local std::vector<double> cumulative;
+      thread_local std::vector<ClippedTriangle> clipped;
       cumulative.assign(surface.count, 0);
+      clipped.resize(surface.count);
       double surfaceFactor = 0;
       for (std::uint32_t t = 0; t < surface.count; ++t) {
         const EmitterTriangle& triangle = s.emitters.triangles[surface.first + t];
-        if (dot(origin - triangle.corners[0], triangle.normal) > 0)  // behind it, its back does not emit
-          surfaceFactor += pointToPolygonFormFactor(x, n, triangle.corners);
+        ClippedTriangle& part = clipped[t];
+        part.count = 0;
+        if (dot(origin - triangle.corners[0], triangle.normal) > 0) {  // behind it, its back does not emit
+          part.count = clipAbovePlane(triangle.corners, x, n, part.corners.data());
+          const std::span<const Vec3> polygon(part.corners.data(), part.count);
+          surfaceFactor += contourFormFactor(x, n, polygon);
+          if (part.count >= 3) part.area = polygonArea(polygon);
+        }
         cumulative[t] = surfaceFactor;
       }
       if (!(surfaceFactor > 0)) continue;
@@ -271,19 +260,18 @@ Result<std::vector<PointIrradiance>> IlluminanceMeter::measure(std::span<const C
         const std::uint32_t t = static_cast<std::uint32_t>(
             std::min<std::ptrdiff_t>(std::upper_bound(cumulative.begin(), cumulative.end(), pick) - cumulative.begin(), surface.count - 1));
         const double below = t ? cumulative[t - 1] : 0, share = cumulative[t] - below;
-        if (!(share > 0)) continue;
+        const ClippedTriangle& part = clipped[t];
+        if (!(share > 0) || part.count < 3) continue;
         u = std::clamp((pick - below) / share, 0.0, 1.0 - 1e-12);
         const EmitterTriangle& triangle = s.emitters.triangles[surface.first + t];
-        const std::vector<Vec3> front = clipInFront(triangle.corners, x, n);
-        if (front.size() < 3) continue;
-        const Vec3 y = sampleConvexPolygon(front, u, v);
+        const Vec3 y = sampleConvexPolygon(std::span<const Vec3>(part.corners.data(), part.count), u, v);
         const Vec3 d = y - origin;
         const double r2 = lengthSquared(d);
         if (!(r2 > 0)) continue;
         // The kernel over the density the pick gives the point (∝ its triangle's factor over the
         // part's area): a consistent ratio estimate of the visible share.
-        const double kernel = std::fmax(0.0, dot(d, n)) * std::fmax(0.0, -dot(d, triangle.normal)) / (r2 * r2);
-        const double density = share / polygonArea(front);
+        const double kernel = std::max(0.0, dot(d, n)) * std::max(0.0, -dot(d, triangle.normal)) / (r2 * r2);
+        const double density = share / part.area;
         if (!(kernel > 0) || !(density > 0)) continue;
         const double weight = kernel / density;
         total += weight;
@@ -299,11 +287,20 @@ Result<std::vector<PointIrradiance>> IlluminanceMeter::measure(std::span<const C
     Vec3 tangent, bitangent;
     orthonormalBasis(n, tangent, bitangent);
     Rgb reflected, emitted;
-    for (const Vec3& local : s.directions) {
-      const Vec3 w = tangent * local.x + bitangent * local.y + n * local.z;
-      const std::optional<RayHit> hit = s.vertexCaster->intersect(Ray{origin, w, 0, INFINITY});
+    thread_local std::vector<Ray> hemisphere;
+    thread_local std::vector<std::optional<RayHit>> hits;
+    hemisphere.resize(s.directions.size());
+    hits.resize(s.directions.size());
+    for (std::size_t k = 0; k < s.directions.size(); ++k) {
+      const Vec3& local = s.directions[k];
+      hemisphere[k] = Ray{origin, tangent * local.x + bitangent * local.y + n * local.z, 0, INFINITY};
+    }
+    s.vertexCaster->intersect(hemisphere, hits);
+    for (std::size_t k = 0; k < s.directions.size(); ++k) {
+      const std::optional<RayHit>& hit = hits[k];
+      const Vec3& w = hemisphere[k].direction;
       if (!hit || !hit->frontFace) continue;
-      reflected += albedo[hit->patch] * valueOnPatch(mesh, s.vertexIrradiance, hit->patch, origin + w * hit->t);
+      reflected += s.reflected->at(hit->patch, origin + w * hit->t);
       const int emitter = s.emitters.ofSceneSurface[mesh.patches[hit->patch].surface];
       if (emitter >= 0 && !explicitly[emitter]) emitted += s.patchEmission[hit->patch];
     }

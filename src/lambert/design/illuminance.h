@@ -93,9 +93,4 @@ class IlluminanceMeter {
   std::unique_ptr<State> state_;
 };
 
-// The unoccluded form factor from a point x with unit normal n to a planar polygon (any winding;
-// the part of it behind x's plane clipped away): the fraction of a Lambertian emitter's radiosity
-// B that reaches x as irradiance, E = B·F (Lambert 1760; Baum, Rushmeier & Winget 1989, eq. 4).
-double pointToPolygonFormFactor(const Vec3& x, const Vec3& n, std::span<const Vec3> polygon);
-
 }  // namespace lambert

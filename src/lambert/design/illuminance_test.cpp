@@ -28,14 +28,6 @@ std::unique_ptr<Radiosity> solved(const Scene& scene, MeshStrategy meshing = Mes
   return std::move(*engine);
 }
 
-// Howell's catalogue, C-11: a differential area to a parallel rectangle a × b at distance h, the
-// area below one corner: F = 1/(2π) [A/√(1+A²) atan(B/√(1+A²)) + B/√(1+B²) atan(A/√(1+B²))].
-double cornerParallelFactor(double a, double b, double h) {
-  const double A = a / h, B = b / h;
-  return (A / std::sqrt(1 + A * A) * std::atan(B / std::sqrt(1 + A * A)) +
-          B / std::sqrt(1 + B * B) * std::atan(A / std::sqrt(1 + B * B))) / (2 * kPi);
-}
-
 // The factor by brute-force quadrature: the midpoint rule over an n × n grid of the rectangle
 // corner + s·u + t·v (s, t ∈ [0, 1]), cos θ_x cos θ_y / (π r²) dA, only the part in front of x.
 double quadratureFactor(const Vec3& x, const Vec3& n, const Vec3& corner, const Vec3& u, const Vec3& v, int cells = 800) {
@@ -51,23 +43,6 @@ double quadratureFactor(const Vec3& x, const Vec3& n, const Vec3& corner, const 
       if (cx > 0) sum += cx * cy / (kPi * r2 * r2) * dA;
     }
   return sum;
-}
-
-TEST(IlluminanceTest, PolygonFormFactorMatchesHowellAndQuadrature) {
-  // Under the centre of a 2 × 3 rectangle 1.5 below: four corner rectangles of 1 × 1.5.
-  const std::vector<Vec3> rectangle{{-1, 1.5, -1.5}, {1, 1.5, -1.5}, {1, 1.5, 1.5}, {-1, 1.5, 1.5}};
-  const double expected = 4 * cornerParallelFactor(1, 1.5, 1.5);
-  EXPECT_NEAR(pointToPolygonFormFactor({0, 0, 0}, {0, 1, 0}, rectangle), expected, 1e-12);
-  // Either winding.
-  const std::vector<Vec3> reversed(rectangle.rbegin(), rectangle.rend());
-  EXPECT_NEAR(pointToPolygonFormFactor({0, 0, 0}, {0, 1, 0}, reversed), expected, 1e-12);
-  // A tilted receiver that sees part of the rectangle from below its plane's edge: the clip.
-  const Vec3 x{0.3, 0.2, -0.4}, n = normalize(Vec3{1, 0.4, 0.2});
-  const double quadrature = quadratureFactor(x, n, rectangle[0], rectangle[1] - rectangle[0], rectangle[3] - rectangle[0]);
-  EXPECT_GT(quadrature, 0.01);
-  EXPECT_NEAR(pointToPolygonFormFactor(x, n, rectangle), quadrature, 2e-4 * quadrature + 1e-7);
-  // Wholly behind the receiver: nothing.
-  EXPECT_EQ(pointToPolygonFormFactor({0, 0, 0}, {0, -1, 0}, rectangle), 0.0);
 }
 
 // A black floor under an emitting square (L_e = 1 W/(m²·sr) each channel, B_e = π): the direct

@@ -145,6 +145,33 @@ class EmbreeRayCaster final : public RayCaster {
     return RayHit{rayHit.ray.tfar, patch, front};
   }
 
+  void intersect(std::span<const Ray> rays, std::span<std::optional<RayHit>> out) const override {
+    countRays(rays.size());
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+    constexpr std::size_t kChunk = 64;
+    RTCRayHit chunk[kChunk];
+    for (std::size_t begin = 0; begin < rays.size(); begin += kChunk) {
+      const std::size_t n = std::min(kChunk, rays.size() - begin);
+      for (std::size_t i = 0; i < n; ++i) {
+        chunk[i].ray = toRtcRay(rays[begin + i]);
+        chunk[i].hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        chunk[i].hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+      }
+      rtcIntersect1M(scene_, &context, chunk, static_cast<unsigned>(n), sizeof(RTCRayHit));
+      for (std::size_t i = 0; i < n; ++i) {
+        const RTCRayHit& h = chunk[i];
+        if (h.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
+          out[begin + i] = std::nullopt;
+          continue;
+        }
+        const std::uint32_t patch = h.hit.primID;
+        out[begin + i] = RayHit{h.ray.tfar, patch, dot(rays[begin + i].direction, sides_.normals[patch]) < 0};
+      }
+    }
+  }
+
  private:
   PatchSides sides_;
   RTCDevice device_ = nullptr;

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include "lambert/core/parallel.h"
 #include "lambert/core/rng.h"
 #include "lambert/geometry/coverage.h"
 #include "lambert/geometry/ray_caster.h"
@@ -44,7 +45,21 @@ TEST(RayCasterTest, EmbreeAgreesWithBruteForce) {
   int batchOccluded = 0;
   for (std::size_t k = 0; k < rays.size(); ++k) batchOccluded += batch[k];
   EXPECT_EQ(batchOccluded, occludedCount);
-  EXPECT_EQ(embree->raysCast(), 3u * kRays);
+  // The batch intersection gives each ray the brute-force loop's nearest hit.
+  std::vector<std::optional<RayHit>> batchHits(rays.size());
+  embree->intersect(rays, batchHits);
+  for (std::size_t k = 0; k < rays.size(); ++k) {
+    const std::optional<RayHit> b = brute->intersect(rays[k]);
+    ASSERT_EQ(batchHits[k].has_value(), b.has_value()) << "ray " << k;
+    if (!b) continue;
+    EXPECT_NEAR(batchHits[k]->t, b->t, 1e-4 * b->t);
+    EXPECT_EQ(batchHits[k]->frontFace, b->frontFace);
+    EXPECT_EQ(mesh.patches[batchHits[k]->patch].surface, mesh.patches[b->patch].surface);
+  }
+  EXPECT_EQ(embree->raysCast(), 4u * kRays);
+  // Rays cast from many threads are all counted (each thread counts in its own slot).
+  parallelFor(0, rays.size(), [&](std::size_t k) { (void)embree->occluded(rays[k]); }, 1);
+  EXPECT_EQ(embree->raysCast(), 5u * kRays);
 }
 
 TEST(RayCasterTest, HitReportsPatchAndSide) {

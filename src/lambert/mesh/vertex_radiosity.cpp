@@ -140,14 +140,31 @@ std::vector<VertexSite> vertexSites(const Mesh& mesh, double nudge) {
   return sites;
 }
 
-Rgb valueOnPatch(const Mesh& mesh, const std::vector<Rgb>& vertexValues, std::uint32_t patch, const Vec3& x) {
-  const Patch& p = mesh.patches[patch];
-  const Vec3& a = mesh.positions[p.vertices[0]];
+PatchInterpolation::PatchInterpolation(const Mesh& mesh, std::span<const Rgb> vertexValues, std::span<const Rgb> patchFactor)
+    : records_(mesh.numPatches()) {
+  for (std::size_t i = 0; i < mesh.numPatches(); ++i) {
+    const Patch& patch = mesh.patches[i];
+    Record& r = records_[i];
+    r.numCorners = std::min<std::uint32_t>(patch.numCorners, 4);
+    const Rgb factor = patchFactor.empty() ? Rgb{1, 1, 1} : patchFactor[i];
+    for (std::uint32_t k = 0; k < r.numCorners; ++k) {
+      const Vec3& p = mesh.positions[patch.vertices[k]];
+      const Rgb v = vertexValues[patch.vertices[k]] * factor;
+      r.corners[3 * k] = static_cast<float>(p.x), r.corners[3 * k + 1] = static_cast<float>(p.y), r.corners[3 * k + 2] = static_cast<float>(p.z);
+      r.values[3 * k] = static_cast<float>(v.r), r.values[3 * k + 1] = static_cast<float>(v.g), r.values[3 * k + 2] = static_cast<float>(v.b);
+    }
+  }
+}
+
+Rgb PatchInterpolation::at(std::uint32_t patch, const Vec3& x) const {
+  const Record& r = records_[patch];
+  const auto corner = [&](std::uint32_t k) { return Vec3{r.corners[3 * k], r.corners[3 * k + 1], r.corners[3 * k + 2]}; };
+  const auto value = [&](std::uint32_t k) { return Rgb{r.values[3 * k], r.values[3 * k + 1], r.values[3 * k + 2]}; };
+  const Vec3 a = corner(0);
   double bestInside = -INFINITY;
   Rgb best;
-  for (std::uint32_t j = 1; j + 1 < p.numCorners; ++j) {
-    const Vec3& b = mesh.positions[p.vertices[j]];
-    const Vec3& c = mesh.positions[p.vertices[j + 1]];
+  for (std::uint32_t j = 1; j + 1 < r.numCorners; ++j) {
+    const Vec3 b = corner(j), c = corner(j + 1);
     const Vec3 n = cross(b - a, c - a);
     const double twiceArea = dot(n, n);
     if (!(twiceArea > 0)) continue;
@@ -155,12 +172,12 @@ Rgb valueOnPatch(const Mesh& mesh, const std::vector<Rgb>& vertexValues, std::ui
     double wa = dot(cross(b - x, c - x), n) / twiceArea;
     double wb = dot(cross(c - x, a - x), n) / twiceArea;
     double wc = dot(cross(a - x, b - x), n) / twiceArea;
-    const double inside = std::fmin(wa, std::fmin(wb, wc));
+    const double inside = std::min(wa, std::min(wb, wc));
     if (inside <= bestInside) continue;
     bestInside = inside;
-    wa = std::fmax(wa, 0.0), wb = std::fmax(wb, 0.0), wc = std::fmax(wc, 0.0);
+    wa = std::max(wa, 0.0), wb = std::max(wb, 0.0), wc = std::max(wc, 0.0);
     const double sum = wa + wb + wc;
-    best = (vertexValues[p.vertices[0]] * wa + vertexValues[p.vertices[j]] * wb + vertexValues[p.vertices[j + 1]] * wc) / sum;
+    best = (value(0) * wa + value(j) * wb + value(j + 1) * wc) / sum;
   }
   return best;
 }
