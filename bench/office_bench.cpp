@@ -12,7 +12,8 @@
 // 20° soft edge, 955 cd on the axis).
 //
 // Each run is timed from the scene's generation through Radiosity::create, solve() and
-// SolutionView::pointIrradiance at the work-plane points, in this process, from nothing cached.
+// the illuminance meter at the work-plane points (as `lambert solve --work-plane`), in this process,
+// from nothing cached.
 // The points: each desk's task area (1.6 m × 0.8 m) gridded as EN 12464-1 spaces a
 // calculation grid, p = 0.2 · 5^log10(d) with d the area's longer side, at the cells' centres.
 // The runs under the default shadow tolerance are repeated (--runs, median reported), then one
@@ -36,6 +37,7 @@
 
 #include "bench_common.h"
 #include "lambert/core/timer.h"
+#include "lambert/design/illuminance.h"
 #include "lambert/engine/point_gather.h"
 #include "lambert/engine/radiosity.h"
 #include "lambert/light/many_lights.h"
@@ -259,11 +261,17 @@ Run run(const Options& options, double tolerance, bool keepEngine) {
   orExit(engine->solve(), "office_bench");
   r.solveSeconds = phase.seconds();
   phase = Timer();
-  const std::vector<Rgb> e = orExit(engine->solution().pointIrradiance(r.points), "office_bench");
+  // The lux as `lambert solve --work-plane` measures it (design/illuminance.h).
+  IlluminanceOptions meterOptions;
+  meterOptions.shadowTolerance = tolerance;
+  const IlluminanceMeter meter(engine->solution(), meterOptions);
+  std::vector<CalculationPoint> calculationPoints;
+  for (const SurfacePoint& q : r.points) calculationPoints.push_back({q.point, q.normal});
+  const std::vector<PointIrradiance> e = orExit(meter.measure(calculationPoints), "office_bench");
   r.pointSeconds = phase.seconds();
   r.seconds = total.seconds();
   r.cpuSeconds = processCpuSeconds() - cpuBefore;
-  for (const Rgb& x : e) r.lux.push_back(lux(x));
+  for (const PointIrradiance& x : e) r.lux.push_back(lux(x.total()));
   const Stats stats = engine->stats();
   for (const char* key : {"faces", "patches", "links", "light_splits", "light_edge_samples", "light_edge_rays", "shadow_rays",
                           "lights_reaching_per_point", "shadow_rays_per_point", "inject_seconds", "light_edge_seconds",

@@ -66,22 +66,26 @@ std::string histogramSvg(const MeasuredGrid& m, const std::string& unit) {
   const int most = std::max(1, *std::max_element(count.begin(), count.end()));
   std::string svg = "<svg class=\"histogram\" width=\"" + std::to_string(width) + "\" height=\"" + std::to_string(height) +
                     "\" role=\"img\" aria-label=\"histogram of " + escaped(m.grid.name) + "\">";
-  const double barWidth = double(width - left - 10) / bins, plotHeight = height - bottom - 10;
+  const int plotTop = 22;  // room above the bars for the mean's label
+  const double barWidth = double(width - left - 10) / bins, plotHeight = height - bottom - plotTop;
   for (int b = 0; b < bins; ++b) {
     const double h = plotHeight * count[b] / most;
-    svg += "<rect x=\"" + fixed(left + b * barWidth, 1) + "\" y=\"" + fixed(10 + plotHeight - h, 1) + "\" width=\"" +
+    svg += "<rect x=\"" + fixed(left + b * barWidth, 1) + "\" y=\"" + fixed(plotTop + plotHeight - h, 1) + "\" width=\"" +
            fixed(barWidth - 1, 1) + "\" height=\"" + fixed(h, 1) + "\" fill=\"#4a7ab8\"/>";
   }
   const double meanX = left + (width - left - 10) * m.statistics.average / top;
-  svg += "<line x1=\"" + fixed(meanX) + "\" x2=\"" + fixed(meanX) + "\" y1=\"6\" y2=\"" + fixed(10 + plotHeight) +
+  svg += "<line x1=\"" + fixed(meanX) + "\" x2=\"" + fixed(meanX) + "\" y1=\"" + std::to_string(plotTop - 6) + "\" y2=\"" + fixed(plotTop + plotHeight) +
          "\" stroke=\"#c0392b\" stroke-width=\"2\"/>";
-  svg += "<text x=\"" + fixed(meanX + 4) + "\" y=\"16\" font-size=\"11\" fill=\"#c0392b\">E_avg</text>";
-  svg += "<line x1=\"" + std::to_string(left) + "\" x2=\"" + std::to_string(width - 10) + "\" y1=\"" + fixed(10 + plotHeight) + "\" y2=\"" +
-         fixed(10 + plotHeight) + "\" stroke=\"#333\"/>";
+  const bool labelLeft = meanX > 0.6 * width;  // right of the line unless it would run off the plot
+  svg += "<text x=\"" + fixed(labelLeft ? meanX - 4 : meanX + 4) + "\" y=\"" + std::to_string(plotTop - 8) +
+         "\" font-size=\"11\" fill=\"#c0392b\"" + (labelLeft ? " text-anchor=\"end\"" : "") + ">E_avg " +
+         general(m.statistics.average) + " " + unit + "</text>";
+  svg += "<line x1=\"" + std::to_string(left) + "\" x2=\"" + std::to_string(width - 10) + "\" y1=\"" + fixed(plotTop + plotHeight) + "\" y2=\"" +
+         fixed(plotTop + plotHeight) + "\" stroke=\"#333\"/>";
   svg += "<text x=\"" + std::to_string(left) + "\" y=\"" + std::to_string(height - 6) + "\" font-size=\"11\">0</text>";
   svg += "<text x=\"" + std::to_string(width - 10) + "\" y=\"" + std::to_string(height - 6) + "\" font-size=\"11\" text-anchor=\"end\">" +
          general(top) + " " + unit + "</text>";
-  svg += "<text x=\"4\" y=\"20\" font-size=\"11\">" + std::to_string(most) + "</text></svg>";
+  svg += "<text x=\"4\" y=\"" + std::to_string(plotTop + 10) + "\" font-size=\"11\">" + std::to_string(most) + "</text></svg>";
   return svg;
 }
 
