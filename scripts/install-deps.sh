@@ -17,6 +17,9 @@ packages=(
   # (software WebGL; about 390 MB, 15 s to install), and Blender imports it (its glTF importer
   # needs numpy; about 575 MB, 95 s to install)
   chromium blender python3-numpy
+  # the Python module (python/, pybind11) and its tests (pytest) and example (matplotlib), for
+  # Debian's python3
+  python3-dev pybind11-dev python3-pytest python3-matplotlib
 )
 # `make fuzz` (scripts/install-deps.sh --fuzz) also needs clang and its runtime, which holds
 # libFuzzer; the ordinary build does not, so they are installed only then.

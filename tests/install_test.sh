@@ -108,4 +108,17 @@ run "$bin/bake" "$source/tests/data/blender_room.glb" "$scratch/baked.glb"
 begin "moving_light"
 run "$bin/moving_light"
 
+pydir=$(cache_value LAMBERT_PYTHON_DIR)
+if [ -n "$pydir" ]; then
+  begin "the installed Python module imports from $prefix/$pydir and solves"
+  python=$(cache_value Python3_EXECUTABLE)
+  where=$(cd "$scratch" && PYTHONPATH="$prefix/$pydir" XDG_CACHE_HOME="$scratch/cache" "${python:-python3}" -c '
+import lambert
+engine = lambert.Radiosity(lambert.load_scene("cornell"))
+assert engine.solve()["converged"]
+assert engine.vertex_radiance().shape[1] == 3
+print(lambert.__file__)') || fail "it did not import or solve"
+  [[ "$where" == "$prefix/$pydir/"* ]] || fail "imported from $where, not the prefix"
+fi
+
 echo "install_test: passed in $((SECONDS - started)) s"

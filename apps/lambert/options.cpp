@@ -19,22 +19,17 @@
 #include "lambert/version.h"
 
 namespace lambert::cli {
-namespace {
 
-const std::map<std::string, SolverKind>& solverNames() {
-  static const std::map<std::string, SolverKind> names{
-      {"direct", SolverKind::Direct}, {"gs", SolverKind::GaussSeidel}, {"jacobi", SolverKind::Jacobi}, {"shoot", SolverKind::Shooting}};
-  return names;
+// A setting's range as the library checks it (engine/solve_settings.h), for CLI11, in the
+// option's own type (so that a message reads "1 to 255", not "1.000000 to 255.000000").
+template <typename T = double>
+CLI::Range rangeOf(const char* setting) {
+  const SettingRange range = solveSettingRange(setting);
+  return CLI::Range(static_cast<T>(range.least), static_cast<T>(range.most));
 }
 
-}  // namespace
-
-const std::initializer_list<const char*>& flatMethodOptions();
-
 UniformMeshOptions uniformMeshOptions(const Scene& scene, const MeshCommandOptions& o) {
-  if (o.given("--patches") || o.given("--max-edge") || (scene.defaults.patches == 0 && scene.defaults.maxEdgeLength == 0))
-    return {o.patches, o.maxEdge};
-  return {scene.defaults.patches > 0 ? scene.defaults.patches : o.patches, scene.defaults.maxEdgeLength};
+  return lambert::uniformMeshOptions(scene, o, [&](std::string_view name) { return o.given(std::string(name)); });
 }
 
 void addMeshOptions(CLI::App& cmd, MeshCommandOptions& o, PatchOptions role) {
@@ -46,12 +41,12 @@ void addMeshOptions(CLI::App& cmd, MeshCommandOptions& o, PatchOptions role) {
           ? "Flat method only, and giving it chooses --method flat: target patch count of the uniform mesh (default " +
                 std::to_string(o.patches) + ", or the scene file's)"
           : "Target patch count of the uniform mesh the dense estimate is for (default " + std::to_string(o.patches) + ", or the scene file's)";
-  auto* patches = cmd.add_option("--patches", o.patches, patchesHelp)->check(CLI::Range(std::size_t{1}, std::size_t{200000}));
+  auto* patches = cmd.add_option("--patches", o.patches, patchesHelp)->check(rangeOf<std::size_t>("--patches"));
   cmd.add_option("--max-edge", o.maxEdge,
                  role == PatchOptions::FlatMethod
                      ? "Flat method only, and giving it chooses --method flat: longest patch edge in scene units (instead of --patches)"
                      : "Longest patch edge in scene units (instead of --patches)")
-      ->check(CLI::Range(1e-9, 1e12))
+      ->check(rangeOf("--max-edge"))
       ->excludes(patches);
   cmd.add_option("--seed", o.seed, "Random seed")->capture_default_str();
   cmd.add_option("--units", o.metresPerUnit, "Unit of an OBJ or PLY file's numbers: m, cm, mm, in or ft (default m)")
@@ -81,26 +76,22 @@ void addSolveOptions(CLI::App& cmd, SolveCommandOptions& o) {
   cmd.add_option("--formfactor", o.formFactor,
                  flat + "form-factor method: mc (area Monte Carlo, the default), point (seed 000), hemicube (seed 001) or "
                         "hemisphere (ray-cast)")
-      ->transform(CLI::CheckedTransformer(std::map<std::string, FormFactorMethod>{
-          {"mc", FormFactorMethod::AreaMonteCarlo},
-          {"point", FormFactorMethod::PointToPoint},
-          {"hemicube", FormFactorMethod::Hemicube},
-          {"hemisphere", FormFactorMethod::HemisphereRays}}));
+      ->transform(CLI::CheckedTransformer(formFactorNames()));
   cmd.add_option("--hemicube-resolution", o.hemicubeResolution,
                  flat + "--formfactor hemicube's pixels along the top face, even (default " + std::to_string(o.hemicubeResolution) + ")")
-      ->check(CLI::Range(2, 4096) & CLI::Validator([](std::string& v) { return std::stoi(v) % 2 == 0 ? "" : "must be even"; }, "EVEN"));
+      ->check(rangeOf<int>("--hemicube-resolution") & CLI::Validator([](std::string& v) { return std::stoi(v) % 2 == 0 ? "" : "must be even"; }, "EVEN"));
   cmd.add_option("--hemisphere-rays", o.hemisphereRays,
                  flat + "--formfactor hemisphere's rays per patch (default " + std::to_string(o.hemisphereRays) + ")")
-      ->check(CLI::Range(1, 1 << 24));
+      ->check(rangeOf<int>("--hemisphere-rays"));
   cmd.add_option("--samples", o.samples, flat + "--formfactor mc's sample pairs per patch pair (default " + std::to_string(o.samples) + ")")
-      ->check(CLI::Range(1, 4096));
+      ->check(rangeOf<int>("--samples"));
   cmd.add_option("--light-samples", o.lightSamples, "Points per element the lights' direct light is averaged over")
-      ->check(CLI::Range(1, 4096))
+      ->check(rangeOf<int>("--light-samples"))
       ->capture_default_str();
   cmd.add_option("--shadow-tolerance", o.shadowTolerance,
                  "Many lights: the share of a point's unoccluded direct light that may go without shadow rays (Ward's adaptive "
                  "shadow testing, docs/photometry.md); the error is at most this share. 0: every light a ray")
-      ->check(CLI::Range(0.0, 0.5))
+      ->check(rangeOf("--shadow-tolerance"))
       ->capture_default_str();
   cmd.add_option("--solver", o.solver,
                  "Solver: gs (Gauss-Seidel) or jacobi; the flat method also direct or shoot (progressive), and naming either "
@@ -108,53 +99,52 @@ void addSolveOptions(CLI::App& cmd, SolveCommandOptions& o) {
       ->transform(CLI::CheckedTransformer(solverNames()))
       ->default_str(o.solver == SolverKind::Shooting ? "gs; shoot on the flat method" : "gs");
   cmd.add_option("--tolerance", o.tolerance, "Relative stopping tolerance of iterative solvers")
-      ->check(CLI::Range(1e-15, 1.0))
+      ->check(rangeOf("--tolerance"))
       ->capture_default_str();
   cmd.add_option("--max-iterations", o.maxIterations, "Sweep limit (shots per patch for shoot)")
-      ->check(CLI::Range(1, 1000000))
+      ->check(rangeOf<int>("--max-iterations"))
       ->capture_default_str();
   cmd.add_option("--cache-dir", o.cacheDir, "Cache directory for form factors and hierarchical links (default $XDG_CACHE_HOME/lambert or ~/.cache/lambert)");
   cmd.add_flag("--no-cache", o.noCache, "Neither read nor write the form-factor or link cache");
   cmd.add_flag("--normalize-rows", o.normalizeRows,
                flat + "divide each row of F by its sum (seed 003): hides estimation error, adds energy where light should escape");
   std::string flatOnly;
-  for (const char* option : flatMethodOptions()) flatOnly += std::string(flatOnly.empty() ? "" : ", ") + option;
+  for (const char* option : flatMethodSettings()) flatOnly += std::string(flatOnly.empty() ? "" : ", ") + option;
   cmd.add_option("--method", o.method,
                  "hierarchical (element trees under clusters, linked by the BF oracle; the default) or flat (a mesh with a dense "
                  "form-factor matrix); without --method, flat where a flat-only option is given (" + flatOnly +
                      "), --solver direct or shoot, or a patch count in the scene file")
-      ->transform(CLI::CheckedTransformer(std::map<std::string, MeshStrategy>{{"flat", MeshStrategy::Uniform},
-                                                                             {"hierarchical", MeshStrategy::Hierarchical}}))
+      ->transform(CLI::CheckedTransformer(methodNames()))
       ->default_str("hierarchical");
   cmd.add_option("--link-error", o.linkError, "Hierarchical: the share of the scene's power one link may carry unrefined")
-      ->check(CLI::Range(1e-12, 1.0))
+      ->check(rangeOf("--link-error"))
       ->capture_default_str();
   cmd.add_option("--min-area", o.minElementArea, "Hierarchical: smallest element area, scene units² (default: scene area × 1e-5)")
-      ->check(CLI::Range(1e-30, 1e30));
+      ->check(rangeOf("--min-area"));
   cmd.add_option("--visibility-rays", o.visibilityRays, "Hierarchical: sample pairs per link (a ray each) estimating its visibility, and a cluster link's form factor")
-      ->check(CLI::Range(1, 255))
+      ->check(rangeOf<int>("--visibility-rays"))
       ->capture_default_str();
   cmd.add_flag("--no-clusters", o.noClusters, "Hierarchical: start from every pair of faces (HSA'91, O(n²) links) instead of clusters");
   cmd.add_option("--refine-passes", o.refinePasses, "Hierarchical: refine-then-solve passes of the first solve")
-      ->check(CLI::Range(1, 20))
+      ->check(rangeOf<int>("--refine-passes"))
       ->capture_default_str();
   // Sizes in bytes with an optional binary suffix: 512M, 8G, 1.5T.
   cmd.add_option("--memory-limit", o.memoryLimitBytes,
                  "Memory a solve may use, e.g. 8G or 512M (default: the machine's available memory); larger solves are refused")
       ->transform(CLI::AsSizeValue(false))
-      ->check(CLI::Range(1.0, 1e18));
+      ->check(rangeOf("--memory-limit"));
   cmd.add_flag("--adaptive", o.adaptive, flat + "an adaptive quad-tree mesh refined at spot and shadow edges (seed 003)");
   cmd.add_option("--base-edge", o.baseEdge, "With --adaptive only: longest edge of the coarsest cells, scene units (default: diagonal / 6)")
-      ->check(CLI::Range(1e-9, 1e12));
+      ->check(rangeOf("--base-edge"));
   cmd.add_option("--max-level", o.maxLevel, "With --adaptive only: deepest refinement level (each halves a cell)")
-      ->check(CLI::Range(0, 8))
+      ->check(rangeOf<int>("--max-level"))
       ->capture_default_str();
   cmd.add_option("--gradient-threshold", o.gradientThreshold,
                  "With --adaptive only: split cells whose corners' radiosity spans more than this × the mean (0: off)")
-      ->check(CLI::Range(0.0, 1e6))
+      ->check(rangeOf("--gradient-threshold"))
       ->capture_default_str();
   cmd.add_option("--adapt-passes", o.adaptPasses, "With --adaptive only: refine-and-solve passes per solve (per frame in animate)")
-      ->check(CLI::Range(1, 20))
+      ->check(rangeOf<int>("--adapt-passes"))
       ->capture_default_str();
   cmd.add_flag("--json", o.json, "Print the stats as JSON instead of a table");
   cmd.add_flag("-q,--quiet", o.quiet, "Print nothing on success");
@@ -326,16 +316,6 @@ std::optional<Scene> findScene(const std::string& command, const MeshCommandOpti
   return std::move(*scene);
 }
 
-namespace {
-
-std::string defaultCacheDirectory() {
-  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return std::string(xdg) + "/lambert";
-  if (const char* home = std::getenv("HOME"); home && *home) return std::string(home) + "/.cache/lambert";
-  return ".lambert-cache";
-}
-
-}  // namespace
-
 Status checkImagePath(const std::string& path, const GivenOptions& given) {
   const std::string extension = lowercaseExtension(path);
   if (extension == ".exr") return refuseGiven(given, {"--exposure"}, "an EXR holds linear radiance, with no tone mapping");
@@ -362,13 +342,6 @@ const std::initializer_list<const char*>& solveOnlyOptions() {
   return options;
 }
 
-const std::initializer_list<const char*>& flatMethodOptions() {
-  static const std::initializer_list<const char*> options = {
-      "--patches", "--max-edge", "--adaptive", "--formfactor", "--samples", "--hemicube-resolution", "--hemisphere-rays",
-      "--normalize-rows"};
-  return options;
-}
-
 Status refuseGiven(const GivenOptions& o, std::initializer_list<const char*> options, const std::string& why) {
   for (const char* option : options)
     if (o.given(option)) return Error{std::string(option) + " has no effect: " + why};
@@ -376,79 +349,9 @@ Status refuseGiven(const GivenOptions& o, std::initializer_list<const char*> opt
 }
 
 Result<RadiosityOptions> radiosityOptions(const Scene& scene, const SolveCommandOptions& o) {
-  // Each option the chosen path would not read is refused, saying what reads it.
-  struct Rule {
-    bool unused;
-    std::initializer_list<const char*> options;
-    std::string why;
-  };
-  // The scene file's defaults, where the command line does not say.
-  SolverKind solver = !o.given("--solver") && !scene.defaults.solver.empty() ? solverNames().at(scene.defaults.solver) : o.solver;
-  const bool solverNamed = o.given("--solver") || !scene.defaults.solver.empty();
-  const bool needsMatrix = solver == SolverKind::Shooting || solver == SolverKind::Direct;
-  // The method: --method, or hierarchical unless something asks for a flat one: a mesh size
-  // (on the command line or in the scene file), a form-factor option, or a solver that needs the
-  // dense matrix. Options every method reads (the cache, threads, budgets, outputs) choose none.
-  bool hierarchical = o.method == MeshStrategy::Hierarchical;
-  if (!o.given("--method")) {
-    bool flatAsked = scene.defaults.patches > 0 || scene.defaults.maxEdgeLength > 0 || (solverNamed && needsMatrix);
-    for (const char* option : flatMethodOptions()) flatAsked |= o.given(option);
-    hierarchical = !flatAsked;
-  }
-  // The hierarchical method gathers over links: where nothing chose a solver, a command whose
-  // own default needs the dense matrix (animate's shoot) gathers with gs instead.
-  if (hierarchical && !solverNamed && needsMatrix) solver = SolverKind::GaussSeidel;
-  const double tolerance = !o.given("--tolerance") && scene.defaults.tolerance > 0 ? scene.defaults.tolerance : o.tolerance;
-  const bool mc = o.formFactor == FormFactorMethod::AreaMonteCarlo;
-  const std::string method = formFactorMethodName(o.formFactor);
-  const Rule rules[] = {
-      {hierarchical, flatMethodOptions(),
-       "it is for --method flat; the hierarchical method sizes its elements by --link-error and --min-area"},
-      {!hierarchical, {"--link-error", "--min-area", "--visibility-rays", "--no-clusters", "--refine-passes"},
-       "it applies to --method hierarchical only"},
-      {o.adaptive, {"--patches", "--max-edge"}, "they size the uniform mesh; --adaptive cells are sized by --base-edge and --max-level"},
-      {!o.adaptive, {"--base-edge", "--max-level", "--gradient-threshold", "--adapt-passes"}, "it applies to --adaptive meshing only"},
-      {!mc, {"--samples"}, "sample pairs are for --formfactor mc, not " + method},
-      {o.formFactor != FormFactorMethod::Hemicube, {"--hemicube-resolution"}, "it is for --formfactor hemicube, not " + method},
-      {o.formFactor != FormFactorMethod::HemisphereRays, {"--hemisphere-rays"}, "it is for --formfactor hemisphere, not " + method},
-      {solver == SolverKind::Direct, {"--tolerance", "--max-iterations"}, "the direct solver is exact; they are for gs, jacobi and shoot"},
-      {o.noCache, {"--cache-dir"}, "--no-cache turns the cache off"},
-      {scene.lights.empty(), {"--light-samples", "--shadow-tolerance"}, "scene '" + scene.name + "' has no point, spot or directional lights"},
-  };
-  for (const Rule& rule : rules)
-    if (rule.unused)
-      if (Status refused = refuseGiven(o, rule.options, rule.why); !refused) return refused.error();
-
-  RadiosityOptions r;
-  r.meshing = hierarchical ? MeshStrategy::Hierarchical : o.adaptive ? MeshStrategy::Adaptive : MeshStrategy::Uniform;
-  r.hierarchical.links.linkError = o.linkError;
-  r.hierarchical.links.minElementArea = o.minElementArea;
-  r.hierarchical.links.visibilityRays = o.visibilityRays;
-  r.hierarchical.links.clusters = !o.noClusters;
-  r.hierarchical.links.seed = o.seed;
-  r.hierarchical.links.showProgress = !o.quiet && !o.json;
-  r.hierarchical.refinePasses = o.refinePasses;
-  r.uniform = uniformMeshOptions(scene, o);
-  r.adaptive.quadtree.baseEdgeLength = o.baseEdge;
-  r.adaptive.quadtree.maxLevel = o.maxLevel;
-  r.adaptive.gradientThreshold = o.gradientThreshold;
-  r.adaptive.passesPerSolve = o.adaptPasses;
-  r.formFactors.method = o.formFactor;
-  r.formFactors.samplePairs = o.samples;
-  r.formFactors.hemicubeResolution = o.hemicubeResolution;
-  r.formFactors.hemisphereRays = o.hemisphereRays;
-  r.formFactors.seed = o.seed;
-  r.formFactors.showProgress = !o.quiet && !o.json;
-  r.normalizeRows = o.normalizeRows;
-  r.directLight.samplesPerPatch = o.lightSamples;
-  r.directLight.shadowTolerance = o.shadowTolerance;
-  r.directLight.seed = o.seed;
-  r.solver = solver;
-  r.tolerance = tolerance;
-  r.maxIterations = o.maxIterations;
-  r.memoryLimitBytes = o.memoryLimitBytes;
-  r.cacheDirectory = o.noCache ? "" : (o.cacheDir.empty() ? defaultCacheDirectory() : o.cacheDir);
-  return r;
+  SolveSettings settings = o;
+  settings.showProgress = !o.quiet && !o.json;
+  return lambert::radiosityOptions(scene, settings, [&](std::string_view name) { return o.given(std::string(name)); });
 }
 
 Result<Mesh> exportedVertexMesh(const Scene& scene, const SolveCommandOptions& o) {

@@ -12,6 +12,7 @@
 #include "lambert/core/image.h"
 #include "lambert/core/stats.h"
 #include "lambert/engine/radiosity.h"
+#include "lambert/engine/solve_settings.h"
 #include "lambert/io/gltf_export.h"
 #include "lambert/render/solution_image.h"
 #include "lambert/scene/scene.h"
@@ -24,12 +25,11 @@ struct GivenOptions {
   bool given(const std::string& option) const { return command && command->count(option) > 0; }
 };
 
-// Which scene, meshed how finely: all that `reference` needs to find the solution's vertices.
-struct MeshCommandOptions : GivenOptions {
+// Which scene, meshed how finely, and the solve's settings (engine/solve_settings.h: the
+// library's SolveSettings, the same names and defaults the Python module takes): all that
+// `reference` and `info` need to find the solution's vertices, and what the solving commands read.
+struct MeshCommandOptions : GivenOptions, SolveSettings {
   std::string scene = "cornell";
-  std::size_t patches = 784;
-  double maxEdge = 0;
-  std::uint64_t seed = 1;
   double metresPerUnit = 0;       // --units for OBJ files; 0: metres
   double creaseAngleDegrees = 20; // --crease-angle for mesh files
   int mgfDivisions = 16;          // --mgf-divisions for MGF files
@@ -38,34 +38,8 @@ struct MeshCommandOptions : GivenOptions {
 };
 
 struct SolveCommandOptions : MeshCommandOptions {
-  FormFactorMethod formFactor = FormFactorMethod::AreaMonteCarlo;
-  int samples = 16;
-  int hemicubeResolution = 256;
-  int hemisphereRays = 1024;
-  int lightSamples = 16;
-  double shadowTolerance = 0.01;  // DirectLightOptions::shadowTolerance (Ward's τ; 0: exact)
-  SolverKind solver = SolverKind::GaussSeidel;
-  double tolerance = 1e-7;
-  int maxIterations = 1000;
-  std::string cacheDir;  // empty: the default, $XDG_CACHE_HOME/lambert or ~/.cache/lambert
-  bool noCache = false;
-  bool normalizeRows = false;
-  // Hierarchical radiosity with clustering, or the flat methods (uniform or adaptive mesh, dense F).
-  MeshStrategy method = MeshStrategy::Hierarchical;  // read where --method is given; otherwise radiosityOptions chooses
-  double linkError = 2e-4;
-  double minElementArea = 0;  // scene units²; 0: the scene's area × 1e-5
-  int visibilityRays = 8;
-  bool noClusters = false;
-  int refinePasses = 2;
-  // Adaptive quad-tree meshing (seed 003) instead of uniform bisection (flat only).
-  bool adaptive = false;
-  double baseEdge = 0;  // scene units; 0: a sixth of the scene's diagonal
-  int maxLevel = 3;
-  double gradientThreshold = 0.5;
-  int adaptPasses = 3;
   bool json = false;
   bool quiet = false;
-  double memoryLimitBytes = 0;  // --memory-limit; 0: the machine's available memory
 };
 
 struct ImageCommandOptions : GivenOptions {

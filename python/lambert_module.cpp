@@ -1,0 +1,251 @@
+// The Python module `lambert` (pybind11): load any scene the CLI loads, solve it with the CLI's
+// settings by their names (engine/solve_settings.h: link_error=1e-3 is --link-error), move its
+// lights, read per-vertex values as NumPy arrays and write the CLI's outputs. Errors are
+// lambert.Error carrying the library's message; solves release the GIL.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "lambert/core/rgb.h"
+#include "lambert/engine/radiosity.h"
+#include "lambert/engine/solve_settings.h"
+#include "lambert/io/gltf_export.h"
+#include "lambert/io/vertices.h"
+#include "lambert/scene/scene_file.h"
+#include "lambert/version.h"
+
+namespace py = pybind11;
+using namespace lambert;
+
+namespace {
+
+py::object& errorType() {
+  static py::object type;
+  return type;
+}
+
+[[noreturn]] void raise(const std::string& message) {
+  PyErr_SetString(errorType().ptr(), message.c_str());
+  throw py::error_already_set();
+}
+
+template <typename T>
+T orRaise(Result<T> result) {
+  if (!result) raise(result.error().message);
+  return std::move(*result);
+}
+
+void orRaise(const Status& status) {
+  if (!status) raise(status.error().message);
+}
+
+// An (n, 3) float64 array that owns the vector it views: no copy.
+py::array_t<double> rows3(std::vector<Rgb>&& values) {
+  static_assert(sizeof(Rgb) == 3 * sizeof(double));
+  auto* owned = new std::vector<Rgb>(std::move(values));
+  py::capsule free(owned, [](void* p) { delete static_cast<std::vector<Rgb>*>(p); });
+  return py::array_t<double>({static_cast<py::ssize_t>(owned->size()), py::ssize_t{3}},
+                             {static_cast<py::ssize_t>(sizeof(Rgb)), static_cast<py::ssize_t>(sizeof(double))},
+                             reinterpret_cast<const double*>(owned->data()), free);
+}
+
+py::array_t<double> rows3(const std::vector<Vec3>& values) {
+  static_assert(sizeof(Vec3) == 3 * sizeof(double));
+  std::vector<Rgb> copy(values.size());
+  for (std::size_t i = 0; i < values.size(); ++i) copy[i] = {values[i].x, values[i].y, values[i].z};
+  return rows3(std::move(copy));
+}
+
+Vec3 vec3(const std::vector<double>& v, const char* what) {
+  if (v.size() != 3) raise(std::string(what) + " takes 3 numbers, not " + std::to_string(v.size()));
+  return {v[0], v[1], v[2]};
+}
+
+// A keyword's value as the settings take it.
+SettingValue settingValue(const std::string& name, const py::handle& value) {
+  if (py::isinstance<py::bool_>(value)) return value.cast<bool>();
+  if (py::isinstance<py::int_>(value)) return value.cast<std::int64_t>();
+  if (py::isinstance<py::float_>(value)) return value.cast<double>();
+  if (py::isinstance<py::str>(value)) return value.cast<std::string>();
+  raise(name + " takes a number, a bool or a string, not " + std::string(py::str(value.get_type().attr("__name__"))));
+}
+
+// The engine and what a Python caller reads of it.
+class PyRadiosity {
+ public:
+  PyRadiosity(Scene scene, const py::kwargs& options) {
+    SolveSettings settings;
+    std::vector<std::string> given;
+    for (const auto& [key, value] : options) {
+      std::string name = "--" + py::str(key).cast<std::string>();
+      std::replace(name.begin(), name.end(), '_', '-');
+      orRaise(setSolveSetting(settings, name, settingValue(name, value)));
+      given.push_back(name);
+    }
+    RadiosityOptions chosen = orRaise(radiosityOptions(scene, settings, [&](std::string_view name) {
+      return std::find(given.begin(), given.end(), name) != given.end();
+    }));
+    py::gil_scoped_release release;
+    engine_ = orRaise(Radiosity::create(std::move(scene), std::move(chosen)));
+  }
+
+  py::dict solve(long long maxShots, int maxSweeps, double maxMilliseconds) {
+    Result<SolveCallReport> report = Error{""};
+    {
+      py::gil_scoped_release release;
+      report = engine_->solve(SolveBudget{maxShots, maxSweeps, maxMilliseconds});
+    }
+    if (!report) raise(report.error().message);
+    py::dict out;
+    out["iterations"] = report->iterations;
+    out["converged"] = report->converged;
+    out["lights_injected"] = report->lightsInjected;
+    out["unshot_fraction"] = report->unshotFraction;
+    return out;
+  }
+
+  void setLights(const std::vector<Light>& lights) { engine_->setLights(lights); }
+  std::vector<Light> lights() const { return engine_->solution().lights(); }
+
+  py::array_t<double> vertexPositions() const { return rows3(engine_->solution().vertexMesh().positions); }
+  py::array_t<double> vertexRadiance() const { return rows3(engine_->solution().vertexRadiance()); }
+  py::array_t<double> vertexValues(const std::string& quantity) const {
+    static const std::vector<std::pair<std::string, VertexQuantity>> names{
+        {"radiosity", VertexQuantity::Radiosity}, {"indirect_radiosity", VertexQuantity::IndirectRadiosity}, {"irradiance", VertexQuantity::Irradiance}};
+    for (const auto& [name, q] : names)
+      if (name == quantity) return rows3(engine_->solution().vertexValues(q));
+    raise("vertex_values takes radiosity, indirect_radiosity or irradiance, not " + quantity);
+  }
+  py::array_t<std::uint32_t> triangles() const {
+    const Mesh& mesh = engine_->solution().vertexMesh();
+    std::vector<std::uint32_t> indices;
+    for (const Patch& p : mesh.patches)
+      for (std::uint32_t k = 1; k + 1 < p.numCorners; ++k) indices.insert(indices.end(), {p.vertices[0], p.vertices[k], p.vertices[k + 1]});
+    py::array_t<std::uint32_t> out({static_cast<py::ssize_t>(indices.size() / 3), py::ssize_t{3}});
+    std::copy(indices.begin(), indices.end(), out.mutable_data());
+    return out;
+  }
+
+  py::dict stats() const {
+    py::dict out;
+    const Stats stats = engine_->stats();
+    for (const Stats::Entry& e : stats.entries())
+      std::visit([&](const auto& v) { out[py::str(e.key)] = v; }, e.value);
+    return out;
+  }
+
+  void writeGlb(const std::string& path, const std::string& bake, double exposureStops) const {
+    GltfExportOptions options;
+    if (bake == "irradiance") options.bake = GltfBake::Irradiance;
+    else if (bake == "radiance") options.bake = GltfBake::Radiance;
+    else raise("bake takes irradiance or radiance, not " + bake);
+    options.exposureStops = exposureStops;
+    orRaise(lambert::writeGlb(path, engine_->solution(), options));
+  }
+  void writeVertices(const std::string& path) const { orRaise(lambert::writeVertices(path, vertexSamples(engine_->solution()))); }
+
+ private:
+  std::unique_ptr<Radiosity> engine_;
+};
+
+}  // namespace
+
+PYBIND11_MODULE(lambert, m) {
+  m.doc() = "lambert: diffuse global illumination by radiosity (docs/python.md).";
+  errorType() = py::reinterpret_borrow<py::object>(PyErr_NewExceptionWithDoc(
+      "lambert.Error", "An error from lambert: its message names the file, the place and how to proceed.", PyExc_RuntimeError, nullptr));
+  m.attr("Error") = errorType();
+  m.attr("__version__") = LAMBERT_VERSION_STRING;
+
+  py::enum_<LightKind>(m, "LightKind")
+      .value("POINT", LightKind::Point)
+      .value("SPOT", LightKind::Spot)
+      .value("DIRECTIONAL", LightKind::Directional)
+      .value("SKY", LightKind::Sky)
+      .value("LUMINAIRE", LightKind::Luminaire);
+
+  py::class_<Light>(m, "Light", "A light of a scene (scene units; intensity in W/sr per RGB channel).")
+      .def(py::init([](LightKind kind, const std::vector<double>& position, const std::vector<double>& intensity) {
+             Light l;
+             l.kind = kind;
+             l.position = vec3(position, "position");
+             const Vec3 i = vec3(intensity, "intensity");
+             l.intensity = {i.x, i.y, i.z};
+             return l;
+           }),
+           py::arg("kind") = LightKind::Point, py::arg("position") = std::vector<double>{0, 0, 0},
+           py::arg("intensity") = std::vector<double>{1, 1, 1})
+      .def_readwrite("name", &Light::name)
+      .def_readwrite("kind", &Light::kind)
+      .def_property("position", [](const Light& l) { return std::vector<double>{l.position.x, l.position.y, l.position.z}; },
+                    [](Light& l, const std::vector<double>& v) { l.position = vec3(v, "position"); }, "scene units")
+      .def_property("direction", [](const Light& l) { return std::vector<double>{l.direction.x, l.direction.y, l.direction.z}; },
+                    [](Light& l, const std::vector<double>& v) { l.direction = vec3(v, "direction"); })
+      .def_property("intensity", [](const Light& l) { return std::vector<double>{l.intensity.r, l.intensity.g, l.intensity.b}; },
+                    [](Light& l, const std::vector<double>& v) { const Vec3 i = vec3(v, "intensity"); l.intensity = {i.x, i.y, i.z}; },
+                    "W/sr per channel (point, spot)")
+      .def_readwrite("cone_angle_degrees", &Light::coneAngleDegrees)
+      .def_readwrite("falloff_degrees", &Light::falloffDegrees)
+      .def("__repr__", [](const Light& l) {
+        return "<lambert.Light " + l.name + " at (" + std::to_string(l.position.x) + ", " + std::to_string(l.position.y) + ", " +
+               std::to_string(l.position.z) + ")>";
+      });
+
+  py::class_<Scene>(m, "Scene", "A scene: its surfaces, materials, lights and camera, in its own units.")
+      .def_readonly("name", &Scene::name)
+      .def_readonly("metres_per_unit", &Scene::metresPerUnit)
+      .def_property_readonly("surface_count", [](const Scene& s) { return s.surfaces.size(); })
+      .def_readwrite("lights", &Scene::lights);
+
+  m.def(
+      "load_scene",
+      [](const std::string& nameOrPath, double units, double creaseAngle, std::optional<bool> twoSided, int mgfDivisions) {
+        LoadOptions options;
+        options.metresPerUnit = units;
+        options.creaseAngleDegrees = creaseAngle;
+        options.twoSided = twoSided;
+        options.mgfDivisions = mgfDivisions;
+        return orRaise(loadScene(nameOrPath, options));
+      },
+      py::arg("name_or_path"), py::arg("units") = 0.0, py::arg("crease_angle") = 20.0, py::arg("two_sided") = py::none(),
+      py::arg("mgf_divisions") = 16,
+      "A built-in scene by name ('cornell', …) or a scene file (.json, .gltf/.glb, .obj, .ply, .mgf), as `lambert solve --scene` "
+      "loads it. units: metres per unit of an OBJ/PLY file (0: metres).");
+  m.def("setting_names", [] {
+    std::vector<std::string> names;
+    for (std::string n : solveSettingNames()) {
+      n = n.substr(2);
+      std::replace(n.begin(), n.end(), '-', '_');
+      names.push_back(n);
+    }
+    return names;
+  }, "The keyword names Radiosity takes: the CLI's solve options, '-' spelt '_'.");
+
+  py::class_<PyRadiosity>(m, "Radiosity",
+                          "A radiosity solve of a scene. Keywords are the CLI's solve options with '_' for '-' (link_error=1e-3, "
+                          "method='flat', patches=2000, solver='gs', tolerance=1e-6, …; lambert.setting_names()); the defaults are the "
+                          "CLI's. A keyword the chosen method would not read raises lambert.Error.")
+      .def(py::init<Scene, const py::kwargs&>(), py::arg("scene"))
+      .def("solve", &PyRadiosity::solve, py::arg("max_shots") = 0, py::arg("max_sweeps") = 0, py::arg("max_ms") = 0.0,
+           "Solve to the tolerance, or within a budget (sweeps for gs/jacobi, shots for shoot, milliseconds for all). The GIL is "
+           "released while it runs. Returns a dict: iterations, converged, lights_injected, unshot_fraction.")
+      .def("set_lights", &PyRadiosity::setLights, py::arg("lights"),
+           "Replace the lights; the next solve() traces only those that changed and starts warm.")
+      .def_property_readonly("lights", &PyRadiosity::lights)
+      .def("vertex_positions", &PyRadiosity::vertexPositions, "(n, 3) float64: the exported mesh's vertices, scene units.")
+      .def("vertex_radiance", &PyRadiosity::vertexRadiance, "(n, 3) float64: outgoing radiance L = B/π per vertex, W/(m²·sr).")
+      .def("vertex_values", &PyRadiosity::vertexValues, py::arg("quantity"),
+           "(n, 3) float64 per vertex, W/m²: 'radiosity', 'indirect_radiosity' or 'irradiance'.")
+      .def("triangles", &PyRadiosity::triangles, "(m, 3) uint32: the exported mesh's triangles, indices into vertex_positions().")
+      .def("stats", &PyRadiosity::stats, "The figures `lambert solve --json` prints, as a dict.")
+      .def("write_glb", &PyRadiosity::writeGlb, py::arg("path"), py::arg("bake") = "irradiance", py::arg("exposure") = 0.0,
+           "Write the solved scene as binary glTF with the light in COLOR_0, as `lambert solve --export`.")
+      .def("write_vertices", &PyRadiosity::writeVertices, py::arg("path"),
+           "Write every vertex: position, normal, radiance (.csv or .ply), as `lambert solve --export-vertices`.");
+}

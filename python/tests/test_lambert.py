@@ -1,0 +1,161 @@
+"""The Python module against the CLI and against physics (run by `make test` through CTest:
+PYTHONPATH=build/python, LAMBERT_BINARY=the CLI)."""
+import csv
+import os
+import subprocess
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import lambert
+
+CLI = os.environ.get("LAMBERT_BINARY", "build/bin/lambert")
+
+
+def cli_vertices(tmp_path, *args):
+    out = tmp_path / "vertices.csv"
+    subprocess.run([CLI, "solve", *args, "--export-vertices", str(out), "-q"], check=True)
+    with open(out) as f:
+        rows = list(csv.DictReader(f))
+    positions = np.array([[float(r["x"]), float(r["y"]), float(r["z"])] for r in rows])
+    radiance = np.array([[float(r["r"]), float(r["g"]), float(r["b"])] for r in rows])
+    return positions, radiance
+
+
+@pytest.mark.parametrize("options,cli_args", [
+    ({}, []),
+    ({"link_error": 1e-3}, ["--link-error", "1e-3"]),
+    ({"method": "flat", "patches": 300}, ["--method", "flat", "--patches", "300"]),
+])
+def test_solve_matches_the_cli(tmp_path, options, cli_args):
+    # The same scene and settings give the CLI's vertices and radiance: one library, one mapping
+    # from the settings' names to its options (a wrong default or name would move every value).
+    engine = lambert.Radiosity(lambert.load_scene("cornell"), **options)
+    report = engine.solve()
+    assert report["converged"]
+    positions, radiance = cli_vertices(tmp_path, "--scene", "cornell", *cli_args)
+    assert engine.vertex_positions().shape == positions.shape
+    np.testing.assert_allclose(engine.vertex_positions(), positions, rtol=1e-6, atol=1e-6)
+    np.testing.assert_allclose(engine.vertex_radiance(), radiance, rtol=1e-6, atol=1e-9)
+
+
+def test_radiance_is_radiosity_over_pi_and_arrays_own_their_data():
+    engine = lambert.Radiosity(lambert.load_scene("cornell"))
+    engine.solve()
+    radiance = engine.vertex_radiance()
+    radiosity = engine.vertex_values("radiosity")
+    np.testing.assert_allclose(radiance * np.pi, radiosity, rtol=1e-12)
+    assert radiance.dtype == np.float64 and radiance.shape[1] == 3
+    # Each call gives an array of its own (no view into the engine that a later solve changes).
+    assert not np.shares_memory(radiance, engine.vertex_radiance())
+    triangles = engine.triangles()
+    assert triangles.max() < len(engine.vertex_positions())
+
+
+def test_settings_are_refused_with_the_clis_messages():
+    scene = lambert.load_scene("cornell")
+    with pytest.raises(lambert.Error, match="--link-error has no effect"):
+        lambert.Radiosity(scene, method="flat", link_error=1e-3)
+    with pytest.raises(lambert.Error, match="no setting --bogus"):
+        lambert.Radiosity(scene, bogus=1)
+    with pytest.raises(lambert.Error, match=r"--link-error must lie in \[1e-12, 1\], not 5"):
+        lambert.Radiosity(scene, link_error=5)
+    with pytest.raises(lambert.Error, match="--solver takes one of gs, jacobi, direct, shoot"):
+        lambert.Radiosity(scene, solver="nope")
+    with pytest.raises(lambert.Error, match="--visibility-rays takes a whole number"):
+        lambert.Radiosity(scene, visibility_rays=2.5)
+    with pytest.raises(lambert.Error, match="no such"):
+        lambert.load_scene("/nonexistent/room.obj")
+    assert "link_error" in lambert.setting_names()
+
+
+def test_a_budget_stops_early_and_a_second_solve_finishes():
+    engine = lambert.Radiosity(lambert.load_scene("cornell"), method="flat", patches=400)
+    first = engine.solve(max_sweeps=1)
+    assert first["iterations"] == 1 and not first["converged"]
+    partial = engine.vertex_radiance()
+    second = engine.solve()
+    assert second["converged"]
+    # One Gauss–Seidel sweep has not carried the light through every bounce: the converged box
+    # is brighter.
+    assert engine.vertex_radiance().sum() > partial.sum() * 1.01
+
+
+def test_moved_lights_solve_warm_to_what_a_fresh_solve_gives():
+    scene = lambert.load_scene("cornell-spots")
+    lights = scene.lights
+    engine = lambert.Radiosity(scene, method="flat", patches=600)
+    engine.solve()
+    before = engine.vertex_radiance()
+    moved = lights[0]
+    position = moved.position
+    moved.position = [position[0] - 150, position[1], position[2] + 200]
+    engine.set_lights([moved, lights[1]])
+    report = engine.solve()
+    assert report["lights_injected"] == 1
+    scene.lights = [moved, lights[1]]
+    fresh = lambert.Radiosity(scene, method="flat", patches=600)
+    fresh.solve()
+    after = engine.vertex_radiance()
+    assert np.abs(after - before).max() > 1e-3  # the light did move
+    np.testing.assert_allclose(after, fresh.vertex_radiance(), rtol=1e-4, atol=1e-6)
+
+
+def test_the_gil_is_released_while_solving():
+    # A Python thread keeps counting while another thread solves: with the GIL held it could not.
+    engine = lambert.Radiosity(lambert.load_scene("cornell"), method="flat", patches=3000, no_cache=True)
+    counts = []
+    done = threading.Event()
+
+    def count():
+        n = 0
+        while not done.is_set():
+            n += 1
+            if n % 1000 == 0:
+                counts.append(time.perf_counter())
+
+    counter = threading.Thread(target=count)
+    counter.start()
+    start = time.perf_counter()
+    engine.solve()
+    end = time.perf_counter()
+    done.set()
+    counter.join()
+    during = [t for t in counts if start < t < end]
+    assert end - start > 0.05 and len(during) > 10
+
+
+def test_outputs_are_written(tmp_path):
+    engine = lambert.Radiosity(lambert.load_scene("cornell"))
+    engine.solve()
+    engine.write_glb(str(tmp_path / "box.glb"))
+    assert (tmp_path / "box.glb").read_bytes()[:4] == b"glTF"
+    engine.write_vertices(str(tmp_path / "box.csv"))
+    with open(tmp_path / "box.csv") as f:
+        assert sum(1 for _ in f) == len(engine.vertex_positions()) + 1
+    (tmp_path / "a-file").write_text("")  # a folder cannot be made where a file is
+    with pytest.raises(lambert.Error, match="a-file"):
+        engine.write_glb(str(tmp_path / "a-file" / "box.glb"))
+    stats = engine.stats()
+    assert stats["faces"] == 17 and stats["converged"] == "yes"
+
+
+def test_the_convergence_example_plots_a_falling_residual(tmp_path):
+    # examples/python/convergence.py as a user runs it: one sweep at a time, matplotlib's plot.
+    example = os.path.join(os.path.dirname(__file__), "..", "..", "examples", "python", "convergence.py")
+    output = tmp_path / "convergence.png"
+    run = subprocess.run(["python3" if not os.path.exists("/usr/bin/python3") else "/usr/bin/python3", example,
+                          "--sweeps", "12", "-o", str(output)], check=True, capture_output=True, text=True)
+    assert output.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    by_method = {}
+    for line in run.stdout.splitlines():
+        if "\t" in line:
+            name, sweep, value = line.split("\t")
+            by_method.setdefault(name, []).append(float(value))
+    assert len(by_method) == 2
+    for values in by_method.values():
+        # Gauss–Seidel on a diffuse box contracts by about ρ_max each sweep: a thousandfold in 12.
+        assert values[-1] < values[0] * 1e-3
+        assert all(b < a for a, b in zip(values, values[1:]))
