@@ -61,7 +61,8 @@ compgen -G "$prefix/$libdir/liblambert.so*" > /dev/null || fail "no $prefix/$lib
 
 begin "internal headers are not installed"
 for internal in formfactor/kernels.h formfactor/hemicube.h geometry/coverage.h solve/progressive_shooter.h \
-  engine/meshing.h core/parallel.h; do
+  engine/meshing.h core/parallel.h formfactor/links.h formfactor/matrix.h formfactor/form_factors.h \
+  mesh/element_hierarchy.h mesh/quadtree.h solve/solver.h solve/transport.h; do
   [ ! -e "$prefix/include/lambert/$internal" ] || fail "internal header lambert/$internal is installed"
 done
 if grep -rlE '#include <embree' "$prefix/include" > "$scratch/embree-headers.txt"; then

@@ -5,6 +5,7 @@
 #include "lambert/engine/adaptive_meshing.h"
 #include "lambert/engine/radiosity.h"
 #include "lambert/solve/energy.h"
+#include "lambert/solve/solver.h"
 #include "tests/support/scenes.h"
 
 namespace lambert {

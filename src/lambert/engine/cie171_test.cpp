@@ -21,6 +21,7 @@
 #include "lambert/engine/radiosity.h"
 #include "lambert/scene/scene.h"
 #include "lambert/solve/transport.h"
+#include "lambert/solve/solver.h"
 
 namespace lambert {
 namespace {

@@ -20,6 +20,7 @@
 #include "lambert/scene/builtin.h"
 #include "lambert/solve/energy.h"
 #include "lambert/solve/hierarchical.h"
+#include "lambert/solve/solver.h"
 #include "tests/support/scenes.h"
 
 namespace lambert {

@@ -21,6 +21,7 @@
 // Each array is one contiguous block, copied to memory as it is: loading 8 × 10⁵ links is a read
 // and a checksum at several GB/s, not a parse.
 #include "lambert/engine/link_cache.h"
+#include "lambert/solve/solver.h"
 
 #include <algorithm>
 #include <cmath>

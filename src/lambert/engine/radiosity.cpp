@@ -15,6 +15,7 @@
 #include "lambert/solve/energy.h"
 #include "lambert/solve/problem.h"
 #include "lambert/solve/progressive_shooter.h"
+#include "lambert/solve/solver.h"
 
 namespace lambert {
 
@@ -123,7 +124,7 @@ Status Radiosity::saveCache() { return meshing_->saveCache(); }
 void Radiosity::rebuildProblem() {
   const Mesh& elements = meshing_->elements();
   surfaceEmitted_ = emittedRadiosity(scene_, elements);
-  problem_ = makeRadiosityProblem(elements, surfaceEmitted_, patchAlbedo(scene_, elements), meshing_->transport());
+  problem_ = std::make_unique<RadiosityProblem>(makeRadiosityProblem(elements, surfaceEmitted_, patchAlbedo(scene_, elements), meshing_->transport()));
   injection_->reset();
   shooter_.reset();
   injected_.assign(elements.numPatches(), Rgb{});
@@ -191,31 +192,31 @@ Status Radiosity::solvePass(const SolveBudget& budget, SolveCallReport& report) 
   Timer injectTimer;
   const std::uint64_t raysBefore = caster.raysCast();
   const DirectLightInjection::Update injection =
-      injection_->update(elements, caster, problem_.albedo, lights_, scene_.metresPerUnit);
+      injection_->update(elements, caster, problem_->albedo, lights_, scene_.metresPerUnit);
   report.lightsInjected += injection.lightsTraced;
   if (injection.changed) {
     // A moved spot changes the patches its cone reached or reaches: only those are refreshed.
     const std::vector<Rgb>& total = injection_->total();
     auto refresh = [&](std::size_t i) {
       injected_[i] = total[i];
-      problem_.emitted[i] = surfaceEmitted_[i] + total[i];
+      problem_->emitted[i] = surfaceEmitted_[i] + total[i];
     };
     if (injection.allPatches)
       for (std::size_t i = 0; i < elements.numPatches(); ++i) refresh(i);
     else
       for (std::uint32_t i : injection.changedPatches) refresh(i);
-    if (shooter_) shooter_->setEmitted(problem_.emitted);
+    if (shooter_) shooter_->setEmitted(problem_->emitted);
   }
   shadowRays_ += caster.raysCast() - raysBefore;
   report.injectSeconds += injectTimer.seconds();
 
   Timer solveTimer;
-  const std::size_t n = problem_.size();
+  const std::size_t n = problem_->size();
   if (options_.solver == SolverKind::Shooting) {
     // One shooter for the engine's life (until the elements change): a moved light's difference
     // is shot from where the last solve left off (Chen 1990), not from scratch.
     if (!shooter_) {
-      shooter_ = std::make_unique<ProgressiveShooter>(problem_);
+      shooter_ = std::make_unique<ProgressiveShooter>(*problem_);
       if (solved_) shooter_->warmStart(radiosity_);
     }
     const long long limit = static_cast<long long>(options_.maxIterations) * static_cast<long long>(n);
@@ -232,15 +233,15 @@ Status Radiosity::solvePass(const SolveBudget& budget, SolveCallReport& report) 
     solve.maxSeconds = budget.maxMilliseconds / 1e3;
     solve.measureResidual = false;  // the engine reports its residual in stats(), when asked
     if (!solved_) radiosity_.clear();  // start from B = E
-    SolveReport solved = makeSolver(options_.solver, solve)->solve(problem_, radiosity_);
+    SolveReport solved = makeSolver(options_.solver, solve)->solve(*problem_, radiosity_);
     report.iterations += solved.iterations;
     report.converged = solved.converged;
   }
   solved_ = true;
   report.solveSeconds += solveTimer.seconds();
   // A diverged or non-finite solution is an error naming where, never an image of garbage.
-  largestEmittedPower_ = std::fmax(largestEmittedPower_, emittedPower(problem_));
-  if (std::optional<SolutionFault> fault = findSolutionFault(problem_, radiosity_, largestEmittedPower_)) {
+  largestEmittedPower_ = std::fmax(largestEmittedPower_, emittedPower(*problem_));
+  if (std::optional<SolutionFault> fault = findSolutionFault(*problem_, radiosity_, largestEmittedPower_)) {
     const Patch& element = meshing_->elements().patches.at(fault->element);
     return Error{"the " + solverName(options_.solver) + " solve failed: the radiosity of element " + std::to_string(fault->element) +
                  " (surface '" + scene_.surfaces.at(element.surface).name + "') " + fault->what};
@@ -274,11 +275,11 @@ Stats Radiosity::stats() const {
   // Every pass of the last solve(): the hierarchy's refine-then-solve passes, the adaptive mesh's.
   stats.add("iterations", options_.solver == SolverKind::Shooting ? "shots (last solve, every pass)" : "iterations (last solve, every pass)",
             static_cast<std::int64_t>(last_.iterations));
-  stats.add("residual", "relative residual", solves_ > 0 ? relativeResidual(problem_, radiosity_) : 1.0);
+  stats.add("residual", "relative residual", solves_ > 0 ? relativeResidual(*problem_, radiosity_) : 1.0);
   stats.add("converged", "converged", std::string(solves_ > 0 && last_.converged ? "yes" : "no"));
   stats.add("solve_seconds", "solve time", solveSeconds_, "s");
 
-  EnergyBalance balance = energyBalance(problem_, radiosity_, scene_.metresPerUnit);
+  EnergyBalance balance = energyBalance(*problem_, radiosity_, scene_.metresPerUnit);
   // With lights, E includes their injected first reflection ρ·E_direct, so "emitted" counts it.
   stats.add("emitted_watts", lights_.empty() ? "emitted power" : "emitted + injected power", balance.emittedWatts, "W");
   stats.add("absorbed_watts", "absorbed power", balance.absorbedWatts, "W");
@@ -299,8 +300,8 @@ const Mesh& SolutionView::mesh() const { return engine_->meshing_->elements(); }
 const std::vector<Rgb>& SolutionView::radiosity() const { return engine_->radiosity_; }
 const std::vector<Rgb>& SolutionView::injected() const { return engine_->injected_; }
 const std::vector<Rgb>& SolutionView::emitted() const { return engine_->surfaceEmitted_; }
-const std::vector<Rgb>& SolutionView::albedo() const { return engine_->problem_.albedo; }
-const RadiosityProblem& SolutionView::problem() const { return engine_->problem_; }
+const std::vector<Rgb>& SolutionView::albedo() const { return engine_->problem_->albedo; }
+const RadiosityProblem& SolutionView::problem() const { return *engine_->problem_; }
 const RayCaster& SolutionView::caster() const { return engine_->meshing_->caster(); }
 const Mesh& SolutionView::vertexMesh() const { return engine_->meshing_->vertexMesh(); }
 const std::vector<Rgb>& SolutionView::vertexMeshAlbedo() const { return engine_->vertexMeshAlbedo_; }
@@ -314,7 +315,7 @@ std::vector<Rgb> SolutionView::indirectRadiosity() const {
 
 Rgb SolutionView::ambientRadiosity() const {
   const ProgressiveShooter* shooter = engine_->shooter_.get();
-  return shooter ? lambert::ambientRadiosity(engine_->problem_, shooter->unshot()) : Rgb{};
+  return shooter ? lambert::ambientRadiosity(*engine_->problem_, shooter->unshot()) : Rgb{};
 }
 
 std::vector<Rgb> SolutionView::vertexValues(const std::vector<Rgb>& perElement) const {
@@ -323,7 +324,7 @@ std::vector<Rgb> SolutionView::vertexValues(const std::vector<Rgb>& perElement) 
 
 std::vector<std::vector<Rgb>> SolutionView::vertexValues(std::span<const VertexQuantity> quantities) const {
   const Radiosity& e = *engine_;
-  return e.meshing_->vertexSolution({e.radiosity_, e.injected_, e.surfaceEmitted_, e.problem_.albedo, e.lights_, e.scene_.metresPerUnit},
+  return e.meshing_->vertexSolution({e.radiosity_, e.injected_, e.surfaceEmitted_, e.problem_->albedo, e.lights_, e.scene_.metresPerUnit},
                                     quantities);
 }
 
@@ -333,25 +334,25 @@ std::vector<Rgb> SolutionView::vertexValues(VertexQuantity quantity) const {
 
 Result<std::vector<Rgb>> SolutionView::pointIrradiance(std::span<const SurfacePoint> points) const {
   const Radiosity& e = *engine_;
-  return e.meshing_->pointIrradiance({e.radiosity_, e.injected_, e.surfaceEmitted_, e.problem_.albedo, e.lights_, e.scene_.metresPerUnit},
+  return e.meshing_->pointIrradiance({e.radiosity_, e.injected_, e.surfaceEmitted_, e.problem_->albedo, e.lights_, e.scene_.metresPerUnit},
                                      points);
 }
 
 Result<PointGather> SolutionView::pointGather(std::span<const SurfacePoint> points, PointGatherPart part) const {
   const Radiosity& e = *engine_;
-  return e.meshing_->pointGather({e.radiosity_, e.injected_, e.surfaceEmitted_, e.problem_.albedo, e.lights_, e.scene_.metresPerUnit},
+  return e.meshing_->pointGather({e.radiosity_, e.injected_, e.surfaceEmitted_, e.problem_->albedo, e.lights_, e.scene_.metresPerUnit},
                                  points, part);
 }
 
 Result<PointGather> SolutionView::vertexGather(std::span<const std::uint32_t> vertices, PointGatherPart part) const {
   const Radiosity& e = *engine_;
-  return e.meshing_->vertexGather({e.radiosity_, e.injected_, e.surfaceEmitted_, e.problem_.albedo, e.lights_, e.scene_.metresPerUnit},
+  return e.meshing_->vertexGather({e.radiosity_, e.injected_, e.surfaceEmitted_, e.problem_->albedo, e.lights_, e.scene_.metresPerUnit},
                                   vertices, part);
 }
 
 Result<std::vector<Rgb>> SolutionView::nodeMeanRadiosity() const {
   const Radiosity& e = *engine_;
-  return e.meshing_->nodeMeanRadiosity({e.radiosity_, e.injected_, e.surfaceEmitted_, e.problem_.albedo, e.lights_, e.scene_.metresPerUnit});
+  return e.meshing_->nodeMeanRadiosity({e.radiosity_, e.injected_, e.surfaceEmitted_, e.problem_->albedo, e.lights_, e.scene_.metresPerUnit});
 }
 
 std::vector<Rgb> SolutionView::vertexRadiance() const {

@@ -17,13 +17,10 @@
 
 #include "lambert/core/error.h"
 #include "lambert/core/stats.h"
+#include "lambert/engine/options.h"
 #include "lambert/engine/solution.h"
-#include "lambert/formfactor/form_factors.h"
-#include "lambert/formfactor/links.h"
 #include "lambert/light/lights.h"
-#include "lambert/mesh/quadtree.h"
 #include "lambert/scene/scene.h"
-#include "lambert/solve/solver.h"
 
 namespace lambert {
 
@@ -31,60 +28,6 @@ class Meshing;
 class DirectLightInjection;
 class ProgressiveShooter;
 
-enum class MeshStrategy {
-  Uniform,   // longest-edge bisection to a patch count or edge length (seed 000), computed once
-  Adaptive,  // quad-tree cells split at spot, shadow and radiosity edges (seed 003), every solve
-  // Element trees under clusters, linked by the BF oracle (Hanrahan, Salzman & Aupperle 1991;
-  // Smits, Arvo & Greenberg 1994): near-linear in the number of faces
-  Hierarchical,
-};
-
-struct UniformMeshOptions {
-  std::size_t targetPatches = 784;  // used when maxEdgeLength is 0
-  double maxEdgeLength = 0;         // scene units; 0 picks it from targetPatches
-};
-
-struct AdaptiveMeshOptions {
-  // baseEdgeLength 0: a sixth of the scene's diagonal.
-  QuadtreeOptions quadtree{0, 3};
-  bool refineAtSpotEdges = true;
-  bool refineAtShadowEdges = true;
-  // Split a leaf whose corner radiosities span more than this × the mean radiosity (luminance);
-  // 0 turns the criterion off. Leaves merge back below half of it.
-  double gradientThreshold = 0.5;
-  // Refine-and-solve passes in each solve(): the gradient criterion judges the previous pass.
-  int passesPerSolve = 1;
-};
-
-struct HierarchicalOptions {
-  LinkOptions links;         // link error, minimum element area, visibility rays, clustering
-  int refinePasses = 2;      // refine-then-solve cycles in the first solve()
-  bool refineAtLights = true;  // split elements at spot-cone and shadow edges first
-};
-
-// The defaults are the CLI's (`lambert solve` with no options): hierarchical radiosity with
-// clustering at link error 2e-4, Gauss–Seidel to 1e-7, 16 light samples per element. The flat
-// methods (Uniform, Adaptive) are asked for by setting meshing; they alone read uniform,
-// adaptive, formFactors and normalizeRows, and they alone take the shoot and direct solvers.
-struct RadiosityOptions {
-  MeshStrategy meshing = MeshStrategy::Hierarchical;
-  UniformMeshOptions uniform;    // read only with MeshStrategy::Uniform
-  AdaptiveMeshOptions adaptive;  // read only with MeshStrategy::Adaptive
-  HierarchicalOptions hierarchical;  // read only with MeshStrategy::Hierarchical
-  FormFactorOptions formFactors;     // uniform and adaptive meshing
-  bool normalizeRows = false;    // seed 003's row normalisation (formfactor/table.h): adds energy
-  DirectLightOptions directLight;
-  SolverKind solver = SolverKind::GaussSeidel;
-  double tolerance = 1e-7;       // relative change (gs, jacobi) or unshot power fraction (shoot)
-  int maxIterations = 1000;      // sweeps (gs, jacobi); shots per element (shoot)
-  // Where form factors (uniform: the matrix, .lff), the master table (adaptive, .lft) or the
-  // hierarchy's links (hierarchical, .lhl: engine/link_cache.h) are read and written; empty:
-  // always computed, never saved.
-  std::string cacheDirectory;
-  // Bytes a solve may use for its large structures (core/memory.h); 0: the machine's available
-  // memory. A solve whose estimate exceeds it is refused (create or solve returns the Error).
-  double memoryLimitBytes = 0;
-};
 
 // How much one solve() may do beyond stopping at the tolerance; 0 everywhere: run to the
 // tolerance (or maxIterations). Each limit belongs to the solvers that can stop early on it;
@@ -177,7 +120,9 @@ class Radiosity {
   std::vector<Light> lights_;
   std::unique_ptr<Meshing> meshing_;
   std::unique_ptr<DirectLightInjection> injection_;
-  RadiosityProblem problem_;           // E includes the injected direct light
+  // E includes the injected direct light; behind a pointer, so that this header needs only the
+  // solvers' declaration (solve/solver.h is internal).
+  std::unique_ptr<RadiosityProblem> problem_;
   std::vector<Rgb> surfaceEmitted_;    // E of emissive surfaces alone, W/m²
   std::vector<Rgb> injected_;          // the lights' ρ·E_direct, W/m²
   std::vector<Rgb> vertexMeshAlbedo_;  // ρ per patch of the meshing's vertex mesh

@@ -7,6 +7,7 @@
 #include "lambert/engine/radiosity.h"
 #include "lambert/formfactor/table.h"
 #include "lambert/render/solution_image.h"
+#include "lambert/solve/solver.h"
 #include "tests/support/scenes.h"
 
 namespace lambert {

@@ -16,9 +16,10 @@
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/mesh/mesh.h"
 #include "lambert/scene/scene.h"
-#include "lambert/solve/solver.h"
 
 namespace lambert {
+
+struct RadiosityProblem;  // solve/solver.h (internal): the system behind problem()
 
 class Radiosity;
 struct PointGather;  // engine/point_gather.h

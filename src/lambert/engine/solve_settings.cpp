@@ -6,6 +6,8 @@
 #include <iomanip>
 #include <sstream>
 
+#include "lambert/formfactor/form_factors.h"
+
 namespace lambert {
 namespace {
 

@@ -10,38 +10,16 @@
 #include "lambert/formfactor/matrix.h"
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/mesh/mesh.h"
+#include "lambert/engine/options.h"
 
 namespace lambert {
 
-enum class FormFactorMethod {
-  // Seed 000: one kernel evaluation and one visibility ray between the patches' incircle centres.
-  PointToPoint,
-  // Area-to-area Monte Carlo: low-discrepancy sample points x_k on patch i, each paired with a point
-  // y_k on patch j; F_ij ≈ 1/N Σ_k F(x_k → P_j) V(x_k, y_k) with the analytic point-to-polygon
-  // factor, so adjacent patches stay finite and exact when unoccluded (Wallace, Elmquist & Haines
-  // 1989 use the same split of kernel and visibility).
-  AreaMonteCarlo,
-  // Cohen & Greenberg's hemi-cube at each patch's centroid (formfactor/hemicube.h): a row at a time.
-  Hemicube,
-  // Cosine-distributed rays from points over each patch: a row at a time.
-  HemisphereRays,
-};
 
 // Whether a method estimates one pair at a time (and so fills F by reciprocity, and can serve
 // PairFormFactors); the hemi-cube and hemisphere methods estimate whole rows.
 bool isPairMethod(FormFactorMethod method);
 
-std::string formFactorMethodName(FormFactorMethod method);
 
-struct FormFactorOptions {
-  FormFactorMethod method = FormFactorMethod::AreaMonteCarlo;
-  int samplePairs = 16;        // per patch pair, AreaMonteCarlo only; powers of two stratify best
-  int nearFieldBoost = 16;     // sample multiplier for pairs closer than twice their size
-  int hemicubeResolution = 256;  // Hemicube: pixels along the top face (even)
-  int hemisphereRays = 1024;     // HemisphereRays: rays per patch
-  std::uint64_t seed = 1;      // results depend on (seed, pair), never on thread count
-  bool showProgress = true;    // a progress line when stderr is a terminal
-};
 
 struct FormFactorStats {
   std::uint64_t pairsEvaluated = 0;  // unordered pairs that could see each other (rows: n − 1 each)

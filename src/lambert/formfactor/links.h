@@ -48,18 +48,10 @@
 
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/mesh/element_hierarchy.h"
+#include "lambert/engine/options.h"
 
 namespace lambert {
 
-struct LinkOptions {
-  double linkError = 2e-4;     // relative power a link may carry unrefined
-  double minElementArea = 0;   // scene units²; 0: the scene's area × 1e-5
-  int visibilityRays = 8;      // per link
-  bool clusters = true;        // false: start from every pair of faces (no cluster links)
-  std::uint64_t seed = 1;
-  bool showProgress = false;
-  double memoryLimitBytes = 0;  // core/memory.h: refinement stops when its links would not fit
-};
 
 // Links grouped by receiver node (compressed rows over the hierarchy's nodes), sources in
 // increasing order within each receiver.

@@ -18,13 +18,10 @@
 #include "lambert/core/rgb.h"
 #include "lambert/mesh/mesh.h"
 #include "lambert/scene/scene.h"
+#include "lambert/engine/options.h"
 
 namespace lambert {
 
-struct QuadtreeOptions {
-  double baseEdgeLength = 100;  // scene units: level-0 cells are no longer than this
-  int maxLevel = 3;             // deepest level; each level halves a cell's sides
-};
 
 struct QuadNode {
   std::uint32_t surface = 0;

@@ -9,6 +9,7 @@
 
 #include "lambert/core/rgb.h"
 #include "lambert/solve/transport.h"
+#include "lambert/engine/options.h"
 
 namespace lambert {
 
@@ -21,14 +22,7 @@ struct RadiosityProblem {
   std::size_t size() const { return emitted.size(); }
 };
 
-enum class SolverKind {
-  Direct,       // Eigen LU of (I − ρF): seed 001's "Gaussian elimination"; dense transport only
-  GaussSeidel,  // in-place gathering sweeps (seed 000); any transport
-  Jacobi,       // gathering sweeps from the previous iterate, rows in parallel; any transport
-  Shooting,     // progressive refinement (Cohen, Chen, Wallace & Greenberg 1988; seed 001); dense only
-};
 
-std::string solverName(SolverKind kind);
 
 struct SolveOptions {
   // Stop when the relative change (sweeps) or the unshot power fraction (shooting) falls below.
