@@ -1,0 +1,147 @@
+# Runs the lambert CLI as a separate process (a crash there cannot take Blender down), reads its
+# progress lines and stops it on request. No bpy here: the add-on and the test both use it.
+import os
+import re
+import shutil
+import signal
+import subprocess
+
+# Quality presets: the hierarchical method's link error (the CLI's --link-error, default 2e-4),
+# the flat method's patch count (--patches, default 784).
+LINK_ERROR = {'DRAFT': 1e-3, 'MEDIUM': 2e-4, 'HIGH': 5e-5}
+PATCHES = {'DRAFT': 400, 'MEDIUM': 1600, 'HIGH': 6400}
+
+# lambert redraws "\rLABEL [####......]  42.0%" on a terminal (src/lambert/core/progress.cpp);
+# an open-ended count is "\rLABEL 1234".
+_PROGRESS = re.compile(r'([A-Za-z][A-Za-z ]*?)\s+\[[#.]*\]\s+([0-9.]+)%')
+
+
+def find_binary(preference=''):
+    """The lambert executable: the add-on preference, else $LAMBERT_BINARY, else `lambert` on PATH."""
+    for candidate in (preference, os.environ.get('LAMBERT_BINARY', '')):
+        if candidate:
+            path = os.path.abspath(os.path.expanduser(candidate))
+            if os.path.isfile(path) and os.access(path, os.X_OK):
+                return path
+            raise FileNotFoundError(f'lambert binary "{path}" (from the add-on preferences or $LAMBERT_BINARY) '
+                                    'is not an executable file: build it (cmake --build build --target lambert_cli) '
+                                    'and give build/bin/lambert')
+    found = shutil.which('lambert')
+    if not found:
+        raise FileNotFoundError('no lambert binary: set it in Edit > Preferences > Add-ons > Lambert Bake, '
+                                'or set $LAMBERT_BINARY, or put lambert on PATH')
+    return found
+
+
+def solve_arguments(binary, scene_glb, method, quality, output, out_path):
+    """The command line: `lambert solve` on the exported glb with the preset's options.
+
+    output 'VERTEX_COLORS' writes --export-vertices OUT.csv (position, normal, radiance per vertex);
+    'LIGHTMAPS' writes --lightmaps --export OUT.glb (with OUT-lightmap-K.exr beside it)."""
+    args = [binary, 'solve', '--scene', scene_glb, '--method', method.lower()]
+    if method == 'HIERARCHICAL':
+        args += ['--link-error', repr(LINK_ERROR[quality])]
+    else:
+        args += ['--patches', str(PATCHES[quality])]
+    if output == 'VERTEX_COLORS':
+        args += ['--export-vertices', out_path]
+    else:
+        args += ['--lightmaps', '--export', out_path]
+    args += ['--json']
+    return args
+
+
+class LambertProcess:
+    """One run of lambert. Its stderr is a pseudo-terminal where the platform has one, so that
+    lambert draws its progress lines (it draws them only on a terminal); stdout (the --json
+    stats) is a pipe."""
+
+    def __init__(self, args):
+        self.args = args
+        self.progress_label = 'starting'
+        self.progress_fraction = 0.0
+        self._stderr_text = ''
+        self._stdout_chunks = []
+        self._master = None
+        try:
+            import pty
+            self._master, slave = pty.openpty()
+        except (ImportError, OSError):
+            slave = subprocess.PIPE
+        self.process = subprocess.Popen(args, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=slave,
+                                        start_new_session=True)
+        if self._master is not None:
+            os.close(slave)
+            os.set_blocking(self._master, False)
+        os.set_blocking(self.process.stdout.fileno(), False)
+
+    def _read_available(self):
+        if self._master is not None:
+            while True:
+                try:
+                    chunk = os.read(self._master, 65536)
+                except (BlockingIOError, InterruptedError):
+                    break
+                except OSError:  # EIO: the process closed its end
+                    break
+                if not chunk:
+                    break
+                self._stderr_text += chunk.decode('utf-8', 'replace')
+        elif self.process.stderr is not None:
+            os.set_blocking(self.process.stderr.fileno(), False)
+            chunk = self.process.stderr.read()
+            if chunk:
+                self._stderr_text += chunk.decode('utf-8', 'replace')
+        try:
+            chunk = self.process.stdout.read()
+        except (BlockingIOError, InterruptedError):
+            chunk = None
+        if chunk:
+            self._stdout_chunks.append(chunk)
+        matches = _PROGRESS.findall(self._stderr_text[-400:])
+        if matches:
+            label, percent = matches[-1]
+            self.progress_label = label.strip()
+            self.progress_fraction = min(1.0, float(percent) / 100.0)
+
+    def poll(self):
+        """None while running, else the exit status."""
+        self._read_available()
+        return self.process.poll()
+
+    def wait(self, timeout=None):
+        self.process.wait(timeout)
+        return self.poll()
+
+    def cancel(self):
+        """Stops lambert (its whole process group) and waits until it is gone."""
+        if self.process.poll() is None:
+            try:
+                os.killpg(self.process.pid, signal.SIGTERM)
+            except ProcessLookupError:
+                pass
+            try:
+                self.process.wait(5)
+            except subprocess.TimeoutExpired:
+                os.killpg(self.process.pid, signal.SIGKILL)
+                self.process.wait()
+        self.close()
+
+    def close(self):
+        if self._master is not None:
+            os.close(self._master)
+            self._master = None
+        if self.process.stdout:
+            self.process.stdout.close()
+
+    def stdout(self):
+        return b''.join(self._stdout_chunks).decode('utf-8', 'replace')
+
+    def error_message(self):
+        """lambert's own message: its stderr without the progress redraws."""
+        lines = []
+        for line in self._stderr_text.replace('\r\n', '\n').split('\n'):
+            line = line.split('\r')[-1].strip()
+            if line and not _PROGRESS.fullmatch(line):
+                lines.append(line)
+        return '\n'.join(lines) or f'lambert exited with status {self.process.returncode} and no message'
