@@ -232,6 +232,43 @@ dark, dark_at = floor_luminance_near(2 / 3, 0)
 lit, lit_at = floor_luminance_near(-2 / 3, -2 / 3)
 check(lit > 10 * dark and lit > 0.01, f'floor under the lamp {lit_at}: {lit:.4g}, under the block {dark_at}: {dark:.4g}')
 
+# 1b. Lightmaps of the same scene: on the add-on's second UV map, wired into the materials, and
+# agreeing with the vertex bake just checked: at each floor face's centre the lightmap's
+# irradiance E against π L / ρ from the face's corner colours (ρ = 0.7, the walls').
+t0 = time.monotonic()
+settings = configure(os.path.join(scratch, 'lightmaps'))
+settings.output = 'LIGHTMAPS'
+result = bpy.ops.lambert.bake()
+lightmap_seconds = time.monotonic() - t0
+check(result == {'FINISHED'}, f'the lightmap bake returned {result}')
+image = bpy.data.images.get('lambert lightmap')
+wall_nodes = bpy.data.materials['wall'].node_tree.nodes
+emission = wall_nodes['Principled BSDF'].inputs['Emission']
+check(image is not None and image.packed_file is not None, 'no packed "lambert lightmap" image')
+check(emission.is_linked and wall_nodes['lambert lightmap'].image == image and
+      wall_nodes['lambert lightmap uv'].uv_map == 'lambert_lightmap', 'the wall material does not show the lightmap')
+check(not bpy.data.materials['light'].node_tree.nodes['Principled BSDF'].inputs['Emission'].is_linked,
+      'the lamp\'s own emission was replaced')
+width, height = image.size
+pixels = list(image.pixels)
+room = bpy.data.objects['room'].data
+ratios = []
+for polygon in room.polygons:
+    world_centre = bpy.data.objects['room'].matrix_world @ polygon.center
+    if abs(world_centre.z) > 1e-6:
+        continue  # floor faces only
+    uv = sum((room.uv_layers['lambert_lightmap'].data[i].uv for i in polygon.loop_indices), Vector((0, 0))) / polygon.loop_total
+    x, y = min(int(uv.x * width), width - 1), min(int(uv.y * height), height - 1)
+    texel = pixels[4 * (y * width + x):4 * (y * width + x) + 3]
+    corners_l = [tuple(room.color_attributes['lambert'].data[i].color)[:3] for i in polygon.loop_indices]
+    from_vertices = math.pi / 0.7 * sum(luminance(c) for c in corners_l) / len(corners_l)
+    if from_vertices > 0.2:  # lit faces (the faces under the block are black by construction)
+        ratios.append(luminance(texel) / from_vertices)
+ratios.sort()
+median = ratios[len(ratios) // 2] if ratios else 0
+check(len(ratios) >= 20, f'only {len(ratios)} lit floor faces compared')
+check(0.8 < median < 1.25, f'lightmap / vertex irradiance on the floor: median {median:.3g} (of {len(ratios)} faces)')
+
 # 2. Cancel: lambert stops, no process is left, nothing is written.
 build_scene()
 cancel_dir = os.path.join(scratch, 'cancel')
@@ -272,5 +309,6 @@ if failures:
     sys.exit(1)
 print(f'blender-bake: ok: {compared} corners within {TOLERANCE} of the CLI (other side: {worst_wrong_side:.3g}, '
       f'next corner: {worst_rotated:.3g}); floor lit {lit:.4g} vs under the block {dark:.4g}; cancel and error ok; '
-      f'bake {bake_seconds:.1f} s, whole test {total:.1f} s')
+      f'lightmaps: median lightmap/vertex irradiance {median:.3f} over {len(ratios)} floor faces; '
+      f'bake {bake_seconds:.1f} s, lightmap bake {lightmap_seconds:.1f} s, whole test {total:.1f} s')
 sys.exit(0)

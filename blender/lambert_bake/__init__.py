@@ -106,9 +106,10 @@ class BakeJob:
         else:
             self.folder = tempfile.mkdtemp(prefix='lambert-bake-')
         self.scene_glb = os.path.join(self.folder, 'scene.glb')
+        # A previous lightmap bake's emission must not go out as the scene's own.
+        results.remove_lightmap_nodes(self.objects)
         if settings.output == 'LIGHTMAPS':
             self.result_path = os.path.join(self.folder, 'baked.glb')
-            results.remove_lightmap_nodes(self.objects)
             results.add_lightmap_uvs(context, self.objects)
         else:
             self.result_path = os.path.join(self.folder, 'vertices.csv')
@@ -165,8 +166,8 @@ class BakeJob:
                 if far:
                     summary += f' ({far} corners not on a lambert vertex took the nearest)'
             else:
-                wired, atlases = results.wire_lightmaps(self.objects, self.result_path)
-                summary = f'{atlases} lightmap atlas(es) wired into {wired} material slots'
+                wired, image = results.wire_lightmaps(self.objects, self.result_path)
+                summary = f'a {image.size[0]}² lightmap wired into {wired} materials'
             seconds = self.stats.get('total_seconds')
             if seconds is not None:
                 summary += f'; lambert: {self.stats.get("elements", self.stats.get("patches", "?"))} elements, {seconds:.2f} s'

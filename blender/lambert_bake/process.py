@@ -10,6 +10,9 @@ import subprocess
 # the flat method's patch count (--patches, default 784).
 LINK_ERROR = {'DRAFT': 1e-3, 'MEDIUM': 2e-4, 'HIGH': 5e-5}
 PATCHES = {'DRAFT': 400, 'MEDIUM': 1600, 'HIGH': 6400}
+# Lightmap texels per side (--lightmap-size, default 1024): lambert bakes about 35 000 texels a
+# second on two cores, so a full 1024² atlas pair takes a minute.
+LIGHTMAP_SIZE = {'DRAFT': 256, 'MEDIUM': 512, 'HIGH': 1024}
 
 # lambert redraws "\rLABEL [####......]  42.0%" on a terminal (src/lambert/core/progress.cpp);
 # an open-ended count is "\rLABEL 1234".
@@ -46,7 +49,7 @@ def solve_arguments(binary, scene_glb, method, quality, output, out_path):
     if output == 'VERTEX_COLORS':
         args += ['--export-vertices', out_path]
     else:
-        args += ['--lightmaps', '--export', out_path]
+        args += ['--lightmaps', '--lightmap-size', str(LIGHTMAP_SIZE[quality]), '--export', out_path]
     args += ['--json']
     return args
 

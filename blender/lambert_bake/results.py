@@ -3,6 +3,7 @@
 import csv
 import json
 import math
+import os
 import struct
 
 import bpy
@@ -155,44 +156,68 @@ def read_glb_json(path):
     return json.loads(data[20:20 + length])
 
 
-def lightmap_atlas_by_material(glb_path):
-    """Material name → atlas index K (OUT-lightmap-K.exr), from the MOZ_lightmap extensions of
-    the glb lambert wrote (its images are named OUT-lightmap-K)."""
+def lightmap_atlases(glb_path):
+    """The atlas files lambert wrote beside the glb: OUT-lightmap-K.exr for each K its images name."""
     gltf = read_glb_json(glb_path)
-    atlases = {}
-    for material in gltf.get('materials', []):
-        extension = material.get('extensions', {}).get('MOZ_lightmap')
-        if extension is None:
-            continue
-        source = gltf['textures'][extension['index']]['source']
-        name = gltf['images'][source].get('name', '')
-        atlases[material.get('name', '')] = int(name.rsplit('-', 1)[-1])
-    return atlases
+    stem = glb_path[:-len('.glb')]
+    indices = sorted({int(image['name'].rsplit('-', 1)[-1]) for image in gltf.get('images', [])
+                      if image.get('name', '').startswith(os.path.basename(stem) + '-lightmap-')})
+    if not indices:
+        raise ValueError(f'{glb_path}: lambert wrote no lightmap (no image named {os.path.basename(stem)}-lightmap-K)')
+    return [f'{stem}-lightmap-{k}.exr' for k in indices]
+
+
+def combined_lightmap(glb_path):
+    """One irradiance image (E, W/m², linear float) laid out on the "lambert_lightmap" UVs.
+
+    The UVs are the add-on's own (lambert keeps given lightmap coordinates), so every atlas has the
+    same layout; lambert puts the two sides of a two-sided face (Blender's default) in separate
+    atlases, as they share their UVs. A face shows one side here: per texel the brighter (the side
+    facing the light: a box room modelled with outward normals shows its lit inside)."""
+    import numpy
+    best, best_luminance, size = None, None, None
+    for path in lightmap_atlases(glb_path):
+        image = bpy.data.images.load(path, check_existing=False)
+        try:
+            if size is None:
+                size = tuple(image.size)
+            elif tuple(image.size) != size:
+                raise ValueError(f'{path}: {tuple(image.size)} texels, the first atlas has {size}')
+            pixels = numpy.empty(size[0] * size[1] * 4, dtype=numpy.float32)
+            image.pixels.foreach_get(pixels)
+        finally:
+            bpy.data.images.remove(image)
+        pixels = pixels.reshape(-1, 4)
+        lum = pixels[:, :3] @ numpy.array([0.2126, 0.7152, 0.0722], dtype=numpy.float32)
+        if best is None:
+            best, best_luminance = pixels, lum
+        else:
+            brighter = lum > best_luminance
+            best[brighter] = pixels[brighter]
+            best_luminance = numpy.maximum(lum, best_luminance)
+    best[:, 3] = 1.0
+    image = bpy.data.images.new('lambert lightmap', size[0], size[1], alpha=False, float_buffer=True)
+    image.colorspace_settings.name = 'Linear'
+    image.pixels.foreach_set(best.ravel())
+    image.pack()  # the scratch folder goes; the .blend keeps the lightmap
+    return image
 
 
 def wire_lightmaps(objects, glb_path):
-    """Loads OUT-lightmap-K.exr (irradiance E, W/m²) and puts it into every material of the
-    objects: base colour × E/π is the outgoing radiance of a diffuse surface, shown as emission
-    (the Principled BSDF's emission, strength 1) so the viewport's Material Preview and Rendered
-    modes show the baked light. The node is named "lambert lightmap" and replaced on a re-bake."""
-    atlases = lightmap_atlas_by_material(glb_path)
-    stem = glb_path[:-len('.glb')]
-    images = {}
+    """Puts the baked irradiance E into every material of the objects: base colour × E/π is the
+    outgoing radiance of a diffuse surface, given as the Principled BSDF's emission (strength 1),
+    so Material Preview and Rendered modes show the baked light. The nodes are named
+    "lambert lightmap …" and replaced on a re-bake; emitters keep their own emission."""
+    previous = bpy.data.images.get('lambert lightmap')
+    image = combined_lightmap(glb_path)
+    if previous is not None:
+        bpy.data.images.remove(previous)
+        image.name = 'lambert lightmap'
     wired = 0
-    for obj in objects:
-        for slot in obj.material_slots:
-            material = slot.material
-            if material is None or not material.use_nodes:
-                continue
-            atlas = atlases.get(material.name, 0)
-            if atlas not in images:
-                image = bpy.data.images.load(f'{stem}-lightmap-{atlas}.exr', check_existing=False)
-                image.name = f'lambert lightmap {atlas}'
-                image.pack()  # the scratch folder goes; the .blend keeps the lightmap
-                images[atlas] = image
-            _wire_material(material, images[atlas])
+    for material in {slot.material for obj in objects for slot in obj.material_slots}:
+        if material is not None and material.use_nodes and _wire_material(material, image):
             wired += 1
-    return wired, len(images)
+    return wired, image
 
 
 def _wire_material(material, image):
@@ -233,11 +258,12 @@ def _wire_material(material, image):
         # An emitter keeps its own emission (its baked light is its emission already).
         for n in (uv, texture, scale, albedo):
             nodes.remove(n)
-        return
+        return False
     links.new(albedo.outputs['Color'], emission)
     bsdf.inputs['Emission Strength'].default_value = 1.0
     for offset, n in enumerate((uv, texture, scale, albedo)):
         n.location = (bsdf.location.x - 900 + 220 * offset, bsdf.location.y - 500)
+    return True
 
 
 def remove_lightmap_nodes(objects):
