@@ -12,10 +12,10 @@ bl_info = {
     'category': 'Render',
 }
 
-import json
 import os
 import shutil
 import tempfile
+import time
 
 import bpy
 
@@ -68,7 +68,7 @@ class LambertBakeSettings(bpy.types.PropertyGroup):
         items=[('ALL', 'All', 'Every visible mesh object and light of the scene'),
                ('SELECTED', 'Selected', 'The selected objects only (select the lights too)')])
     status: bpy.props.StringProperty(name='Status', default='')
-    progress: bpy.props.FloatProperty(name='Progress', default=0.0, min=0.0, max=1.0, subtype='FACTOR')
+    progress: bpy.props.FloatProperty(name='Progress', default=0.0, min=0.0, max=100.0, subtype='PERCENTAGE')
     running: bpy.props.BoolProperty(default=False)
 
 
@@ -116,6 +116,7 @@ class BakeJob:
         if os.path.exists(self.result_path):  # a kept folder's previous result must not pass for this one
             os.remove(self.result_path)
         self.export(context)
+        self.started = time.monotonic()
         self.lambert = process.LambertProcess(process.solve_arguments(
             binary, self.scene_glb, settings.method, settings.quality, settings.output, self.result_path))
 
@@ -155,10 +156,6 @@ class BakeJob:
         try:
             if status != 0:
                 raise RuntimeError('lambert failed: ' + self.lambert.error_message())
-            try:
-                self.stats = json.loads(self.lambert.stdout())
-            except ValueError:
-                self.stats = {}
             if self.settings.output == 'VERTEX_COLORS':
                 corners, far = results.write_vertex_colors(self.objects, self.result_path)
                 results.show_attribute_in_viewports(context)
@@ -168,10 +165,7 @@ class BakeJob:
             else:
                 wired, image = results.wire_lightmaps(self.objects, self.result_path)
                 summary = f'a {image.size[0]}² lightmap wired into {wired} materials'
-            seconds = self.stats.get('total_seconds')
-            if seconds is not None:
-                summary += f'; lambert: {self.stats.get("elements", self.stats.get("patches", "?"))} elements, {seconds:.2f} s'
-            return summary
+            return summary + f' (lambert {time.monotonic() - self.started:.1f} s)'
         finally:
             self.cleanup()
 
@@ -235,10 +229,10 @@ class LAMBERT_OT_bake(bpy.types.Operator):
             return {'PASS_THROUGH'}
         status = self._job.poll()
         lambert = self._job.lambert
-        settings.progress = lambert.progress_fraction
-        settings.status = f'{lambert.progress_label} {100 * lambert.progress_fraction:.0f}%'
+        settings.progress = 100 * lambert.progress_fraction
+        settings.status = lambert.progress_label
         context.window_manager.progress_update(int(100 * lambert.progress_fraction))
-        context.workspace.status_text_set(f'lambert: {settings.status} (Esc cancels)')
+        context.workspace.status_text_set(f'lambert: {settings.status} {settings.progress:.0f}% (Esc cancels)')
         for area in context.screen.areas:
             if area.type == 'PROPERTIES':
                 area.tag_redraw()
@@ -261,7 +255,7 @@ class LAMBERT_OT_bake(bpy.types.Operator):
             settings.status = 'failed'
             self.report({'ERROR'}, str(error))
             return {'CANCELLED'}
-        settings.status, settings.progress = 'done: ' + summary, 1.0
+        settings.status, settings.progress = 'done: ' + summary, 100.0
         self.report({'INFO'}, 'lambert: ' + summary)
         return {'FINISHED'}
 

@@ -5,6 +5,7 @@ import re
 import shutil
 import signal
 import subprocess
+import time
 
 # Quality presets: the hierarchical method's link error (the CLI's --link-error, default 2e-4),
 # the flat method's patch count (--patches, default 784).
@@ -17,6 +18,7 @@ LIGHTMAP_SIZE = {'DRAFT': 256, 'MEDIUM': 512, 'HIGH': 1024}
 # lambert redraws "\rLABEL [####......]  42.0%" on a terminal (src/lambert/core/progress.cpp);
 # an open-ended count is "\rLABEL 1234".
 _PROGRESS = re.compile(r'([A-Za-z][A-Za-z ]*?)\s+\[[#.]*\]\s+([0-9.]+)%')
+_COUNT = re.compile(r'([A-Za-z][A-Za-z ]*?)\s+([0-9]+)')
 
 
 def find_binary(preference=''):
@@ -50,14 +52,14 @@ def solve_arguments(binary, scene_glb, method, quality, output, out_path):
         args += ['--export-vertices', out_path]
     else:
         args += ['--lightmaps', '--lightmap-size', str(LIGHTMAP_SIZE[quality]), '--export', out_path]
-    args += ['--json']
+    # No --json: lambert draws progress only without it (and without --quiet).
     return args
 
 
 class LambertProcess:
     """One run of lambert. Its stderr is a pseudo-terminal where the platform has one, so that
-    lambert draws its progress lines (it draws them only on a terminal); stdout (the --json
-    stats) is a pipe."""
+    lambert draws its progress lines (it draws them only on a terminal); stdout (the stats
+    table) is a pipe."""
 
     def __init__(self, args):
         self.args = args
@@ -101,20 +103,28 @@ class LambertProcess:
             chunk = None
         if chunk:
             self._stdout_chunks.append(chunk)
-        matches = _PROGRESS.findall(self._stderr_text[-400:])
-        if matches:
-            label, percent = matches[-1]
-            self.progress_label = label.strip()
-            self.progress_fraction = min(1.0, float(percent) / 100.0)
+        # The line being redrawn: the text after the last carriage return or newline that has some.
+        segments = [t.strip() for t in re.split(r'[\r\n]', self._stderr_text[-400:]) if t.strip()]
+        if segments:
+            bar, count = _PROGRESS.fullmatch(segments[-1]), _COUNT.fullmatch(segments[-1])
+            if bar:
+                self.progress_label = bar.group(1).strip()
+                self.progress_fraction = min(1.0, float(bar.group(2)) / 100.0)
+            elif count:  # open-ended work (links judged): the count, no fraction
+                self.progress_label = f'{count.group(1).strip()} {count.group(2)}'
+                self.progress_fraction = 0.0
 
     def poll(self):
         """None while running, else the exit status."""
         self._read_available()
         return self.process.poll()
 
-    def wait(self, timeout=None):
-        self.process.wait(timeout)
-        return self.poll()
+    def wait(self):
+        """Waits for the exit, reading the output meanwhile (a full pipe or terminal buffer
+        would block lambert)."""
+        while self.poll() is None:
+            time.sleep(0.05)
+        return self.process.returncode
 
     def cancel(self):
         """Stops lambert (its whole process group) and waits until it is gone."""
@@ -145,6 +155,6 @@ class LambertProcess:
         lines = []
         for line in self._stderr_text.replace('\r\n', '\n').split('\n'):
             line = line.split('\r')[-1].strip()
-            if line and not _PROGRESS.fullmatch(line):
+            if line and not _PROGRESS.fullmatch(line) and not _COUNT.fullmatch(line):
                 lines.append(line)
         return '\n'.join(lines) or f'lambert exited with status {self.process.returncode} and no message'

@@ -134,11 +134,10 @@ def add_lightmap_uvs(context, objects):
     for obj in objects:
         obj.select_set(True)
     context.view_layer.objects.active = objects[0]
-    bpy.ops.object.mode_set(mode='EDIT')
-    bpy.ops.mesh.select_all(action='SELECT')
+    # In object mode the operator packs every face of the selected objects (edit mode's data
+    # would not be synced when the bake starts from another editor than the 3D view).
     bpy.ops.uv.lightmap_pack(PREF_CONTEXT='ALL_FACES', PREF_PACK_IN_ONE=True, PREF_NEW_UVLAYER=False,
                              PREF_BOX_DIV=12, PREF_MARGIN_DIV=0.2)
-    bpy.ops.object.mode_set(mode='OBJECT')
     for obj in objects:
         obj.select_set(False)
         obj.data.uv_layers.active = obj.data.uv_layers[0]
