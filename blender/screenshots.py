@@ -82,7 +82,7 @@ def tick():
             bpy.ops.screen.screenshot_area(filepath=OUT + '/blender-panel.png')
         return 1.0
     if s == 6:
-        if settings.running:
+        if lambert_bake._running_job is not None:
             step[0] = 6
             return 1.0
         view = state['view']

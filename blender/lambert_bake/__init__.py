@@ -12,6 +12,7 @@ bl_info = {
     'category': 'Render',
 }
 
+import atexit
 import os
 import shutil
 import tempfile
@@ -67,9 +68,22 @@ class LambertBakeSettings(bpy.types.PropertyGroup):
         name='Objects', default='ALL',
         items=[('ALL', 'All', 'Every visible mesh object and light of the scene'),
                ('SELECTED', 'Selected', 'The selected objects only (select the lights too)')])
-    status: bpy.props.StringProperty(name='Status', default='')
+    status: bpy.props.StringProperty(name='Status', default='', options={'SKIP_SAVE'})
     progress: bpy.props.FloatProperty(name='Progress', default=0.0, min=0.0, max=100.0, subtype='PERCENTAGE')
-    running: bpy.props.BoolProperty(default=False)
+
+
+
+# The bake the panel runs (one at a time): not a scene property, so a .blend saved mid-bake does
+# not open as still baking, and Blender quitting mid-bake stops lambert too.
+_running_job = None
+
+
+def _stop_running_job():
+    if _running_job is not None:
+        _running_job.cancel()
+
+
+atexit.register(_stop_running_job)
 
 
 def _preferences(context):
@@ -201,16 +215,18 @@ class LAMBERT_OT_bake(bpy.types.Operator):
         return self._finish(context, job)
 
     def invoke(self, context, event):
+        global _running_job
         settings = context.scene.lambert_bake
-        if settings.running:
-            self.report({'WARNING'}, 'a lambert bake is running already')
+        if _running_job is not None:
+            self.report({'WARNING'}, 'a lambert bake is running already (Esc cancels it)')
             return {'CANCELLED'}
         try:
             self._job = BakeJob(context, settings)
         except (OSError, ValueError, RuntimeError) as error:
             self.report({'ERROR'}, str(error))
             return {'CANCELLED'}
-        settings.running, settings.progress, settings.status = True, 0.0, 'starting lambert'
+        _running_job = self._job
+        settings.progress, settings.status = 0.0, 'starting lambert'
         window_manager = context.window_manager
         self._timer = window_manager.event_timer_add(0.2, window=context.window)
         window_manager.progress_begin(0, 100)
@@ -241,11 +257,17 @@ class LAMBERT_OT_bake(bpy.types.Operator):
         self._end_modal(context)
         return self._finish(context, self._job)
 
+    def cancel(self, context):
+        """Blender ends the modal operator itself (a file loaded, the window closed): stop lambert."""
+        self._job.cancel()
+        self._end_modal(context)
+
     def _end_modal(self, context):
+        global _running_job
+        _running_job = None
         context.window_manager.event_timer_remove(self._timer)
         context.window_manager.progress_end()
         context.workspace.status_text_set(None)
-        context.scene.lambert_bake.running = False
 
     def _finish(self, context, job):
         settings = context.scene.lambert_bake
@@ -275,7 +297,7 @@ class RENDER_PT_lambert(bpy.types.Panel):
         layout.prop(settings, 'quality')
         layout.prop(settings, 'output', expand=True)
         layout.prop(settings, 'objects', expand=True)
-        if settings.running:
+        if _running_job is not None:
             layout.prop(settings, 'progress', text=settings.status or 'running', slider=True)
             layout.label(text='Esc cancels', icon='CANCEL')
         else:
