@@ -165,6 +165,54 @@ def configure(keep):
     return settings
 
 
+def compare_with_cli(bake_dir, cli_options, objects):
+    """Runs the CLI on the glb the add-on exported to bake_dir, with cli_options, and compares the
+    objects' "lambert" colours with its vertices corner by corner. Returns (corners compared,
+    largest difference, largest difference of the faces' other sides, of the faces' next corners)."""
+    exported = os.path.join(bake_dir, 'scene.glb')
+    cli_csv = os.path.join(bake_dir, 'cli.csv')
+    cli = subprocess.run([lambert_binary, 'solve', '--scene', exported, *cli_options,
+                          '--export-vertices', cli_csv, '-q'], capture_output=True, text=True)
+    check(cli.returncode == 0, f'the CLI on {exported}: {cli.stderr}')
+    if cli.returncode != 0:
+        return 0, float('inf'), 0.0, 0.0
+    vertices = read_cli_vertices(cli_csv)
+    compared, worst, worst_wrong_side, worst_rotated = 0, 0.0, 0.0, 0.0
+    for obj in objects:
+        if 'lambert' not in obj.data.color_attributes:
+            check(False, f'{obj.name}: no "lambert" colour attribute')
+            continue
+        check(obj.data.color_attributes.active_color.name == 'lambert', f'{obj.name}: "lambert" is not the active colour')
+        corners = corners_of(obj)
+        front = [expected_at(vertices, p, n) for _, p, n, _ in corners]
+        back = [expected_at(vertices, p, n, side=-1) for _, p, n, _ in corners]
+        check(None not in front, f'{obj.name}: a corner has no CLI vertex within 1e-5 m')
+        if None in front:
+            continue
+        # Each face shows its brighter side (Blender's faces are two-sided: lambert lights both).
+        expected, opposite = [], []
+        for polygon in sorted(set(c[0] for c in corners)):
+            mine = [i for i, c in enumerate(corners) if c[0] == polygon]
+            front_is_brighter = sum(luminance(front[i]) for i in mine) >= sum(luminance(back[i]) for i in mine)
+            for i in mine:
+                expected.append(front[i] if front_is_brighter else back[i])
+                opposite.append(back[i] if front_is_brighter else front[i])
+        for i, (polygon, p, n, baked) in enumerate(corners):
+            if expected[i] is None:
+                continue
+            compared += 1
+            e = error(baked, expected[i])
+            if e > TOLERANCE and worst <= TOLERANCE:
+                print(f'blender-bake: {obj.name} corner at {p} normal {n}: baked {baked}, the CLI {expected[i]}')
+            worst = max(worst, e)
+            worst_wrong_side = max(worst_wrong_side, error(opposite[i], expected[i]))
+            # The colour of the polygon's next corner: corners shuffled within faces.
+            following = i + 1 if i + 1 < len(corners) and corners[i + 1][0] == polygon else \
+                next(j for j in range(len(corners)) if corners[j][0] == polygon)
+            worst_rotated = max(worst_rotated, error(expected[following], expected[i]))
+    return compared, worst, worst_wrong_side, worst_rotated
+
+
 # 1. Bake, and compare every corner with the CLI's own solve of the same exported glb.
 t0 = time.monotonic()
 bake_dir = os.path.join(scratch, 'bake')
@@ -172,45 +220,8 @@ configure(bake_dir)
 result = bpy.ops.lambert.bake()
 bake_seconds = time.monotonic() - t0
 check(result == {'FINISHED'}, f'bpy.ops.lambert.bake() returned {result}')
-exported = os.path.join(bake_dir, 'scene.glb')
-cli_csv = os.path.join(scratch, 'cli.csv')
-cli = subprocess.run([lambert_binary, 'solve', '--scene', exported, '--method', 'hierarchical', '--link-error', '0.001',
-                      '--export-vertices', cli_csv, '-q'], capture_output=True, text=True)
-check(cli.returncode == 0, f'the CLI on {exported}: {cli.stderr}')
-vertices = read_cli_vertices(cli_csv)
-compared, worst, worst_wrong_side, worst_rotated = 0, 0.0, 0.0, 0.0
-for obj in [bpy.data.objects['room'], bpy.data.objects['block']]:
-    if 'lambert' not in obj.data.color_attributes:
-        check(False, f'{obj.name}: no "lambert" colour attribute')
-        continue
-    check(obj.data.color_attributes.active_color.name == 'lambert', f'{obj.name}: "lambert" is not the active colour')
-    corners = corners_of(obj)
-    front = [expected_at(vertices, p, n) for _, p, n, _ in corners]
-    back = [expected_at(vertices, p, n, side=-1) for _, p, n, _ in corners]
-    check(None not in front, f'{obj.name}: a corner has no CLI vertex within 1e-5 m')
-    if None in front:
-        continue
-    # Each face shows its brighter side (Blender's faces are two-sided: lambert lights both).
-    expected, opposite = [], []
-    for polygon in sorted(set(c[0] for c in corners)):
-        mine = [i for i, c in enumerate(corners) if c[0] == polygon]
-        front_is_brighter = sum(luminance(front[i]) for i in mine) >= sum(luminance(back[i]) for i in mine)
-        for i in mine:
-            expected.append(front[i] if front_is_brighter else back[i])
-            opposite.append(back[i] if front_is_brighter else front[i])
-    for i, (polygon, p, n, baked) in enumerate(corners):
-        if expected[i] is None:
-            continue
-        compared += 1
-        e = error(baked, expected[i])
-        if e > TOLERANCE and worst <= TOLERANCE:
-            print(f'blender-bake: {obj.name} corner at {p} normal {n}: baked {baked}, the CLI {expected[i]}')
-        worst = max(worst, e)
-        worst_wrong_side = max(worst_wrong_side, error(opposite[i], expected[i]))
-        # The colour of the polygon's next corner: corners shuffled within faces.
-        following = i + 1 if i + 1 < len(corners) and corners[i + 1][0] == polygon else \
-            next(j for j in range(len(corners)) if corners[j][0] == polygon)
-        worst_rotated = max(worst_rotated, error(expected[following], expected[i]))
+compared, worst, worst_wrong_side, worst_rotated = compare_with_cli(
+    bake_dir, ['--method', 'hierarchical', '--link-error', '0.001'], [bpy.data.objects['room'], bpy.data.objects['block']])
 check(compared > 200, f'only {compared} corners compared')
 check(worst <= TOLERANCE, f'largest per-corner difference from the CLI {worst:.3g} > {TOLERANCE}')
 # The comparison can fail: the light on the other side of a face, or the next corner's, is far off.
@@ -311,12 +322,26 @@ except RuntimeError as raised:
     check(message in str(raised), f'the error "{raised}" does not carry lambert\'s message "{message}"')
     print(f'blender-bake: the error reported: {str(raised).strip()[:300]}')
 
+# 4. Selected objects, the flat method: only the block (and the lamp) go out; the room keeps no
+# colours; the block's agree with the CLI's flat solve of that export.
+build_scene()
+settings = configure(os.path.join(scratch, 'selected'))
+settings.objects, settings.method = 'SELECTED', 'FLAT'
+for obj in bpy.data.objects:
+    obj.select_set(obj.name in ('block', 'light'))
+check(bpy.ops.lambert.bake() == {'FINISHED'}, 'the selected objects\' bake failed')
+check('lambert' not in bpy.data.objects['room'].data.color_attributes, 'an unselected object was coloured')
+flat_compared, flat_worst, _, _ = compare_with_cli(os.path.join(scratch, 'selected'), ['--method', 'flat', '--patches', '400'],
+                                                   [bpy.data.objects['block']])
+check(flat_compared >= 90 and flat_worst <= TOLERANCE,
+      f'flat, selected: {flat_compared} corners, largest difference from the CLI {flat_worst:.3g}')
+
 total = time.monotonic() - started
 if failures:
     print(f'blender-bake: FAILED ({len(failures)}): ' + '; '.join(failures))
     sys.exit(1)
 print(f'blender-bake: ok: {compared} corners within {TOLERANCE} of the CLI (other side: {worst_wrong_side:.3g}, '
       f'next corner: {worst_rotated:.3g}); floor lit {lit:.4g} vs under the block {dark:.4g}; cancel and error ok; '
-      f'lightmaps: median lightmap/vertex irradiance {median:.3f} over {len(ratios)} floor faces; '
+      f'flat on the selected block: {flat_compared} corners within {TOLERANCE}; lightmaps: median lightmap/vertex irradiance {median:.3f} over {len(ratios)} floor faces; '
       f'bake {bake_seconds:.1f} s, lightmap bake {lightmap_seconds:.1f} s, whole test {total:.1f} s')
 sys.exit(0)
