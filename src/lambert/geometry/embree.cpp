@@ -117,62 +117,61 @@ class EmbreeRayCaster final : public RayCaster {
 
   void occluded(std::span<const Ray> rays, std::span<bool> out) const override {
     countRays(rays.size());
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
-    constexpr std::size_t kChunk = 64;
+    RTCIntersectContext context = incoherentContext();
     RTCRay chunk[kChunk];
-    for (std::size_t begin = 0; begin < rays.size(); begin += kChunk) {
-      std::size_t n = std::min(kChunk, rays.size() - begin);
+    inChunks(rays.size(), [&](std::size_t begin, std::size_t n) {
       for (std::size_t i = 0; i < n; ++i) chunk[i] = toRtcRay(rays[begin + i]);
       rtcOccluded1M(scene_, &context, chunk, static_cast<unsigned>(n), sizeof(RTCRay));
       for (std::size_t i = 0; i < n; ++i) out[begin + i] = chunk[i].tfar < 0;
-    }
+    });
   }
 
   std::optional<RayHit> intersect(const Ray& ray) const override {
     countRays(1);
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
-    RTCRayHit rayHit;
-    rayHit.ray = toRtcRay(ray);
-    rayHit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rayHit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    RTCRayHit rayHit = toRtcRayHit(ray);
     rtcIntersect1(scene_, &context, &rayHit);
-    if (rayHit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
-    std::uint32_t patch = rayHit.hit.primID;
-    bool front = dot(ray.direction, sides_.normals[patch]) < 0;
-    return RayHit{rayHit.ray.tfar, patch, front};
+    return hitOf(rayHit, ray);
   }
 
   void intersect(std::span<const Ray> rays, std::span<std::optional<RayHit>> out) const override {
     countRays(rays.size());
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
-    constexpr std::size_t kChunk = 64;
+    RTCIntersectContext context = incoherentContext();
     RTCRayHit chunk[kChunk];
-    for (std::size_t begin = 0; begin < rays.size(); begin += kChunk) {
-      const std::size_t n = std::min(kChunk, rays.size() - begin);
-      for (std::size_t i = 0; i < n; ++i) {
-        chunk[i].ray = toRtcRay(rays[begin + i]);
-        chunk[i].hit.geomID = RTC_INVALID_GEOMETRY_ID;
-        chunk[i].hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-      }
+    inChunks(rays.size(), [&](std::size_t begin, std::size_t n) {
+      for (std::size_t i = 0; i < n; ++i) chunk[i] = toRtcRayHit(rays[begin + i]);
       rtcIntersect1M(scene_, &context, chunk, static_cast<unsigned>(n), sizeof(RTCRayHit));
-      for (std::size_t i = 0; i < n; ++i) {
-        const RTCRayHit& h = chunk[i];
-        if (h.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
-          out[begin + i] = std::nullopt;
-          continue;
-        }
-        const std::uint32_t patch = h.hit.primID;
-        out[begin + i] = RayHit{h.ray.tfar, patch, dot(rays[begin + i].direction, sides_.normals[patch]) < 0};
-      }
-    }
+      for (std::size_t i = 0; i < n; ++i) out[begin + i] = hitOf(chunk[i], rays[begin + i]);
+    });
   }
 
  private:
+  // Batches go to Embree's stream calls in chunks of this many rays, marked incoherent.
+  static constexpr std::size_t kChunk = 64;
+  template <typename Body>
+  static void inChunks(std::size_t count, Body&& body) {
+    for (std::size_t begin = 0; begin < count; begin += kChunk) body(begin, std::min(kChunk, count - begin));
+  }
+  static RTCIntersectContext incoherentContext() {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+    return context;
+  }
+  static RTCRayHit toRtcRayHit(const Ray& ray) {
+    RTCRayHit rayHit;
+    rayHit.ray = toRtcRay(ray);
+    rayHit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rayHit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    return rayHit;
+  }
+  std::optional<RayHit> hitOf(const RTCRayHit& rayHit, const Ray& ray) const {
+    if (rayHit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
+    const std::uint32_t patch = rayHit.hit.primID;
+    return RayHit{rayHit.ray.tfar, patch, dot(ray.direction, sides_.normals[patch]) < 0};
+  }
+
   PatchSides sides_;
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
