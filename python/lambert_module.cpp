@@ -7,6 +7,8 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <cmath>
+#include <optional>
 #include <memory>
 #include <string>
 #include <utility>
@@ -15,8 +17,16 @@
 #include "lambert/core/rgb.h"
 #include "lambert/engine/radiosity.h"
 #include "lambert/engine/solve_settings.h"
+#include "lambert/bake/lightmaps.h"
+#include "lambert/bake/probes.h"
+#include "lambert/io/exr.h"
 #include "lambert/io/gltf_export.h"
+#include "lambert/io/lightmap_export.h"
+#include "lambert/io/png.h"
 #include "lambert/io/vertices.h"
+#include "lambert/render/scene_camera.h"
+#include "lambert/render/solution_image.h"
+#include "lambert/render/tonemap.h"
 #include "lambert/scene/scene_file.h"
 #include "lambert/version.h"
 
@@ -60,6 +70,21 @@ py::array_t<double> rows3(const std::vector<Vec3>& values) {
   std::vector<Rgb> copy(values.size());
   for (std::size_t i = 0; i < values.size(); ++i) copy[i] = {values[i].x, values[i].y, values[i].z};
   return rows3(std::move(copy));
+}
+
+// An (height, width, 3) float64 array that owns the image's pixels: no copy.
+py::array_t<double> pixels(Image&& image) {
+  const auto height = static_cast<py::ssize_t>(image.height), width = static_cast<py::ssize_t>(image.width);
+  py::array_t<double> flat = rows3(std::move(image.pixels));
+  return flat.reshape({height, width, py::ssize_t{3}});
+}
+
+// An array of T with the given shape over a vector it owns: no copy.
+template <typename T>
+py::array_t<T> owned(std::vector<T>&& values, std::vector<py::ssize_t> shape) {
+  auto* kept = new std::vector<T>(std::move(values));
+  py::capsule free(kept, [](void* p) { delete static_cast<std::vector<T>*>(p); });
+  return py::array_t<T>(shape, kept->data(), free);
 }
 
 Vec3 vec3(const std::vector<double>& v, const char* what) {
@@ -149,6 +174,89 @@ class PyRadiosity {
     orRaise(lambert::writeGlb(path, engine_->solution(), options));
   }
   void writeVertices(const std::string& path) const { orRaise(lambert::writeVertices(path, vertexSamples(engine_->solution()))); }
+
+  // The solution drawn from the scene's camera (else lambert's default view): radiance per pixel,
+  // written as .png (tone mapped at `exposure` stops, or the scene's / automatic) or .exr (linear)
+  // where a path is given.
+  py::array_t<double> render(const std::string& path, int width, int height, std::optional<double> exposure) const {
+    if (width < 1 || width > 16384 || height < 1 || height > 16384) raise("render: width and height must lie in [1, 16384]");
+    const SolutionView& view = engine_->solution();
+    SolutionImageOptions options;
+    options.width = width, options.height = height;
+    options.camera = orRaise(sceneCamera(view.scene(), CameraRequest{})).camera;
+    Image image;
+    {
+      py::gil_scoped_release release;
+      image = renderSolution(view, options);
+    }
+    if (!path.empty()) {
+      if (path.size() >= 4 && path.compare(path.size() - 4, 4, ".exr") == 0) {
+        orRaise(writeExr(path, image));
+      } else if (path.size() >= 4 && path.compare(path.size() - 4, 4, ".png") == 0) {
+        const double stops = exposure ? *exposure : sceneExposureStops(view.scene(), image);
+        orRaise(writePng(path, image.width, image.height, toSrgb8(image, stops)));
+      } else {
+        raise(path + ": images are .png (tone mapped, 8-bit sRGB) or .exr (linear float radiance)");
+      }
+    }
+    return pixels(std::move(image));
+  }
+
+  // Lightmaps of the solution (hierarchical method): per atlas the irradiance E, W/m², as an
+  // (size, size, 3) array and which texels a face covers; written with the scene's mesh as a .glb
+  // and its EXR and RGBM files (as `lambert solve --lightmaps --export`) where a path is given.
+  py::dict bakeLightmaps(const std::string& glbPath, double texelSize, int atlasSize, int padding) const {
+    LightmapBakeOptions options;
+    if (!(texelSize >= 0)) raise("bake_lightmaps: texel_size must be 0 (automatic) or positive metres");
+    options.uvs.texelSize = texelSize / engine_->solution().scene().metresPerUnit;  // metres, as --texel-size
+    options.uvs.atlasSize = atlasSize;
+    options.uvs.paddingTexels = padding;
+    options.showProgress = false;
+    Result<BakedLightmaps> baked = Error{""};
+    {
+      py::gil_scoped_release release;
+      baked = lambert::bakeLightmaps(engine_->solution(), options);
+    }
+    if (!baked) raise(baked.error().message);
+    if (!glbPath.empty())
+      if (Result<LightmapExport> written = writeLightmaps(glbPath, engine_->solution().scene(), *baked); !written) raise(written.error().message);
+    py::list irradiance, covered;
+    for (Image& atlas : baked->irradiance) irradiance.append(pixels(std::move(atlas)));
+    for (std::vector<std::uint8_t>& mask : baked->covered) {
+      const auto side = static_cast<py::ssize_t>(std::llround(std::sqrt(static_cast<double>(mask.size()))));
+      covered.append(owned(std::move(mask), {side, side}));
+    }
+    py::dict out;
+    out["irradiance"] = irradiance;
+    out["covered"] = covered;
+    out["texels_baked"] = baked->texelsBaked;
+    return out;
+  }
+
+  // An L2 spherical-harmonic irradiance volume over the scene's box: coefficients as a
+  // (nz, ny, nx, 9, 3) float32 array (W/m²), valid as (nz, ny, nx) bool, origin and spacing in
+  // scene units; written as lambert's probe file where a path is given.
+  py::dict bakeProbes(const std::string& path, double spacing, int raysPerProbe) const {
+    ProbeOptions options;
+    options.spacing = spacing;
+    options.raysPerProbe = raysPerProbe;
+    options.showProgress = false;
+    Result<ProbeVolume> volume = Error{""};
+    {
+      py::gil_scoped_release release;
+      volume = lambert::bakeProbes(engine_->solution(), options);
+    }
+    if (!volume) raise(volume.error().message);
+    if (!path.empty()) orRaise(writeProbes(path, *volume));
+    const auto [nx, ny, nz] = volume->dims;
+    const std::vector<py::ssize_t> grid{static_cast<py::ssize_t>(nz), static_cast<py::ssize_t>(ny), static_cast<py::ssize_t>(nx)};
+    py::dict out;
+    out["origin"] = std::vector<double>{volume->origin.x, volume->origin.y, volume->origin.z};
+    out["spacing"] = volume->spacing;
+    out["valid"] = owned(std::move(volume->valid), grid).attr("astype")("bool");
+    out["coefficients"] = owned(std::move(volume->coefficients), {grid[0], grid[1], grid[2], py::ssize_t{kShCoefficients}, py::ssize_t{3}});
+    return out;
+  }
 
  private:
   std::unique_ptr<Radiosity> engine_;
@@ -247,5 +355,20 @@ PYBIND11_MODULE(lambert, m) {
       .def("write_glb", &PyRadiosity::writeGlb, py::arg("path"), py::arg("bake") = "irradiance", py::arg("exposure") = 0.0,
            "Write the solved scene as binary glTF with the light in COLOR_0, as `lambert solve --export`.")
       .def("write_vertices", &PyRadiosity::writeVertices, py::arg("path"),
-           "Write every vertex: position, normal, radiance (.csv or .ply), as `lambert solve --export-vertices`.");
+           "Write every vertex: position, normal, radiance (.csv or .ply), as `lambert solve --export-vertices`.")
+      .def("render", &PyRadiosity::render, py::arg("path") = "", py::arg("width") = 512, py::arg("height") = 512,
+           py::arg("exposure") = py::none(),
+           "Draw the solution from the scene's camera (else lambert's default view): an (height, width, 3) float64 array of "
+           "radiance, W/(m²·sr); written as .png (tone mapped at `exposure` stops, else the scene's or automatic) or .exr "
+           "(linear) where a path is given, as `lambert render`.")
+      .def("bake_lightmaps", &PyRadiosity::bakeLightmaps, py::arg("path") = "", py::arg("texel_size") = 0.0,
+           py::arg("size") = 1024, py::arg("padding") = 2,
+           "Lightmaps (hierarchical method): a dict with 'irradiance' (per atlas an (size, size, 3) float64 array of E, "
+           "W/m²), 'covered' (per atlas a uint8 mask of the texels a face covers) and 'texels_baked'; with a .glb path, "
+           "written as `lambert solve --lightmaps --export` writes them. texel_size in metres (0: automatic), size and padding in "
+           "texels, as --texel-size, --lightmap-size and --lightmap-padding.")
+      .def("bake_probes", &PyRadiosity::bakeProbes, py::arg("path") = "", py::arg("spacing") = 0.0, py::arg("rays_per_probe") = 512,
+           "An L2 SH irradiance volume: a dict with 'coefficients' ((nz, ny, nx, 9, 3) float32, W/m²), 'valid' "
+           "((nz, ny, nx) bool), 'origin' and 'spacing' (scene units); written as lambert's probe file where a path is given "
+           "(as `--probes`).");
 }

@@ -159,3 +159,55 @@ def test_the_convergence_example_plots_a_falling_residual(tmp_path):
         # Gauss–Seidel on a diffuse box contracts by about ρ_max each sweep: a thousandfold in 12.
         assert values[-1] < values[0] * 1e-3
         assert all(b < a for a, b in zip(values, values[1:]))
+
+
+def test_render_draws_what_lambert_render_draws(tmp_path):
+    import matplotlib.image
+    engine = lambert.Radiosity(lambert.load_scene("cornell"))
+    engine.solve()
+    radiance = engine.render(str(tmp_path / "py.png"), width=96, height=64)
+    assert radiance.shape == (64, 96, 3) and radiance.min() >= 0
+    subprocess.run([CLI, "render", "--scene", "cornell", "--width", "96", "--height", "64", "-o", str(tmp_path / "cli.png"), "-q"],
+                   check=True)
+    ours = matplotlib.image.imread(str(tmp_path / "py.png"))
+    theirs = matplotlib.image.imread(str(tmp_path / "cli.png"))
+    assert ours.shape[:2] == (64, 96)
+    np.testing.assert_array_equal(ours, theirs)
+    with pytest.raises(lambert.Error, match=r"\.png .* or \.exr"):
+        engine.render(str(tmp_path / "x.jpg"))
+
+
+def test_lightmaps_are_the_clis_and_probes_are_their_file(tmp_path):
+    import struct
+    engine = lambert.Radiosity(lambert.load_scene("cornell"))
+    engine.solve()
+    baked = engine.bake_lightmaps(str(tmp_path / "py" / "box.glb"), size=128)
+    atlas = baked["irradiance"][0]
+    assert atlas.shape == (128, 128, 3) and baked["covered"][0].shape == (128, 128)
+    covered = baked["covered"][0].astype(bool)
+    assert 0.3 < covered.mean() < 0.95 and atlas[covered].min() >= 0 and atlas[covered].max() > 0
+    subprocess.run([CLI, "solve", "--scene", "cornell", "--lightmaps", "--lightmap-size", "128",
+                    "--export", str(tmp_path / "cli" / "box.glb"), "-q"], check=True)
+    for name in ["box.glb", "box-lightmap-0-rgbm.png", "box-lightmap-0.exr"]:
+        assert (tmp_path / "py" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes(), name
+
+    volume = engine.bake_probes(str(tmp_path / "box.probes"), spacing=100)
+    subprocess.run([CLI, "solve", "--scene", "cornell", "--probes", str(tmp_path / "cli.probes"), "--probe-spacing", "100", "-q"],
+                   check=True)
+    data = (tmp_path / "box.probes").read_bytes()
+    assert data == (tmp_path / "cli.probes").read_bytes()
+    # The arrays are the file's contents, read here by its documented layout (docs/lightmaps.md).
+    magic, version, per_channel = struct.unpack_from("<8sII", data, 0)
+    assert magic == b"LMBPROBE" and version == 1 and per_channel == 9
+    origin = struct.unpack_from("<3d", data, 16)
+    spacing, = struct.unpack_from("<d", data, 40)
+    nx, ny, nz, valid_count = struct.unpack_from("<4I", data, 48)
+    count = nx * ny * nz
+    valid = np.frombuffer(data, np.uint8, count, 64).reshape(nz, ny, nx).astype(bool)
+    start = 64 + (count + 3) // 4 * 4
+    coefficients = np.frombuffer(data, "<f4", count * 27, start).reshape(nz, ny, nx, 9, 3)
+    assert volume["coefficients"].shape == (nz, ny, nx, 9, 3) and volume["spacing"] == spacing
+    np.testing.assert_allclose(volume["origin"], origin)
+    np.testing.assert_array_equal(volume["valid"], valid)
+    assert volume["valid"].sum() == valid_count
+    np.testing.assert_array_equal(volume["coefficients"], coefficients)
