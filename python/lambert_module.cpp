@@ -18,6 +18,8 @@
 #include "lambert/engine/radiosity.h"
 #include "lambert/engine/solve_settings.h"
 #include "lambert/bake/lightmaps.h"
+#include "lambert/core/photometric.h"
+#include "lambert/design/illuminance.h"
 #include "lambert/bake/probes.h"
 #include "lambert/io/exr.h"
 #include "lambert/io/gltf_export.h"
@@ -147,6 +149,52 @@ class PyRadiosity {
       if (name == quantity) return rows3(engine_->solution().vertexValues(q));
     raise("vertex_values takes radiosity, indirect_radiosity or irradiance, not " + quantity);
   }
+  // Per element of the solution's mesh (the hierarchy's leaves, or the flat method's patches).
+  py::array_t<double> elementValues(const std::string& quantity) const {
+    const SolutionView& view = engine_->solution();
+    if (quantity == "radiosity") return rows3(std::vector<Rgb>(view.radiosity()));
+    if (quantity == "injected") return rows3(std::vector<Rgb>(view.injected()));
+    if (quantity == "emitted") return rows3(std::vector<Rgb>(view.emitted()));
+    if (quantity == "albedo") return rows3(std::vector<Rgb>(view.albedo()));
+    raise("element_values takes radiosity, injected, emitted or albedo, not " + quantity);
+  }
+  py::dict elements() const {
+    const Mesh& mesh = engine_->solution().mesh();
+    std::vector<Vec3> centroids, normals;
+    std::vector<double> areas;
+    std::vector<std::uint32_t> surfaces;
+    for (const Patch& p : mesh.patches) centroids.push_back(p.centroid), normals.push_back(p.normal), areas.push_back(p.area), surfaces.push_back(p.surface);
+    py::dict out;
+    out["centroid"] = rows3(centroids);
+    out["normal"] = rows3(normals);
+    out["area"] = owned(std::move(areas), {static_cast<py::ssize_t>(mesh.numPatches())});
+    out["surface"] = owned(std::move(surfaces), {static_cast<py::ssize_t>(mesh.numPatches())});
+    return out;
+  }
+
+  // Illuminance at points (x, y, z, nx, ny, nz rows, scene frame and units), as `--points`:
+  // an (n, 3) array of E_direct, E_indirect and E in lux.
+  py::array_t<double> illuminance(const py::array_t<double, py::array::c_style | py::array::forcecast>& points, int indirectRays) const {
+    if (points.ndim() != 2 || points.shape(1) != 6) raise("illuminance takes an (n, 6) array of x, y, z, nx, ny, nz");
+    std::vector<CalculationPoint> at(static_cast<std::size_t>(points.shape(0)));
+    const auto rows = points.unchecked<2>();
+    for (std::size_t i = 0; i < at.size(); ++i)
+      at[i] = {{rows(i, 0), rows(i, 1), rows(i, 2)}, {rows(i, 3), rows(i, 4), rows(i, 5)}};
+    IlluminanceOptions options;
+    options.indirectRays = indirectRays;
+    Result<std::vector<PointIrradiance>> measured = Error{""};
+    {
+      py::gil_scoped_release release;
+      const IlluminanceMeter meter(engine_->solution(), options);
+      measured = meter.measure(at);
+    }
+    if (!measured) raise(measured.error().message);
+    std::vector<Rgb> lux;
+    for (const PointIrradiance& e : *measured)
+      lux.push_back({illuminanceLux(e.direct), illuminanceLux(e.indirect), illuminanceLux(e.total())});
+    return rows3(std::move(lux));
+  }
+
   py::array_t<std::uint32_t> triangles() const {
     const Mesh& mesh = engine_->solution().vertexMesh();
     std::vector<std::uint32_t> indices;
@@ -350,6 +398,15 @@ PYBIND11_MODULE(lambert, m) {
       .def("vertex_radiance", &PyRadiosity::vertexRadiance, "(n, 3) float64: outgoing radiance L = B/π per vertex, W/(m²·sr).")
       .def("vertex_values", &PyRadiosity::vertexValues, py::arg("quantity"),
            "(n, 3) float64 per vertex, W/m²: 'radiosity', 'indirect_radiosity' or 'irradiance'.")
+      .def("element_values", &PyRadiosity::elementValues, py::arg("quantity"),
+           "(n, 3) float64 per element of the solution's mesh: 'radiosity' B and 'injected' ρ·E_direct and 'emitted' (W/m²), "
+           "or 'albedo' ρ.")
+      .def("elements", &PyRadiosity::elements,
+           "The solution's elements: a dict of 'centroid' and 'normal' ((n, 3)), 'area' (scene units²) and 'surface' (the "
+           "scene surface each lies on).")
+      .def("illuminance", &PyRadiosity::illuminance, py::arg("points"), py::arg("indirect_rays") = 256,
+           "Illuminance at points, as `lambert solve --points`: points an (n, 6) array of x, y, z, nx, ny, nz (scene frame "
+           "and units); returns (n, 3) E_direct, E_indirect, E in lux (docs/photometry.md).")
       .def("triangles", &PyRadiosity::triangles, "(m, 3) uint32: the exported mesh's triangles, indices into vertex_positions().")
       .def("stats", &PyRadiosity::stats, "The figures `lambert solve --json` prints, as a dict.")
       .def("write_glb", &PyRadiosity::writeGlb, py::arg("path"), py::arg("bake") = "irradiance", py::arg("exposure") = 0.0,
