@@ -10,11 +10,13 @@
 #include <cmath>
 #include <optional>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "lambert/core/rgb.h"
+#include "lambert/core/warning.h"
 #include "lambert/engine/radiosity.h"
 #include "lambert/engine/solve_settings.h"
 #include "lambert/bake/lightmaps.h"
@@ -42,7 +44,32 @@ py::object& errorType() {
   return type;
 }
 
+py::object& warningType() {
+  static py::object type;
+  return type;
+}
+
+// The library's warnings (a face a loader dropped, a damaged cache, clipped colours), queued by
+// its sink from any thread, and given to Python's warnings module as lambert.Warning when the
+// call that raised them returns (with the GIL held).
+std::mutex pendingMutex;
+std::vector<std::string>& pendingWarnings() {
+  static std::vector<std::string> pending;
+  return pending;
+}
+
+void flushWarnings() {
+  std::vector<std::string> messages;
+  {
+    std::lock_guard<std::mutex> lock(pendingMutex);
+    messages.swap(pendingWarnings());
+  }
+  for (const std::string& message : messages)
+    if (PyErr_WarnEx(warningType().ptr(), message.c_str(), 1) != 0) throw py::error_already_set();  // warnings as errors
+}
+
 [[noreturn]] void raise(const std::string& message) {
+  flushWarnings();
   PyErr_SetString(errorType().ptr(), message.c_str());
   throw py::error_already_set();
 }
@@ -118,8 +145,13 @@ class PyRadiosity {
     RadiosityOptions chosen = orRaise(radiosityOptions(scene, settings, [&](std::string_view name) {
       return std::find(given.begin(), given.end(), name) != given.end();
     }));
-    py::gil_scoped_release release;
-    engine_ = orRaise(Radiosity::create(std::move(scene), std::move(chosen)));
+    Result<std::unique_ptr<Radiosity>> created = Error{""};
+    {
+      py::gil_scoped_release release;
+      created = Radiosity::create(std::move(scene), std::move(chosen));
+    }
+    engine_ = orRaise(std::move(created));
+    flushWarnings();
   }
 
   py::dict solve(long long maxShots, int maxSweeps, double maxMilliseconds) {
@@ -129,6 +161,7 @@ class PyRadiosity {
       report = engine_->solve(SolveBudget{maxShots, maxSweeps, maxMilliseconds});
     }
     if (!report) raise(report.error().message);
+    flushWarnings();
     py::dict out;
     out["iterations"] = report->iterations;
     out["converged"] = report->converged;
@@ -192,6 +225,7 @@ class PyRadiosity {
     std::vector<Rgb> lux;
     for (const PointIrradiance& e : *measured)
       lux.push_back({illuminanceLux(e.direct), illuminanceLux(e.indirect), illuminanceLux(e.total())});
+    flushWarnings();
     return rows3(std::move(lux));
   }
 
@@ -220,8 +254,12 @@ class PyRadiosity {
     else raise("bake takes irradiance or radiance, not " + bake);
     options.exposureStops = exposureStops;
     orRaise(lambert::writeGlb(path, engine_->solution(), options));
+    flushWarnings();
   }
-  void writeVertices(const std::string& path) const { orRaise(lambert::writeVertices(path, vertexSamples(engine_->solution()))); }
+  void writeVertices(const std::string& path) const {
+    orRaise(lambert::writeVertices(path, vertexSamples(engine_->solution())));
+    flushWarnings();
+  }
 
   // The solution drawn from the scene's camera (else lambert's default view): radiance per pixel,
   // written as .png (tone mapped at `exposure` stops, or the scene's / automatic) or .exr (linear)
@@ -247,6 +285,7 @@ class PyRadiosity {
         raise(path + ": images are .png (tone mapped, 8-bit sRGB) or .exr (linear float radiance)");
       }
     }
+    flushWarnings();
     return pixels(std::move(image));
   }
 
@@ -278,6 +317,7 @@ class PyRadiosity {
     out["irradiance"] = irradiance;
     out["covered"] = covered;
     out["texels_baked"] = baked->texelsBaked;
+    flushWarnings();
     return out;
   }
 
@@ -303,6 +343,7 @@ class PyRadiosity {
     out["spacing"] = volume->spacing;
     out["valid"] = owned(std::move(volume->valid), grid).attr("astype")("bool");
     out["coefficients"] = owned(std::move(volume->coefficients), {grid[0], grid[1], grid[2], py::ssize_t{kShCoefficients}, py::ssize_t{3}});
+    flushWarnings();
     return out;
   }
 
@@ -314,9 +355,17 @@ class PyRadiosity {
 
 PYBIND11_MODULE(lambert, m) {
   m.doc() = "lambert: diffuse global illumination by radiosity (docs/python.md).";
-  errorType() = py::reinterpret_borrow<py::object>(PyErr_NewExceptionWithDoc(
+  errorType() = py::reinterpret_steal<py::object>(PyErr_NewExceptionWithDoc(
       "lambert.Error", "An error from lambert: its message names the file, the place and how to proceed.", PyExc_RuntimeError, nullptr));
   m.attr("Error") = errorType();
+  warningType() = py::reinterpret_steal<py::object>(PyErr_NewExceptionWithDoc(
+      "lambert.Warning", "A problem lambert recovered from (a face a loader dropped, a damaged cache, clipped colours).",
+      PyExc_UserWarning, nullptr));
+  m.attr("Warning") = warningType();
+  setWarningSink([](const std::string& message) {
+    std::lock_guard<std::mutex> lock(pendingMutex);
+    pendingWarnings().push_back(message);
+  });
   m.attr("__version__") = LAMBERT_VERSION_STRING;
 
   py::enum_<LightKind>(m, "LightKind")
@@ -367,7 +416,9 @@ PYBIND11_MODULE(lambert, m) {
         options.creaseAngleDegrees = creaseAngle;
         options.twoSided = twoSided;
         options.mgfDivisions = mgfDivisions;
-        return orRaise(loadScene(nameOrPath, options));
+        Scene scene = orRaise(loadScene(nameOrPath, options));
+        flushWarnings();
+        return scene;
       },
       py::arg("name_or_path"), py::arg("units") = 0.0, py::arg("crease_angle") = 20.0, py::arg("two_sided") = py::none(),
       py::arg("mgf_divisions") = 16,

@@ -261,3 +261,16 @@ def test_element_values_and_illuminance_in_a_furnace(tmp_path):
     np.testing.assert_allclose(lux, cli, rtol=1e-5)
     with pytest.raises(lambert.Error, match="normal is zero"):
         engine.illuminance(np.array([[0.5, 0.5, 0.5, 0, 0, 0]]))
+
+
+def test_the_librarys_warnings_reach_pythons_warnings_module(tmp_path):
+    # An OBJ with a degenerate face (a repeated vertex): the loader drops it and says so, and
+    # that warning arrives as a lambert.Warning naming the file, not only on stderr.
+    (tmp_path / "square.obj").write_text("v 0 0 0\nv 1 0 0\nv 1 0 1\nv 0 0 1\nf 1 2 3 4\nf 1 2 2\n")
+    with pytest.warns(lambert.Warning, match=r"square\.obj.*degenerate"):
+        lambert.load_scene(str(tmp_path / "square.obj"))
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", lambert.Warning)
+        with pytest.raises(lambert.Warning):
+            lambert.load_scene(str(tmp_path / "square.obj"))
