@@ -27,6 +27,11 @@
 //    albedo, so that the emission is not counted twice. A ray that meets a back face or nothing
 //    brings nothing. Every point uses the same directions (in its own frame): the estimate's error
 //    is then a smooth field over a grid of points, not speckle that would break isolux lines.
+//    Bright reflectors — elements whose ρE is at least 8× the scene's area-weighted mean (the
+//    ceiling over an uplight, a sun patch), at most 8192 — are integrated as the emitters are
+//    (exact factors, sampled visibility) where they may matter, and the hemisphere rays leave
+//    them out there: 256 rays sample a small bright spot poorly (25% between mirror-image points
+//    under RenderPark's examp1.ies pendant; docs/photometry.md).
 //
 // Cost: per point, a shadow ray per light that faces it, emitterSamples rays per emitting
 // triangle in front of it, and indirectRays rays; the solution's vertex irradiance once (the
