@@ -20,6 +20,8 @@
 
 namespace lambert::cli {
 
+namespace {
+
 // A setting's range as the library checks it (engine/solve_settings.h), for CLI11, in the
 // option's own type (so that a message reads "1 to 255", not "1.000000 to 255.000000").
 template <typename T = double>
@@ -27,6 +29,8 @@ CLI::Range rangeOf(const char* setting) {
   const SettingRange range = solveSettingRange(setting);
   return CLI::Range(static_cast<T>(range.least), static_cast<T>(range.most));
 }
+
+}  // namespace
 
 UniformMeshOptions uniformMeshOptions(const Scene& scene, const MeshCommandOptions& o) {
   return lambert::uniformMeshOptions(scene, o, [&](std::string_view name) { return o.given(std::string(name)); });
