@@ -287,6 +287,19 @@ ratios.sort()
 median = ratios[len(ratios) // 2] if ratios else 0
 check(len(ratios) >= 20, f'only {len(ratios)} lit floor faces compared')
 check(0.8 < median < 1.25, f'lightmap / vertex irradiance on the floor: median {median:.3g} (of {len(ratios)} faces)')
+# The packed islands (a box per quad) keep apart by the margin lambert's padding and a viewer's
+# bilinear lookups need (results.MARGIN_TEXELS on each side): else a floor island's rim reads the
+# lamp's island beside it.
+boxes = []
+for obj in (bpy.data.objects['room'], bpy.data.objects['block'], bpy.data.objects['light']):
+    layer = obj.data.uv_layers['lambert_lightmap'].data
+    for polygon in obj.data.polygons:
+        us = [layer[i].uv.x * width for i in polygon.loop_indices]
+        vs = [layer[i].uv.y * height for i in polygon.loop_indices]
+        boxes.append((min(us), min(vs), max(us), max(vs)))
+closest = min(max(b[0] - a[2], a[0] - b[2], b[1] - a[3], a[1] - b[3]) for i, a in enumerate(boxes) for b in boxes[i + 1:])
+check(closest >= 2 * lambert_bake.results.MARGIN_TEXELS - 1,
+      f'two lightmap islands {closest:.2f} texels apart (at least {2 * lambert_bake.results.MARGIN_TEXELS - 1} wanted)')
 
 # 2. Cancel: lambert stops, no process is left, nothing is written.
 build_scene()
@@ -342,6 +355,6 @@ if failures:
     sys.exit(1)
 print(f'blender-bake: ok: {compared} corners within {TOLERANCE} of the CLI (other side: {worst_wrong_side:.3g}, '
       f'next corner: {worst_rotated:.3g}); floor lit {lit:.4g} vs under the block {dark:.4g}; cancel and error ok; '
-      f'flat on the selected block: {flat_compared} corners within {TOLERANCE}; lightmaps: median lightmap/vertex irradiance {median:.3f} over {len(ratios)} floor faces; '
+      f'flat on the selected block: {flat_compared} corners within {TOLERANCE}; lightmaps: median lightmap/vertex irradiance {median:.3f} over {len(ratios)} floor faces, islands {closest:.1f} texels apart; '
       f'bake {bake_seconds:.1f} s, lightmap bake {lightmap_seconds:.1f} s, whole test {total:.1f} s')
 sys.exit(0)

@@ -124,7 +124,7 @@ class BakeJob:
         results.remove_lightmap_nodes(self.objects)
         if settings.output == 'LIGHTMAPS':
             self.result_path = os.path.join(self.folder, 'baked.glb')
-            results.add_lightmap_uvs(context, self.objects)
+            results.add_lightmap_uvs(context, self.objects, process.LIGHTMAP_SIZE[settings.quality])
         else:
             self.result_path = os.path.join(self.folder, 'vertices.csv')
         if os.path.exists(self.result_path):  # a kept folder's previous result must not pass for this one

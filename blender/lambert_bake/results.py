@@ -112,10 +112,19 @@ def show_attribute_in_viewports(screen_context):
                         space.shading.color_type = 'VERTEX'
 
 
-def add_lightmap_uvs(context, objects):
+# Empty texels kept on each side of every packed island: lambert fills its own padding ring by
+# ring (--lightmap-padding 2, three rings), and a viewer's bilinear lookup at an island's rim reads
+# the next texel out. Six texels between islands keep both within the island's own light: with
+# Blender's default margin (about one texel at 512²) a floor island's rim read the dilated light
+# of the lamp's island packed beside it, a dotted bright line across the floor.
+MARGIN_TEXELS = 3
+
+
+def add_lightmap_uvs(context, objects, size):
     """A second UV map "lambert_lightmap" packed over all the objects together (one atlas, no
-    two faces overlapping), which Blender's exporter writes as TEXCOORD_1 and lambert then bakes
-    into (docs/lightmaps.md: given lightmap UVs are used when every surface has them)."""
+    two faces overlapping, MARGIN_TEXELS empty texels around each island of a size² atlas), which
+    Blender's exporter writes as TEXCOORD_1 and lambert then bakes into (docs/lightmaps.md: given
+    lightmap UVs are used when every surface has them)."""
     for obj in objects:
         mesh = obj.data
         if LIGHTMAP_UV in mesh.uv_layers:
@@ -136,8 +145,9 @@ def add_lightmap_uvs(context, objects):
     context.view_layer.objects.active = objects[0]
     # In object mode the operator packs every face of the selected objects (edit mode's data
     # would not be synced when the bake starts from another editor than the 3D view).
+    # PREF_MARGIN_DIV is the margin on each side of an island in percent of the atlas's side.
     bpy.ops.uv.lightmap_pack(PREF_CONTEXT='ALL_FACES', PREF_PACK_IN_ONE=True, PREF_NEW_UVLAYER=False,
-                             PREF_BOX_DIV=12, PREF_MARGIN_DIV=0.2)
+                             PREF_BOX_DIV=12, PREF_MARGIN_DIV=100.0 * MARGIN_TEXELS / size)
     for obj in objects:
         obj.select_set(False)
         obj.data.uv_layers.active = obj.data.uv_layers[0]

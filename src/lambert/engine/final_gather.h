@@ -23,7 +23,11 @@
 //                    on its rim may be in a penumbra they all missed, or lit where they were all
 //                    blocked; refinement keeps element links whose rays were all blocked, with
 //                    K = 0, for this);
-//   cluster source   P_s(−ω) max(0, n·ω) / (π d²) × the link's visibility.
+//   cluster source   P_s(−ω) max(0, n·ω) / (π d²) × the link's visibility; at points (not
+//                    vertices), where some of the link's rays were blocked, the share of rays
+//                    from the point to points on the faces inside s, picked by area, that get
+//                    through (a point beside an occluder sees past it where the receiver's
+//                    mean did not).
 // A vertex is evaluated where the path tracer's reference evaluates it (vertexSites: nudged
 // into its own surface) and gathers through the adjacent leaf with the largest open fraction,
 // then the smallest (whose links are the finest).
@@ -104,10 +108,13 @@ class FinalGather {
   FinalGather(const ElementHierarchy& hierarchy, const ElementHierarchy::LeafMesh& leaves, const Links& links,
               const RayCaster& caster, double rayEpsilon, double nudge, int visibilityRays, std::uint64_t seed);
   // At any points on the leaves (a lightmap's texels), each through the leaf (its patch index in
-  // the leaf mesh) that holds it. Visibility rays are drawn per site index.
+  // the leaf mesh) that holds it. Visibility rays are drawn per site index. resolveClusterVisibility:
+  // a cluster source whose link's rays were partly blocked is seen through rays from each site
+  // (points, whose values are shown one by one), else with the link's visibility (vertices, as the
+  // constructor above gathers them).
   FinalGather(const ElementHierarchy& hierarchy, const ElementHierarchy::LeafMesh& leaves, const Links& links,
               const RayCaster& caster, double rayEpsilon, std::vector<VertexSite> sites, std::vector<std::uint32_t> leafOfSite,
-              int visibilityRays, std::uint64_t seed);
+              int visibilityRays, std::uint64_t seed, bool resolveClusterVisibility);
   // Per vertex: the adjacent leaf it gathers through, the one with the largest open fraction,
   // then the smallest (whose links are the finest); kNoNode for a vertex no leaf uses.
   static std::vector<std::uint32_t> gatheringLeaves(const Mesh& mesh);
@@ -145,7 +152,7 @@ class FinalGather {
   // The share of rays from the vertex to stratified points on the source that get through, each
   // weighted by the point-to-point kernel; with penumbraRays, more where the first ones disagree.
   // Adds the rays cast to raysCast.
-  double visibility(std::uint32_t vertex, std::uint32_t link, const HierarchyNode& source, std::uint32_t& raysCast,
+  double visibility(std::uint32_t vertex, std::uint32_t link, std::uint32_t source, std::uint32_t& raysCast,
                     bool penumbraRays = false) const;
 
   // Source s's mean radiosity as the vertex weighs it: its descendants' means, each by its
@@ -160,6 +167,7 @@ class FinalGather {
   double epsilon_;
   int rays_;
   std::uint64_t seed_;
+  bool resolveClusterVisibility_;
   const Mesh& mesh_;
   std::vector<VertexSite> sites_;
   std::vector<std::uint32_t> leaf_;

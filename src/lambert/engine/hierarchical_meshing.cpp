@@ -562,14 +562,14 @@ Result<PointGather> HierarchicalMeshing::pointGather(const ElementSolution& solu
     leafOfSite[i] = leaf.leaf;
   }, 256);
   out.leaf = std::move(leafOfSite);
-  if (part != PointGatherPart::Sites) gatherAt(solution, part, out);
+  if (part != PointGatherPart::Sites) gatherAt(solution, part, true, out);
   return out;
 }
 
-void HierarchicalMeshing::gatherAt(const ElementSolution& solution, PointGatherPart part, PointGather& out) const {
+void HierarchicalMeshing::gatherAt(const ElementSolution& solution, PointGatherPart part, bool atPoints, PointGather& out) const {
   const bool withWeights = part == PointGatherPart::LightAndWeights || part == PointGatherPart::Weights;
   const FinalGather gather(hierarchy_, leaves_, *links_, *caster_, epsilon_, out.sites, out.leaf, options_.links.visibilityRays,
-                           options_.links.seed);
+                           options_.links.seed, atPoints);
   std::vector<Rgb> mean;
   transport_->pull(solution.radiosity, mean);
   const std::vector<Rgb> gathered = gather.irradiance(mean, nullptr, nullptr, nullptr, &out.near, withWeights ? &out.nodes : nullptr);
@@ -590,7 +590,7 @@ Result<PointGather> HierarchicalMeshing::vertexGather(const ElementSolution& sol
     out.sites.push_back(sites[v]);
     out.leaf.push_back(leaf[v]);
   }
-  if (part != PointGatherPart::Sites) gatherAt(solution, part, out);
+  if (part != PointGatherPart::Sites) gatherAt(solution, part, false, out);
   return out;
 }
 

@@ -46,7 +46,9 @@ class HierarchicalMeshing final : public Meshing {
   Result<std::vector<Rgb>> nodeMeanRadiosity(const ElementSolution& solution) const override;
   Result<PointGather> vertexGather(const ElementSolution& solution, std::span<const std::uint32_t> vertices, PointGatherPart part) const override;
   // PointGather's light (and weights) at its sites, each through its leaf.
-  void gatherAt(const ElementSolution& solution, PointGatherPart part, PointGather& out) const;
+  // atPoints: sites anywhere on the leaves (pointGather), else the vertices (vertexGather), gathered
+  // as vertexValues gathers them (FinalGather's resolveClusterVisibility).
+  void gatherAt(const ElementSolution& solution, PointGatherPart part, bool atPoints, PointGather& out) const;
   std::vector<std::vector<Rgb>> vertexSolution(const ElementSolution& solution,
                                                std::span<const VertexQuantity> quantities) const override;
   void startSolve(const SolveBudget& budget) override;
