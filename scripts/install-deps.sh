@@ -20,6 +20,9 @@ packages=(
   # the Python module (python/, pybind11) and its tests (pytest) and example (matplotlib), for
   # Debian's python3
   python3-dev pybind11-dev python3-pytest python3-matplotlib
+  # `lambert solve --distributed` (src/lambert/distributed/) runs on MPI: OpenMPI's library,
+  # headers and mpirun (its tests run 1, 2 and 4 ranks on one machine)
+  openmpi-bin libopenmpi-dev
 )
 # `make fuzz` (scripts/install-deps.sh --fuzz) also needs clang and its runtime, which holds
 # libFuzzer; the ordinary build does not, so they are installed only then.

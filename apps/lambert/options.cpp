@@ -279,28 +279,20 @@ void printStats(const Stats& stats, bool json, bool quiet, const std::string& he
   }
 }
 
-std::optional<Scene> findScene(const std::string& command, const MeshCommandOptions& o) {
+Result<Scene> sceneFor(const MeshCommandOptions& o) {
   if (!isMeshFile(o.scene))
-    if (Status s = refuseGiven(o, {"--crease-angle"}, "it is for mesh files (.obj, .ply, .gltf, .glb, .mgf), and '" + o.scene + "' is not one"); !s) {
-      fail(command, s.error().message);
-      return std::nullopt;
-    }
+    if (Status s = refuseGiven(o, {"--crease-angle"}, "it is for mesh files (.obj, .ply, .gltf, .glb, .mgf), and '" + o.scene + "' is not one"); !s)
+      return s.error();
   if (lowercaseExtension(o.scene) != ".mgf") {
-    if (Status s = refuseGiven(o, {"--mgf-divisions"}, "it is for MGF files, and '" + o.scene + "' is not one (a scene file's meshes entry takes \"mgfDivisions\")"); !s) {
-      fail(command, s.error().message);
-      return std::nullopt;
-    }
-    if (Status s = refuseGiven(o, {"--include-root"}, "it confines the includes of MGF files, and '" + o.scene + "' is not one"); !s) {
-      fail(command, s.error().message);
-      return std::nullopt;
-    }
+    if (Status s = refuseGiven(o, {"--mgf-divisions"}, "it is for MGF files, and '" + o.scene + "' is not one (a scene file's meshes entry takes \"mgfDivisions\")"); !s)
+      return s.error();
+    if (Status s = refuseGiven(o, {"--include-root"}, "it confines the includes of MGF files, and '" + o.scene + "' is not one"); !s)
+      return s.error();
   }
   const std::vector<std::string> builtins = builtinSceneNames();
-  if (o.sides != "file" && std::find(builtins.begin(), builtins.end(), o.scene) != builtins.end()) {
-    fail(command, "--sides has no effect: '" + o.scene + "' is a built-in scene, whose sides are part of its definition (export it with "
-                  "`lambert scenes --export DIR` to change them)");
-    return std::nullopt;
-  }
+  if (o.sides != "file" && std::find(builtins.begin(), builtins.end(), o.scene) != builtins.end())
+    return Error{"--sides has no effect: '" + o.scene + "' is a built-in scene, whose sides are part of its definition (export it with "
+                 "`lambert scenes --export DIR` to change them)"};
   LoadOptions load;
   if (o.sides != "file") load.twoSided = o.sides == "two";
   load.metresPerUnit = o.metresPerUnit;
@@ -308,15 +300,21 @@ std::optional<Scene> findScene(const std::string& command, const MeshCommandOpti
   load.mgfDivisions = o.mgfDivisions;
   load.includeRoot = o.includeRoot;
   Result<Scene> scene = loadScene(o.scene, load);
-  if (!scene) {
-    fail(command, scene.error().message);
-    return std::nullopt;
-  }
+  if (!scene) return scene.error();
   // Not an error (a scene may be lit later, in the viewer), but a black image surprises.
   const bool emits = std::any_of(scene->surfaces.begin(), scene->surfaces.end(),
                                  [](const Surface& s) { return s.emittedRadiance.maxComponent() > 0; });
   if (scene->lights.empty() && !emits)
     warning(o.scene + ": no light and no emitting surface: the solution is black (add a light, or a material that emits)");
+  return std::move(*scene);
+}
+
+std::optional<Scene> findScene(const std::string& command, const MeshCommandOptions& o) {
+  Result<Scene> scene = sceneFor(o);
+  if (!scene) {
+    fail(command, scene.error().message);
+    return std::nullopt;
+  }
   return std::move(*scene);
 }
 
@@ -377,12 +375,14 @@ Status checkImageOptions(const Scene& scene, const ImageCommandOptions& o) {
   return Ok{};
 }
 
-std::unique_ptr<Radiosity> makeEngine(const std::string& command, const Scene& scene, const SolveCommandOptions& o) {
+std::unique_ptr<Radiosity> makeEngine(const std::string& command, const Scene& scene, const SolveCommandOptions& o,
+                                      std::shared_ptr<Communicator> communicator) {
   Result<RadiosityOptions> options = radiosityOptions(scene, o);
   if (!options) {
     fail(command, options.error().message);
     return nullptr;
   }
+  options->communicator = std::move(communicator);
   Result<std::unique_ptr<Radiosity>> engine = Radiosity::create(scene, std::move(*options));
   if (!engine) {
     fail(command, engine.error().message);

@@ -8,6 +8,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "lambert/core/communicator.h"
 #include "lambert/core/error.h"
 #include "lambert/core/image.h"
 #include "lambert/core/stats.h"
@@ -104,7 +105,9 @@ Status checkImageOptions(const Scene& scene, const ImageCommandOptions& options)
 
 // The engine for a scene and options: errors (refused options, impossible combinations) are
 // printed as "lambert <command>: <why>" and give nothing.
-std::unique_ptr<Radiosity> makeEngine(const std::string& command, const Scene& scene, const SolveCommandOptions& options);
+// communicator: a distributed solve's (RadiosityOptions::communicator), else null.
+std::unique_ptr<Radiosity> makeEngine(const std::string& command, const Scene& scene, const SolveCommandOptions& options,
+                                      std::shared_ptr<Communicator> communicator = nullptr);
 
 // Images are written by their extension: .png (tone mapped: exposure, sRGB, 8 bits) or .exr
 // (linear float radiance, as rendered). checkImagePath refuses other extensions, and --exposure
@@ -127,6 +130,8 @@ UniformMeshOptions uniformMeshOptions(const Scene& scene, const MeshCommandOptio
 // The built-in scene or scene file that --scene names, read with --units and --crease-angle;
 // else nothing, with the reason on stderr.
 std::optional<Scene> findScene(const std::string& command, const MeshCommandOptions& options);
+// The same, the error returned instead of printed.
+Result<Scene> sceneFor(const MeshCommandOptions& options);
 
 // Prints "lambert <command>: <message>" on stderr and returns exit code 2 (bad input).
 int fail(const std::string& command, const std::string& message);

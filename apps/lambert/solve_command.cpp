@@ -14,6 +14,7 @@
 #include "lambert/bake/probes.h"
 #include "lambert/core/timer.h"
 #include "lambert/io/lightmap_export.h"
+#include "distributed.h"
 #include "lambert/io/vertices.h"
 #include "lambert/render/lightmap_image.h"
 #include "options.h"
@@ -42,6 +43,7 @@ struct SolveOnlyOptions {
   LightingCommandOptions lighting;
   std::string exportPoints;  // --points' rows with their lux
   std::string exportGrids;   // prefix of each grid's CSV and false-colour PNG
+  bool distributed = false;  // one rank of an MPI job (distributed.h)
 };
 
 // --points and --export-points come together; --export-grids needs a grid to write.
@@ -77,9 +79,26 @@ LightmapBakeOptions lightmapBakeOptions(const Scene& scene, const LightmapComman
   return options;
 }
 
-int runSolve(const SolveOnlyOptions& o) {
+int runSolve(const SolveOnlyOptions& given) {
   Timer total;
-  std::optional<Scene> scene = findScene("solve", o.solve);
+  SolveOnlyOptions o = given;
+  std::shared_ptr<Communicator> communicator;
+  if (o.distributed) {
+    Result<std::shared_ptr<Communicator>> joined = joinDistributedJob();
+    if (!joined) return fail("solve", joined.error().message);
+    communicator = *joined;
+    if (communicator->rank() != 0) o.solve.quiet = true, o.solve.json = false;
+  }
+  // Every rank of a distributed solve loads the scene itself; a rank that cannot (a file missing
+  // on its node) stops them all, with its message, before any of them solves.
+  std::optional<Scene> scene;
+  if (communicator) {
+    Result<Scene> loaded = sceneFor(o.solve);
+    if (Status all = communicator->agree(loaded ? Status(Ok{}) : Status(loaded.error())); !all) return fail("solve", all.error().message);
+    scene = std::move(*loaded);
+  } else {
+    scene = findScene("solve", o.solve);
+  }
   if (!scene) return 2;
   const double loadSeconds = total.seconds();
   if (Status ok = checkExportOptions(o.exported); !ok) return fail("solve", ok.error().message);
@@ -106,9 +125,19 @@ int runSolve(const SolveOnlyOptions& o) {
   probeOptions.showProgress = !o.solve.quiet && !o.solve.json;
   if (!o.probes.empty())
     if (Result<ProbeVolume> grid = probeGrid(*scene, probeOptions); !grid) return fail("solve", grid.error().message);
-  std::unique_ptr<Radiosity> engine = makeEngine("solve", *scene, o.solve);
+  std::unique_ptr<Radiosity> engine = makeEngine("solve", *scene, o.solve, communicator);
+  if (communicator) {
+    if (Status all = communicator->agree(engine ? Status(Ok{}) : Status(Error{"the engine could not be made"})); !all)
+      return fail("solve", all.error().message);
+  }
   if (!engine) return 2;
-  if (Result<SolveCallReport> solved = engine->solve(); !solved) return fail("solve", solved.error().message);
+  Result<SolveCallReport> solved = engine->solve();
+  if (communicator) {
+    if (Status all = communicator->agree(solved ? Status(Ok{}) : Status(solved.error())); !all) return fail("solve", all.error().message);
+    // Every rank holds the whole solution: rank 0 alone gathers at the vertices and writes.
+    if (communicator->rank() != 0) return 0;
+  }
+  if (!solved) return fail("solve", solved.error().message);
   (void)engine->saveCache();
   // The outputs first, so that the stats include the final gather they ran.
   Timer output;
@@ -241,6 +270,9 @@ std::function<int()> addSolveCommand(CLI::App& app) {
   cmd->add_option("--export-grids", options->exportGrids,
                   "Write each --work-plane's and --grid's points (PREFIX<name>.csv, lux) and false-colour picture with isolux lines "
                   "(PREFIX<name>.png); PREFIX may be a folder ending in /");
+  cmd->add_flag("--distributed", options->distributed,
+                "Solve as one rank of an MPI job (mpirun -np N lambert solve --distributed …): the hierarchical method's sweeps "
+                "spread over the ranks; rank 0 writes the outputs (docs/distributed.md)");
   return [options] { return runSolve(*options); };
 }
 

@@ -43,7 +43,12 @@ std::vector<double> openFractions(const Mesh& mesh) {
 }  // namespace
 
 HierarchicalMeshing::HierarchicalMeshing(const Scene& scene, const RadiosityOptions& options)
-    : scene_(scene), options_(options.hierarchical), shadowTolerance_(options.directLight.shadowTolerance), memoryLimitBytes_(options.memoryLimitBytes), hierarchy_(scene) {
+    : scene_(scene),
+      options_(options.hierarchical),
+      shadowTolerance_(options.directLight.shadowTolerance),
+      memoryLimitBytes_(options.memoryLimitBytes),
+      communicator_(options.communicator),
+      hierarchy_(scene) {
   buildSeconds_ = created_.seconds();
   Timer leafTimer;
   leaves_ = hierarchy_.leaves(scene_);
@@ -61,10 +66,16 @@ HierarchicalMeshing::HierarchicalMeshing(const Scene& scene, const RadiosityOpti
   none->start.assign(hierarchy_.nodes().size() + 1, 0);
   links_ = none;
   Timer transport;
-  transport_ = std::make_shared<HierarchicalTransport>(hierarchy_, links_, openFractions(leaves_.mesh), patchAlbedo(scene_, leaves_.mesh));
+  transport_ = makeTransport();
   transportSeconds_ += transport.seconds();
   linkCache_.directory = options.cacheDirectory;
   linkCache_.options = options;
+}
+
+std::shared_ptr<HierarchicalTransport> HierarchicalMeshing::makeTransport() const {
+  auto transport = std::make_shared<HierarchicalTransport>(hierarchy_, links_, openFractions(leaves_.mesh), patchAlbedo(scene_, leaves_.mesh));
+  if (communicator_) transport->distribute(communicator_);
+  return transport;
 }
 
 void HierarchicalMeshing::startSolve(const SolveBudget& budget) {
@@ -99,7 +110,7 @@ bool HierarchicalMeshing::loadLinks(const std::vector<Light>& lights, std::vecto
   ++leafMeshGeneration_;
   measuredLeafNodes_ = hierarchy_.leafNodes();
   links_ = loaded->links;
-  transport_ = std::make_shared<HierarchicalTransport>(hierarchy_, links_, openFractions(leaves_.mesh), patchAlbedo(scene_, leaves_.mesh));
+  transport_ = makeTransport();
   radiosity = std::move(loaded->warmStart);
   refinement_.initialLinks = loaded->initialLinks;
   refinement_.clusterLinks = loaded->clusterLinks;
@@ -316,7 +327,7 @@ Result<bool> HierarchicalMeshing::refine(const std::vector<Light>& lights, std::
 
   rebuildLeaves();
   Timer transport;
-  transport_ = std::make_shared<HierarchicalTransport>(hierarchy_, links_, openFractions(leaves_.mesh), patchAlbedo(scene_, leaves_.mesh));
+  transport_ = makeTransport();
   transportSeconds_ += transport.seconds();
   // Warm start: each leaf from the nearest ancestor that was a leaf before (B stays as solved).
   radiosity.assign(hierarchy_.leafNodes().size(), Rgb{});
@@ -627,6 +638,17 @@ void HierarchicalMeshing::addStats(Stats& stats) const {
   stats.add("vertices", "vertices", count(leaves_.mesh.numVertices()));
   stats.add("hanging_vertices", "T-junction vertices (constrained)", count(leaves_.hanging.size()));
   stats.add("link_error", "link error", options_.links.linkError);
+  if (communicator_) {
+    const CommunicationStats& sent = communicator_->stats();
+    stats.add("ranks", "ranks (a distributed solve)", static_cast<std::int64_t>(communicator_->size()));
+    stats.add("rank_leaves", "leaves this rank (0) sweeps", static_cast<std::int64_t>(transport_->ownLeaves().size()));
+    stats.add("exchange_bytes_per_sweep", "bytes a sweep hands each rank (the others' leaves' B)",
+              static_cast<std::int64_t>(3 * sizeof(double) * (transport_->size() - transport_->ownLeaves().size())));
+    stats.add("communication_bytes_received", "bytes this rank received in all", static_cast<std::int64_t>(sent.bytesReceived));
+    stats.add("communication_bytes_sent", "bytes this rank sent in all", static_cast<std::int64_t>(sent.bytesSent));
+    stats.add("communication_calls", "collective calls", static_cast<std::int64_t>(sent.calls));
+    stats.add("communication_seconds", "time in collective calls (waiting for the other ranks included)", sent.seconds, "s");
+  }
   stats.add("min_element_area", "minimum element area", minimumElementArea(hierarchy_, options_.links), "scene units²");
   stats.add("refine_passes", "refinement passes", count(passesDone_));
   stats.add("links", "links", count(links_->size()));

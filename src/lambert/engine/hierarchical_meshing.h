@@ -64,12 +64,15 @@ class HierarchicalMeshing final : public Meshing {
   // The link cache (engine/link_cache.h): loadLinks takes every pass from the file when it holds
   // them (returns whether it did), saveLinks writes them after the last pass.
   bool loadLinks(const std::vector<Light>& lights, std::vector<Rgb>& radiosity);
+  // The transport over the current hierarchy and links, spread over the communicator's ranks.
+  std::shared_ptr<HierarchicalTransport> makeTransport() const;
   void saveLinks(const std::vector<Rgb>& warmStart);
 
   const Scene& scene_;  // the engine's, which owns this strategy
   HierarchicalOptions options_;
   double shadowTolerance_ = 0;  // DirectLightOptions::shadowTolerance: Ward's τ at every point lit here
   double memoryLimitBytes_ = 0;  // RadiosityOptions::memoryLimitBytes
+  std::shared_ptr<Communicator> communicator_;  // RadiosityOptions::communicator: the sweeps spread over its ranks
   Timer created_;  // started before the hierarchy is built
   ElementHierarchy hierarchy_;
   ElementHierarchy::LeafMesh leaves_;

@@ -6,11 +6,14 @@
 // defaults and checks, are engine/solve_settings.h.
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 
 #include "lambert/light/lights.h"
 
 namespace lambert {
+
+class Communicator;
 
 enum class FormFactorMethod {
   // Seed 000: one kernel evaluation and one visibility ray between the patches' incircle centres.
@@ -115,6 +118,12 @@ struct RadiosityOptions {
   // Bytes a solve may use for its large structures (core/memory.h); 0: the machine's available
   // memory. A solve whose estimate exceeds it is refused (create or solve returns the Error).
   double memoryLimitBytes = 0;
+  // A distributed solve (docs/distributed.md): every rank of the communicator creates the engine
+  // with the same scene and options and makes the same calls; the sweeps are spread over the
+  // ranks (HierarchicalTransport::distribute) and every rank ends each with the whole solution.
+  // The hierarchical method only, swept by Jacobi (the solver option is not read), without the
+  // link cache. Null: this process alone.
+  std::shared_ptr<Communicator> communicator;
 };
 
 }  // namespace lambert

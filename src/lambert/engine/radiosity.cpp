@@ -86,6 +86,15 @@ std::vector<std::vector<Rgb>> Meshing::vertexSolution(const ElementSolution& sol
 Result<std::unique_ptr<Radiosity>> Radiosity::create(Scene scene, RadiosityOptions options) {
   if (options.tolerance <= 0 || options.maxIterations < 1)
     return Error{"the solver needs a positive tolerance and at least one iteration"};
+  if (options.communicator) {
+    // Spread over ranks, a sweep reads the others' leaves as of the previous sweep: Jacobi. The
+    // link cache is off: ranks that found different files (one written meanwhile) would solve
+    // different hierarchies.
+    if (options.meshing != MeshStrategy::Hierarchical)
+      return Error{"a distributed solve spreads the hierarchical method's links over the ranks: use --method hierarchical (the default)"};
+    options.solver = SolverKind::Jacobi;
+    options.cacheDirectory.clear();
+  }
   std::unique_ptr<Radiosity> engine(new Radiosity(std::move(scene), std::move(options)));
   // The strategy keeps a reference to the engine's scene, which never moves.
   Result<std::unique_ptr<Meshing>> meshing = makeMeshing(engine->scene_, engine->options_);

@@ -108,9 +108,85 @@ void HierarchicalTransport::gather(const std::vector<Rgb>& radiosity, std::vecto
   for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l) irradiance[l] = gathered[nodeOfLeaf_[l]] * leafGain_[l];
 }
 
+void HierarchicalTransport::distribute(std::shared_ptr<Communicator> communicator) {
+  LAMBERT_CHECK(communicator && communicator->size() >= 1);
+  communicator_ = std::move(communicator);
+  const std::size_t n = parent_.size(), ranks = static_cast<std::size_t>(communicator_->size());
+  // A leaf's cost: its links, and its ancestors' shared among the leaves under each.
+  std::vector<double> leavesUnder(n, 0.0), share(n, 0.0);
+  for (std::uint32_t node : nodeOfLeaf_) leavesUnder[node] = 1;
+  for (std::size_t i = n; i-- > 1;)
+    if (parent_[i] != kNoNode) leavesUnder[parent_[i]] += leavesUnder[i];
+  for (std::size_t i = 0; i < n; ++i) {
+    const double links = links_->start[i + 1] - links_->start[i];
+    share[i] = (parent_[i] != kNoNode ? share[parent_[i]] : 0.0) + (leavesUnder[i] > 0 ? links / leavesUnder[i] : 0.0);
+  }
+  std::vector<std::uint32_t> order;  // the leaves depth first
+  order.reserve(nodeOfLeaf_.size());
+  double total = 0;
+  for (const SweepStep& step : sweepOrder_)
+    if (const std::uint32_t l = leafOfNode_[step.node]; l != kNoNode) {
+      order.push_back(l);
+      total += 1 + share[step.node];
+    }
+  // Rank r takes the leaves whose cumulative cost ends in (r/R, (r+1)/R] of the total.
+  leavesByRank_ = order;
+  firstLeaf_.assign(ranks + 1, order.size());
+  leavesPerRank_.assign(ranks, 0);
+  firstLeaf_[0] = 0;
+  double before = 0;
+  std::size_t rank = 0;
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    while (rank + 1 < ranks && before >= total * static_cast<double>(rank + 1) / static_cast<double>(ranks)) firstLeaf_[++rank] = k;
+    before += 1 + share[nodeOfLeaf_[order[k]]];
+  }
+  while (rank + 1 < ranks) firstLeaf_[++rank] = order.size();
+  for (std::size_t r = 0; r < ranks; ++r) leavesPerRank_[r] = static_cast<int>(firstLeaf_[r + 1] - firstLeaf_[r]);
+  // The nodes on the paths to this rank's leaves.
+  std::vector<char> onPath(n, 0);
+  for (std::uint32_t l : ownLeaves())
+    for (std::uint32_t i = nodeOfLeaf_[l]; i != kNoNode && !onPath[i]; i = parent_[i]) onPath[i] = 1;
+  ownPath_.clear();
+  for (std::size_t i = 0; i < n; ++i)
+    if (onPath[i]) ownPath_.push_back(static_cast<std::uint32_t>(i));
+}
+
+std::span<const std::uint32_t> HierarchicalTransport::ownLeaves() const {
+  if (!communicator_) return {};
+  const auto r = static_cast<std::size_t>(communicator_->rank());
+  return std::span<const std::uint32_t>(leavesByRank_).subspan(firstLeaf_[r], firstLeaf_[r + 1] - firstLeaf_[r]);
+}
+
 SweepChange HierarchicalTransport::sweep(const std::vector<Rgb>& emitted, const std::vector<Rgb>& albedo,
                                          std::vector<Rgb>& radiosity, bool inPlace) const {
   SweepChange change;
+  if (communicator_) {
+    LAMBERT_CHECK(!inPlace);  // the engine sweeps a distributed solve by Jacobi (engine/radiosity.cpp)
+    // Gather and push along this rank's paths only, as gather() does over every node.
+    const std::size_t n = parent_.size();
+    std::vector<Rgb> mean, gathered(n);
+    pull(radiosity, mean);
+    parallelFor(0, ownPath_.size(), [&](std::size_t k) { gathered[ownPath_[k]] = gatherNode(ownPath_[k], mean); }, 256);
+    for (std::uint32_t i : ownPath_)
+      if (parent_[i] != kNoNode) gathered[i] += gathered[parent_[i]];
+    const std::span<const std::uint32_t> own = ownLeaves();
+    std::vector<double> mine(3 * own.size());
+    for (std::size_t k = 0; k < own.size(); ++k) {
+      const std::uint32_t l = own[k];
+      const Rgb updated = emitted[l] + albedo[l] * (gathered[nodeOfLeaf_[l]] * leafGain_[l]);
+      change.change = std::fmax(change.change, largestChange(updated, radiosity[l]));
+      change.magnitude = std::fmax(change.magnitude, updated.maxComponent());
+      mine[3 * k] = updated.r, mine[3 * k + 1] = updated.g, mine[3 * k + 2] = updated.b;
+    }
+    std::vector<int> counts(leavesPerRank_.size());
+    for (std::size_t r = 0; r < counts.size(); ++r) counts[r] = 3 * leavesPerRank_[r];
+    std::vector<double> all(3 * leavesByRank_.size());
+    communicator_->allGather(mine, counts, all);
+    for (std::size_t k = 0; k < leavesByRank_.size(); ++k) radiosity[leavesByRank_[k]] = {all[3 * k], all[3 * k + 1], all[3 * k + 2]};
+    double figures[2] = {change.change, change.magnitude};
+    communicator_->maxAll(figures);
+    return {figures[0], figures[1]};
+  }
   if (!inPlace) {
     std::vector<Rgb> irradiance;
     gather(radiosity, irradiance);

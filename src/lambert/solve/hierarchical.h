@@ -7,6 +7,7 @@
 #include <span>
 #include <vector>
 
+#include "lambert/core/communicator.h"
 #include "lambert/formfactor/links.h"
 #include "lambert/mesh/element_hierarchy.h"
 #include "lambert/solve/transport.h"
@@ -34,6 +35,20 @@ class HierarchicalTransport final : public Transport {
                     bool inPlace) const override;
 
   const Links& links() const { return *links_; }
+
+  // Spreads the Jacobi sweep over the communicator's ranks (docs/distributed.md). The leaves are
+  // cut, in the depth-first order of the hierarchy, into one run of whole subtrees per rank, the
+  // runs balanced by the links each leaf gathers over (its own, and its ancestors' shared among
+  // the leaves under them). A sweep then gathers, on each rank, the nodes on the paths to its own
+  // leaves only, updates those leaves, and hands their new radiosity to every other rank in one
+  // collective (the others read them through their links' sources); the sweep's change is the
+  // largest over the ranks. Every rank ends a sweep with the same radiosity, to the bit the one a
+  // single process's Jacobi sweep gives. The in-place (Gauss–Seidel) sweep cannot be spread so:
+  // sweep() refuses it once distributed. Every rank must call this, and then every sweep, alike.
+  void distribute(std::shared_ptr<Communicator> communicator);
+  // This rank's leaves, and the values a sweep sends from each rank (empty before distribute()).
+  std::span<const std::uint32_t> ownLeaves() const;
+  const std::vector<int>& leavesPerRank() const { return leavesPerRank_; }
   // The bound on ρ·Σ K above which a leaf's Σ K is scaled to 1 (leafGain_ below): the flat
   // methods' rowContractionBound(ρ) (formfactor/table.h), 0.95 or (1 + ρ)/2 where that is higher.
   // The largest Σ K a leaf gathers over its own links and its ancestors' before the bound, and
@@ -78,6 +93,14 @@ class HierarchicalTransport final : public Transport {
   std::vector<SweepStep> sweepOrder_;
   std::size_t sweepDepth_ = 0;  // the deepest node's depth + 1
   std::vector<std::uint32_t> nodeOfLeaf_;
+  // distribute(): the communicator, every rank's leaves one run after another (rank r's from
+  // firstLeaf_[r]), how many each rank has, and the nodes on the paths to this rank's, in
+  // increasing order (parents first).
+  std::shared_ptr<Communicator> communicator_;
+  std::vector<std::uint32_t> leavesByRank_;
+  std::vector<std::size_t> firstLeaf_;
+  std::vector<int> leavesPerRank_;
+  std::vector<std::uint32_t> ownPath_;
   std::shared_ptr<const Links> links_;
 };
 

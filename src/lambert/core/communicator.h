@@ -1,0 +1,41 @@
+#pragma once
+// What a distributed solve asks of the processes it runs on (docs/distributed.md): every rank
+// runs the same program on the same scene, and they meet in collective calls, each made by every
+// rank in the same order. MPI stands behind it (distributed/mpi_communicator.h, OpenMPI from
+// Debian); the library sees only this interface, so that it builds and links without MPI. The
+// library calls it from one thread at a time.
+#include <cstdint>
+#include <span>
+
+#include "lambert/core/error.h"
+
+namespace lambert {
+
+// What this rank has communicated so far.
+struct CommunicationStats {
+  std::uint64_t bytesSent = 0;      // this rank's own values handed to the others
+  std::uint64_t bytesReceived = 0;  // the others' values received
+  std::uint64_t calls = 0;          // collective calls
+  double seconds = 0;               // wall time inside the collective calls (waiting included)
+};
+
+class Communicator {
+ public:
+  virtual ~Communicator() = default;
+  virtual int rank() const = 0;
+  virtual int size() const = 0;
+  // Every rank's `mine` in rank order into `all`: counts[r] values from rank r (all ranks pass
+  // the same counts; all.size() is their sum, mine.size() this rank's).
+  virtual void allGather(std::span<const double> mine, std::span<const int> counts, std::span<double> all) = 0;
+  // values[i] ← the largest values[i] over the ranks, on every rank.
+  virtual void maxAll(std::span<double> values) = 0;
+  // Every rank passes what it found; every rank gets Ok where all passed Ok, else the error of
+  // the lowest rank that failed, its message prefixed with "rank R: " (R its rank).
+  virtual Status agree(const Status& mine) = 0;
+  const CommunicationStats& stats() const { return stats_; }
+
+ protected:
+  CommunicationStats stats_;
+};
+
+}  // namespace lambert
