@@ -29,7 +29,7 @@ test: build
 	@cd $(BUILD_DIR) && ctest --output-on-failure -j$(JOBS)
 
 # Benchmarks: one JSON document on stdout, {"pipeline": …, "dynamic": …, "load": …, "hierarchical": …, "default_method": …,
-# "viewer": …, "atlas": …, "lightmap": …, "lightmap_update": …, "illuminance": …, "corpus": …, "office": …}, each part also in out/bench/; the micro-benchmarks' table goes to stderr and their JSON to
+# "viewer": …, "atlas": …, "lightmap": …, "lightmap_update": …, "illuminance": …, "distributed": …, "corpus": …, "office": …}, each part also in out/bench/; the micro-benchmarks' table goes to stderr and their JSON to
 # out/bench/micro.json. default_method times whole `lambert` processes (Cornell box against a cached path-traced
 # reference, RenderPark beside it where ../rpk/src/build/rpk or RENDERPARK is built, buildings to 10^6 faces, the link
 # cache); BENCH_FLAGS passes it options, e.g. BENCH_FLAGS=--no-million.
@@ -52,13 +52,15 @@ bench: build
 	@$(BUILD_DIR)/bin/lightmap_bench > out/bench/lightmap.json
 	@$(BUILD_DIR)/bin/lightmap_update_bench > out/bench/lightmap_update.json
 	@$(BUILD_DIR)/bin/illuminance_bench > out/bench/illuminance.json
+	@if command -v mpirun > /dev/null; then python3 bench/distributed_bench.py --lambert $(LAMBERT) > out/bench/distributed.json; \
+	  else echo null > out/bench/distributed.json; fi
 	@$(BUILD_DIR)/bin/office_bench > out/bench/office.json
 	@printf '{"pipeline": ' && cat out/bench/pipeline.json && printf ', "dynamic": ' && cat out/bench/dynamic.json && \
 	  printf ', "load": ' && cat out/bench/load.json && printf ', "hierarchical": ' && cat out/bench/hierarchical.json && \
 	  printf ', "default_method": ' && cat out/bench/default_method.json && \
 	  printf ', "viewer": ' && cat out/bench/viewer.json && printf ', "atlas": ' && cat out/bench/atlas.json && \
 	  printf ', "lightmap": ' && cat out/bench/lightmap.json && printf ', "lightmap_update": ' && cat out/bench/lightmap_update.json && \
-	  printf ', "illuminance": ' && cat out/bench/illuminance.json && \
+	  printf ', "illuminance": ' && cat out/bench/illuminance.json && printf ', "distributed": ' && cat out/bench/distributed.json && \
 	  printf ', "corpus": ' && cat out/bench/corpus.json && printf ', "office": ' && cat out/bench/office.json && printf '}\n'
 
 # The whole suite under AddressSanitizer (leaks included) and UndefinedBehaviorSanitizer, in
