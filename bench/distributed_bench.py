@@ -28,11 +28,11 @@ def figure(stats, key):
     return value.get('value') if isinstance(value, dict) else value
 
 
-def run_once(args, scene, ranks, folder):
+def run_once(args, scene, ranks, folder, threads=None):
     out = os.path.join(folder, f'vertices-{ranks}.csv')
     rss = os.path.join(folder, f'rss-{ranks}')
     os.makedirs(rss, exist_ok=True)
-    threads = max(1, (os.cpu_count() or 1) // ranks)
+    threads = threads or max(1, (os.cpu_count() or 1) // ranks)
     # Each rank under /usr/bin/time, which writes its peak resident memory to a file of its own.
     command = [args.mpirun, '--oversubscribe', '--mca', 'btl', 'self,vader', '-np', str(ranks), 'sh', '-c',
                f'exec /usr/bin/time -f %M -o "{rss}/$OMPI_COMM_WORLD_RANK" "$0" --threads {threads} solve --distributed '
@@ -104,8 +104,18 @@ def main():
                       f'{row["peak_rss_mib_largest_rank"]:.0f} MiB', file=sys.stderr)
             result['buildings'].append(building)
 
+            # The share of the refinement that the ranks divide (its estimates): one thread per rank, 1 and
+            # 2 ranks, as two one-core machines would run it.
+            if rooms == int(args.rooms.split(',')[-1]):
+                single = statistics.median(figure(run_once(args, scene, 1, folder, threads=1)[1], 'link_seconds') for _ in range(args.runs))
+                double = statistics.median(figure(run_once(args, scene, 2, folder, threads=1)[1], 'link_seconds') for _ in range(args.runs))
+                result['refinement_one_thread_per_rank'] = {
+                    'link_seconds_1_rank': single, 'link_seconds_2_ranks': double,
+                    'spread_share': min(1.0, max(0.0, 2 * (1 - double / single))),
+                }
     # The model: the 10⁷-face building on N machines over 10 Gb/s, from the largest building's 1-rank run.
     one = result['buildings'][-1]['runs'][0]
+    spread = result['refinement_one_thread_per_rank']['spread_share']
     faces = 1e7
     scale = faces / one['faces']
     leaves = one['leaves'] * scale
@@ -115,7 +125,8 @@ def main():
     model = {
         'assumptions': [
             f'costs scale linearly in faces from the {one["faces"]}-face building (refinement is closer to n log n: optimistic)',
-            'refinement and the final gather are not yet spread: every rank refines the whole hierarchy, rank 0 gathers every vertex',
+            f'the refinement\'s estimates ({spread:.0%} of its time, measured with one thread per rank) divide over N ranks, '
+            'the rest of it runs whole on every rank; rank 0 alone does the final gather',
             'a sweep\'s work divides evenly over N ranks; its exchange is one ring Allgatherv of every leaf\'s B (24 bytes), '
             '(N-1)/N of it received by each rank, at 10 Gb/s, plus 50 µs per ring step; the sweep count does not change with N',
             f'{one["sweeps"]} sweeps in all as measured; one machine runs one rank with all its cores',
@@ -129,11 +140,13 @@ def main():
     for n in (1, 2, 4, 8, 16, 32):
         exchange = 0 if n == 1 else 24 * leaves * (n - 1) / n / bandwidth + latency * (n - 1)
         sweeps = one['sweeps'] * (sweep_seconds / n + exchange)
+        refinement = model['refinement_seconds'] * (1 - spread + spread / n)
         model['machines'].append({
             'n': n,
+            'refinement_seconds': refinement,
             'sweeps_seconds': sweeps,
             'communication_share_of_sweeps': (one['sweeps'] * exchange / sweeps) if sweeps else 0,
-            'total_seconds': model['refinement_seconds'] + model['gather_seconds'] + sweeps,
+            'total_seconds': refinement + model['gather_seconds'] + sweeps,
         })
     result['model_10M_faces_10Gbps'] = model
     json.dump(result, sys.stdout, indent=1)

@@ -6,6 +6,7 @@
 // library calls it from one thread at a time.
 #include <cstdint>
 #include <span>
+#include <type_traits>
 
 #include "lambert/core/error.h"
 
@@ -24,9 +25,16 @@ class Communicator {
   virtual ~Communicator() = default;
   virtual int rank() const = 0;
   virtual int size() const = 0;
-  // Every rank's `mine` in rank order into `all`: counts[r] values from rank r (all ranks pass
-  // the same counts; all.size() is their sum, mine.size() this rank's).
-  virtual void allGather(std::span<const double> mine, std::span<const int> counts, std::span<double> all) = 0;
+  // Every rank's records in rank order into `all`: counts[r] records of recordBytes each from
+  // rank r, this rank's counts[rank()] from `mine` (all ranks pass the same counts and size).
+  virtual void allGatherRecords(const void* mine, std::span<const int> counts, void* all, std::size_t recordBytes) = 0;
+  // The same for values of a trivially copyable type: all.size() is the counts' sum.
+  template <class T>
+  void allGather(std::span<const T> mine, std::span<const int> counts, std::span<T> all) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    LAMBERT_CHECK(static_cast<std::size_t>(counts[static_cast<std::size_t>(rank())]) == mine.size());
+    allGatherRecords(mine.data(), counts, all.data(), sizeof(T));
+  }
   // values[i] ← the largest values[i] over the ranks, on every rank.
   virtual void maxAll(std::span<double> values) = 0;
   // Every rank passes what it found; every rank gets Ok where all passed Ok, else the error of

@@ -19,17 +19,22 @@ class MpiCommunicator final : public Communicator {
   int rank() const override { return rank_; }
   int size() const override { return size_; }
 
-  void allGather(std::span<const double> mine, std::span<const int> counts, std::span<double> all) override {
+  void allGatherRecords(const void* mine, std::span<const int> counts, void* all, std::size_t recordBytes) override {
     const Timer timer;
+    // Counted in records (an MPI type of recordBytes bytes), so that 2³¹ records fit, not 2³¹ bytes.
+    MPI_Datatype record;
+    MPI_Type_contiguous(static_cast<int>(recordBytes), MPI_BYTE, &record);
+    MPI_Type_commit(&record);
     std::vector<int> offsets(counts.size(), 0);
     std::uint64_t total = 0;
     for (std::size_t r = 0; r < counts.size(); ++r) {
       offsets[r] = static_cast<int>(total);
       total += static_cast<std::uint64_t>(counts[r]);
     }
-    MPI_Allgatherv(mine.data(), static_cast<int>(mine.size()), MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE,
-                   MPI_COMM_WORLD);
-    count(mine.size() * sizeof(double), (total - mine.size()) * sizeof(double), timer);
+    const int own = counts[static_cast<std::size_t>(rank_)];
+    MPI_Allgatherv(mine, own, record, all, counts.data(), offsets.data(), record, MPI_COMM_WORLD);
+    MPI_Type_free(&record);
+    count(static_cast<std::uint64_t>(own) * recordBytes, (total - static_cast<std::uint64_t>(own)) * recordBytes, timer);
   }
 
   void maxAll(std::span<double> values) override {

@@ -310,7 +310,8 @@ Result<bool> HierarchicalMeshing::refine(const std::vector<Light>& lights, std::
   LinkOptions linkOptions = options_.links;
   linkOptions.memoryLimitBytes = memoryLimitBytes_;
   links_ = std::make_shared<Links>(refineLinks(hierarchy_, *caster_, epsilon_, casterFace_, passesDone_ > 0 ? links_.get() : nullptr,
-                                               largestChannel(estimate), openFractions(leaves_.mesh), linkOptions, pass));
+                                               largestChannel(estimate), openFractions(leaves_.mesh), linkOptions, pass,
+                                               communicator_.get()));
   if (pass.memoryNeeded > 0)
     return Error{memoryExceeded("the hierarchical refinement, unfinished at " + std::to_string(hierarchy_.nodes().size()) + " nodes,",
                                 pass.memoryNeeded, memoryLimitBytes_) +

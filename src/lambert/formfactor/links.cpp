@@ -100,9 +100,10 @@ ElementFactor meanFormFactor(const HierarchyNode& r, const HierarchyNode& s) {
 class Refiner {
  public:
   Refiner(ElementHierarchy& hierarchy, const RayCaster& caster, double rayEpsilon, std::span<const std::uint64_t> casterFace,
-          const LinkOptions& options, std::span<const double> leafRadiosity, std::span<const double> leafOpenFraction)
+          const LinkOptions& options, std::span<const double> leafRadiosity, std::span<const double> leafOpenFraction,
+          Communicator* communicator)
       : h_(hierarchy), caster_(caster), casterFace_(casterFace), epsilon_(rayEpsilon), options_(options),
-        minArea_(minimumElementArea(hierarchy, options)) {
+        minArea_(minimumElementArea(hierarchy, options)), communicator_(communicator) {
     const auto& nodes = h_.nodes();
     LAMBERT_CHECK(leafRadiosity.size() == h_.leafNodes().size());
     LAMBERT_CHECK(leafOpenFraction.size() == h_.leafNodes().size());
@@ -161,9 +162,16 @@ class Refiner {
     while (fitting && !frontier.empty()) {
       std::vector<std::uint8_t> rays(frontier.size(), 0);
       for (const Candidate& c : frontier) report.estimated += !c.estimated;
-      parallelFor(0, frontier.size(), [&](std::size_t i) {
+      // Spread over a distributed solve's ranks: each estimates one block of the wave and the
+      // blocks are exchanged, so every rank judges the same estimates in the same order (the
+      // estimates depend on the candidate alone: its rays' seeds are its nodes).
+      const std::size_t ranks = communicator_ ? static_cast<std::size_t>(communicator_->size()) : 1;
+      const std::size_t rank = communicator_ ? static_cast<std::size_t>(communicator_->rank()) : 0;
+      const auto blockStart = [&](std::size_t r) { return frontier.size() * r / ranks; };
+      parallelFor(blockStart(rank), blockStart(rank + 1), [&](std::size_t i) {
         if (!frontier[i].estimated) rays[i] = estimate(frontier[i]);
       }, 64);
+      if (ranks > 1) exchangeEstimates(frontier, rays, blockStart);
       for (std::uint8_t n : rays) report.rays += n;
       progress.advance(frontier.size());
       next.clear();
@@ -225,6 +233,27 @@ class Refiner {
       }
     }
     return links;
+  }
+
+  // Every rank's block of the wave, estimated, to every rank.
+  template <class BlockStart>
+  void exchangeEstimates(Candidates& frontier, std::vector<std::uint8_t>& rays, const BlockStart& blockStart) const {
+    struct Estimated {
+      Candidate candidate;
+      std::uint8_t rays;
+    };
+    const auto ranks = static_cast<std::size_t>(communicator_->size()), rank = static_cast<std::size_t>(communicator_->rank());
+    std::vector<int> counts(ranks);
+    for (std::size_t r = 0; r < ranks; ++r) counts[r] = static_cast<int>(blockStart(r + 1) - blockStart(r));
+    std::vector<Estimated> mine;
+    mine.reserve(static_cast<std::size_t>(counts[rank]));
+    for (std::size_t i = blockStart(rank); i < blockStart(rank + 1); ++i) mine.push_back({frontier[i], rays[i]});
+    std::vector<Estimated> all(frontier.size());
+    communicator_->allGather<Estimated>(mine, counts, all);
+    for (std::size_t i = 0; i < all.size(); ++i) {
+      frontier[i] = all[i].candidate;
+      rays[i] = all[i].rays;
+    }
   }
 
   // Fills in the candidate's verdict, K and visibility; returns the rays it cast.
@@ -666,6 +695,7 @@ class Refiner {
   double epsilon_;
   const LinkOptions& options_;
   double minArea_;
+  Communicator* communicator_;  // a distributed solve's: the waves' estimates spread over its ranks; else null
   double threshold_ = 0;
   std::vector<double> radiosity_;  // per node: area-weighted mean of the leaves' largest channel
   std::vector<std::uint8_t> partlyCovered_;  // per node: a leaf partly covered is, or was, under it
@@ -685,8 +715,9 @@ double minimumElementArea(const ElementHierarchy& hierarchy, const LinkOptions& 
 
 Links refineLinks(ElementHierarchy& hierarchy, const RayCaster& caster, double rayEpsilon,
                   std::span<const std::uint64_t> casterFace, const Links* previous, std::span<const double> leafRadiosity,
-                  std::span<const double> leafOpenFraction, const LinkOptions& options, RefinementReport& report) {
-  Refiner refiner(hierarchy, caster, rayEpsilon, casterFace, options, leafRadiosity, leafOpenFraction);
+                  std::span<const double> leafOpenFraction, const LinkOptions& options, RefinementReport& report,
+                  Communicator* communicator) {
+  Refiner refiner(hierarchy, caster, rayEpsilon, casterFace, options, leafRadiosity, leafOpenFraction, communicator);
   Candidates initial;
   if (previous) {
     report.initialLinks += previous->size();  // judged again by run()

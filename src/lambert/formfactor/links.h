@@ -46,6 +46,7 @@
 #include <span>
 #include <vector>
 
+#include "lambert/core/communicator.h"
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/mesh/element_hierarchy.h"
 #include "lambert/engine/options.h"
@@ -89,10 +90,13 @@ struct RefinementReport {
 // casterFace: per patch of the mesh `caster` was built from, its face as surface << 32 | face:
 // a visibility ray counts as open only where the first face it meets at the source point is the
 // source's own, so of faces lying on one another only the one a ray meets first is seen.
+// communicator: a distributed solve's (docs/distributed.md): every rank calls this alike, each
+// estimates its share of every wave's candidates and the estimates are exchanged, so that every
+// rank returns the same links (those one process would make); null: this process alone.
 Links refineLinks(ElementHierarchy& hierarchy, const RayCaster& caster, double rayEpsilon,
                   std::span<const std::uint64_t> casterFace, const Links* previous,
                   std::span<const double> leafRadiosity, std::span<const double> leafOpenFraction, const LinkOptions& options,
-                  RefinementReport& report);
+                  RefinementReport& report, Communicator* communicator = nullptr);
 
 // The minimum element area the options give for this hierarchy.
 double minimumElementArea(const ElementHierarchy& hierarchy, const LinkOptions& options);

@@ -181,7 +181,7 @@ SweepChange HierarchicalTransport::sweep(const std::vector<Rgb>& emitted, const 
     std::vector<int> counts(leavesPerRank_.size());
     for (std::size_t r = 0; r < counts.size(); ++r) counts[r] = 3 * leavesPerRank_[r];
     std::vector<double> all(3 * leavesByRank_.size());
-    communicator_->allGather(mine, counts, all);
+    communicator_->allGather<double>(mine, counts, all);
     for (std::size_t k = 0; k < leavesByRank_.size(); ++k) radiosity[leavesByRank_[k]] = {all[3 * k], all[3 * k + 1], all[3 * k + 2]};
     double figures[2] = {change.change, change.magnitude};
     communicator_->maxAll(figures);
