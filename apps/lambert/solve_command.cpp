@@ -134,7 +134,9 @@ int runSolve(const SolveOnlyOptions& given) {
   Result<SolveCallReport> solved = engine->solve();
   if (communicator) {
     if (Status all = communicator->agree(solved ? Status(Ok{}) : Status(solved.error())); !all) return fail("solve", all.error().message);
-    // Every rank holds the whole solution: rank 0 alone gathers at the vertices and writes.
+    // Every rank holds the whole solution; the vertices' final gather is spread over them, and
+    // rank 0 alone writes the outputs from it.
+    engine->gatherVerticesAcrossRanks();
     if (communicator->rank() != 0) return 0;
   }
   if (!solved) return fail("solve", solved.error().message);

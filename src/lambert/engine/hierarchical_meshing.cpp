@@ -328,6 +328,7 @@ Result<bool> HierarchicalMeshing::refine(const std::vector<Light>& lights, std::
 
   rebuildLeaves();
   Timer transport;
+  sweepCommunicationSeconds_ += transport_->sweepCommunicationSeconds();
   transport_ = makeTransport();
   transportSeconds_ += transport.seconds();
   // Warm start: each leaf from the nearest ancestor that was a leaf before (B stays as solved).
@@ -358,6 +359,89 @@ std::vector<Rgb> HierarchicalMeshing::vertexValues(const std::vector<Rgb>& perEl
   std::vector<Rgb> values = interpolation->apply(perElement);
   constrainHangingVertices(leaves_, values);
   return values;
+}
+
+void HierarchicalMeshing::gatherVerticesAcrossRanks(const ElementSolution& solution) {
+  if (!communicator_ || communicator_->size() < 2) return;
+  gatheringAcrossRanks_ = true;
+  const VertexQuantity radiosity = VertexQuantity::Radiosity;
+  (void)vertexSolution(solution, std::span<const VertexQuantity>(&radiosity, 1));
+  gatheringAcrossRanks_ = false;
+}
+
+std::vector<Rgb> HierarchicalMeshing::gatherAcrossRanks(const std::vector<Rgb>& mean, FinalGatherCounts& counts,
+                                                        NearFieldWeights& near) const {
+  const std::vector<VertexSite> sites = vertexSites(leaves_.mesh, 1e-4 * sceneDiagonal(scene_));
+  const std::vector<std::uint32_t> leaf = FinalGather::gatheringLeaves(leaves_.mesh);
+  const std::vector<int> rankOfLeaf = transport_->rankOfLeaf();
+  const auto ranks = static_cast<std::size_t>(communicator_->size());
+  const int me = communicator_->rank();
+  // Each vertex goes to the rank of its gathering leaf; the others' are left out here (kNoNode).
+  std::vector<std::vector<std::uint32_t>> vertices(ranks);
+  std::vector<std::uint32_t> mine(leaf.size(), kNoNode);
+  for (std::uint32_t v = 0; v < leaf.size(); ++v) {
+    if (leaf[v] == kNoNode) continue;
+    const int owner = rankOfLeaf[leaf[v]];
+    vertices[static_cast<std::size_t>(owner)].push_back(v);
+    if (owner == me) mine[v] = leaf[v];
+  }
+  // The same sites, so that every vertex draws its rays as in one process.
+  const FinalGather gather(hierarchy_, leaves_, *links_, *caster_, epsilon_, sites, std::move(mine), options_.links.visibilityRays,
+                           options_.links.seed, false);
+  NearFieldWeights own;
+  const std::vector<Rgb> gathered = gather.irradiance(mean, &counts, nullptr, nullptr, &own);
+  struct VertexRecord {
+    Rgb gathered, meanPart;
+    std::uint32_t entries;
+  };
+  struct EntryRecord {
+    std::uint32_t corner;
+    float weight;
+  };
+  const std::vector<std::uint32_t>& mineList = vertices[static_cast<std::size_t>(me)];
+  std::vector<VertexRecord> sent;
+  std::vector<EntryRecord> sentEntries;
+  for (std::uint32_t v : mineList) {
+    sent.push_back({gathered[v], own.meanPart[v], own.start[v + 1] - own.start[v]});
+    for (std::uint32_t k = own.start[v]; k < own.start[v + 1]; ++k) sentEntries.push_back({own.corner[k], own.weight[k]});
+  }
+  std::vector<int> vertexCounts(ranks), entryCounts(ranks, 1), entryTotals(ranks);
+  for (std::size_t r = 0; r < ranks; ++r) vertexCounts[r] = static_cast<int>(vertices[r].size());
+  const int myEntries = static_cast<int>(sentEntries.size());
+  communicator_->allGather<int>(std::span<const int>(&myEntries, 1), entryCounts, entryTotals);
+  std::vector<VertexRecord> all(leaf.size() - static_cast<std::size_t>(std::count(leaf.begin(), leaf.end(), kNoNode)));
+  communicator_->allGather<VertexRecord>(sent, vertexCounts, all);
+  std::size_t totalEntries = 0;
+  for (int n : entryTotals) totalEntries += static_cast<std::size_t>(n);
+  std::vector<EntryRecord> allEntries(totalEntries);
+  communicator_->allGather<EntryRecord>(sentEntries, entryTotals, allEntries);
+  // Back in vertex order: the results, and the weights as compressed rows.
+  std::vector<Rgb> out(leaf.size());
+  near = {};
+  near.meanPart.assign(leaf.size(), Rgb{});
+  near.start.assign(leaf.size() + 1, 0);
+  std::vector<const VertexRecord*> recordOf(leaf.size(), nullptr);
+  std::vector<std::size_t> entryOf(leaf.size(), 0);
+  std::size_t record = 0, entry = 0;
+  for (std::size_t r = 0; r < ranks; ++r)
+    for (std::uint32_t v : vertices[r]) {
+      recordOf[v] = &all[record++];
+      entryOf[v] = entry;
+      entry += recordOf[v]->entries;
+    }
+  for (std::size_t v = 0; v < leaf.size(); ++v) near.start[v + 1] = near.start[v] + (recordOf[v] ? recordOf[v]->entries : 0);
+  near.corner.resize(near.start.back());
+  near.weight.resize(near.start.back());
+  for (std::size_t v = 0; v < leaf.size(); ++v) {
+    if (!recordOf[v]) continue;
+    out[v] = recordOf[v]->gathered;
+    near.meanPart[v] = recordOf[v]->meanPart;
+    for (std::uint32_t k = 0; k < recordOf[v]->entries; ++k) {
+      near.corner[near.start[v] + k] = allEntries[entryOf[v] + k].corner;
+      near.weight[near.start[v] + k] = allEntries[entryOf[v] + k].weight;
+    }
+  }
+  return out;
 }
 
 std::vector<std::vector<Rgb>> HierarchicalMeshing::vertexSolution(const ElementSolution& solution,
@@ -435,7 +519,19 @@ std::vector<std::vector<Rgb>> HierarchicalMeshing::vertexSolution(const ElementS
   // reads the vertices' direct light, emission and albedo.
   const std::uint64_t inputDigest = cached ? gatherInputDigest(mean, knownDigest, {&direct, &emitted, &albedo}) : 0;
   const double irradianceSeconds = digestTimer.seconds();
-  if (stored && stored->inputDigest == inputDigest) {
+  const bool distributed = communicator_ && communicator_->size() > 1;
+  const std::uint64_t memoDigest = distributed ? gatherInputDigest(mean, 0, {&direct, &emitted, &albedo}) : 0;
+  if (distributed && gatheringAcrossRanks_) {
+    // Every rank gathers the vertices of the leaves it sweeps; the results and the close sources'
+    // corner weights go to every rank, which couples them as one process would.
+    gathered = FinalGather::coupleNearField(gatherAcrossRanks(mean, counts, near), near, emitted, albedo, direct, &nearIterations);
+    const std::lock_guard<std::mutex> lock(gatherCacheMutex_);
+    acrossRanks_ = {memoDigest, gathered};
+  } else if (distributed && acrossRanks_.digest == memoDigest && !acrossRanks_.gathered.empty()) {
+    const std::lock_guard<std::mutex> lock(gatherCacheMutex_);
+    gathered = acrossRanks_.gathered;
+    for (std::uint32_t l : gather.gatheringLeaf()) counts.vertices += l != kNoNode;
+  } else if (stored && stored->inputDigest == inputDigest) {
     // The same input as the gather that wrote the file: its result, bit for bit.
     gathered = stored->irradiance;
     for (std::uint32_t l : gather.gatheringLeaf()) counts.vertices += l != kNoNode;
@@ -649,6 +745,8 @@ void HierarchicalMeshing::addStats(Stats& stats) const {
     stats.add("communication_bytes_sent", "bytes this rank sent in all", static_cast<std::int64_t>(sent.bytesSent));
     stats.add("communication_calls", "collective calls", static_cast<std::int64_t>(sent.calls));
     stats.add("communication_seconds", "time in collective calls (waiting for the other ranks included)", sent.seconds, "s");
+    stats.add("sweep_communication_seconds", "of which the sweeps' exchanges (every pass)",
+              sweepCommunicationSeconds_ + transport_->sweepCommunicationSeconds(), "s");
   }
   stats.add("min_element_area", "minimum element area", minimumElementArea(hierarchy_, options_.links), "scene units²");
   stats.add("refine_passes", "refinement passes", count(passesDone_));

@@ -36,6 +36,7 @@ class HierarchicalMeshing final : public Meshing {
   const Mesh& elements() const override { return leaves_.mesh; }
   const RayCaster& caster() const override { return *caster_; }
   std::shared_ptr<const Transport> transport() const override { return transport_; }
+  void gatherVerticesAcrossRanks(const ElementSolution& solution) override;
   Result<bool> refine(const std::vector<Light>& lights, std::vector<Rgb>& radiosity, SolveCallReport& report) override;
   const Mesh& vertexMesh() const override { return leaves_.mesh; }
   std::vector<Rgb> vertexValues(const std::vector<Rgb>& perElement) const override;
@@ -66,6 +67,9 @@ class HierarchicalMeshing final : public Meshing {
   bool loadLinks(const std::vector<Light>& lights, std::vector<Rgb>& radiosity);
   // The transport over the current hierarchy and links, spread over the communicator's ranks.
   std::shared_ptr<HierarchicalTransport> makeTransport() const;
+  // The vertices' final gather spread over the ranks (gatherVerticesAcrossRanks): the gathered
+  // irradiance at every vertex and the close sources' corner weights, as one process's gather.
+  std::vector<Rgb> gatherAcrossRanks(const std::vector<Rgb>& mean, FinalGatherCounts& counts, NearFieldWeights& near) const;
   void saveLinks(const std::vector<Rgb>& warmStart);
 
   const Scene& scene_;  // the engine's, which owns this strategy
@@ -73,6 +77,15 @@ class HierarchicalMeshing final : public Meshing {
   double shadowTolerance_ = 0;  // DirectLightOptions::shadowTolerance: Ward's τ at every point lit here
   double memoryLimitBytes_ = 0;  // RadiosityOptions::memoryLimitBytes
   std::shared_ptr<Communicator> communicator_;  // RadiosityOptions::communicator: the sweeps spread over its ranks
+  double sweepCommunicationSeconds_ = 0;         // the earlier passes' transports' exchanges
+  bool gatheringAcrossRanks_ = false;            // within gatherVerticesAcrossRanks
+  // Its result, for the vertexSolution calls that follow on one rank alone: the coupled gather
+  // and the digest of its input (node means, and the vertices' direct light, emission, albedo).
+  struct AcrossRanks {
+    std::uint64_t digest = 0;
+    std::vector<Rgb> gathered;
+  };
+  mutable AcrossRanks acrossRanks_;  // under gatherCacheMutex_
   Timer created_;  // started before the hierarchy is built
   ElementHierarchy hierarchy_;
   ElementHierarchy::LeafMesh leaves_;

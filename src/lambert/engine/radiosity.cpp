@@ -127,6 +127,9 @@ const SolutionView& Radiosity::solution() const { return view_; }
 const Scene& Radiosity::scene() const { return scene_; }
 const RadiosityOptions& Radiosity::options() const { return options_; }
 Status Radiosity::saveCache() { return meshing_->saveCache(); }
+void Radiosity::gatherVerticesAcrossRanks() {
+  meshing_->gatherVerticesAcrossRanks({radiosity_, injected_, surfaceEmitted_, problem_->albedo, lights_, scene_.metresPerUnit});
+}
 
 // The elements changed (or were just made): the system, the lights' injection and the shooter's
 // state all belong to the old ones.

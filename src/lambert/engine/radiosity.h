@@ -105,6 +105,11 @@ class Radiosity {
   // adaptive master table, grown by refinement); Ok, doing nothing, otherwise. A failure is also
   // reported through warning() and never affects the solution.
   Status saveCache();
+  // A distributed solve (RadiosityOptions::communicator): every rank calls this after solve(); the
+  // vertices' final gather is spread over the ranks and kept, so that vertexValues() and what
+  // reads it (exports, lightmaps' corners, the meter) on one rank alone afterwards (rank 0, writing
+  // the outputs) read it instead of gathering every vertex there. Nothing for one process.
+  void gatherVerticesAcrossRanks();
 
   const Scene& scene() const;
   const RadiosityOptions& options() const;

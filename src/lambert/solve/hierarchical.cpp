@@ -151,6 +151,13 @@ void HierarchicalTransport::distribute(std::shared_ptr<Communicator> communicato
     if (onPath[i]) ownPath_.push_back(static_cast<std::uint32_t>(i));
 }
 
+std::vector<int> HierarchicalTransport::rankOfLeaf() const {
+  std::vector<int> rank(nodeOfLeaf_.size(), 0);
+  for (std::size_t r = 0; r + 1 < firstLeaf_.size(); ++r)
+    for (std::size_t k = firstLeaf_[r]; k < firstLeaf_[r + 1]; ++k) rank[leavesByRank_[k]] = static_cast<int>(r);
+  return rank;
+}
+
 std::span<const std::uint32_t> HierarchicalTransport::ownLeaves() const {
   if (!communicator_) return {};
   const auto r = static_cast<std::size_t>(communicator_->rank());
@@ -181,10 +188,12 @@ SweepChange HierarchicalTransport::sweep(const std::vector<Rgb>& emitted, const 
     std::vector<int> counts(leavesPerRank_.size());
     for (std::size_t r = 0; r < counts.size(); ++r) counts[r] = 3 * leavesPerRank_[r];
     std::vector<double> all(3 * leavesByRank_.size());
+    const Timer exchange;
     communicator_->allGather<double>(mine, counts, all);
     for (std::size_t k = 0; k < leavesByRank_.size(); ++k) radiosity[leavesByRank_[k]] = {all[3 * k], all[3 * k + 1], all[3 * k + 2]};
     double figures[2] = {change.change, change.magnitude};
     communicator_->maxAll(figures);
+    sweepCommunicationSeconds_ += exchange.seconds();
     return {figures[0], figures[1]};
   }
   if (!inPlace) {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "lambert/core/communicator.h"
+#include "lambert/core/timer.h"
 #include "lambert/formfactor/links.h"
 #include "lambert/mesh/element_hierarchy.h"
 #include "lambert/solve/transport.h"
@@ -49,6 +50,10 @@ class HierarchicalTransport final : public Transport {
   // This rank's leaves, and the values a sweep sends from each rank (empty before distribute()).
   std::span<const std::uint32_t> ownLeaves() const;
   const std::vector<int>& leavesPerRank() const { return leavesPerRank_; }
+  // Seconds this rank's sweeps spent in their exchange (waiting for the other ranks included).
+  double sweepCommunicationSeconds() const { return sweepCommunicationSeconds_; }
+  // The rank that sweeps each leaf (all 0 before distribute()).
+  std::vector<int> rankOfLeaf() const;
   // The bound on ρ·Σ K above which a leaf's Σ K is scaled to 1 (leafGain_ below): the flat
   // methods' rowContractionBound(ρ) (formfactor/table.h), 0.95 or (1 + ρ)/2 where that is higher.
   // The largest Σ K a leaf gathers over its own links and its ancestors' before the bound, and
@@ -101,6 +106,7 @@ class HierarchicalTransport final : public Transport {
   std::vector<std::size_t> firstLeaf_;
   std::vector<int> leavesPerRank_;
   std::vector<std::uint32_t> ownPath_;
+  mutable double sweepCommunicationSeconds_ = 0;
   std::shared_ptr<const Links> links_;
 };
 
