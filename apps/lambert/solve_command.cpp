@@ -14,9 +14,9 @@
 #include "lambert/bake/probes.h"
 #include "lambert/core/timer.h"
 #include "lambert/io/lightmap_export.h"
-#include "distributed.h"
 #include "lambert/io/vertices.h"
 #include "lambert/render/lightmap_image.h"
+#include "distributed.h"
 #include "options.h"
 
 namespace lambert::cli {

@@ -38,9 +38,9 @@ class HierarchicalTransport final : public Transport {
   const Links& links() const { return *links_; }
 
   // Spreads the Jacobi sweep over the communicator's ranks (docs/distributed.md). The leaves are
-  // cut, in the depth-first order of the hierarchy, into one run of whole subtrees per rank, the
-  // runs balanced by the links each leaf gathers over (its own, and its ancestors' shared among
-  // the leaves under them). A sweep then gathers, on each rank, the nodes on the paths to its own
+  // cut, in the depth-first order of the hierarchy, into one run per rank (so that a rank's leaves
+  // lie in few subtrees and share their ancestors' paths), the runs balanced by the links each
+  // leaf gathers over (its own, and its ancestors' shared among the leaves under them). A sweep then gathers, on each rank, the nodes on the paths to its own
   // leaves only, updates those leaves, and hands their new radiosity to every other rank in one
   // collective (the others read them through their links' sources); the sweep's change is the
   // largest over the ranks. Every rank ends a sweep with the same radiosity, to the bit the one a
