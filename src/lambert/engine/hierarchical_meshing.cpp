@@ -369,10 +369,10 @@ void HierarchicalMeshing::gatherVerticesAcrossRanks(const ElementSolution& solut
   gatheringAcrossRanks_ = false;
 }
 
-std::vector<Rgb> HierarchicalMeshing::gatherAcrossRanks(const std::vector<Rgb>& mean, FinalGatherCounts& counts,
+std::vector<Rgb> HierarchicalMeshing::gatherAcrossRanks(const FinalGather& whole, const std::vector<Rgb>& mean, FinalGatherCounts& counts,
                                                         NearFieldWeights& near) const {
-  const std::vector<VertexSite> sites = vertexSites(leaves_.mesh, 1e-4 * sceneDiagonal(scene_));
-  const std::vector<std::uint32_t> leaf = FinalGather::gatheringLeaves(leaves_.mesh);
+  const std::vector<VertexSite>& sites = whole.sites();
+  const std::vector<std::uint32_t>& leaf = whole.gatheringLeaf();
   const std::vector<int> rankOfLeaf = transport_->rankOfLeaf();
   const auto ranks = static_cast<std::size_t>(communicator_->size());
   const int me = communicator_->rank();
@@ -524,7 +524,7 @@ std::vector<std::vector<Rgb>> HierarchicalMeshing::vertexSolution(const ElementS
   if (distributed && gatheringAcrossRanks_) {
     // Every rank gathers the vertices of the leaves it sweeps; the results and the close sources'
     // corner weights go to every rank, which couples them as one process would.
-    gathered = FinalGather::coupleNearField(gatherAcrossRanks(mean, counts, near), near, emitted, albedo, direct, &nearIterations);
+    gathered = FinalGather::coupleNearField(gatherAcrossRanks(gather, mean, counts, near), near, emitted, albedo, direct, &nearIterations);
     const std::lock_guard<std::mutex> lock(gatherCacheMutex_);
     acrossRanks_ = {memoDigest, gathered};
   } else if (distributed && acrossRanks_.digest == memoDigest && !acrossRanks_.gathered.empty()) {

@@ -68,8 +68,10 @@ class HierarchicalMeshing final : public Meshing {
   // The transport over the current hierarchy and links, spread over the communicator's ranks.
   std::shared_ptr<HierarchicalTransport> makeTransport() const;
   // The vertices' final gather spread over the ranks (gatherVerticesAcrossRanks): the gathered
-  // irradiance at every vertex and the close sources' corner weights, as one process's gather.
-  std::vector<Rgb> gatherAcrossRanks(const std::vector<Rgb>& mean, FinalGatherCounts& counts, NearFieldWeights& near) const;
+  // irradiance at every vertex and the close sources' corner weights, as `whole` (the gather over
+  // every vertex, whose sites and leaves it reuses) would give them in one process.
+  std::vector<Rgb> gatherAcrossRanks(const FinalGather& whole, const std::vector<Rgb>& mean, FinalGatherCounts& counts,
+                                     NearFieldWeights& near) const;
   void saveLinks(const std::vector<Rgb>& warmStart);
 
   const Scene& scene_;  // the engine's, which owns this strategy
