@@ -6,6 +6,7 @@
 // from its camera (render/lightmap_image.h), to hold a browser's or an engine's beside.
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "commands.h"
@@ -134,11 +135,15 @@ int runSolve(const SolveOnlyOptions& given) {
   Result<SolveCallReport> solved = engine->solve();
   if (communicator) {
     if (Status all = communicator->agree(solved ? Status(Ok{}) : Status(solved.error())); !all) return fail("solve", all.error().message);
-    // Every rank holds the whole solution; the vertices' final gather is spread over them, and
-    // rank 0 alone writes the outputs from it.
-    engine->gatherVerticesAcrossRanks();
-    if (communicator->rank() != 0) return 0;
+    // Rank 0 alone computes and writes the outputs; the final gathers they need are spread over
+    // every rank, the others serving them until rank 0 is done.
+    if (communicator->rank() != 0) {
+      engine->serveDistributedOutputs();
+      return 0;
+    }
   }
+  std::optional<DistributedOutputs> lead;
+  if (communicator) lead.emplace(engine->leadDistributedOutputs());
   if (!solved) return fail("solve", solved.error().message);
   (void)engine->saveCache();
   // The outputs first, so that the stats include the final gather they ran.

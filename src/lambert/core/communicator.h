@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <span>
 #include <type_traits>
+#include <vector>
 
 #include "lambert/core/error.h"
 
@@ -34,6 +35,18 @@ class Communicator {
     static_assert(std::is_trivially_copyable_v<T>);
     LAMBERT_CHECK(static_cast<std::size_t>(counts[static_cast<std::size_t>(rank())]) == mine.size());
     allGatherRecords(mine.data(), counts, all.data(), sizeof(T));
+  }
+  // Every rank's values, however many each has, in rank order (their counts gathered first).
+  template <class T>
+  std::vector<T> allGatherVariable(std::span<const T> mine) {
+    std::vector<int> ones(static_cast<std::size_t>(size()), 1), counts(static_cast<std::size_t>(size()));
+    const int count = static_cast<int>(mine.size());
+    allGather<int>(std::span<const int>(&count, 1), ones, counts);
+    std::size_t total = 0;
+    for (int n : counts) total += static_cast<std::size_t>(n);
+    std::vector<T> all(total);
+    allGather<T>(mine, counts, all);
+    return all;
   }
   // values[i] ← the largest values[i] over the ranks, on every rank.
   virtual void maxAll(std::span<double> values) = 0;

@@ -155,7 +155,9 @@ void FinalGather::shapedWeights(const VertexSite& site, std::uint32_t s, double 
 double FinalGather::visibility(std::uint32_t vertex, std::uint32_t link, std::uint32_t s, std::uint32_t& raysCast,
                                bool penumbraRays) const {
   const VertexSite& site = sites_[vertex];
-  Pcg32 rng(seed_, (static_cast<std::uint64_t>(vertex) << 32) ^ link);
+  // Seeded by the nodes, not the link's index: a distributed solve's ranks each hold their own
+  // links, numbered apart, and must draw the rays one process draws.
+  Pcg32 rng(seed_ ^ (links_.source[link] * 0x9e3779b97f4a7c15ull), (static_cast<std::uint64_t>(vertex) << 32) ^ s);
   const std::uint32_t su = rng.nextUint(), sv = rng.nextUint();
   // Each ray counts with the point-to-point kernel at its end: the visibility the factor needs is
   // ∫ k V dA / ∫ k dA over the source, not the share of its area in view. Counted by area, a

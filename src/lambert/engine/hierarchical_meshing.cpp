@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <unordered_map>
 
 #include "lambert/core/parallel.h"
@@ -74,8 +75,57 @@ HierarchicalMeshing::HierarchicalMeshing(const Scene& scene, const RadiosityOpti
 
 std::shared_ptr<HierarchicalTransport> HierarchicalMeshing::makeTransport() const {
   auto transport = std::make_shared<HierarchicalTransport>(hierarchy_, links_, openFractions(leaves_.mesh), patchAlbedo(scene_, leaves_.mesh));
-  if (communicator_) transport->distribute(communicator_);
+  // Before the first refinement there are no links to share: every rank sweeps alike.
+  if (communicator_ && !nodeRank_.empty()) {
+    std::vector<int> leafRank(hierarchy_.leafNodes().size());
+    for (std::size_t l = 0; l < leafRank.size(); ++l) leafRank[l] = nodeRank_[hierarchy_.leafNodes()[l]];
+    transport->distribute(communicator_, leafRank);
+  }
   return transport;
+}
+
+void HierarchicalMeshing::assignRanks() {
+  // The leaves depth first (the children of a node after it, in the hierarchy's order), so that
+  // a rank's run of them fills few subtrees, and each leaf's cost: its share of the area (where
+  // the links go: refinement splits the lit area finely) and of the leaves, half and half.
+  const std::size_t ranks = static_cast<std::size_t>(communicator_->size());
+  std::vector<std::uint32_t> order, stack{0};
+  while (!stack.empty()) {
+    const std::uint32_t node = stack.back();
+    stack.pop_back();
+    if (hierarchy_.node(node).isLeaf()) order.push_back(node);
+    const std::span<const std::uint32_t> children = hierarchy_.children(node);
+    for (std::size_t c = children.size(); c-- > 0;) stack.push_back(children[c]);
+  }
+  const double totalArea = hierarchy_.totalArea(), count = static_cast<double>(order.size());
+  const auto cost = [&](std::uint32_t node) { return 0.5 * hierarchy_.node(node).area / totalArea + 0.5 / count; };
+  nodeRank_.assign(hierarchy_.nodes().size(), kSharedNode);
+  // Rank r takes the leaves whose cumulative cost starts in [r/R, (r+1)/R) of the whole.
+  double before = 0;
+  for (std::uint32_t node : order) {
+    nodeRank_[node] = std::min(static_cast<int>(ranks) - 1, static_cast<int>(before * static_cast<double>(ranks) + 1e-9));
+    before += cost(node);
+  }
+  // A node over leaves of one rank alone is that rank's (children have larger indices).
+  std::vector<int> below(hierarchy_.nodes().size(), -2);  // -2: nothing yet
+  for (std::size_t i = hierarchy_.nodes().size(); i-- > 0;) {
+    if (hierarchy_.node(static_cast<std::uint32_t>(i)).isLeaf()) below[i] = nodeRank_[i];
+    else nodeRank_[i] = below[i];
+    const std::uint32_t parent = hierarchy_.node(static_cast<std::uint32_t>(i)).parent;
+    if (parent != kNoNode) below[parent] = below[parent] == -2 || below[parent] == below[i] ? below[i] : kSharedNode;
+  }
+}
+
+LinkShare HierarchicalMeshing::linkShare() const {
+  // This rank's nodes: its own subtrees, and the shared nodes over them.
+  const int me = communicator_->rank();
+  LinkShare share{communicator_.get(), std::vector<std::uint8_t>(hierarchy_.nodes().size(), 0)};
+  for (std::size_t i = hierarchy_.nodes().size(); i-- > 0;) {
+    if (nodeRank_[i] == me) share.mine[i] = 1;
+    const std::uint32_t parent = hierarchy_.node(static_cast<std::uint32_t>(i)).parent;
+    if (parent != kNoNode && share.mine[i]) share.mine[parent] = 1;
+  }
+  return share;
 }
 
 void HierarchicalMeshing::startSolve(const SolveBudget& budget) {
@@ -309,9 +359,20 @@ Result<bool> HierarchicalMeshing::refine(const std::vector<Light>& lights, std::
   RefinementReport pass;
   LinkOptions linkOptions = options_.links;
   linkOptions.memoryLimitBytes = memoryLimitBytes_;
+  std::optional<LinkShare> share;
+  if (communicator_) {
+    if (nodeRank_.empty()) assignRanks();
+    share = linkShare();
+  }
+  const std::size_t nodesBefore = hierarchy_.nodes().size();
   links_ = std::make_shared<Links>(refineLinks(hierarchy_, *caster_, epsilon_, casterFace_, passesDone_ > 0 ? links_.get() : nullptr,
                                                largestChannel(estimate), openFractions(leaves_.mesh), linkOptions, pass,
-                                               communicator_.get()));
+                                               share ? &*share : nullptr));
+  // The elements split take their parent's rank.
+  if (communicator_) {
+    nodeRank_.resize(hierarchy_.nodes().size());
+    for (std::size_t i = nodesBefore; i < nodeRank_.size(); ++i) nodeRank_[i] = nodeRank_[hierarchy_.node(static_cast<std::uint32_t>(i)).parent];
+  }
   if (pass.memoryNeeded > 0)
     return Error{memoryExceeded("the hierarchical refinement, unfinished at " + std::to_string(hierarchy_.nodes().size()) + " nodes,",
                                 pass.memoryNeeded, memoryLimitBytes_) +
@@ -361,12 +422,36 @@ std::vector<Rgb> HierarchicalMeshing::vertexValues(const std::vector<Rgb>& perEl
   return values;
 }
 
-void HierarchicalMeshing::gatherVerticesAcrossRanks(const ElementSolution& solution) {
+void HierarchicalMeshing::leadRanks(bool leading) {
+  if (!communicator_ || communicator_->size() < 2 || leading == leading_) return;
+  if (!leading) askRanks({Ask::Done, 0, 0}, {});
+  leading_ = leading;
+}
+
+void HierarchicalMeshing::askRanks(const Asked& asked, std::span<const SurfacePoint> points) const {
+  if (!leading_ || answering_ > 0) return;  // the other ranks are making the same call already
+  (void)communicator_->allGatherVariable<Asked>(std::span<const Asked>(&asked, 1));
+  if (asked.ask == Ask::Points) (void)communicator_->allGatherVariable<SurfacePoint>(points);
+}
+
+void HierarchicalMeshing::serveRanks(const ElementSolution& solution) {
   if (!communicator_ || communicator_->size() < 2) return;
-  gatheringAcrossRanks_ = true;
-  const VertexQuantity radiosity = VertexQuantity::Radiosity;
-  (void)vertexSolution(solution, std::span<const VertexQuantity>(&radiosity, 1));
-  gatheringAcrossRanks_ = false;
+  LAMBERT_CHECK(communicator_->rank() != 0);
+  const Answering answering(*this);
+  while (true) {
+    const std::vector<Asked> asked = communicator_->allGatherVariable<Asked>({});
+    LAMBERT_CHECK(asked.size() == 1);
+    if (asked[0].ask == Ask::Done) return;
+    if (asked[0].ask == Ask::Vertices) {
+      const VertexQuantity radiosity = VertexQuantity::Radiosity;
+      (void)vertexSolution(solution, std::span<const VertexQuantity>(&radiosity, 1));
+      // Rank 0 asked for the gather of the same input (the same solution on every rank).
+      LAMBERT_CHECK(acrossRanks_.digest == asked[0].digest);
+    } else {
+      const std::vector<SurfacePoint> points = communicator_->allGatherVariable<SurfacePoint>({});
+      (void)pointGather(solution, points, static_cast<PointGatherPart>(asked[0].part));
+    }
+  }
 }
 
 std::vector<Rgb> HierarchicalMeshing::gatherAcrossRanks(const FinalGather& whole, const std::vector<Rgb>& mean, FinalGatherCounts& counts,
@@ -521,16 +606,19 @@ std::vector<std::vector<Rgb>> HierarchicalMeshing::vertexSolution(const ElementS
   const double irradianceSeconds = digestTimer.seconds();
   const bool distributed = communicator_ && communicator_->size() > 1;
   const std::uint64_t memoDigest = distributed ? gatherInputDigest(mean, 0, {&direct, &emitted, &albedo}) : 0;
-  if (distributed && gatheringAcrossRanks_) {
-    // Every rank gathers the vertices of the leaves it sweeps; the results and the close sources'
-    // corner weights go to every rank, which couples them as one process would.
-    gathered = FinalGather::coupleNearField(gatherAcrossRanks(gather, mean, counts, near), near, emitted, albedo, direct, &nearIterations);
-    const std::lock_guard<std::mutex> lock(gatherCacheMutex_);
-    acrossRanks_ = {memoDigest, gathered};
-  } else if (distributed && acrossRanks_.digest == memoDigest && !acrossRanks_.gathered.empty()) {
+  if (distributed && acrossRanks_.digest == memoDigest && !acrossRanks_.gathered.empty()) {
     const std::lock_guard<std::mutex> lock(gatherCacheMutex_);
     gathered = acrossRanks_.gathered;
     for (std::uint32_t l : gather.gatheringLeaf()) counts.vertices += l != kNoNode;
+  } else if (distributed) {
+    // Every rank gathers the vertices of its own leaves (through its own links: it holds no
+    // others); the results and the close sources' corner weights go to every rank, which couples
+    // them as one process would. Rank 0 writing the outputs asks the others to join first.
+    askRanks({Ask::Vertices, 0, memoDigest}, {});
+    const Answering answering(*this);
+    gathered = FinalGather::coupleNearField(gatherAcrossRanks(gather, mean, counts, near), near, emitted, albedo, direct, &nearIterations);
+    const std::lock_guard<std::mutex> lock(gatherCacheMutex_);
+    acrossRanks_ = {memoDigest, gathered};
   } else if (stored && stored->inputDigest == inputDigest) {
     // The same input as the gather that wrote the file: its result, bit for bit.
     gathered = stored->irradiance;
@@ -629,6 +717,8 @@ double insideness(const HierarchyNode& node, const Vec3& p) {
 
 Result<PointGather> HierarchicalMeshing::pointGather(const ElementSolution& solution, std::span<const SurfacePoint> points,
                                                      PointGatherPart part) const {
+  if (Status spread = spreadOverRanks(part); !spread) return spread.error();
+  if (part != PointGatherPart::Sites) askRanks({Ask::Points, static_cast<std::uint32_t>(part), 0}, points);
   // Each face's root elements (one, or its triangle fan's), then down to the leaf that holds the
   // point (the child it lies deepest inside: points on an edge go either way alike).
   std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> roots;
@@ -674,7 +764,49 @@ Result<PointGather> HierarchicalMeshing::pointGather(const ElementSolution& solu
   return out;
 }
 
+Status HierarchicalMeshing::spreadOverRanks(PointGatherPart part) const {
+  if (!communicator_ || communicator_->size() < 2 || part == PointGatherPart::Sites || part == PointGatherPart::Light) return Ok{};
+  return Error{"a distributed solve gathers the light at points, not its weights for later solves (they read every rank's links): "
+               "solve in one process to update lightmaps as lights move"};
+}
+
+void HierarchicalMeshing::gatherAtAcrossRanks(const ElementSolution& solution, bool atPoints, PointGather& out) const {
+  const Answering answering(*this);
+  const std::vector<int> rankOfLeaf = transport_->rankOfLeaf();
+  const auto ranks = static_cast<std::size_t>(communicator_->size());
+  const auto me = static_cast<std::size_t>(communicator_->rank());
+  // Each site goes to the rank of its leaf, which gathers it through its own links.
+  std::vector<std::vector<std::uint32_t>> sitesOf(ranks);
+  std::vector<std::uint32_t> mine(out.leaf.size(), kNoNode);
+  for (std::uint32_t i = 0; i < out.leaf.size(); ++i) {
+    if (out.leaf[i] == kNoNode) continue;
+    const auto owner = static_cast<std::size_t>(rankOfLeaf[out.leaf[i]]);
+    sitesOf[owner].push_back(i);
+    if (owner == me) mine[i] = out.leaf[i];
+  }
+  const FinalGather gather(hierarchy_, leaves_, *links_, *caster_, epsilon_, out.sites, std::move(mine), options_.links.visibilityRays,
+                           options_.links.seed, atPoints);
+  std::vector<Rgb> mean;
+  transport_->pull(solution.radiosity, mean);
+  NearFieldWeights near;
+  const std::vector<Rgb> gathered = gather.irradiance(mean, nullptr, nullptr, nullptr, &near, nullptr);
+  const VertexQuantity radiosity = VertexQuantity::Radiosity;
+  const std::vector<Rgb> light = FinalGather::withCorners(gathered, near, vertexSolution(solution, std::span<const VertexQuantity>(&radiosity, 1)).front());
+  std::vector<Rgb> sent;
+  for (std::uint32_t i : sitesOf[me]) sent.push_back(light[i]);
+  std::vector<int> counts(ranks);
+  std::size_t total = 0;
+  for (std::size_t r = 0; r < ranks; ++r) total += static_cast<std::size_t>(counts[r] = static_cast<int>(sitesOf[r].size()));
+  std::vector<Rgb> all(total);
+  communicator_->allGather<Rgb>(sent, counts, all);
+  out.fromSurfaces.assign(out.leaf.size(), Rgb{});
+  std::size_t k = 0;
+  for (std::size_t r = 0; r < ranks; ++r)
+    for (std::uint32_t i : sitesOf[r]) out.fromSurfaces[i] = all[k++];
+}
+
 void HierarchicalMeshing::gatherAt(const ElementSolution& solution, PointGatherPart part, bool atPoints, PointGather& out) const {
+  if (communicator_ && communicator_->size() > 1) return gatherAtAcrossRanks(solution, atPoints, out);
   const bool withWeights = part == PointGatherPart::LightAndWeights || part == PointGatherPart::Weights;
   const FinalGather gather(hierarchy_, leaves_, *links_, *caster_, epsilon_, out.sites, out.leaf, options_.links.visibilityRays,
                            options_.links.seed, atPoints);
@@ -689,6 +821,7 @@ void HierarchicalMeshing::gatherAt(const ElementSolution& solution, PointGatherP
 
 Result<PointGather> HierarchicalMeshing::vertexGather(const ElementSolution& solution, std::span<const std::uint32_t> vertices,
                                                       PointGatherPart part) const {
+  if (Status spread = spreadOverRanks(part == PointGatherPart::Light ? PointGatherPart::Weights : part); !spread) return spread.error();
   const std::vector<VertexSite> sites = vertexSites(leaves_.mesh, 1e-4 * sceneDiagonal(scene_));
   const std::vector<std::uint32_t> leaf = FinalGather::gatheringLeaves(leaves_.mesh);
   PointGather out;

@@ -36,7 +36,8 @@ class HierarchicalMeshing final : public Meshing {
   const Mesh& elements() const override { return leaves_.mesh; }
   const RayCaster& caster() const override { return *caster_; }
   std::shared_ptr<const Transport> transport() const override { return transport_; }
-  void gatherVerticesAcrossRanks(const ElementSolution& solution) override;
+  void leadRanks(bool leading) override;
+  void serveRanks(const ElementSolution& solution) override;
   Result<bool> refine(const std::vector<Light>& lights, std::vector<Rgb>& radiosity, SolveCallReport& report) override;
   const Mesh& vertexMesh() const override { return leaves_.mesh; }
   std::vector<Rgb> vertexValues(const std::vector<Rgb>& perElement) const override;
@@ -50,6 +51,10 @@ class HierarchicalMeshing final : public Meshing {
   // atPoints: sites anywhere on the leaves (pointGather), else the vertices (vertexGather), gathered
   // as vertexValues gathers them (FinalGather's resolveClusterVisibility).
   void gatherAt(const ElementSolution& solution, PointGatherPart part, bool atPoints, PointGather& out) const;
+  // A distributed solve: the light at the sites (PointGatherPart::Light), each gathered by the
+  // rank of its leaf and handed to every rank; Ok where the part can be so gathered.
+  void gatherAtAcrossRanks(const ElementSolution& solution, bool atPoints, PointGather& out) const;
+  Status spreadOverRanks(PointGatherPart part) const;
   std::vector<std::vector<Rgb>> vertexSolution(const ElementSolution& solution,
                                                std::span<const VertexQuantity> quantities) const override;
   void startSolve(const SolveBudget& budget) override;
@@ -67,7 +72,12 @@ class HierarchicalMeshing final : public Meshing {
   bool loadLinks(const std::vector<Light>& lights, std::vector<Rgb>& radiosity);
   // The transport over the current hierarchy and links, spread over the communicator's ranks.
   std::shared_ptr<HierarchicalTransport> makeTransport() const;
-  // The vertices' final gather spread over the ranks (gatherVerticesAcrossRanks): the gathered
+  // A distributed solve's share of the hierarchy (docs/distributed.md), fixed at the first
+  // refinement: the current leaves cut depth first into one run per rank, balanced by area and
+  // count, into nodeRank_; and this rank's nodes for the refinement (formfactor/links.h).
+  void assignRanks();
+  LinkShare linkShare() const;
+  // The vertices' final gather spread over the ranks: the gathered
   // irradiance at every vertex and the close sources' corner weights, as `whole` (the gather over
   // every vertex, whose sites and leaves it reuses) would give them in one process.
   std::vector<Rgb> gatherAcrossRanks(const FinalGather& whole, const std::vector<Rgb>& mean, FinalGatherCounts& counts,
@@ -80,9 +90,31 @@ class HierarchicalMeshing final : public Meshing {
   double memoryLimitBytes_ = 0;  // RadiosityOptions::memoryLimitBytes
   std::shared_ptr<Communicator> communicator_;  // RadiosityOptions::communicator: the sweeps spread over its ranks
   double sweepCommunicationSeconds_ = 0;         // the earlier passes' transports' exchanges
-  bool gatheringAcrossRanks_ = false;            // within gatherVerticesAcrossRanks
-  // Its result, for the vertexSolution calls that follow on one rank alone: the coupled gather
-  // and the digest of its input (node means, and the vertices' direct light, emission, albedo).
+  // Per node, the rank whose leaves lie under it, or kSharedNode where several ranks' do (empty
+  // until the first refinement of a distributed solve). Each rank holds the links into its own
+  // nodes and the shared ones over them.
+  static constexpr int kSharedNode = -1;
+  std::vector<int> nodeRank_;
+  // Rank 0 computing a distributed solve's outputs (leadRanks): each final gather it makes first
+  // asks the other ranks (serveRanks) to join it, unless they are making it already (answering_:
+  // within a gather asked for, on any rank).
+  enum class Ask : std::uint32_t { Done, Vertices, Points };
+  struct Asked {
+    Ask ask;
+    std::uint32_t part;      // Points: the PointGatherPart
+    std::uint64_t digest;    // Vertices: the gather's input (acrossRanks_)
+  };
+  void askRanks(const Asked& asked, std::span<const SurfacePoint> points) const;
+  bool leading_ = false;
+  mutable int answering_ = 0;
+  struct Answering {
+    explicit Answering(const HierarchicalMeshing& m) : meshing(m) { ++meshing.answering_; }
+    ~Answering() { --meshing.answering_; }
+    const HierarchicalMeshing& meshing;
+  };
+  // The last vertex gather spread over the ranks, for the vertexSolution calls that follow: the
+  // coupled gather and the digest of its input (node means, and the vertices' direct light,
+  // emission and albedo).
   struct AcrossRanks {
     std::uint64_t digest = 0;
     std::vector<Rgb> gathered;

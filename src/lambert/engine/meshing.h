@@ -73,10 +73,11 @@ class Meshing {
   virtual Result<std::vector<Rgb>> nodeMeanRadiosity(const ElementSolution& solution) const;
   virtual Result<PointGather> vertexGather(const ElementSolution& solution, std::span<const std::uint32_t> vertices, PointGatherPart part) const;
   // The strategy's figures: mesh, form-factor method, times, cache.
-  // A distributed solve (RadiosityOptions::communicator): every rank calls this alike; the
-  // vertices' final gather is spread over the ranks and kept for the vertexSolution calls with
-  // the same solution that follow, on any one rank. Nothing otherwise.
-  virtual void gatherVerticesAcrossRanks(const ElementSolution& /*solution*/) {}
+  // A distributed solve's outputs (Radiosity::leadDistributedOutputs): rank 0 leads (true) while
+  // it computes them, its final gathers asking the other ranks, waiting in serveRanks, to join
+  // in; leadRanks(false) lets them go. Nothing otherwise.
+  virtual void leadRanks(bool /*leading*/) {}
+  virtual void serveRanks(const ElementSolution& /*solution*/) {}
   virtual void addStats(Stats& stats) const = 0;
   // Writes the cache file if it is out of date (only the adaptive table can be).
   virtual Status saveCache() = 0;

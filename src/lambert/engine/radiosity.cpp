@@ -127,8 +127,18 @@ const SolutionView& Radiosity::solution() const { return view_; }
 const Scene& Radiosity::scene() const { return scene_; }
 const RadiosityOptions& Radiosity::options() const { return options_; }
 Status Radiosity::saveCache() { return meshing_->saveCache(); }
-void Radiosity::gatherVerticesAcrossRanks() {
-  meshing_->gatherVerticesAcrossRanks({radiosity_, injected_, surfaceEmitted_, problem_->albedo, lights_, scene_.metresPerUnit});
+DistributedOutputs::~DistributedOutputs() {
+  if (meshing_) meshing_->leadRanks(false);
+}
+DistributedOutputs Radiosity::leadDistributedOutputs() {
+  if (!options_.communicator || options_.communicator->size() < 2) return DistributedOutputs(nullptr);
+  LAMBERT_CHECK(options_.communicator->rank() == 0);
+  meshing_->leadRanks(true);
+  return DistributedOutputs(meshing_.get());
+}
+void Radiosity::serveDistributedOutputs() {
+  if (!options_.communicator || options_.communicator->size() < 2) return;
+  meshing_->serveRanks({radiosity_, injected_, surfaceEmitted_, problem_->albedo, lights_, scene_.metresPerUnit});
 }
 
 // The elements changed (or were just made): the system, the lights' injection and the shooter's
@@ -187,6 +197,12 @@ Result<SolveCallReport> Radiosity::solve(const SolveBudget& budget) {
   }
   report.elements = meshing_->elements().numPatches();
   ++solves_;
+  // A distributed solve's residual and energy balance each need a gather over every rank's links:
+  // made here, where every rank is, for stats() on rank 0 alone.
+  if (options_.communicator) {
+    const EnergyBalance balance = energyBalance(*problem_, radiosity_, scene_.metresPerUnit);
+    distributedFigures_ = DistributedFigures{relativeResidual(*problem_, radiosity_), balance.emittedWatts, balance.absorbedWatts, balance.escapedWatts};
+  }
   last_ = report;
   injectSeconds_ += report.injectSeconds;
   solveSeconds_ += report.solveSeconds;
@@ -287,11 +303,14 @@ Stats Radiosity::stats() const {
   // Every pass of the last solve(): the hierarchy's refine-then-solve passes, the adaptive mesh's.
   stats.add("iterations", options_.solver == SolverKind::Shooting ? "shots (last solve, every pass)" : "iterations (last solve, every pass)",
             static_cast<std::int64_t>(last_.iterations));
-  stats.add("residual", "relative residual", solves_ > 0 ? relativeResidual(*problem_, radiosity_) : 1.0);
+  stats.add("residual", "relative residual",
+            distributedFigures_ ? distributedFigures_->residual : solves_ > 0 ? relativeResidual(*problem_, radiosity_) : 1.0);
   stats.add("converged", "converged", std::string(solves_ > 0 && last_.converged ? "yes" : "no"));
   stats.add("solve_seconds", "solve time", solveSeconds_, "s");
 
-  EnergyBalance balance = energyBalance(*problem_, radiosity_, scene_.metresPerUnit);
+  const EnergyBalance balance = distributedFigures_ ? EnergyBalance{distributedFigures_->emittedWatts, distributedFigures_->absorbedWatts,
+                                                                    distributedFigures_->escapedWatts}
+                                                  : energyBalance(*problem_, radiosity_, scene_.metresPerUnit);
   // With lights, E includes their injected first reflection ρ·E_direct, so "emitted" counts it.
   stats.add("emitted_watts", lights_.empty() ? "emitted power" : "emitted + injected power", balance.emittedWatts, "W");
   stats.add("absorbed_watts", "absorbed power", balance.absorbedWatts, "W");

@@ -12,7 +12,9 @@
 // the master table of an adaptive quad-tree; see engine/meshing.h). It is created behind a unique_ptr and can be neither copied nor moved, so
 // the views and references it hands out stay valid for its whole life. See docs/api.md.
 #include <memory>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "lambert/core/error.h"
@@ -25,6 +27,19 @@
 namespace lambert {
 
 class Meshing;
+
+// Held by rank 0 of a distributed solve while it computes its outputs (Radiosity::
+// leadDistributedOutputs); letting go of it lets the other ranks go.
+class DistributedOutputs {
+ public:
+  explicit DistributedOutputs(Meshing* meshing) : meshing_(meshing) {}
+  DistributedOutputs(DistributedOutputs&& other) noexcept : meshing_(std::exchange(other.meshing_, nullptr)) {}
+  DistributedOutputs& operator=(DistributedOutputs&&) = delete;
+  ~DistributedOutputs();
+
+ private:
+  Meshing* meshing_;
+};
 class DirectLightInjection;
 class ProgressiveShooter;
 
@@ -105,11 +120,14 @@ class Radiosity {
   // adaptive master table, grown by refinement); Ok, doing nothing, otherwise. A failure is also
   // reported through warning() and never affects the solution.
   Status saveCache();
-  // A distributed solve (RadiosityOptions::communicator): every rank calls this after solve(); the
-  // vertices' final gather is spread over the ranks and kept, so that vertexValues() and what
-  // reads it (exports, lightmaps' corners, the meter) on one rank alone afterwards (rank 0, writing
-  // the outputs) read it instead of gathering every vertex there. Nothing for one process.
-  void gatherVerticesAcrossRanks();
+  // A distributed solve's outputs (RadiosityOptions::communicator, docs/distributed.md): after
+  // solve(), rank 0 computes and writes them while it holds the lead this returns, and every other
+  // rank calls serveDistributedOutputs(). Each final gather rank 0 asks for (the vertices', and at
+  // points: lightmap texels, meter points) is then spread over all the ranks, each gathering at
+  // the points on its own leaves through its own links, and serveDistributedOutputs() returns when
+  // rank 0 lets go of the lead (on any path out). Nothing for one process.
+  [[nodiscard]] DistributedOutputs leadDistributedOutputs();
+  void serveDistributedOutputs();
 
   const Scene& scene() const;
   const RadiosityOptions& options() const;
@@ -138,6 +156,11 @@ class Radiosity {
   SolutionView view_;
   // Totals over every solve(), for stats().
   int solves_ = 0;
+  // A distributed solve's residual and energy balance, made by every rank after each solve().
+  struct DistributedFigures {
+    double residual, emittedWatts, absorbedWatts, escapedWatts;
+  };
+  std::optional<DistributedFigures> distributedFigures_;
   SolveCallReport last_;
   double injectSeconds_ = 0, solveSeconds_ = 0, adaptSeconds_ = 0, formFactorSeconds_ = 0;
   std::uint64_t shadowRays_ = 0;

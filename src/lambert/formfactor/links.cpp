@@ -48,6 +48,13 @@ struct Candidate {
 // vector's doubling would hold up to twice that (and three times while it moves).
 using Candidates = std::deque<Candidate>;
 
+// A refined link, to be replaced by its children's links (Refiner::expand): every pair of a
+// cluster's children (a cluster's link to itself), or the receiver's or the source's children.
+struct Expansion {
+  std::uint32_t receiver, source;
+  enum Kind : std::uint8_t { Pairs, Receiver, Source } kind;
+};
+
 // Whether any corner of polygon a lies in front of the plane of element b.
 bool anyCornerInFront(const HierarchyNode& a, const HierarchyNode& b, double epsilon) {
   for (std::size_t k = 0; k < a.numCorners; ++k)
@@ -101,9 +108,10 @@ class Refiner {
  public:
   Refiner(ElementHierarchy& hierarchy, const RayCaster& caster, double rayEpsilon, std::span<const std::uint64_t> casterFace,
           const LinkOptions& options, std::span<const double> leafRadiosity, std::span<const double> leafOpenFraction,
-          Communicator* communicator)
+          LinkShare* share)
       : h_(hierarchy), caster_(caster), casterFace_(casterFace), epsilon_(rayEpsilon), options_(options),
-        minArea_(minimumElementArea(hierarchy, options)), communicator_(communicator) {
+        minArea_(minimumElementArea(hierarchy, options)), share_(share) {
+    LAMBERT_CHECK(!share_ || (share_->communicator && share_->mine.size() == hierarchy.nodes().size()));
     const auto& nodes = h_.nodes();
     LAMBERT_CHECK(leafRadiosity.size() == h_.leafNodes().size());
     LAMBERT_CHECK(leafOpenFraction.size() == h_.leafNodes().size());
@@ -133,7 +141,8 @@ class Refiner {
   Links run(const Links* previous, Candidates frontier, RefinementReport& report) {
     Timer timer;
     Progress progress("links judged", 0, options_.showProgress);
-    Candidates kept, next;
+    Candidates kept;
+    std::vector<Expansion> expansions;
     // What the refinement holds now, and will hold at least: kept and pending links, and the
     // hierarchy's nodes. Checked every wave, so a refinement that cannot fit stops early.
     const auto fits = [&] {
@@ -145,7 +154,7 @@ class Refiner {
       }
       return true;
     };
-    bool fitting = true;
+    if (share_) std::erase_if(frontier, [&](const Candidate& c) { return !share_->mine[c.receiver]; });
     if (previous) {
       for (std::uint32_t r = 0; r + 1 < previous->start.size(); ++r)
         for (std::uint32_t k = previous->start[r]; k < previous->start[r + 1]; ++k) {
@@ -154,30 +163,32 @@ class Refiner {
           // A link kept with every ray blocked is judged as it was: split only while it could carry
           // too much unoccluded light.
           if (!(c.formFactor > 0) && !h_.node(r).isCluster() && !h_.node(c.source).isCluster()) c.verdict = Verdict::Occluded;
-          judge(c, kept, frontier, report);
+          judge(c, kept, expansions, report);
         }
       progress.advance(previous->size());
-      fitting = fits();
+      expand(expansions, frontier, report);
     }
-    while (fitting && !frontier.empty()) {
+    while (true) {
+      const bool fitting = fits();
+      if (share_) {
+        // Every rank goes on while any has candidates left, and stops with the first that cannot fit.
+        double figures[3] = {static_cast<double>(frontier.size()), fitting ? 0.0 : 1.0, report.memoryNeeded};
+        share_->communicator->maxAll(figures);
+        report.memoryNeeded = figures[2];
+        if (figures[1] > 0 || figures[0] == 0) break;
+      } else if (!fitting || frontier.empty()) {
+        break;
+      }
       std::vector<std::uint8_t> rays(frontier.size(), 0);
       for (const Candidate& c : frontier) report.estimated += !c.estimated;
-      // Spread over a distributed solve's ranks: each estimates one block of the wave and the
-      // blocks are exchanged, so every rank judges the same estimates in the same order (the
-      // estimates depend on the candidate alone: its rays' seeds are its nodes).
-      const std::size_t ranks = communicator_ ? static_cast<std::size_t>(communicator_->size()) : 1;
-      const std::size_t rank = communicator_ ? static_cast<std::size_t>(communicator_->rank()) : 0;
-      const auto blockStart = [&](std::size_t r) { return frontier.size() * r / ranks; };
-      parallelFor(blockStart(rank), blockStart(rank + 1), [&](std::size_t i) {
+      parallelFor(0, frontier.size(), [&](std::size_t i) {
         if (!frontier[i].estimated) rays[i] = estimate(frontier[i]);
       }, 64);
-      if (ranks > 1) exchangeEstimates(frontier, rays, blockStart);
       for (std::uint8_t n : rays) report.rays += n;
       progress.advance(frontier.size());
-      next.clear();
-      for (const Candidate& c : frontier) judge(c, kept, next, report);
-      frontier.swap(next);
-      fitting = fits();
+      for (const Candidate& c : frontier) judge(c, kept, expansions, report);
+      frontier.clear();
+      expand(expansions, frontier, report);
     }
     progress.finish();
     h_.numberLeaves();
@@ -233,27 +244,6 @@ class Refiner {
       }
     }
     return links;
-  }
-
-  // Every rank's block of the wave, estimated, to every rank.
-  template <class BlockStart>
-  void exchangeEstimates(Candidates& frontier, std::vector<std::uint8_t>& rays, const BlockStart& blockStart) const {
-    struct Estimated {
-      Candidate candidate;
-      std::uint8_t rays;
-    };
-    const auto ranks = static_cast<std::size_t>(communicator_->size()), rank = static_cast<std::size_t>(communicator_->rank());
-    std::vector<int> counts(ranks);
-    for (std::size_t r = 0; r < ranks; ++r) counts[r] = static_cast<int>(blockStart(r + 1) - blockStart(r));
-    std::vector<Estimated> mine;
-    mine.reserve(static_cast<std::size_t>(counts[rank]));
-    for (std::size_t i = blockStart(rank); i < blockStart(rank + 1); ++i) mine.push_back({frontier[i], rays[i]});
-    std::vector<Estimated> all(frontier.size());
-    communicator_->allGather<Estimated>(mine, counts, all);
-    for (std::size_t i = 0; i < all.size(); ++i) {
-      frontier[i] = all[i].candidate;
-      rays[i] = all[i].rays;
-    }
   }
 
   // Fills in the candidate's verdict, K and visibility; returns the rays it cast.
@@ -623,21 +613,55 @@ class Refiner {
     return n.isCluster() || !n.isLeaf() || n.area * 0.25 >= minArea_;
   }
 
-  std::span<const std::uint32_t> childrenOf(std::uint32_t node) {
-    if (h_.node(node).isLeaf()) {
+  // The wave's refined links, replaced by the links of the children of one of their nodes:
+  // first every element that must split is split, in increasing node order (so that the new
+  // nodes are numbered alike whatever order the candidates were judged in, and on every rank of a
+  // distributed refinement, each of which judges only its own candidates and hands the others the
+  // elements it splits), then each refined link makes its children's candidates, in the order the
+  // links were judged. A distributed rank keeps only the candidates into its own nodes.
+  void expand(std::vector<Expansion>& expansions, Candidates& next, RefinementReport& report) {
+    std::vector<std::uint32_t> splits;
+    for (const Expansion& e : expansions) {
+      const std::uint32_t node = e.kind == Expansion::Receiver ? e.receiver : e.source;
+      if (e.kind != Expansion::Pairs && h_.node(node).isLeaf()) splits.push_back(node);
+    }
+    std::sort(splits.begin(), splits.end());
+    splits.erase(std::unique(splits.begin(), splits.end()), splits.end());
+    if (share_) {
+      const std::vector<std::uint32_t> all = share_->communicator->allGatherVariable<std::uint32_t>(splits);
+      splits.assign(all.begin(), all.end());
+      std::sort(splits.begin(), splits.end());
+      splits.erase(std::unique(splits.begin(), splits.end()), splits.end());
+    }
+    for (std::uint32_t node : splits) {
       h_.split(node);
-      // The children start from their parent's estimates.
+      // The children start from their parent's estimates (and a distributed rank's share).
       for (std::uint32_t k : h_.children(node)) {
         LAMBERT_CHECK(k == radiosity_.size());
         radiosity_.push_back(radiosity_[node]);
         partlyCovered_.push_back(partlyCovered_[node]);
+        if (share_) share_->mine.push_back(share_->mine[node]);
       }
-      ++splits_;
     }
-    return h_.children(node);
+    report.elementsSplit += splits.size();
+    const auto add = [&](std::uint32_t receiver, std::uint32_t source) {
+      if (!share_ || share_->mine[receiver]) next.push_back({receiver, source});
+    };
+    for (const Expansion& e : expansions) {
+      if (e.kind == Expansion::Pairs) {
+        std::span<const std::uint32_t> kids = h_.children(e.receiver);
+        for (std::uint32_t a : kids)
+          for (std::uint32_t b : kids) add(a, b);
+      } else if (e.kind == Expansion::Receiver) {
+        for (std::uint32_t k : h_.children(e.receiver)) add(k, e.source);
+      } else {
+        for (std::uint32_t k : h_.children(e.source)) add(e.receiver, k);
+      }
+    }
+    expansions.clear();
   }
 
-  void judge(const Candidate& c, Candidates& kept, Candidates& next, RefinementReport& report) {
+  void judge(const Candidate& c, Candidates& kept, std::vector<Expansion>& expansions, RefinementReport& report) {
     const HierarchyNode& r = h_.node(c.receiver);
     const HierarchyNode& s = h_.node(c.source);
     if (c.verdict == Verdict::Empty) return;
@@ -672,21 +696,17 @@ class Refiner {
       }
       return;
     }
-    const std::uint64_t splitsBefore = splits_;
     if (c.receiver == c.source) {
-      std::span<const std::uint32_t> kids = h_.children(c.receiver);
-      for (std::uint32_t a : kids)
-        for (std::uint32_t b : kids) next.push_back({a, b});
+      expansions.push_back({c.receiver, c.source, Expansion::Pairs});
     } else if (c.openSource && canS) {
-      for (std::uint32_t k : childrenOf(c.source)) next.push_back({c.receiver, k});
+      expansions.push_back({c.receiver, c.source, Expansion::Source});
     } else if (canR && (!canS || r.area >= s.area || c.receiverSide || c.openReceiver)) {
       // The larger node, as HSA'91 splits, unless the error is the factor's spread over the
       // receiver: splitting the source would not make that smaller.
-      for (std::uint32_t k : childrenOf(c.receiver)) next.push_back({k, c.source});
+      expansions.push_back({c.receiver, c.source, Expansion::Receiver});
     } else {
-      for (std::uint32_t k : childrenOf(c.source)) next.push_back({c.receiver, k});
+      expansions.push_back({c.receiver, c.source, Expansion::Source});
     }
-    report.elementsSplit += splits_ - splitsBefore;
   }
 
   ElementHierarchy& h_;
@@ -695,11 +715,10 @@ class Refiner {
   double epsilon_;
   const LinkOptions& options_;
   double minArea_;
-  Communicator* communicator_;  // a distributed solve's: the waves' estimates spread over its ranks; else null
+  LinkShare* share_;  // a distributed refinement's: this rank's nodes, and its communicator; else null
   double threshold_ = 0;
   std::vector<double> radiosity_;  // per node: area-weighted mean of the leaves' largest channel
   std::vector<std::uint8_t> partlyCovered_;  // per node: a leaf partly covered is, or was, under it
-  std::uint64_t splits_ = 0;
 };
 
 }  // namespace
@@ -716,8 +735,8 @@ double minimumElementArea(const ElementHierarchy& hierarchy, const LinkOptions& 
 Links refineLinks(ElementHierarchy& hierarchy, const RayCaster& caster, double rayEpsilon,
                   std::span<const std::uint64_t> casterFace, const Links* previous, std::span<const double> leafRadiosity,
                   std::span<const double> leafOpenFraction, const LinkOptions& options, RefinementReport& report,
-                  Communicator* communicator) {
-  Refiner refiner(hierarchy, caster, rayEpsilon, casterFace, options, leafRadiosity, leafOpenFraction, communicator);
+                  LinkShare* share) {
+  Refiner refiner(hierarchy, caster, rayEpsilon, casterFace, options, leafRadiosity, leafOpenFraction, share);
   Candidates initial;
   if (previous) {
     report.initialLinks += previous->size();  // judged again by run()

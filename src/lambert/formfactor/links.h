@@ -67,6 +67,15 @@ struct Links {
   std::size_t bytes() const;
 };
 
+// A distributed refinement's share of the hierarchy: the ranks meet through the communicator,
+// and this rank refines and keeps the links into the nodes marked mine (per node of the
+// hierarchy: those over its leaves, and under them). The refinement marks the nodes it adds as
+// their parents are.
+struct LinkShare {
+  Communicator* communicator = nullptr;
+  std::vector<std::uint8_t> mine;
+};
+
 struct RefinementReport {
   std::uint64_t initialLinks = 0;   // the candidates the refinement started from
   std::uint64_t estimated = 0;      // candidate links estimated
@@ -90,13 +99,14 @@ struct RefinementReport {
 // casterFace: per patch of the mesh `caster` was built from, its face as surface << 32 | face:
 // a visibility ray counts as open only where the first face it meets at the source point is the
 // source's own, so of faces lying on one another only the one a ray meets first is seen.
-// communicator: a distributed solve's (docs/distributed.md): every rank calls this alike, each
-// estimates its share of every wave's candidates and the estimates are exchanged, so that every
-// rank returns the same links (those one process would make); null: this process alone.
+// share: a distributed solve's (docs/distributed.md): every rank calls this alike; each refines
+// only the candidate links into its own nodes (share->mine) and keeps those, and the ranks hand
+// each other the elements they split, so that every rank holds the same hierarchy and the union
+// of their links is the links one process makes; null: this process alone.
 Links refineLinks(ElementHierarchy& hierarchy, const RayCaster& caster, double rayEpsilon,
                   std::span<const std::uint64_t> casterFace, const Links* previous,
                   std::span<const double> leafRadiosity, std::span<const double> leafOpenFraction, const LinkOptions& options,
-                  RefinementReport& report, Communicator* communicator = nullptr);
+                  RefinementReport& report, LinkShare* share = nullptr);
 
 // The minimum element area the options give for this hierarchy.
 double minimumElementArea(const ElementHierarchy& hierarchy, const LinkOptions& options);

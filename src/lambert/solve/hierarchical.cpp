@@ -39,6 +39,8 @@ HierarchicalTransport::HierarchicalTransport(const ElementHierarchy& hierarchy, 
     for (std::uint32_t k = links_->start[i]; k < links_->start[i + 1]; ++k) rowSum[i] += links_->formFactor[k];
   }
   leafGain_.resize(nodeOfLeaf_.size());
+  leafRowSum_.resize(nodeOfLeaf_.size());
+  leafScaled_.resize(nodeOfLeaf_.size());
   for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l) {
     const double sum = rowSum[nodeOfLeaf_[l]];
     LAMBERT_CHECK(std::isfinite(sum) && sum >= 0);
@@ -46,6 +48,8 @@ HierarchicalTransport::HierarchicalTransport(const ElementHierarchy& hierarchy, 
     const double rho = leafAlbedo[l].maxComponent();
     const bool scale = rho * sum > rowContractionBound(rho);
     rowsScaled_ += scale;
+    leafRowSum_[l] = sum;
+    leafScaled_[l] = scale;
     leafGain_[l] = leafOpenFraction[l] * (scale ? 1 / sum : 1.0);
   }
   for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l) openArea_[nodeOfLeaf_[l]] = area_[nodeOfLeaf_[l]] * leafOpenFraction[l];
@@ -97,6 +101,12 @@ Rgb HierarchicalTransport::gatherNode(std::uint32_t node, const std::vector<Rgb>
 
 void HierarchicalTransport::gather(const std::vector<Rgb>& radiosity, std::vector<Rgb>& irradiance) const {
   LAMBERT_CHECK(radiosity.size() == size());
+  irradiance.resize(size());
+  if (communicator_) {
+    const std::vector<Rgb> all = exchangeOwn(gatherOwn(radiosity));
+    for (std::size_t k = 0; k < leavesByRank_.size(); ++k) irradiance[leavesByRank_[k]] = all[k];
+    return;
+  }
   const std::size_t n = parent_.size();
   std::vector<Rgb> mean, gathered(n);
   pull(radiosity, mean);
@@ -104,44 +114,47 @@ void HierarchicalTransport::gather(const std::vector<Rgb>& radiosity, std::vecto
   // Push: parents come first, so each node adds what every ancestor gathered.
   for (std::size_t i = 1; i < n; ++i)
     if (parent_[i] != kNoNode) gathered[i] += gathered[parent_[i]];
-  irradiance.resize(size());
   for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l) irradiance[l] = gathered[nodeOfLeaf_[l]] * leafGain_[l];
 }
 
-void HierarchicalTransport::distribute(std::shared_ptr<Communicator> communicator) {
-  LAMBERT_CHECK(communicator && communicator->size() >= 1);
+std::vector<Rgb> HierarchicalTransport::gatherOwn(const std::vector<Rgb>& radiosity) const {
+  // Gather and push along this rank's paths only, as gather() does over every node.
+  const std::size_t n = parent_.size();
+  std::vector<Rgb> mean, gathered(n);
+  pull(radiosity, mean);
+  parallelFor(0, ownPath_.size(), [&](std::size_t k) { gathered[ownPath_[k]] = gatherNode(ownPath_[k], mean); }, 256);
+  for (std::uint32_t i : ownPath_)
+    if (parent_[i] != kNoNode) gathered[i] += gathered[parent_[i]];
+  const std::span<const std::uint32_t> own = ownLeaves();
+  std::vector<Rgb> irradiance(own.size());
+  for (std::size_t k = 0; k < own.size(); ++k) irradiance[k] = gathered[nodeOfLeaf_[own[k]]] * leafGain_[own[k]];
+  return irradiance;
+}
+
+std::vector<Rgb> HierarchicalTransport::exchangeOwn(const std::vector<Rgb>& mine) const {
+  static_assert(sizeof(Rgb) == 3 * sizeof(double));
+  std::vector<int> counts(leavesPerRank_.begin(), leavesPerRank_.end());
+  std::vector<Rgb> all(leavesByRank_.size());
+  const Timer exchange;
+  communicator_->allGather<Rgb>(mine, counts, all);
+  sweepCommunicationSeconds_ += exchange.seconds();
+  return all;
+}
+
+void HierarchicalTransport::distribute(std::shared_ptr<Communicator> communicator, std::span<const int> leafRank) {
+  LAMBERT_CHECK(communicator && communicator->size() >= 1 && leafRank.size() == nodeOfLeaf_.size());
   communicator_ = std::move(communicator);
   const std::size_t n = parent_.size(), ranks = static_cast<std::size_t>(communicator_->size());
-  // A leaf's cost: its links, and its ancestors' shared among the leaves under each.
-  std::vector<double> leavesUnder(n, 0.0), share(n, 0.0);
-  for (std::uint32_t node : nodeOfLeaf_) leavesUnder[node] = 1;
-  for (std::size_t i = n; i-- > 1;)
-    if (parent_[i] != kNoNode) leavesUnder[parent_[i]] += leavesUnder[i];
-  for (std::size_t i = 0; i < n; ++i) {
-    const double links = links_->start[i + 1] - links_->start[i];
-    share[i] = (parent_[i] != kNoNode ? share[parent_[i]] : 0.0) + (leavesUnder[i] > 0 ? links / leavesUnder[i] : 0.0);
-  }
-  std::vector<std::uint32_t> order;  // the leaves depth first
-  order.reserve(nodeOfLeaf_.size());
-  double total = 0;
-  for (const SweepStep& step : sweepOrder_)
-    if (const std::uint32_t l = leafOfNode_[step.node]; l != kNoNode) {
-      order.push_back(l);
-      total += 1 + share[step.node];
-    }
-  // Rank r takes the leaves whose cumulative cost ends in (r/R, (r+1)/R] of the total.
-  leavesByRank_ = order;
-  firstLeaf_.assign(ranks + 1, order.size());
   leavesPerRank_.assign(ranks, 0);
-  firstLeaf_[0] = 0;
-  double before = 0;
-  std::size_t rank = 0;
-  for (std::size_t k = 0; k < order.size(); ++k) {
-    while (rank + 1 < ranks && before >= total * static_cast<double>(rank + 1) / static_cast<double>(ranks)) firstLeaf_[++rank] = k;
-    before += 1 + share[nodeOfLeaf_[order[k]]];
+  for (int r : leafRank) {
+    LAMBERT_CHECK(r >= 0 && static_cast<std::size_t>(r) < ranks);
+    ++leavesPerRank_[static_cast<std::size_t>(r)];
   }
-  while (rank + 1 < ranks) firstLeaf_[++rank] = order.size();
-  for (std::size_t r = 0; r < ranks; ++r) leavesPerRank_[r] = static_cast<int>(firstLeaf_[r + 1] - firstLeaf_[r]);
+  firstLeaf_.assign(ranks + 1, 0);
+  for (std::size_t r = 0; r < ranks; ++r) firstLeaf_[r + 1] = firstLeaf_[r] + static_cast<std::size_t>(leavesPerRank_[r]);
+  leavesByRank_.resize(nodeOfLeaf_.size());
+  std::vector<std::size_t> next(firstLeaf_.begin(), firstLeaf_.end() - 1);
+  for (std::uint32_t l = 0; l < nodeOfLeaf_.size(); ++l) leavesByRank_[next[static_cast<std::size_t>(leafRank[l])]++] = l;
   // The nodes on the paths to this rank's leaves.
   std::vector<char> onPath(n, 0);
   for (std::uint32_t l : ownLeaves())
@@ -149,6 +162,13 @@ void HierarchicalTransport::distribute(std::shared_ptr<Communicator> communicato
   ownPath_.clear();
   for (std::size_t i = 0; i < n; ++i)
     if (onPath[i]) ownPath_.push_back(static_cast<std::uint32_t>(i));
+  // The row sums and their bound over this rank's leaves only: the others' links are not here.
+  largestRowSum_ = 0;
+  rowsScaled_ = 0;
+  for (std::uint32_t l : ownLeaves()) {
+    largestRowSum_ = std::fmax(largestRowSum_, leafRowSum_[l]);
+    rowsScaled_ += leafScaled_[l];
+  }
 }
 
 std::vector<int> HierarchicalTransport::rankOfLeaf() const {
@@ -169,29 +189,19 @@ SweepChange HierarchicalTransport::sweep(const std::vector<Rgb>& emitted, const 
   SweepChange change;
   if (communicator_) {
     LAMBERT_CHECK(!inPlace);  // the engine sweeps a distributed solve by Jacobi (engine/radiosity.cpp)
-    // Gather and push along this rank's paths only, as gather() does over every node.
-    const std::size_t n = parent_.size();
-    std::vector<Rgb> mean, gathered(n);
-    pull(radiosity, mean);
-    parallelFor(0, ownPath_.size(), [&](std::size_t k) { gathered[ownPath_[k]] = gatherNode(ownPath_[k], mean); }, 256);
-    for (std::uint32_t i : ownPath_)
-      if (parent_[i] != kNoNode) gathered[i] += gathered[parent_[i]];
     const std::span<const std::uint32_t> own = ownLeaves();
-    std::vector<double> mine(3 * own.size());
+    const std::vector<Rgb> irradiance = gatherOwn(radiosity);
+    std::vector<Rgb> mine(own.size());
     for (std::size_t k = 0; k < own.size(); ++k) {
       const std::uint32_t l = own[k];
-      const Rgb updated = emitted[l] + albedo[l] * (gathered[nodeOfLeaf_[l]] * leafGain_[l]);
-      change.change = std::fmax(change.change, largestChange(updated, radiosity[l]));
-      change.magnitude = std::fmax(change.magnitude, updated.maxComponent());
-      mine[3 * k] = updated.r, mine[3 * k + 1] = updated.g, mine[3 * k + 2] = updated.b;
+      mine[k] = emitted[l] + albedo[l] * irradiance[k];
+      change.change = std::fmax(change.change, largestChange(mine[k], radiosity[l]));
+      change.magnitude = std::fmax(change.magnitude, mine[k].maxComponent());
     }
-    std::vector<int> counts(leavesPerRank_.size());
-    for (std::size_t r = 0; r < counts.size(); ++r) counts[r] = 3 * leavesPerRank_[r];
-    std::vector<double> all(3 * leavesByRank_.size());
-    const Timer exchange;
-    communicator_->allGather<double>(mine, counts, all);
-    for (std::size_t k = 0; k < leavesByRank_.size(); ++k) radiosity[leavesByRank_[k]] = {all[3 * k], all[3 * k + 1], all[3 * k + 2]};
+    const std::vector<Rgb> all = exchangeOwn(mine);
+    for (std::size_t k = 0; k < leavesByRank_.size(); ++k) radiosity[leavesByRank_[k]] = all[k];
     double figures[2] = {change.change, change.magnitude};
+    const Timer exchange;
     communicator_->maxAll(figures);
     sweepCommunicationSeconds_ += exchange.seconds();
     return {figures[0], figures[1]};

@@ -37,16 +37,18 @@ class HierarchicalTransport final : public Transport {
 
   const Links& links() const { return *links_; }
 
-  // Spreads the Jacobi sweep over the communicator's ranks (docs/distributed.md). The leaves are
-  // cut, in the depth-first order of the hierarchy, into one run per rank (so that a rank's leaves
-  // lie in few subtrees and share their ancestors' paths), the runs balanced by the links each
-  // leaf gathers over (its own, and its ancestors' shared among the leaves under them). A sweep then gathers, on each rank, the nodes on the paths to its own
-  // leaves only, updates those leaves, and hands their new radiosity to every other rank in one
-  // collective (the others read them through their links' sources); the sweep's change is the
-  // largest over the ranks. Every rank ends a sweep with the same radiosity, to the bit the one a
-  // single process's Jacobi sweep gives. The in-place (Gauss–Seidel) sweep cannot be spread so:
-  // sweep() refuses it once distributed. Every rank must call this, and then every sweep, alike.
-  void distribute(std::shared_ptr<Communicator> communicator);
+  // Spreads the Jacobi sweep over the communicator's ranks (docs/distributed.md): rank
+  // leafRank[l] sweeps leaf l, and holds the links into it and its ancestors (a distributed
+  // refinement's share, formfactor/links.h: the links here are this rank's alone). A sweep then
+  // gathers, on each rank, the nodes on the paths to its own leaves only, updates those leaves,
+  // and hands their new radiosity to every other rank in one collective (the others read them
+  // through their links' sources); the sweep's change is the largest over the ranks. Every rank
+  // ends a sweep with the same radiosity, to the bit the one a single process's Jacobi sweep
+  // gives over the union of the ranks' links. gather() is then collective too. The in-place
+  // (Gauss–Seidel) sweep cannot be spread so: sweep() refuses it once distributed. Every rank
+  // must call this, and then every sweep and gather, alike. The row-sum figures below become
+  // this rank's leaves'.
+  void distribute(std::shared_ptr<Communicator> communicator, std::span<const int> leafRank);
   // This rank's leaves, and the values a sweep sends from each rank (empty before distribute()).
   std::span<const std::uint32_t> ownLeaves() const;
   const std::vector<int>& leavesPerRank() const { return leavesPerRank_; }
@@ -69,6 +71,10 @@ class HierarchicalTransport final : public Transport {
 
  private:
   Rgb gatherNode(std::uint32_t node, const std::vector<Rgb>& mean) const;
+  // Distributed: what this rank's leaves gather (in ownLeaves() order), and every rank's such
+  // values in leavesByRank_ order, from one collective.
+  std::vector<Rgb> gatherOwn(const std::vector<Rgb>& radiosity) const;
+  std::vector<Rgb> exchangeOwn(const std::vector<Rgb>& mine) const;
 
   std::vector<std::uint32_t> parent_;
   std::vector<double> area_;
@@ -88,6 +94,8 @@ class HierarchicalTransport final : public Transport {
   // its power and made the clustered box 11% dark.
   // leafGain_ = f · (scaled ? 1/S : 1).
   std::vector<double> leafGain_;
+  std::vector<double> leafRowSum_;       // S per leaf
+  std::vector<std::uint8_t> leafScaled_;  // whether the bound scaled it
   double largestRowSum_ = 0;
   std::size_t rowsScaled_ = 0;
   std::vector<std::uint32_t> leafOfNode_;  // kNoNode for inner nodes
