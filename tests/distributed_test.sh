@@ -2,7 +2,7 @@
 # `mpirun -np N lambert solve --distributed` on one machine (--oversubscribe), as make test runs it
 # (CTest Distributed.*): the vertices of 1, 2 and 4 ranks against one process's Jacobi solve of
 # the same scene, within 1e-6 relative (docs/distributed.md: every rank ends every sweep with the
-# one process's values); then the faults: a rank that cannot load the scene, a rank killed mid-
+# one process's values), and a lightmap and a lux grid alike; then the faults: a rank that cannot load the scene, a rank killed mid-
 # solve, Ctrl-C. Each must stop the whole job with a non-zero exit and leave no output.
 # Usage: tests/distributed_test.sh LAMBERT MPIRUN SCRATCH
 set -uo pipefail
@@ -34,6 +34,27 @@ for scene in cornell "$scratch/building/building.json" "$(dirname "$0")/../scene
     echo "distributed: $name, $n ranks: largest relative difference from one process $worst"
   done
 done
+
+# The same refinement decisions: the ranks' links, each counted once, are one process's links.
+links() { sed -n 's/.*"links": *\([0-9]*\).*/\1/p'; }
+one=$("$lambert" solve --scene "$scratch/building/building.json" --solver jacobi --no-cache --json | links)
+four=$("${run[@]}" -np 4 "$lambert" solve --distributed --scene "$scratch/building/building.json" --json | links)
+[ -n "$one" ] && [ "$one" = "$four" ] || fail "links: one process made '$one', 4 ranks '$four'"
+echo "distributed: building: 4 ranks hold the $four links one process makes"
+
+# The outputs rank 0 writes from final gathers at points spread over the ranks (each gathering
+# the points on its own leaves through its own links): lightmap texels and a lux grid, to the bit.
+spots="$(dirname "$0")/../scenes/cornell/cornell-spots.json"
+outputs=(--lightmaps --lightmap-size 128 --grid floor -q)
+mkdir -p "$scratch/points-1process" "$scratch/points-3"
+"$lambert" solve --scene "$spots" --solver jacobi --no-cache "${outputs[@]}" --export "$scratch/points-1process/s.glb" \
+  --export-grids "$scratch/points-1process/" || fail "points: one process"
+"${run[@]}" -np 3 "$lambert" solve --distributed --scene "$spots" "${outputs[@]}" --export "$scratch/points-3/s.glb" \
+  --export-grids "$scratch/points-3/" || fail "points: 3 ranks exited $?"
+for file in s-lightmap-0.exr floor.csv; do
+  cmp -s "$scratch/points-1process/$file" "$scratch/points-3/$file" || fail "points: $file differs between one process and 3 ranks"
+done
+echo "distributed: cornell-spots' lightmap and floor grid from 3 ranks: identical to one process's"
 
 # A rank that cannot load the scene (a file missing on its node): one message naming the rank,
 # a non-zero exit, no output.

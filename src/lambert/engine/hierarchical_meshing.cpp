@@ -116,6 +116,30 @@ void HierarchicalMeshing::assignRanks() {
   }
 }
 
+void HierarchicalMeshing::countLinksOverRanks() {
+  // A shared node's links are held by every rank under it: the lowest counts them.
+  const std::size_t n = hierarchy_.nodes().size();
+  std::vector<int> lowest(n);
+  for (std::size_t i = 0; i < n; ++i) lowest[i] = nodeRank_[i] == kSharedNode ? communicator_->size() : nodeRank_[i];
+  for (std::size_t i = n; i-- > 1;)
+    if (const std::uint32_t parent = hierarchy_.node(static_cast<std::uint32_t>(i)).parent; parent != kNoNode && nodeRank_[parent] == kSharedNode)
+      lowest[parent] = std::min(lowest[parent], lowest[i]);
+  double counted = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    if (lowest[i] == communicator_->rank()) counted += links_->start[i + 1] - links_->start[i];
+  const double mine[3] = {static_cast<double>(links_->size()), counted, static_cast<double>(links_->bytes())};
+  const auto ranks = static_cast<std::size_t>(communicator_->size());
+  std::vector<int> counts(ranks, 3);
+  std::vector<double> all(3 * ranks);
+  communicator_->allGather<double>(mine, counts, all);
+  linksOverRanks_ = {};
+  for (std::size_t r = 0; r < ranks; ++r) {
+    linksOverRanks_.mostHeld = std::max(linksOverRanks_.mostHeld, all[3 * r]);
+    linksOverRanks_.total += all[3 * r + 1];
+    linksOverRanks_.mostBytes = std::max(linksOverRanks_.mostBytes, all[3 * r + 2]);
+  }
+}
+
 LinkShare HierarchicalMeshing::linkShare() const {
   // This rank's nodes: its own subtrees, and the shared nodes over them.
   const int me = communicator_->rank();
@@ -372,6 +396,7 @@ Result<bool> HierarchicalMeshing::refine(const std::vector<Light>& lights, std::
   if (communicator_) {
     nodeRank_.resize(hierarchy_.nodes().size());
     for (std::size_t i = nodesBefore; i < nodeRank_.size(); ++i) nodeRank_[i] = nodeRank_[hierarchy_.node(static_cast<std::uint32_t>(i)).parent];
+    countLinksOverRanks();
   }
   if (pass.memoryNeeded > 0)
     return Error{memoryExceeded("the hierarchical refinement, unfinished at " + std::to_string(hierarchy_.nodes().size()) + " nodes,",
@@ -883,7 +908,14 @@ void HierarchicalMeshing::addStats(Stats& stats) const {
   }
   stats.add("min_element_area", "minimum element area", minimumElementArea(hierarchy_, options_.links), "scene units²");
   stats.add("refine_passes", "refinement passes", count(passesDone_));
-  stats.add("links", "links", count(links_->size()));
+  if (communicator_) {
+    stats.add("links", "links (every rank's, each once)", count(linksOverRanks_.total));
+    stats.add("rank_links", "links this rank (0) holds", count(links_->size()));
+    stats.add("rank_links_most", "links the rank holding most holds", count(linksOverRanks_.mostHeld));
+    stats.add("rank_link_bytes_most", "link memory of the rank holding most", linksOverRanks_.mostBytes / (1024.0 * 1024.0), "MiB");
+  } else {
+    stats.add("links", "links", count(links_->size()));
+  }
   stats.add("cluster_links", "links with a cluster end", count(refinement_.clusterLinks));
   stats.add("largest_row_sum", "largest Σ K over a leaf's links and its ancestors'", transport_->largestRowSum());
   stats.add("rows_scaled", "leaves whose Σ K was scaled down (the bound)", count(transport_->rowsScaled()));
@@ -895,7 +927,7 @@ void HierarchicalMeshing::addStats(Stats& stats) const {
   stats.add("light_edge_rays", "light-edge shadow rays (lights that could split an element)", count(lightEdgeRays_));
   const double linkBytes = static_cast<double>(links_->bytes());
   const double nodeBytes = static_cast<double>(hierarchy_.bytes());
-  stats.add("link_bytes", "link memory", linkBytes / (1024.0 * 1024.0), "MiB");
+  stats.add("link_bytes", communicator_ ? "link memory (this rank, 0)" : "link memory", linkBytes / (1024.0 * 1024.0), "MiB");
   stats.add("bytes_per_link", "bytes per link", links_->size() ? linkBytes / static_cast<double>(links_->size()) : 0.0, "B");
   stats.add("node_bytes", "hierarchy memory", nodeBytes / (1024.0 * 1024.0), "MiB");
   stats.add("bytes_per_element", "bytes per node", nodeBytes / static_cast<double>(hierarchy_.nodes().size()), "B");

@@ -77,6 +77,14 @@ class HierarchicalMeshing final : public Meshing {
   // count, into nodeRank_; and this rank's nodes for the refinement (formfactor/links.h).
   void assignRanks();
   LinkShare linkShare() const;
+  // After each refinement of a distributed solve, every rank alike: the links over all ranks.
+  void countLinksOverRanks();
+  struct LinksOverRanks {
+    double total = 0;      // each link once (those of a shared node are held by every rank under it)
+    double mostHeld = 0;   // by one rank
+    double mostBytes = 0;  // one rank's link memory, the largest
+  };
+  LinksOverRanks linksOverRanks_;
   // The vertices' final gather spread over the ranks: the gathered
   // irradiance at every vertex and the close sources' corner weights, as `whole` (the gather over
   // every vertex, whose sites and leaves it reuses) would give them in one process.
