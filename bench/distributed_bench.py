@@ -77,8 +77,7 @@ def main():
                     wall, stats, peak = run_once(args, scene, ranks, folder)
                     walls.append(wall)
                     memory.append(peak)
-                calls = figure(stats, 'communication_calls')
-                sweeps = (calls - 3) // 2  # an Allgatherv and a max per sweep; three agreements
+                sweeps = figure(stats, 'iterations')  # every pass's sweeps
                 solve = figure(stats, 'solve_seconds')
                 communication = figure(stats, 'communication_seconds')
                 sweep_communication = figure(stats, 'sweep_communication_seconds')
@@ -89,6 +88,8 @@ def main():
                     'faces': figure(stats, 'faces'),
                     'leaves': figure(stats, 'patches'),
                     'links': figure(stats, 'links'),
+                    'links_most_held_by_a_rank': figure(stats, 'rank_links_most') if ranks > 1 else figure(stats, 'links'),
+                    'link_mib_most_held_by_a_rank': figure(stats, 'rank_link_bytes_most') if ranks > 1 else figure(stats, 'link_bytes'),
                     'rank0_leaves': figure(stats, 'rank_leaves'),
                     'sweeps': sweeps,
                     'bytes_per_sweep_per_rank': figure(stats, 'exchange_bytes_per_sweep'),
@@ -107,7 +108,7 @@ def main():
                       f'{row["peak_rss_mib_largest_rank"]:.0f} MiB', file=sys.stderr)
             result['buildings'].append(building)
 
-            # The share of the refinement that the ranks divide (its estimates): one thread per rank, 1 and
+            # The share of the refinement that the ranks divide: one thread per rank, 1 and
             # 2 ranks, as two one-core machines would run it.
             if rooms == int(args.rooms.split(',')[-1]):
                 single = statistics.median(figure(run_once(args, scene, 1, folder, threads=1)[1], 'link_seconds') for _ in range(args.runs))
@@ -128,7 +129,7 @@ def main():
     model = {
         'assumptions': [
             f'costs scale linearly in faces from the {one["faces"]}-face building (refinement is closer to n log n: optimistic)',
-            f'the refinement\'s estimates ({spread:.0%} of its time, measured with one thread per rank) divide over N ranks, '
+            f'the share of the refinement that divides over N ranks ({spread:.0%}: from its time with one thread per rank on 1 and 2 ranks, each rank refining the links into its own subtrees; load imbalance left out) divides, '
             'the rest of it runs whole on every rank; the final gather at the vertices divides over N ranks (its exchange, '
             'a few records per vertex, is left out)',
             'a sweep\'s work divides evenly over N ranks; its exchange is one ring Allgatherv of every leaf\'s B (24 bytes), '
