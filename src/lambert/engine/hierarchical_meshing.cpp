@@ -897,8 +897,10 @@ void HierarchicalMeshing::addStats(Stats& stats) const {
     const CommunicationStats& sent = communicator_->stats();
     stats.add("ranks", "ranks (a distributed solve)", static_cast<std::int64_t>(communicator_->size()));
     stats.add("rank_leaves", "leaves this rank (0) sweeps", static_cast<std::int64_t>(transport_->ownLeaves().size()));
-    stats.add("exchange_bytes_per_sweep", "bytes a sweep hands each rank (the others' leaves' B)",
-              static_cast<std::int64_t>(3 * sizeof(double) * (transport_->size() - transport_->ownLeaves().size())));
+    stats.add("exchange_bytes_per_sweep", "bytes a sweep hands this rank (0): the power of the others' nodes its links read",
+              static_cast<std::int64_t>(sizeof(Rgb) * transport_->receivedPerSweep()));
+    stats.add("exchange_bytes_per_sweep_all_leaves", "bytes a sweep would hand it with every leaf's B",
+              static_cast<std::int64_t>(sizeof(Rgb) * (transport_->size() - transport_->ownLeaves().size())));
     stats.add("communication_bytes_received", "bytes this rank received in all", static_cast<std::int64_t>(sent.bytesReceived));
     stats.add("communication_bytes_sent", "bytes this rank sent in all", static_cast<std::int64_t>(sent.bytesSent));
     stats.add("communication_calls", "collective calls", static_cast<std::int64_t>(sent.calls));

@@ -176,6 +176,10 @@ Status checkSolveBudget(SolverKind kind, const SolveBudget& budget) {
 
 Result<SolveCallReport> Radiosity::solve(const SolveBudget& budget) {
   if (Status ok = checkSolveBudget(options_.solver, budget); !ok) return ok.error();
+  // Each rank's clock would stop it at a sweep of its own, and the others would wait for it.
+  if (options_.communicator && budget.maxMilliseconds > 0)
+    return Error{"a distributed solve stops when it converges or after a number of sweeps, not after a time: "
+                 "every rank must sweep alike"};
   SolveCallReport report;
   // Adaptive meshing refines every solve; the hierarchy refines in the first one only, then
   // later solves (lights moved) re-solve over the same links.

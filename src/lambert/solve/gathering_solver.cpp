@@ -30,6 +30,7 @@ SolveReport GatheringSolver::solve(const RadiosityProblem& problem, std::vector<
     }
     if (options_.maxSeconds > 0 && timer.seconds() >= options_.maxSeconds) break;
   }
+  transport.completeSweeps(radiosity);
   report.residual = options_.measureResidual ? relativeResidual(problem, radiosity) : std::nan("");
   report.seconds = timer.seconds();
   return report;

@@ -34,6 +34,9 @@ class HierarchicalTransport final : public Transport {
   // ancestor's mean as of the sweep's start.
   SweepChange sweep(const std::vector<Rgb>& emitted, const std::vector<Rgb>& albedo, std::vector<Rgb>& radiosity,
                     bool inPlace) const override;
+  void completeSweeps(std::vector<Rgb>& radiosity) const override;
+  // Distributed: the records a sweep's exchange hands this rank (the others' nodes' power, 24 B each).
+  std::size_t receivedPerSweep() const { return receivedNodes_.size() - sentNodes_.size(); }
 
   const Links& links() const { return *links_; }
 
@@ -74,6 +77,10 @@ class HierarchicalTransport final : public Transport {
   // Distributed: what this rank's leaves gather (in ownLeaves() order), and every rank's such
   // values in leavesByRank_ order, from one collective.
   std::vector<Rgb> gatherOwn(const std::vector<Rgb>& radiosity) const;
+  // Distributed: the node means this rank's links read, from its own leaves' radiosity (the
+  // others' may be stale) and one collective: what crosses the cut (planExchange).
+  std::vector<Rgb> exchangeMeans(const std::vector<Rgb>& radiosity) const;
+  void planExchange(std::span<const int> leafRank);
   std::vector<Rgb> exchangeOwn(const std::vector<Rgb>& mine) const;
 
   std::vector<std::uint32_t> parent_;
@@ -114,6 +121,14 @@ class HierarchicalTransport final : public Transport {
   std::vector<std::size_t> firstLeaf_;
   std::vector<int> leavesPerRank_;
   std::vector<std::uint32_t> ownPath_;
+  // The exchange of what crosses the cut: each node's rank (kShared: several ranks' leaves lie
+  // under it); this rank's nodes (increasing); the shared nodes and every rank's subtrees' tops
+  // (increasing); the nodes whose power this rank sends each sweep (its tops, and its nodes other
+  // ranks' links read), and every rank's such nodes in rank order with how many each sends.
+  static constexpr int kShared = -1, kUnset = -2;
+  std::vector<int> nodeOwner_;
+  std::vector<std::uint32_t> ownNodes_, combined_, sentNodes_, receivedNodes_;
+  std::vector<int> sentPerRank_;
   mutable double sweepCommunicationSeconds_ = 0;
   std::shared_ptr<const Links> links_;
 };

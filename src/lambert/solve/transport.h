@@ -35,6 +35,9 @@ class Transport {
   // soon as it exists (Gauss–Seidel), or from the previous iterate (Jacobi, in parallel).
   virtual SweepChange sweep(const std::vector<Rgb>& emitted, const std::vector<Rgb>& albedo,
                             std::vector<Rgb>& radiosity, bool inPlace) const = 0;
+  // After the last sweep: a transport whose sweeps are spread over ranks (solve/hierarchical.h),
+  // each rank updating its own elements, hands every rank the whole result. Nothing otherwise.
+  virtual void completeSweeps(std::vector<Rgb>& /*radiosity*/) const {}
 
   // The dense matrix when there is one (the direct and shooting solvers need it), else null.
   virtual const FormFactorMatrix* matrix() const { return nullptr; }
