@@ -14,6 +14,7 @@ Usage: bench/distributed_bench.py --lambert build/bin/lambert [--mpirun mpirun] 
 import argparse
 import datetime
 import json
+import math
 import os
 import platform
 import statistics
@@ -93,6 +94,7 @@ def main():
                     'rank0_leaves': figure(stats, 'rank_leaves'),
                     'sweeps': sweeps,
                     'bytes_per_sweep_per_rank': figure(stats, 'exchange_bytes_per_sweep'),
+                    'bytes_per_sweep_per_rank_every_leaf': figure(stats, 'exchange_bytes_per_sweep_all_leaves'),
                     'communication_seconds': communication,
                     'solve_seconds': solve,
                     'link_seconds': figure(stats, 'link_seconds'),
@@ -124,6 +126,16 @@ def main():
     scale = faces / one['faces']
     leaves = one['leaves'] * scale
     sweep_seconds = one['solve_seconds'] / max(one['sweeps'], 1) * scale  # a sweep's work grows with leaves and links
+    # What crosses the cut, as a share of every other rank's leaves: fitted as a (N - 1)^b through the
+    # largest building's 2- and 4-rank runs (rank 0's figures), at most 1.
+    cut = {r['ranks']: r['bytes_per_sweep_per_rank'] / r['bytes_per_sweep_per_rank_every_leaf']
+           for r in result['buildings'][-1]['runs'] if r['ranks'] > 1 and r['bytes_per_sweep_per_rank_every_leaf']}
+    if 2 in cut and 4 in cut and cut[2] > 0 and cut[4] > 0:
+        b = math.log(cut[4] / cut[2]) / math.log(3)
+        a = cut[2]
+    else:
+        a, b = 1.0, 0.0
+    cut_share = lambda n: min(1.0, a * (n - 1) ** b)
     bandwidth = 10e9 / 8  # bytes per second
     latency = 50e-6  # per collective step
     model = {
@@ -132,25 +144,29 @@ def main():
             f'the share of the refinement that divides over N ranks ({spread:.0%}: from its time with one thread per rank on 1 and 2 ranks, each rank refining the links into its own subtrees; load imbalance left out) divides, '
             'the rest of it runs whole on every rank; the final gather at the vertices divides over N ranks (its exchange, '
             'a few records per vertex, is left out)',
-            'a sweep\'s work divides evenly over N ranks; its exchange is one ring Allgatherv of every leaf\'s B (24 bytes), '
-            '(N-1)/N of it received by each rank, at 10 Gb/s, plus 50 µs per ring step; the sweep count does not change with N',
+            'a sweep\'s work divides evenly over N ranks; its exchange is one ring Allgatherv of what crosses the cut: of the '
+            f'24 bytes per leaf of the (N-1)/N of the leaves on other ranks, the share {a:.4f} (N-1)^{b:.2f} (at most 1) fitted '
+            'through the 2- and 4-rank runs, at 10 Gb/s, plus 50 µs per ring step, and once after the sweeps every leaf\'s B; '
+            'the sweep count does not change with N',
             f'{one["sweeps"]} sweeps in all as measured; one machine runs one rank with all its cores',
         ],
         'leaves': leaves,
-        'bytes_per_sweep_per_rank': 24 * leaves,
+        'cut_share_fit': {'a': a, 'b': b},
         'refinement_seconds': one['link_seconds'] * scale,
         'gather_seconds': (one['gather_seconds'] or 0) * scale,
         'machines': [],
     }
     for n in (1, 2, 4, 8, 16, 32):
-        exchange = 0 if n == 1 else 24 * leaves * (n - 1) / n / bandwidth + latency * (n - 1)
-        sweeps = one['sweeps'] * (sweep_seconds / n + exchange)
+        exchange = 0 if n == 1 else 24 * leaves * (n - 1) / n * cut_share(n) / bandwidth + latency * (n - 1)
+        final = 0 if n == 1 else 24 * leaves * (n - 1) / n / bandwidth + latency * (n - 1)
+        sweeps = one['sweeps'] * (sweep_seconds / n + exchange) + final
         refinement = model['refinement_seconds'] * (1 - spread + spread / n)
         model['machines'].append({
             'n': n,
+            'bytes_per_sweep_per_rank': 0 if n == 1 else 24 * leaves * (n - 1) / n * cut_share(n),
             'refinement_seconds': refinement,
             'sweeps_seconds': sweeps,
-            'communication_share_of_sweeps': (one['sweeps'] * exchange / sweeps) if sweeps else 0,
+            'communication_share_of_sweeps': ((one['sweeps'] * exchange + final) / sweeps) if sweeps else 0,
             'gather_seconds': model['gather_seconds'] / n,
             'total_seconds': refinement + model['gather_seconds'] / n + sweeps,
         })
