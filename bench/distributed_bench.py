@@ -3,7 +3,8 @@
 ranks on this machine (docs/distributed.md), as JSON on stdout.
 
 Per run: wall time from mpirun's start to the written vertices (median of --runs), rank 0's figures
-(leaves it sweeps, bytes a sweep hands each rank, sweeps, time in collective calls and its share of
+(leaves it sweeps, links it holds and the most any rank holds, bytes a sweep hands it (what crosses the cut,
+and what every leaf would take), sweeps, time in collective calls and its share of
 the solve), and the largest resident memory of any rank. From the 1-rank run of the largest
 building, a model of the time on N machines over a 10 Gb/s network for the 10⁷-face building,
 with its assumptions stated in the output.
