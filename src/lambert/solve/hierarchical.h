@@ -43,14 +43,16 @@ class HierarchicalTransport final : public Transport {
   // Spreads the Jacobi sweep over the communicator's ranks (docs/distributed.md): rank
   // leafRank[l] sweeps leaf l, and holds the links into it and its ancestors (a distributed
   // refinement's share, formfactor/links.h: the links here are this rank's alone). A sweep then
-  // gathers, on each rank, the nodes on the paths to its own leaves only, updates those leaves,
-  // and hands their new radiosity to every other rank in one collective (the others read them
-  // through their links' sources); the sweep's change is the largest over the ranks. Every rank
-  // ends a sweep with the same radiosity, to the bit the one a single process's Jacobi sweep
-  // gives over the union of the ranks' links. gather() is then collective too. The in-place
-  // (Gauss–Seidel) sweep cannot be spread so: sweep() refuses it once distributed. Every rank
-  // must call this, and then every sweep and gather, alike. The row-sum figures below become
-  // this rank's leaves'.
+  // gathers, on each rank, the nodes on the paths to its own leaves only and updates those leaves,
+  // reading the means of its own nodes, of the shared nodes above the ranks' subtrees and of the
+  // others' nodes its links read; one collective per sweep hands every rank the power of each
+  // rank's subtree tops and of its nodes that others read (what crosses the cut, planned here
+  // with one more collective). The sweep's change is the largest over the ranks. Each leaf ends a
+  // sweep, on its rank, with the radiosity a single process's Jacobi sweep over the union of the
+  // ranks' links gives, to the bit; the others' leaves are stale until completeSweeps() hands
+  // every rank the whole. gather() is then collective too. The in-place (Gauss–Seidel) sweep
+  // cannot be spread so: sweep() refuses it once distributed. Every rank must call this, and
+  // then every sweep and gather, alike. The row-sum figures below become this rank's leaves'.
   void distribute(std::shared_ptr<Communicator> communicator, std::span<const int> leafRank);
   // This rank's leaves, and the values a sweep sends from each rank (empty before distribute()).
   std::span<const std::uint32_t> ownLeaves() const;
