@@ -67,6 +67,15 @@ grep -q "rank 1: " "$scratch/bad.err" || fail "a rank that cannot load: no 'rank
 [ ! -e "$scratch/bad.csv" ] || fail "a rank that cannot load: output written"
 echo "distributed: a rank that cannot load stops the job (exit $status): $(grep 'lambert solve:' "$scratch/bad.err")"
 
+# Rank 0 failing to write while the others wait to serve its gathers: it lets them go, and the
+# job stops with its one message and a non-zero exit (a hang would meet the timeout).
+touch "$scratch/a-file"
+timeout 120 "${run[@]}" -np 2 "$lambert" solve --distributed --scene cornell -q --export-vertices "$scratch/a-file/v.csv" 2> "$scratch/write.err"
+status=$?
+[ $status -ne 0 ] && [ $status -ne 124 ] || fail "rank 0 failing to write: exit $status"
+[ "$(grep -c 'lambert solve:' "$scratch/write.err")" = 1 ] || fail "rank 0 failing to write: not one message: $(cat "$scratch/write.err")"
+echo "distributed: rank 0 failing to write stops the job (exit $status): $(grep 'lambert solve:' "$scratch/write.err")"
+
 # A rank killed a second into the job (one process takes 5 s over it), and Ctrl-C (SIGINT to
 # mpirun, which forwards it): the job stops, exits non-zero, writes nothing.
 "$lambert" generate building --rooms 64 -o "$scratch/big/big.json" > /dev/null || fail "generate"
