@@ -67,6 +67,17 @@ grep -q "rank 1: " "$scratch/bad.err" || fail "a rank that cannot load: no 'rank
 [ ! -e "$scratch/bad.csv" ] || fail "a rank that cannot load: output written"
 echo "distributed: a rank that cannot load stops the job (exit $status): $(grep 'lambert solve:' "$scratch/bad.err")"
 
+# Out of memory: a refinement that would not fit the ranks' --memory-limit stops on every rank
+# at the same wave (they agree on it), with one message, exit 2, no output.
+"${run[@]}" -np 2 "$lambert" solve --distributed --scene "$scratch/building/building.json" -q --memory-limit 64K \
+  --export-vertices "$scratch/oom.csv" 2> "$scratch/oom.err"
+status=$?
+[ $status -eq 2 ] || fail "out of memory: exit $status: $(cat "$scratch/oom.err")"
+[ "$(grep -c 'lambert solve:' "$scratch/oom.err")" = 1 ] && grep -q -- '--memory-limit' "$scratch/oom.err" ||
+  fail "out of memory: not one message naming --memory-limit: $(cat "$scratch/oom.err")"
+[ ! -e "$scratch/oom.csv" ] || fail "out of memory: output written"
+echo "distributed: a refinement over --memory-limit stops the job (exit 2), no output"
+
 # Rank 0 failing to write while the others wait to serve its gathers: it lets them go, and the
 # job stops with its one message and a non-zero exit (a hang would meet the timeout).
 touch "$scratch/a-file"
