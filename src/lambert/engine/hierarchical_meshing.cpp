@@ -77,9 +77,7 @@ std::shared_ptr<HierarchicalTransport> HierarchicalMeshing::makeTransport() cons
   auto transport = std::make_shared<HierarchicalTransport>(hierarchy_, links_, openFractions(leaves_.mesh), patchAlbedo(scene_, leaves_.mesh));
   // Before the first refinement there are no links to share: every rank sweeps alike.
   if (communicator_ && !nodeRank_.empty()) {
-    std::vector<int> leafRank(hierarchy_.leafNodes().size());
-    for (std::size_t l = 0; l < leafRank.size(); ++l) leafRank[l] = nodeRank_[hierarchy_.leafNodes()[l]];
-    transport->distribute(communicator_, leafRank);
+    transport->distribute(communicator_, nodeRank_);
   }
   return transport;
 }
@@ -99,7 +97,7 @@ void HierarchicalMeshing::assignRanks() {
   }
   const double totalArea = hierarchy_.totalArea(), count = static_cast<double>(order.size());
   const auto cost = [&](std::uint32_t node) { return 0.5 * hierarchy_.node(node).area / totalArea + 0.5 / count; };
-  nodeRank_.assign(hierarchy_.nodes().size(), kSharedNode);
+  nodeRank_.assign(hierarchy_.nodes().size(), HierarchicalTransport::kSharedNode);
   // Rank r takes the leaves whose cumulative cost starts in [r/R, (r+1)/R) of the whole.
   double before = 0;
   for (std::uint32_t node : order) {
@@ -112,7 +110,7 @@ void HierarchicalMeshing::assignRanks() {
     if (hierarchy_.node(static_cast<std::uint32_t>(i)).isLeaf()) below[i] = nodeRank_[i];
     else nodeRank_[i] = below[i];
     const std::uint32_t parent = hierarchy_.node(static_cast<std::uint32_t>(i)).parent;
-    if (parent != kNoNode) below[parent] = below[parent] == -2 || below[parent] == below[i] ? below[i] : kSharedNode;
+    if (parent != kNoNode) below[parent] = below[parent] == -2 || below[parent] == below[i] ? below[i] : HierarchicalTransport::kSharedNode;
   }
 }
 
@@ -120,9 +118,9 @@ void HierarchicalMeshing::countLinksOverRanks() {
   // A shared node's links are held by every rank under it: the lowest counts them.
   const std::size_t n = hierarchy_.nodes().size();
   std::vector<int> lowest(n);
-  for (std::size_t i = 0; i < n; ++i) lowest[i] = nodeRank_[i] == kSharedNode ? communicator_->size() : nodeRank_[i];
+  for (std::size_t i = 0; i < n; ++i) lowest[i] = nodeRank_[i] == HierarchicalTransport::kSharedNode ? communicator_->size() : nodeRank_[i];
   for (std::size_t i = n; i-- > 1;)
-    if (const std::uint32_t parent = hierarchy_.node(static_cast<std::uint32_t>(i)).parent; parent != kNoNode && nodeRank_[parent] == kSharedNode)
+    if (const std::uint32_t parent = hierarchy_.node(static_cast<std::uint32_t>(i)).parent; parent != kNoNode && nodeRank_[parent] == HierarchicalTransport::kSharedNode)
       lowest[parent] = std::min(lowest[parent], lowest[i]);
   double counted = 0;
   for (std::size_t i = 0; i < n; ++i)
@@ -479,76 +477,82 @@ void HierarchicalMeshing::serveRanks(const ElementSolution& solution) {
   }
 }
 
+HierarchicalMeshing::SitesByRank HierarchicalMeshing::sitesByRank(const std::vector<std::uint32_t>& leaf) const {
+  SitesByRank split{std::vector<std::vector<std::uint32_t>>(static_cast<std::size_t>(communicator_->size())),
+                    std::vector<std::uint32_t>(leaf.size(), kNoNode)};
+  for (std::uint32_t i = 0; i < leaf.size(); ++i) {
+    if (leaf[i] == kNoNode) continue;
+    const int owner = transport_->rankOfLeaf(leaf[i]);
+    split.sites[static_cast<std::size_t>(owner)].push_back(i);
+    if (owner == communicator_->rank()) split.mine[i] = leaf[i];
+  }
+  return split;
+}
+
+template <class T>
+std::vector<T> HierarchicalMeshing::inSiteOrder(const SitesByRank& split, const std::vector<T>& ofMine) const {
+  std::vector<T> sent;
+  for (std::uint32_t i : split.sites[static_cast<std::size_t>(communicator_->rank())]) sent.push_back(ofMine[i]);
+  std::vector<int> counts;
+  std::size_t total = 0;
+  for (const std::vector<std::uint32_t>& sites : split.sites) {
+    counts.push_back(static_cast<int>(sites.size()));
+    total += sites.size();
+  }
+  std::vector<T> all(total), out(ofMine.size());
+  communicator_->allGather<T>(sent, counts, all);
+  std::size_t k = 0;
+  for (const std::vector<std::uint32_t>& sites : split.sites)
+    for (std::uint32_t i : sites) out[i] = all[k++];
+  return out;
+}
+
 std::vector<Rgb> HierarchicalMeshing::gatherAcrossRanks(const FinalGather& whole, const std::vector<Rgb>& mean, FinalGatherCounts& counts,
                                                         NearFieldWeights& near) const {
-  const std::vector<VertexSite>& sites = whole.sites();
   const std::vector<std::uint32_t>& leaf = whole.gatheringLeaf();
-  const std::vector<int> rankOfLeaf = transport_->rankOfLeaf();
-  const auto ranks = static_cast<std::size_t>(communicator_->size());
-  const int me = communicator_->rank();
-  // Each vertex goes to the rank of its gathering leaf; the others' are left out here (kNoNode).
-  std::vector<std::vector<std::uint32_t>> vertices(ranks);
-  std::vector<std::uint32_t> mine(leaf.size(), kNoNode);
-  for (std::uint32_t v = 0; v < leaf.size(); ++v) {
-    if (leaf[v] == kNoNode) continue;
-    const int owner = rankOfLeaf[leaf[v]];
-    vertices[static_cast<std::size_t>(owner)].push_back(v);
-    if (owner == me) mine[v] = leaf[v];
-  }
+  SitesByRank split = sitesByRank(leaf);
   // The same sites, so that every vertex draws its rays as in one process.
-  const FinalGather gather(hierarchy_, leaves_, *links_, *caster_, epsilon_, sites, std::move(mine), options_.links.visibilityRays,
-                           options_.links.seed, false);
+  const FinalGather gather(hierarchy_, leaves_, *links_, *caster_, epsilon_, whole.sites(), std::move(split.mine),
+                           options_.links.visibilityRays, options_.links.seed, false);
   NearFieldWeights own;
   const std::vector<Rgb> gathered = gather.irradiance(mean, &counts, nullptr, nullptr, &own);
   struct VertexRecord {
     Rgb gathered, meanPart;
-    std::uint32_t entries;
+    std::uint32_t entries = 0;
   };
   struct EntryRecord {
     std::uint32_t corner;
     float weight;
   };
-  const std::vector<std::uint32_t>& mineList = vertices[static_cast<std::size_t>(me)];
-  std::vector<VertexRecord> sent;
+  std::vector<VertexRecord> mine(leaf.size());
   std::vector<EntryRecord> sentEntries;
-  for (std::uint32_t v : mineList) {
-    sent.push_back({gathered[v], own.meanPart[v], own.start[v + 1] - own.start[v]});
+  for (std::uint32_t v : split.sites[static_cast<std::size_t>(communicator_->rank())]) {
+    mine[v] = {gathered[v], own.meanPart[v], own.start[v + 1] - own.start[v]};
     for (std::uint32_t k = own.start[v]; k < own.start[v + 1]; ++k) sentEntries.push_back({own.corner[k], own.weight[k]});
   }
-  std::vector<int> vertexCounts(ranks), entryCounts(ranks, 1), entryTotals(ranks);
-  for (std::size_t r = 0; r < ranks; ++r) vertexCounts[r] = static_cast<int>(vertices[r].size());
-  const int myEntries = static_cast<int>(sentEntries.size());
-  communicator_->allGather<int>(std::span<const int>(&myEntries, 1), entryCounts, entryTotals);
-  std::vector<VertexRecord> all(leaf.size() - static_cast<std::size_t>(std::count(leaf.begin(), leaf.end(), kNoNode)));
-  communicator_->allGather<VertexRecord>(sent, vertexCounts, all);
-  std::size_t totalEntries = 0;
-  for (int n : entryTotals) totalEntries += static_cast<std::size_t>(n);
-  std::vector<EntryRecord> allEntries(totalEntries);
-  communicator_->allGather<EntryRecord>(sentEntries, entryTotals, allEntries);
-  // Back in vertex order: the results, and the weights as compressed rows.
+  const std::vector<VertexRecord> record = inSiteOrder(split, mine);
+  const std::vector<EntryRecord> entries = communicator_->allGatherVariable<EntryRecord>(sentEntries);
+  // The weights as compressed rows in vertex order; the entries arrived in rank order.
+  std::vector<std::size_t> entryOf(leaf.size(), 0);
+  std::size_t entry = 0;
+  for (const std::vector<std::uint32_t>& sites : split.sites)
+    for (std::uint32_t v : sites) {
+      entryOf[v] = entry;
+      entry += record[v].entries;
+    }
   std::vector<Rgb> out(leaf.size());
   near = {};
   near.meanPart.assign(leaf.size(), Rgb{});
   near.start.assign(leaf.size() + 1, 0);
-  std::vector<const VertexRecord*> recordOf(leaf.size(), nullptr);
-  std::vector<std::size_t> entryOf(leaf.size(), 0);
-  std::size_t record = 0, entry = 0;
-  for (std::size_t r = 0; r < ranks; ++r)
-    for (std::uint32_t v : vertices[r]) {
-      recordOf[v] = &all[record++];
-      entryOf[v] = entry;
-      entry += recordOf[v]->entries;
-    }
-  for (std::size_t v = 0; v < leaf.size(); ++v) near.start[v + 1] = near.start[v] + (recordOf[v] ? recordOf[v]->entries : 0);
+  for (std::size_t v = 0; v < leaf.size(); ++v) near.start[v + 1] = near.start[v] + record[v].entries;
   near.corner.resize(near.start.back());
   near.weight.resize(near.start.back());
   for (std::size_t v = 0; v < leaf.size(); ++v) {
-    if (!recordOf[v]) continue;
-    out[v] = recordOf[v]->gathered;
-    near.meanPart[v] = recordOf[v]->meanPart;
-    for (std::uint32_t k = 0; k < recordOf[v]->entries; ++k) {
-      near.corner[near.start[v] + k] = allEntries[entryOf[v] + k].corner;
-      near.weight[near.start[v] + k] = allEntries[entryOf[v] + k].weight;
+    out[v] = record[v].gathered;
+    near.meanPart[v] = record[v].meanPart;
+    for (std::uint32_t k = 0; k < record[v].entries; ++k) {
+      near.corner[near.start[v] + k] = entries[entryOf[v] + k].corner;
+      near.weight[near.start[v] + k] = entries[entryOf[v] + k].weight;
     }
   }
   return out;
@@ -797,37 +801,17 @@ Status HierarchicalMeshing::spreadOverRanks(PointGatherPart part) const {
 
 void HierarchicalMeshing::gatherAtAcrossRanks(const ElementSolution& solution, bool atPoints, PointGather& out) const {
   const Answering answering(*this);
-  const std::vector<int> rankOfLeaf = transport_->rankOfLeaf();
-  const auto ranks = static_cast<std::size_t>(communicator_->size());
-  const auto me = static_cast<std::size_t>(communicator_->rank());
-  // Each site goes to the rank of its leaf, which gathers it through its own links.
-  std::vector<std::vector<std::uint32_t>> sitesOf(ranks);
-  std::vector<std::uint32_t> mine(out.leaf.size(), kNoNode);
-  for (std::uint32_t i = 0; i < out.leaf.size(); ++i) {
-    if (out.leaf[i] == kNoNode) continue;
-    const auto owner = static_cast<std::size_t>(rankOfLeaf[out.leaf[i]]);
-    sitesOf[owner].push_back(i);
-    if (owner == me) mine[i] = out.leaf[i];
-  }
-  const FinalGather gather(hierarchy_, leaves_, *links_, *caster_, epsilon_, out.sites, std::move(mine), options_.links.visibilityRays,
+  // Each site is gathered by the rank of its leaf, through its own links.
+  SitesByRank split = sitesByRank(out.leaf);
+  const FinalGather gather(hierarchy_, leaves_, *links_, *caster_, epsilon_, out.sites, std::move(split.mine), options_.links.visibilityRays,
                            options_.links.seed, atPoints);
   std::vector<Rgb> mean;
   transport_->pull(solution.radiosity, mean);
   NearFieldWeights near;
   const std::vector<Rgb> gathered = gather.irradiance(mean, nullptr, nullptr, nullptr, &near, nullptr);
   const VertexQuantity radiosity = VertexQuantity::Radiosity;
-  const std::vector<Rgb> light = FinalGather::withCorners(gathered, near, vertexSolution(solution, std::span<const VertexQuantity>(&radiosity, 1)).front());
-  std::vector<Rgb> sent;
-  for (std::uint32_t i : sitesOf[me]) sent.push_back(light[i]);
-  std::vector<int> counts(ranks);
-  std::size_t total = 0;
-  for (std::size_t r = 0; r < ranks; ++r) total += static_cast<std::size_t>(counts[r] = static_cast<int>(sitesOf[r].size()));
-  std::vector<Rgb> all(total);
-  communicator_->allGather<Rgb>(sent, counts, all);
-  out.fromSurfaces.assign(out.leaf.size(), Rgb{});
-  std::size_t k = 0;
-  for (std::size_t r = 0; r < ranks; ++r)
-    for (std::uint32_t i : sitesOf[r]) out.fromSurfaces[i] = all[k++];
+  out.fromSurfaces =
+      inSiteOrder(split, FinalGather::withCorners(gathered, near, vertexSolution(solution, std::span<const VertexQuantity>(&radiosity, 1)).front()));
 }
 
 void HierarchicalMeshing::gatherAt(const ElementSolution& solution, PointGatherPart part, bool atPoints, PointGather& out) const {

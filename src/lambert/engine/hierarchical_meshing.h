@@ -88,6 +88,16 @@ class HierarchicalMeshing final : public Meshing {
   // The vertices' final gather spread over the ranks: the gathered
   // irradiance at every vertex and the close sources' corner weights, as `whole` (the gather over
   // every vertex, whose sites and leaves it reuses) would give them in one process.
+  // A distributed gather's sites by the rank of their leaf: each rank's sites, and the leaves of
+  // this rank's (kNoNode for the others'), for a FinalGather over this rank's sites alone; and
+  // every rank's values of its own sites (ofMine: indexed by site), back in site order.
+  struct SitesByRank {
+    std::vector<std::vector<std::uint32_t>> sites;
+    std::vector<std::uint32_t> mine;
+  };
+  SitesByRank sitesByRank(const std::vector<std::uint32_t>& leaf) const;
+  template <class T>
+  std::vector<T> inSiteOrder(const SitesByRank& split, const std::vector<T>& ofMine) const;
   std::vector<Rgb> gatherAcrossRanks(const FinalGather& whole, const std::vector<Rgb>& mean, FinalGatherCounts& counts,
                                      NearFieldWeights& near) const;
   void saveLinks(const std::vector<Rgb>& warmStart);
@@ -98,10 +108,9 @@ class HierarchicalMeshing final : public Meshing {
   double memoryLimitBytes_ = 0;  // RadiosityOptions::memoryLimitBytes
   std::shared_ptr<Communicator> communicator_;  // RadiosityOptions::communicator: the sweeps spread over its ranks
   double sweepCommunicationSeconds_ = 0;         // the earlier passes' transports' exchanges
-  // Per node, the rank whose leaves lie under it, or kSharedNode where several ranks' do (empty
+  // Per node, the rank whose leaves lie under it, or HierarchicalTransport::kSharedNode where several ranks' do (empty
   // until the first refinement of a distributed solve). Each rank holds the links into its own
   // nodes and the shared ones over them.
-  static constexpr int kSharedNode = -1;
   std::vector<int> nodeRank_;
   // Rank 0 computing a distributed solve's outputs (leadRanks): each final gather it makes first
   // asks the other ranks (serveRanks) to join it, unless they are making it already (answering_:

@@ -103,8 +103,7 @@ void HierarchicalTransport::gather(const std::vector<Rgb>& radiosity, std::vecto
   LAMBERT_CHECK(radiosity.size() == size());
   irradiance.resize(size());
   if (communicator_) {
-    const std::vector<Rgb> all = exchangeOwn(gatherOwn(radiosity));
-    for (std::size_t k = 0; k < leavesByRank_.size(); ++k) irradiance[leavesByRank_[k]] = all[k];
+    irradiance = exchangeOwn(gatherOwn(radiosity));
     return;
   }
   const std::size_t n = parent_.size();
@@ -133,20 +132,22 @@ std::vector<Rgb> HierarchicalTransport::gatherOwn(const std::vector<Rgb>& radios
 
 std::vector<Rgb> HierarchicalTransport::exchangeOwn(const std::vector<Rgb>& mine) const {
   static_assert(sizeof(Rgb) == 3 * sizeof(double));
-  std::vector<int> counts(leavesPerRank_.begin(), leavesPerRank_.end());
-  std::vector<Rgb> all(leavesByRank_.size());
+  std::vector<Rgb> all(leavesByRank_.size()), byLeaf(leavesByRank_.size());
   const Timer exchange;
-  communicator_->allGather<Rgb>(mine, counts, all);
+  communicator_->allGather<Rgb>(mine, leavesPerRank_, all);
   sweepCommunicationSeconds_ += exchange.seconds();
-  return all;
+  for (std::size_t k = 0; k < leavesByRank_.size(); ++k) byLeaf[leavesByRank_[k]] = all[k];
+  return byLeaf;
 }
 
-void HierarchicalTransport::distribute(std::shared_ptr<Communicator> communicator, std::span<const int> leafRank) {
-  LAMBERT_CHECK(communicator && communicator->size() >= 1 && leafRank.size() == nodeOfLeaf_.size());
+void HierarchicalTransport::distribute(std::shared_ptr<Communicator> communicator, std::span<const int> nodeRank) {
+  LAMBERT_CHECK(communicator && communicator->size() >= 1 && nodeRank.size() == parent_.size());
   communicator_ = std::move(communicator);
   const std::size_t n = parent_.size(), ranks = static_cast<std::size_t>(communicator_->size());
+  nodeOwner_.assign(nodeRank.begin(), nodeRank.end());
   leavesPerRank_.assign(ranks, 0);
-  for (int r : leafRank) {
+  for (std::uint32_t l = 0; l < nodeOfLeaf_.size(); ++l) {
+    const int r = rankOfLeaf(l);
     LAMBERT_CHECK(r >= 0 && static_cast<std::size_t>(r) < ranks);
     ++leavesPerRank_[static_cast<std::size_t>(r)];
   }
@@ -154,7 +155,7 @@ void HierarchicalTransport::distribute(std::shared_ptr<Communicator> communicato
   for (std::size_t r = 0; r < ranks; ++r) firstLeaf_[r + 1] = firstLeaf_[r] + static_cast<std::size_t>(leavesPerRank_[r]);
   leavesByRank_.resize(nodeOfLeaf_.size());
   std::vector<std::size_t> next(firstLeaf_.begin(), firstLeaf_.end() - 1);
-  for (std::uint32_t l = 0; l < nodeOfLeaf_.size(); ++l) leavesByRank_[next[static_cast<std::size_t>(leafRank[l])]++] = l;
+  for (std::uint32_t l = 0; l < nodeOfLeaf_.size(); ++l) leavesByRank_[next[static_cast<std::size_t>(rankOfLeaf(l))]++] = l;
   // The nodes on the paths to this rank's leaves.
   std::vector<char> onPath(n, 0);
   for (std::uint32_t l : ownLeaves())
@@ -162,7 +163,7 @@ void HierarchicalTransport::distribute(std::shared_ptr<Communicator> communicato
   ownPath_.clear();
   for (std::size_t i = 0; i < n; ++i)
     if (onPath[i]) ownPath_.push_back(static_cast<std::uint32_t>(i));
-  planExchange(leafRank);
+  planExchange();
   // The row sums and their bound over this rank's leaves only: the others' links are not here.
   largestRowSum_ = 0;
   rowsScaled_ = 0;
@@ -172,26 +173,20 @@ void HierarchicalTransport::distribute(std::shared_ptr<Communicator> communicato
   }
 }
 
-void HierarchicalTransport::planExchange(std::span<const int> leafRank) {
+void HierarchicalTransport::planExchange() {
   const std::size_t n = parent_.size();
   const int me = communicator_->rank();
-  // Each node's rank: the one rank whose leaves lie under it, or kShared.
-  nodeOwner_.assign(n, kUnset);
-  for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l) nodeOwner_[nodeOfLeaf_[l]] = leafRank[l];
-  for (std::size_t i = n; i-- > 1;)
-    if (const std::uint32_t p = parent_[i]; p != kNoNode)
-      nodeOwner_[p] = nodeOwner_[p] == kUnset || nodeOwner_[p] == nodeOwner_[i] ? nodeOwner_[i] : kShared;
   ownNodes_.clear();
   combined_.clear();
   std::vector<std::uint32_t> asked;  // the others' nodes this rank's links read
   for (std::size_t i = 0; i < n; ++i) {
-    const bool top = nodeOwner_[i] != kShared && (parent_[i] == kNoNode || nodeOwner_[parent_[i]] == kShared);
+    const bool top = nodeOwner_[i] != kSharedNode && (parent_[i] == kNoNode || nodeOwner_[parent_[i]] == kSharedNode);
     if (nodeOwner_[i] == me) ownNodes_.push_back(static_cast<std::uint32_t>(i));
-    if (nodeOwner_[i] == kShared || top) combined_.push_back(static_cast<std::uint32_t>(i));
+    if (nodeOwner_[i] == kSharedNode || top) combined_.push_back(static_cast<std::uint32_t>(i));
   }
   for (std::uint32_t r : ownPath_)
     for (std::uint32_t k = links_->start[r]; k < links_->start[r + 1]; ++k)
-      if (const std::uint32_t s = links_->source[k]; nodeOwner_[s] != me && nodeOwner_[s] != kShared) asked.push_back(s);
+      if (const std::uint32_t s = links_->source[k]; nodeOwner_[s] != me && nodeOwner_[s] != kSharedNode) asked.push_back(s);
   std::sort(asked.begin(), asked.end());
   asked.erase(std::unique(asked.begin(), asked.end()), asked.end());
   // What this rank sends each sweep: the power of its subtrees' tops (the shared nodes above
@@ -235,13 +230,6 @@ std::vector<Rgb> HierarchicalTransport::exchangeMeans(const std::vector<Rgb>& ra
   return mean;
 }
 
-std::vector<int> HierarchicalTransport::rankOfLeaf() const {
-  std::vector<int> rank(nodeOfLeaf_.size(), 0);
-  for (std::size_t r = 0; r + 1 < firstLeaf_.size(); ++r)
-    for (std::size_t k = firstLeaf_[r]; k < firstLeaf_[r + 1]; ++k) rank[leavesByRank_[k]] = static_cast<int>(r);
-  return rank;
-}
-
 std::span<const std::uint32_t> HierarchicalTransport::ownLeaves() const {
   if (!communicator_) return {};
   const auto r = static_cast<std::size_t>(communicator_->rank());
@@ -253,8 +241,7 @@ void HierarchicalTransport::completeSweeps(std::vector<Rgb>& radiosity) const {
   const std::span<const std::uint32_t> own = ownLeaves();
   std::vector<Rgb> mine(own.size());
   for (std::size_t k = 0; k < own.size(); ++k) mine[k] = radiosity[own[k]];
-  const std::vector<Rgb> all = exchangeOwn(mine);
-  for (std::size_t k = 0; k < leavesByRank_.size(); ++k) radiosity[leavesByRank_[k]] = all[k];
+  radiosity = exchangeOwn(mine);
 }
 
 SweepChange HierarchicalTransport::sweep(const std::vector<Rgb>& emitted, const std::vector<Rgb>& albedo,

@@ -41,7 +41,8 @@ class HierarchicalTransport final : public Transport {
   const Links& links() const { return *links_; }
 
   // Spreads the Jacobi sweep over the communicator's ranks (docs/distributed.md): rank
-  // leafRank[l] sweeps leaf l, and holds the links into it and its ancestors (a distributed
+  // nodeRank[i] is the rank whose leaves alone lie under node i, or kSharedNode where several
+  // ranks' do. A rank sweeps its leaves, and holds the links into them and their ancestors (a distributed
   // refinement's share, formfactor/links.h: the links here are this rank's alone). A sweep then
   // gathers, on each rank, the nodes on the paths to its own leaves only and updates those leaves,
   // reading the means of its own nodes, of the shared nodes above the ranks' subtrees and of the
@@ -53,14 +54,15 @@ class HierarchicalTransport final : public Transport {
   // every rank the whole. gather() is then collective too. The in-place (Gauss–Seidel) sweep
   // cannot be spread so: sweep() refuses it once distributed. Every rank must call this, and
   // then every sweep and gather, alike. The row-sum figures below become this rank's leaves'.
-  void distribute(std::shared_ptr<Communicator> communicator, std::span<const int> leafRank);
+  static constexpr int kSharedNode = -1;
+  void distribute(std::shared_ptr<Communicator> communicator, std::span<const int> nodeRank);
   // This rank's leaves, and the values a sweep sends from each rank (empty before distribute()).
   std::span<const std::uint32_t> ownLeaves() const;
   const std::vector<int>& leavesPerRank() const { return leavesPerRank_; }
   // Seconds this rank's sweeps spent in their exchange (waiting for the other ranks included).
   double sweepCommunicationSeconds() const { return sweepCommunicationSeconds_; }
-  // The rank that sweeps each leaf (all 0 before distribute()).
-  std::vector<int> rankOfLeaf() const;
+  // The rank that sweeps a leaf (0 before distribute()).
+  int rankOfLeaf(std::uint32_t leaf) const { return communicator_ ? nodeOwner_[nodeOfLeaf_[leaf]] : 0; }
   // The bound on ρ·Σ K above which a leaf's Σ K is scaled to 1 (leafGain_ below): the flat
   // methods' rowContractionBound(ρ) (formfactor/table.h), 0.95 or (1 + ρ)/2 where that is higher.
   // The largest Σ K a leaf gathers over its own links and its ancestors' before the bound, and
@@ -76,13 +78,13 @@ class HierarchicalTransport final : public Transport {
 
  private:
   Rgb gatherNode(std::uint32_t node, const std::vector<Rgb>& mean) const;
-  // Distributed: what this rank's leaves gather (in ownLeaves() order), and every rank's such
-  // values in leavesByRank_ order, from one collective.
+  // Distributed: what this rank's leaves gather (in ownLeaves() order).
   std::vector<Rgb> gatherOwn(const std::vector<Rgb>& radiosity) const;
   // Distributed: the node means this rank's links read, from its own leaves' radiosity (the
   // others' may be stale) and one collective: what crosses the cut (planExchange).
   std::vector<Rgb> exchangeMeans(const std::vector<Rgb>& radiosity) const;
-  void planExchange(std::span<const int> leafRank);
+  void planExchange();
+  // Every rank's values of its own leaves (in ownLeaves() order), placed at their leaves.
   std::vector<Rgb> exchangeOwn(const std::vector<Rgb>& mine) const;
 
   std::vector<std::uint32_t> parent_;
@@ -123,11 +125,9 @@ class HierarchicalTransport final : public Transport {
   std::vector<std::size_t> firstLeaf_;
   std::vector<int> leavesPerRank_;
   std::vector<std::uint32_t> ownPath_;
-  // The exchange of what crosses the cut: each node's rank (kShared: several ranks' leaves lie
-  // under it); this rank's nodes (increasing); the shared nodes and every rank's subtrees' tops
+  // The exchange of what crosses the cut: each node's rank (distribute()'s nodeRank); this rank's nodes (increasing); the shared nodes and every rank's subtrees' tops
   // (increasing); the nodes whose power this rank sends each sweep (its tops, and its nodes other
   // ranks' links read), and every rank's such nodes in rank order with how many each sends.
-  static constexpr int kShared = -1, kUnset = -2;
   std::vector<int> nodeOwner_;
   std::vector<std::uint32_t> ownNodes_, combined_, sentNodes_, receivedNodes_;
   std::vector<int> sentPerRank_;
