@@ -68,7 +68,7 @@ bench: build
 SANITIZE_ENV = ASAN_OPTIONS=detect_leaks=1:check_initialization_order=1:strict_init_order=1 \
   UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 # -O1 -g1 (line tables, all a report's stack needs) compiles in half the time of -O2 -g
-# (engine/hierarchical_meshing.cpp: 23 s against 44 s), which keeps CI under its 45 minutes.
+# (hierarchical/method.cpp: 23 s against 44 s), which keeps CI under its 45 minutes.
 sanitize: deps
 	@cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
 	  -DLAMBERT_SANITIZE=ON -DLAMBERT_BUILD_BENCH=OFF > /dev/null

@@ -20,7 +20,7 @@
 #include "lambert/core/timer.h"
 #include "lambert/mesh/lightmap_uvs.h"
 #include "lambert/scene/builtin.h"
-#include "lambert/scene/scene_file.h"
+#include "lambert/load/scene_file.h"
 
 using namespace lambert;
 using Json = nlohmann::ordered_json;

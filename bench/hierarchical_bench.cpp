@@ -22,7 +22,7 @@
 #include "lambert/core/timer.h"
 #include "lambert/engine/radiosity.h"
 #include "lambert/scene/building.h"
-#include "lambert/scene/scene_file.h"
+#include "lambert/load/scene_file.h"
 #include "lambert/solve/solver.h"
 
 using namespace lambert;

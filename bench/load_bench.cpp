@@ -27,7 +27,7 @@
 #include "bench_common.h"
 #include "lambert/core/timer.h"
 #include "lambert/mesh/mesh.h"
-#include "lambert/scene/scene_file.h"
+#include "lambert/load/scene_file.h"
 
 using namespace lambert;
 using Json = nlohmann::ordered_json;

@@ -17,7 +17,7 @@
 #include <benchmark/benchmark.h>
 
 #include "lambert/core/rng.h"
-#include "lambert/formfactor/form_factors.h"
+#include "lambert/flat/form_factors.h"
 #include "lambert/formfactor/kernels.h"
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/mesh/mesh.h"

@@ -21,7 +21,7 @@
 
 #include "lambert/core/stats.h"
 #include "lambert/core/timer.h"
-#include "lambert/formfactor/form_factors.h"
+#include "lambert/flat/form_factors.h"
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/engine/radiosity.h"
 #include "lambert/render/solution_image.h"

@@ -32,7 +32,7 @@
 #include "lambert/io/vertices.h"
 #include "lambert/mesh/mesh.h"
 #include "lambert/reference/reference.h"
-#include "lambert/scene/scene_file.h"
+#include "lambert/load/scene_file.h"
 
 using namespace lambert;
 

@@ -11,7 +11,7 @@
 
 #include "lambert/engine/radiosity.h"
 #include "lambert/io/gltf_export.h"
-#include "lambert/scene/scene_file.h"
+#include "lambert/load/scene_file.h"
 
 namespace {
 

@@ -1,4 +1,4 @@
-// The uniform mesh's form-factor matrix cache (formfactor/cache.h, .lff): loadFormFactors, what
+// The uniform mesh's form-factor matrix cache (flat/form_factor_cache.h, .lff): loadFormFactors, what
 // cachedFormFactors calls on a cache hit, on the input as it is and with its checksum made valid
 // (cache_input.h). The expected key and patch count are the header's own, as they are for a file
 // written for the scene being loaded.
@@ -10,7 +10,7 @@
 
 #include "cache_input.h"
 #include "fuzz_file.h"
-#include "lambert/formfactor/cache.h"
+#include "lambert/flat/form_factor_cache.h"
 
 namespace {
 

@@ -1,5 +1,5 @@
 #pragma once
-// What the two cache targets share. A cache file (formfactor/cache_file.h) ends in an XXH64 of
+// What the two cache targets share. A cache file (core/cache_file.h) ends in an XXH64 of
 // everything before it, which a mutation almost never keeps right, so a target fed only the bytes
 // as they are would test little beyond the checksum. Each input is therefore read twice: as it
 // is (the header checks and the checksum's rejection), and with its last 8 bytes replaced by the
@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "lambert/formfactor/cache_file.h"
+#include "lambert/core/cache_file.h"
 
 namespace lambert::fuzz {
 

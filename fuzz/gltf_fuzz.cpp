@@ -1,4 +1,4 @@
-// glTF 2.0 (scene/gltf.h): readGltf on input.glb when the input starts with the binary container's
+// glTF 2.0 (load/gltf.h): readGltf on input.glb when the input starts with the binary container's
 // magic "glTF", else on input.gltf (JSON), so one target covers both containers.
 #include <cstddef>
 #include <cstdint>
@@ -6,7 +6,7 @@
 #include <string>
 
 #include "fuzz_file.h"
-#include "lambert/scene/gltf.h"
+#include "lambert/load/gltf.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   lambert::fuzz::silenceWarnings();

@@ -1,4 +1,4 @@
-// MGF, the Materials and Geometry Format (scene/mgf.h): readMgf on input.mgf, with its
+// MGF, the Materials and Geometry Format (load/mgf.h): readMgf on input.mgf, with its
 // entities, transforms, contexts and includes (an include of input.mgf itself is a cycle the
 // reader must refuse).
 #include <cstddef>
@@ -6,7 +6,7 @@
 #include <string>
 
 #include "fuzz_file.h"
-#include "lambert/scene/mgf.h"
+#include "lambert/load/mgf.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   lambert::fuzz::silenceWarnings();

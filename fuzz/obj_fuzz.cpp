@@ -1,4 +1,4 @@
-// Wavefront OBJ with its MTL (scene/obj.h): readObj on input.obj. An input may carry an MTL file
+// Wavefront OBJ with its MTL (load/obj.h): readObj on input.obj. An input may carry an MTL file
 // too: everything after a line "#%%mtl" is written to input.mtl beside it, which the OBJ part
 // names with "mtllib input.mtl" (the seeds do), so materials are fuzzed through the OBJ as users
 // give them.
@@ -7,7 +7,7 @@
 #include <string_view>
 
 #include "fuzz_file.h"
-#include "lambert/scene/obj.h"
+#include "lambert/load/obj.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   lambert::fuzz::silenceWarnings();

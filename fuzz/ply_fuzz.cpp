@@ -1,10 +1,10 @@
-// PLY scene meshes (scene/ply.h): readPly on input.ply, ASCII and binary (both byte orders).
+// PLY scene meshes (load/ply.h): readPly on input.ply, ASCII and binary (both byte orders).
 #include <cstddef>
 #include <cstdint>
 #include <string>
 
 #include "fuzz_file.h"
-#include "lambert/scene/ply.h"
+#include "lambert/load/ply.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   lambert::fuzz::silenceWarnings();

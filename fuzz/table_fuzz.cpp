@@ -1,4 +1,4 @@
-// The adaptive mesh's master form-factor table file (formfactor/table.h, .lft):
+// The adaptive mesh's master form-factor table file (flat/table.h, .lft):
 // FormFactorTable::load, what the adaptive meshing calls to reuse an earlier run's pairs, on the
 // input as it is and with its checksum made valid (cache_input.h), so the checks of the pairs'
 // order and values are reached. The expected key is the header's own.
@@ -10,7 +10,7 @@
 
 #include "cache_input.h"
 #include "fuzz_file.h"
-#include "lambert/formfactor/table.h"
+#include "lambert/flat/table.h"
 #include "lambert/geometry/ray_caster.h"
 
 namespace {

@@ -60,9 +60,9 @@ done
 compgen -G "$prefix/$libdir/liblambert.so*" > /dev/null || fail "no $prefix/$libdir/liblambert.so*"
 
 begin "internal headers are not installed"
-for internal in formfactor/kernels.h formfactor/hemicube.h geometry/coverage.h solve/progressive_shooter.h \
-  engine/meshing.h core/parallel.h formfactor/links.h formfactor/matrix.h formfactor/form_factors.h \
-  mesh/element_hierarchy.h mesh/quadtree.h solve/solver.h solve/transport.h; do
+for internal in formfactor/kernels.h flat/hemicube.h geometry/coverage.h solve/progressive_shooter.h \
+  engine/method.h core/parallel.h hierarchical/links.h formfactor/matrix.h flat/form_factors.h \
+  hierarchical/element_hierarchy.h flat/quadtree.h solve/solver.h solve/transport.h; do
   [ ! -e "$prefix/include/lambert/$internal" ] || fail "internal header lambert/$internal is installed"
 done
 if grep -rlE '#include <embree' "$prefix/include" > "$scratch/embree-headers.txt"; then

@@ -8,7 +8,7 @@
 #include "lambert/core/atomic_file.h"
 #include "lambert/core/text.h"
 #include "lambert/scene/building.h"
-#include "lambert/scene/obj.h"
+#include "lambert/load/obj.h"
 
 namespace lambert::cli {
 

@@ -15,7 +15,7 @@
 #include "lambert/render/scene_camera.h"
 #include "lambert/render/tonemap.h"
 #include "lambert/scene/builtin.h"
-#include "lambert/scene/scene_file.h"
+#include "lambert/load/scene_file.h"
 #include "lambert/version.h"
 
 namespace lambert::cli {

@@ -6,7 +6,7 @@
 
 #include "commands.h"
 #include "lambert/scene/builtin.h"
-#include "lambert/scene/scene_file.h"
+#include "lambert/load/scene_file.h"
 
 namespace lambert::cli {
 

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "lambert/formfactor/form_factors.h"
+#include "lambert/flat/form_factors.h"
 #include "lambert/formfactor/kernels.h"
 #include "lambert/mesh/mesh.h"
 #include "lambert/scene/builtin.h"

@@ -214,7 +214,7 @@ Result<LightmapUpdater> LightmapUpdater::create(const SolutionView& view, const 
   u.vertexSite_ = std::move(corners->sites);
   u.vertexAlbedo_.assign(u.cornerVertex_.size(), Rgb{});
   for (std::size_t i = 0; i < u.cornerVertex_.size(); ++i)
-    if (corners->leaf[i] != kNoNode) u.vertexAlbedo_[i] = view.albedo()[corners->leaf[i]];
+    if (corners->leaf[i] != PointGather::kNoLeaf) u.vertexAlbedo_[i] = view.albedo()[corners->leaf[i]];
   Result<std::vector<Rgb>> mean = view.nodeMeanRadiosity();
   if (!mean) return mean.error();
   u.bakedNodeMean_ = std::move(*mean);

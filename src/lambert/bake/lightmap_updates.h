@@ -36,7 +36,7 @@
 #include "lambert/bake/lightmaps.h"
 #include "lambert/core/error.h"
 #include "lambert/core/image.h"
-#include "lambert/engine/final_gather.h"
+#include "lambert/engine/point_gather.h"
 #include "lambert/engine/solution.h"
 
 namespace lambert {

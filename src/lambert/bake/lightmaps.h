@@ -1,7 +1,7 @@
 #pragma once
 // Lightmaps baked from a solution: per texel of each atlas (mesh/lightmap_uvs.h), the irradiance
 // at the texel's point on the input's own faces, gathered over the hierarchy's links as the final
-// gather does at vertices (engine/final_gather.h), with the point, spot and directional lights'
+// gather does at vertices (hierarchical/final_gather.h), with the point, spot and directional lights'
 // direct light traced per texel (sharp shadows). Radiosity's lightmaps carry no Monte Carlo noise
 // of their own, so no denoiser follows.
 //

@@ -5,11 +5,11 @@
 #include <limits>
 
 #include "lambert/core/timer.h"
-#include "lambert/formfactor/cache_file.h"
-#include "lambert/engine/adaptive_meshing.h"
-#include "lambert/engine/hierarchical_meshing.h"
+#include "lambert/core/cache_file.h"
+#include "lambert/flat/adaptive_method.h"
+#include "lambert/hierarchical/method.h"
 #include "lambert/engine/point_gather.h"
-#include "lambert/engine/uniform_meshing.h"
+#include "lambert/flat/uniform_method.h"
 #include "lambert/light/emission.h"
 #include "lambert/light/injection.h"
 #include "lambert/solve/energy.h"
@@ -19,17 +19,17 @@
 
 namespace lambert {
 
-Result<std::unique_ptr<Meshing>> makeMeshing(const Scene& scene, const RadiosityOptions& options) {
+Result<std::unique_ptr<Method>> makeMethod(const Scene& scene, const RadiosityOptions& options) {
   switch (options.meshing) {
     case MeshStrategy::Uniform: {
-      Result<std::unique_ptr<UniformMeshing>> uniform = UniformMeshing::create(scene, options);
+      Result<std::unique_ptr<UniformMethod>> uniform = UniformMethod::create(scene, options);
       if (!uniform) return uniform.error();
-      return std::unique_ptr<Meshing>(std::move(*uniform));
+      return std::unique_ptr<Method>(std::move(*uniform));
     }
     case MeshStrategy::Adaptive: {
-      Result<std::unique_ptr<AdaptiveMeshing>> adaptive = AdaptiveMeshing::create(scene, options);
+      Result<std::unique_ptr<AdaptiveMethod>> adaptive = AdaptiveMethod::create(scene, options);
       if (!adaptive) return adaptive.error();
-      return std::unique_ptr<Meshing>(std::move(*adaptive));
+      return std::unique_ptr<Method>(std::move(*adaptive));
     }
     case MeshStrategy::Hierarchical: {
       if (options.solver == SolverKind::Direct || options.solver == SolverKind::Shooting)
@@ -41,31 +41,31 @@ Result<std::unique_ptr<Meshing>> makeMeshing(const Scene& scene, const Radiosity
           options.hierarchical.refinePasses < 1)
         return Error{"the hierarchical method needs a positive link error, a minimum element area of at least 0, "
                      "1 to 255 visibility rays per link and at least one refinement pass"};
-      return std::unique_ptr<Meshing>(std::make_unique<HierarchicalMeshing>(scene, options));
+      return std::unique_ptr<Method>(std::make_unique<HierarchicalMethod>(scene, options));
     }
   }
   return Error{"unknown mesh strategy"};
 }
 
-Result<std::vector<Rgb>> Meshing::pointIrradiance(const ElementSolution&, std::span<const SurfacePoint>) const {
+Result<std::vector<Rgb>> Method::pointIrradiance(const ElementSolution&, std::span<const SurfacePoint>) const {
   return Error{"light at points of the faces (lightmaps) is gathered over the hierarchical method's links: solve with "
                "--method hierarchical (the default) instead of the flat method"};
 }
 
-Result<PointGather> Meshing::pointGather(const ElementSolution&, std::span<const SurfacePoint>, PointGatherPart) const {
+Result<PointGather> Method::pointGather(const ElementSolution&, std::span<const SurfacePoint>, PointGatherPart) const {
   return Error{"light at points of the faces (lightmaps) is gathered over the hierarchical method's links: solve with "
                "--method hierarchical (the default) instead of the flat method"};
 }
 
-Result<PointGather> Meshing::vertexGather(const ElementSolution&, std::span<const std::uint32_t>, PointGatherPart) const {
+Result<PointGather> Method::vertexGather(const ElementSolution&, std::span<const std::uint32_t>, PointGatherPart) const {
   return Error{"light at the vertices as weights is gathered over the hierarchical method's links: solve with --method hierarchical (the default)"};
 }
 
-Result<std::vector<Rgb>> Meshing::nodeMeanRadiosity(const ElementSolution&) const {
+Result<std::vector<Rgb>> Method::nodeMeanRadiosity(const ElementSolution&) const {
   return Error{"node mean radiosities are the hierarchical method's: solve with --method hierarchical (the default)"};
 }
 
-std::vector<std::vector<Rgb>> Meshing::vertexSolution(const ElementSolution& solution,
+std::vector<std::vector<Rgb>> Method::vertexSolution(const ElementSolution& solution,
                                                       std::span<const VertexQuantity> quantities) const {
   std::vector<std::vector<Rgb>> out;
   for (VertexQuantity quantity : quantities) {
@@ -97,7 +97,7 @@ Result<std::unique_ptr<Radiosity>> Radiosity::create(Scene scene, RadiosityOptio
   }
   std::unique_ptr<Radiosity> engine(new Radiosity(std::move(scene), std::move(options)));
   // The strategy keeps a reference to the engine's scene, which never moves.
-  Result<std::unique_ptr<Meshing>> meshing = makeMeshing(engine->scene_, engine->options_);
+  Result<std::unique_ptr<Method>> meshing = makeMethod(engine->scene_, engine->options_);
   if (!meshing) return meshing.error();
   engine->meshing_ = std::move(*meshing);
   engine->rebuildProblem();
@@ -191,7 +191,7 @@ Result<SolveCallReport> Radiosity::solve(const SolveBudget& budget) {
     Result<bool> refined = meshing_->refine(lights_, radiosity_, report);
     if (!refined) return refined.error();
     // A hierarchy that loaded every pass's refinement from its link cache in the first pass
-    // (engine/link_cache.h) refines no more: its one solve is the computing run's last one.
+    // (hierarchical/link_cache.h) refines no more: its one solve is the computing run's last one.
     if (!*refined && pass > 0 && options_.meshing == MeshStrategy::Hierarchical) break;
     if (*refined) {
       solved_ = true;  // radiosity_ now holds the refinement's warm start

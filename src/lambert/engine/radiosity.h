@@ -9,7 +9,7 @@
 //
 // The engine owns the mesh, the ray caster over it and the transport between its elements (the
 // links of the element hierarchy, by default; the dense form-factor matrix of a uniform mesh, or
-// the master table of an adaptive quad-tree; see engine/meshing.h). It is created behind a unique_ptr and can be neither copied nor moved, so
+// the master table of an adaptive quad-tree; see engine/method.h). It is created behind a unique_ptr and can be neither copied nor moved, so
 // the views and references it hands out stay valid for its whole life. See docs/api.md.
 #include <memory>
 #include <optional>
@@ -21,39 +21,29 @@
 #include "lambert/core/stats.h"
 #include "lambert/engine/options.h"
 #include "lambert/engine/solution.h"
+#include "lambert/engine/solve_call.h"
 #include "lambert/light/lights.h"
 #include "lambert/scene/scene.h"
 
 namespace lambert {
 
-class Meshing;
+class Method;
 
 // Held by rank 0 of a distributed solve while it computes its outputs (Radiosity::
 // leadDistributedOutputs); letting go of it lets the other ranks go.
 class DistributedOutputs {
  public:
-  explicit DistributedOutputs(Meshing* meshing) : meshing_(meshing) {}
+  explicit DistributedOutputs(Method* meshing) : meshing_(meshing) {}
   DistributedOutputs(DistributedOutputs&& other) noexcept : meshing_(std::exchange(other.meshing_, nullptr)) {}
   DistributedOutputs& operator=(DistributedOutputs&&) = delete;
   ~DistributedOutputs();
 
  private:
-  Meshing* meshing_;
+  Method* meshing_;
 };
 class DirectLightInjection;
 class ProgressiveShooter;
 
-
-// How much one solve() may do beyond stopping at the tolerance; 0 everywhere: run to the
-// tolerance (or maxIterations). Each limit belongs to the solvers that can stop early on it;
-// any other is an error from solve().
-struct SolveBudget {
-  long long maxShots = 0;       // shoot
-  int maxSweeps = 0;            // gs, jacobi
-  double maxMilliseconds = 0;   // gs, jacobi, shoot (checked between sweeps or every few shots)
-
-  bool unlimited() const { return maxShots == 0 && maxSweeps == 0 && maxMilliseconds == 0; }
-};
 
 // The uniform mesh an engine with these options solves on, for tools that need its vertices
 // without solving (the reference path tracer).
@@ -66,26 +56,6 @@ Mesh uniformMesh(const Scene& scene, const UniformMeshOptions& options);
 // elements follow the lights and the solution, so an engine is created and solved with these
 // options (no final gather): that solve's cost, and its errors.
 Result<Mesh> solutionVertexMesh(const Scene& scene, RadiosityOptions options);
-
-// Whether a solver can honour the budget: shots are for shoot, sweeps for gs and jacobi, time for
-// all three; the direct solver takes none. The Error says which budget fits instead.
-Status checkSolveBudget(SolverKind solver, const SolveBudget& budget);
-
-// What one solve() did.
-struct SolveCallReport {
-  int lightsInjected = 0;    // lights traced again (moved, new, or every one after refinement)
-  // Sweeps (gs, jacobi), shots (shoot) or 1 (direct), summed over every pass of this call (the
-  // hierarchy's refinement passes in its first solve, the adaptive mesh's passes). A budget
-  // bounds each pass.
-  long long iterations = 0;
-  bool converged = false;    // the last pass reached the tolerance
-  double unshotFraction = 0; // shoot: unshot power left (for a later solve() to shoot)
-  // Adaptive meshing, over every pass of this call.
-  int refined = 0, coarsened = 0;
-  std::uint64_t pairsEstimated = 0, pairsReused = 0, pairsLoaded = 0;
-  std::size_t elements = 0;  // after the call
-  double adaptSeconds = 0, formFactorSeconds = 0, injectSeconds = 0, solveSeconds = 0;
-};
 
 class Radiosity {
  public:
@@ -141,7 +111,7 @@ class Radiosity {
   Scene scene_;
   RadiosityOptions options_;
   std::vector<Light> lights_;
-  std::unique_ptr<Meshing> meshing_;
+  std::unique_ptr<Method> meshing_;
   std::unique_ptr<DirectLightInjection> injection_;
   // E includes the injected direct light; behind a pointer, so that this header needs only the
   // solvers' declaration (solve/solver.h is internal).

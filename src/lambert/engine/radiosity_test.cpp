@@ -5,7 +5,7 @@
 
 #include "lambert/core/sampling.h"
 #include "lambert/engine/radiosity.h"
-#include "lambert/formfactor/table.h"
+#include "lambert/flat/table.h"
 #include "lambert/render/solution_image.h"
 #include "lambert/solve/solver.h"
 #include "tests/support/scenes.h"
@@ -422,7 +422,7 @@ TEST(RadiosityTest, ImpossibleCombinationsAreRefusedWithAReason) {
 
 // The flat methods' rows. Two plates face each other across a gap 1/40 of their size inside the
 // furnace: seed 000's point estimate (cos cos / π r² × A_j between the centres) makes the facing
-// patches' rows sum far above 1/ρ, and every solver diverges on them. formfactor/table.h's
+// patches' rows sum far above 1/ρ, and every solver diverges on them. flat/table.h's
 // boundRowSums scales each such row to sum 1, so no solver can diverge: every element stays
 // below E / (1 − 0.95) (the maximum principle, ρS ≤ 0.95 for the rows left as measured).
 TEST(RadiosityTest, FlatRowsAboveOneAreBoundedSoNoSolverDiverges) {

@@ -67,7 +67,7 @@ class SolutionView {
   const RayCaster& caster() const;
 
   // Per vertex of vertexMesh(): the solution's B, its indirect part or the irradiance
-  // (engine/meshing.h; gathered at the vertices themselves by the hierarchical method, the
+  // (engine/method.h; gathered at the vertices themselves by the hierarchical method, the
   // elements' values interpolated otherwise), continuous values of any per-element quantity,
   // and the outgoing radiance L = B/π; albedo per patch of vertexMesh().
   const Mesh& vertexMesh() const;
@@ -77,7 +77,7 @@ class SolutionView {
   std::vector<Rgb> vertexValues(const std::vector<Rgb>& perElement) const;
   std::vector<Rgb> vertexRadiance() const;
   // The irradiance E (W/m²) at points on the scene's faces: from the surfaces, gathered at each
-  // point as at the vertices (engine/final_gather.h), and from the lights, traced at each point.
+  // point as at the vertices (hierarchical/final_gather.h), and from the lights, traced at each point.
   // The hierarchical method only (the other methods' elements carry no links to gather over):
   // an Error saying so for the others.
   Result<std::vector<Rgb>> pointIrradiance(std::span<const SurfacePoint> points) const;

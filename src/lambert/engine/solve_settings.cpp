@@ -6,9 +6,15 @@
 #include <iomanip>
 #include <sstream>
 
-#include "lambert/formfactor/form_factors.h"
+#include "lambert/flat/form_factors.h"
 
 namespace lambert {
+
+const RadiosityOptions& defaultRadiosityOptions() {
+  static const RadiosityOptions defaults{};
+  return defaults;
+}
+
 namespace {
 
 std::string defaultCacheDirectory() {

@@ -1,6 +1,6 @@
 #pragma once
 // A solve's settings as the CLI names them (docs/cli.md: --link-error, --solver, …), with the
-// CLI's defaults, and the one place they become the library's RadiosityOptions. The CLI's solving
+// library's defaults (RadiosityOptions{}), and the one place they become the library's RadiosityOptions. The CLI's solving
 // commands and the Python module (`lambert.Radiosity(scene, link_error=1e-3)`) both go through
 // here, so a setting is spelt, defaulted, range-checked and refused the same way everywhere: a
 // setting the chosen method would not read is an error naming it, never silently ignored.
@@ -17,38 +17,42 @@
 
 namespace lambert {
 
+// The library's defaults (RadiosityOptions{}), which every setting below starts from: the
+// defaults are written once, in the options each layer owns.
+const RadiosityOptions& defaultRadiosityOptions();
+
 struct SolveSettings {
   // The flat method's uniform mesh.
-  std::size_t patches = 784;
-  double maxEdge = 0;
-  std::uint64_t seed = 1;
-  FormFactorMethod formFactor = FormFactorMethod::AreaMonteCarlo;
-  int samples = 16;
-  int hemicubeResolution = 256;
-  int hemisphereRays = 1024;
-  int lightSamples = 16;
-  double shadowTolerance = 0.01;  // DirectLightOptions::shadowTolerance (Ward's τ; 0: exact)
-  SolverKind solver = SolverKind::GaussSeidel;
-  double tolerance = 1e-7;
-  int maxIterations = 1000;
-  std::string cacheDir;  // empty: the default, $XDG_CACHE_HOME/lambert or ~/.cache/lambert
+  std::size_t patches = defaultRadiosityOptions().uniform.targetPatches;
+  double maxEdge = defaultRadiosityOptions().uniform.maxEdgeLength;
+  std::uint64_t seed = defaultRadiosityOptions().formFactors.seed;
+  FormFactorMethod formFactor = defaultRadiosityOptions().formFactors.method;
+  int samples = defaultRadiosityOptions().formFactors.samplePairs;
+  int hemicubeResolution = defaultRadiosityOptions().formFactors.hemicubeResolution;
+  int hemisphereRays = defaultRadiosityOptions().formFactors.hemisphereRays;
+  int lightSamples = defaultRadiosityOptions().directLight.samplesPerPatch;
+  double shadowTolerance = defaultRadiosityOptions().directLight.shadowTolerance;  // Ward's τ; 0: exact
+  SolverKind solver = defaultRadiosityOptions().solver;
+  double tolerance = defaultRadiosityOptions().tolerance;
+  int maxIterations = defaultRadiosityOptions().maxIterations;
+  std::string cacheDir;  // empty: the CLI's default, $XDG_CACHE_HOME/lambert or ~/.cache/lambert
   bool noCache = false;
-  bool normalizeRows = false;
+  bool normalizeRows = defaultRadiosityOptions().normalizeRows;
   // Hierarchical radiosity with clustering, or the flat methods (uniform or adaptive mesh, dense
   // F). Read where "--method" is given; otherwise radiosityOptions chooses.
-  MeshStrategy method = MeshStrategy::Hierarchical;
-  double linkError = 2e-4;
-  double minElementArea = 0;  // scene units²; 0: the scene's area × 1e-5
-  int visibilityRays = 8;
-  bool noClusters = false;
-  int refinePasses = 2;
-  // Adaptive quad-tree meshing (seed 003) instead of uniform bisection (flat only).
+  MeshStrategy method = defaultRadiosityOptions().meshing;
+  double linkError = defaultRadiosityOptions().hierarchical.links.linkError;
+  double minElementArea = defaultRadiosityOptions().hierarchical.links.minElementArea;  // 0: the scene's area × 1e-5
+  int visibilityRays = defaultRadiosityOptions().hierarchical.links.visibilityRays;
+  bool noClusters = !defaultRadiosityOptions().hierarchical.links.clusters;
+  int refinePasses = defaultRadiosityOptions().hierarchical.refinePasses;
+  // Adaptive quad-tree meshing (Heckbert's quad-tree subdivision) instead of uniform bisection (flat only).
   bool adaptive = false;
-  double baseEdge = 0;  // scene units; 0: a sixth of the scene's diagonal
-  int maxLevel = 3;
-  double gradientThreshold = 0.5;
-  int adaptPasses = 3;
-  double memoryLimitBytes = 0;  // 0: the machine's available memory
+  double baseEdge = defaultRadiosityOptions().adaptive.quadtree.baseEdgeLength;  // 0: a sixth of the scene's diagonal
+  int maxLevel = defaultRadiosityOptions().adaptive.quadtree.maxLevel;
+  double gradientThreshold = defaultRadiosityOptions().adaptive.gradientThreshold;
+  int adaptPasses = defaultRadiosityOptions().adaptive.passesPerSolve;
+  double memoryLimitBytes = defaultRadiosityOptions().memoryLimitBytes;  // 0: the machine's available memory
   bool showProgress = false;    // progress lines on a terminal
 };
 

@@ -14,7 +14,7 @@
 #include "lambert/engine/radiosity.h"
 #include "lambert/io/png.h"
 #include "lambert/scene/builtin.h"
-#include "lambert/scene/scene_file.h"
+#include "lambert/load/scene_file.h"
 #include "tests/support/emissive_strip.h"
 #include "tests/support/files.h"
 

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <map>
 
-#include "lambert/formfactor/form_factors.h"
+#include "lambert/flat/form_factors.h"
 #include "lambert/core/rng.h"
 #include "lambert/core/sampling.h"
 #include "lambert/geometry/ray_caster.h"

@@ -14,7 +14,7 @@
 #include "lambert/mesh/mesh.h"
 #include "lambert/light/lights.h"
 #include "lambert/light/photometry.h"
-#include "lambert/scene/scene_file.h"
+#include "lambert/load/scene_file.h"
 
 namespace lambert {
 namespace {

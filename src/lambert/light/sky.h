@@ -21,7 +21,7 @@
 namespace lambert {
 
 // Luminance (cd/m²) turns into radiance (W/(m²·sr)) for white light at kLumensPerWatt = 683 lm/W
-// (scene/gltf.h), as everywhere in lambert (docs/photometry.md).
+// (load/gltf.h), as everywhere in lambert (docs/photometry.md).
 
 // ISO 15469 / CIE S 011 parameters: the gradation φ(Z) = 1 + a·exp(b / cos Z) (φ(90°) = 1) and
 // the scattering indicatrix f(χ) = 1 + c·(exp(d·χ) − exp(d·π/2)) + e·cos²χ.

@@ -11,7 +11,7 @@
 #include "lambert/light/sky.h"
 #include "lambert/light/sun.h"
 #include "lambert/mesh/mesh.h"
-#include "lambert/scene/scene_file.h"
+#include "lambert/load/scene_file.h"
 #include "tests/support/files.h"
 #include "tests/support/scenes.h"
 

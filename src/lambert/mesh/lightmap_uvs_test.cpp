@@ -17,7 +17,7 @@
 #include "lambert/core/warning.h"
 #include "lambert/scene/builtin.h"
 #include "lambert/scene/building.h"
-#include "lambert/scene/scene_file.h"
+#include "lambert/load/scene_file.h"
 #include "tests/support/files.h"
 
 namespace lambert {

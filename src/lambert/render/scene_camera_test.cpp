@@ -19,7 +19,7 @@
 #include "lambert/render/rasterizer.h"
 #include "lambert/render/solution_image.h"
 #include "lambert/render/tonemap.h"
-#include "lambert/scene/scene_file.h"
+#include "lambert/load/scene_file.h"
 #include "tests/support/files.h"
 
 namespace lambert {

@@ -4,8 +4,8 @@
 
 #include <filesystem>
 
-#include "lambert/scene/obj.h"
-#include "lambert/scene/scene_file.h"
+#include "lambert/load/obj.h"
+#include "lambert/load/scene_file.h"
 #include "tests/support/files.h"
 
 namespace lambert {

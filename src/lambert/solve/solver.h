@@ -9,7 +9,7 @@
 
 #include "lambert/core/rgb.h"
 #include "lambert/solve/transport.h"
-#include "lambert/engine/options.h"
+#include "lambert/solve/solver_kind.h"
 
 namespace lambert {
 

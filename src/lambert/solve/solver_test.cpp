@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "lambert/formfactor/form_factors.h"
+#include "lambert/flat/form_factors.h"
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/solve/energy.h"
 #include "lambert/light/emission.h"

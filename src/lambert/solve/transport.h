@@ -6,7 +6,7 @@
 //   DenseTransport         the full matrix F (uniform and adaptive meshing, seed 000/003);
 //   HierarchicalTransport  links between element and cluster nodes of a hierarchy, gathered
 //                          over the links and pushed and pulled through it (Hanrahan, Salzman &
-//                          Aupperle 1991; Smits, Arvo & Greenberg 1994), solve/hierarchical.h.
+//                          Aupperle 1991; Smits, Arvo & Greenberg 1994), hierarchical/transport.h.
 #include <memory>
 #include <vector>
 
@@ -35,7 +35,7 @@ class Transport {
   // soon as it exists (Gauss–Seidel), or from the previous iterate (Jacobi, in parallel).
   virtual SweepChange sweep(const std::vector<Rgb>& emitted, const std::vector<Rgb>& albedo,
                             std::vector<Rgb>& radiosity, bool inPlace) const = 0;
-  // After the last sweep: a transport whose sweeps are spread over ranks (solve/hierarchical.h),
+  // After the last sweep: a transport whose sweeps are spread over ranks (hierarchical/transport.h),
   // each rank updating its own elements, hands every rank the whole result. Nothing otherwise.
   virtual void completeSweeps(std::vector<Rgb>& /*radiosity*/) const {}
 
