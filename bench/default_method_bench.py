@@ -53,7 +53,7 @@ from corpus_bench import machine  # the same machine record in both benchmarks' 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DEFAULT_LINK_ERROR = 2e-4  # lambert's --link-error default (its --help), for the curve's first point
 
-# Targets of issue 23 (2-core machine).
+# The default method's targets (2-core machine).
 TARGETS = {
     "cornell_default": {"vertex_relative_rmse_max": 0.03, "wall_seconds_max": 0.5},
     "cornell_quality": {"vertex_relative_rmse_max": 0.015, "wall_seconds_max": 2.0},
@@ -598,7 +598,7 @@ def link_cache(args, scratch):
     for k in range(args.runs):
         cache = tempfile.mkdtemp(prefix="links-", dir=scratch)
         output = os.path.join(scratch, "link-cache-vertices.csv")
-        # --method hierarchical: a cache option must never choose the method (issue 23).
+        # --method hierarchical: a cache option must never choose the method.
         command = [args.lambert, "solve", "--scene", scene, "--method", "hierarchical", "--cache-dir", cache,
                    "--export-vertices", output, "--json"]
         pair = []

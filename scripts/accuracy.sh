@@ -26,7 +26,7 @@ mkdir -p "$work" docs/images
 results="$work/results.jsonl"
 : > "$results"
 
-# method, its option, and the settings to try (the default one first); seed 000's point method has
+# method, its option, and the settings to try (the default one first); the point-to-point method has
 # no setting (one kernel and one ray per pair).
 settings=(
   "point||-"

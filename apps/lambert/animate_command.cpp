@@ -1,4 +1,4 @@
-// `lambert animate`: a scene's lights turning over time (seed 003), drawn frame by frame. Form
+// `lambert animate`: a scene's lights turning over time, drawn frame by frame. Form
 // factors are computed (or loaded) once; each frame re-injects the lights that moved and solves
 // the difference, warm from the previous frame, within an optional budget per frame.
 #include <cstdio>

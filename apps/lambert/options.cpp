@@ -78,7 +78,7 @@ void addSolveOptions(CLI::App& cmd, SolveCommandOptions& o) {
   // defaults are in the text, not shown as the command's defaults, which the default method never reads.
   const std::string flat = "Flat method only, and giving it chooses --method flat: ";
   cmd.add_option("--formfactor", o.formFactor,
-                 flat + "form-factor method: mc (area Monte Carlo, the default), point (seed 000), hemicube (seed 001) or "
+                 flat + "form-factor method: mc (area Monte Carlo, the default), point (point to point), hemicube (Cohen & Greenberg) or "
                         "hemisphere (ray-cast)")
       ->transform(CLI::CheckedTransformer(formFactorNames()));
   cmd.add_option("--hemicube-resolution", o.hemicubeResolution,
@@ -111,7 +111,7 @@ void addSolveOptions(CLI::App& cmd, SolveCommandOptions& o) {
   cmd.add_option("--cache-dir", o.cacheDir, "Cache directory for form factors and hierarchical links (default $XDG_CACHE_HOME/lambert or ~/.cache/lambert)");
   cmd.add_flag("--no-cache", o.noCache, "Neither read nor write the form-factor or link cache");
   cmd.add_flag("--normalize-rows", o.normalizeRows,
-               flat + "divide each row of F by its sum (seed 003): hides estimation error, adds energy where light should escape");
+               flat + "divide each row of F by its sum: hides estimation error, adds energy where light should escape");
   std::string flatOnly;
   for (const char* option : flatMethodSettings()) flatOnly += std::string(flatOnly.empty() ? "" : ", ") + option;
   cmd.add_option("--method", o.method,
@@ -137,7 +137,7 @@ void addSolveOptions(CLI::App& cmd, SolveCommandOptions& o) {
                  "Memory a solve may use, e.g. 8G or 512M (default: the machine's available memory); larger solves are refused")
       ->transform(CLI::AsSizeValue(false))
       ->check(rangeOf("--memory-limit"));
-  cmd.add_flag("--adaptive", o.adaptive, flat + "an adaptive quad-tree mesh refined at spot and shadow edges (seed 003)");
+  cmd.add_flag("--adaptive", o.adaptive, flat + "an adaptive quad-tree mesh refined at spot and shadow edges");
   cmd.add_option("--base-edge", o.baseEdge, "With --adaptive only: longest edge of the coarsest cells, scene units (default: diagonal / 6)")
       ->check(rangeOf("--base-edge"));
   cmd.add_option("--max-level", o.maxLevel, "With --adaptive only: deepest refinement level (each halves a cell)")

@@ -115,8 +115,8 @@ int runView(const ViewCommandOptions& o) {
 
 std::function<int()> addViewCommand(CLI::App& app) {
   auto options = std::make_shared<ViewCommandOptions>();
-  // As `animate`: progressive refinement keeps its unshot power between light moves (seed 001's
-  // display, seed 003's moving lights); the hierarchical method gathers with gs instead.
+  // As `animate`: progressive refinement keeps its unshot power between light moves,
+  // so the picture follows a moved light at once; the hierarchical method gathers with gs instead.
   options->solve.solver = SolverKind::Shooting;
   options->solve.tolerance = 1e-4;
   options->solve.adaptPasses = 1;

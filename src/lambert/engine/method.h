@@ -4,9 +4,9 @@
 // turns per-element values into continuous per-vertex values. The engine does the rest (lights,
 // emission, solving) the same way for every strategy.
 //
-//   UniformMethod   seed 000's longest-edge bisection; the dense matrix is computed (or read
+//   UniformMethod   longest-edge bisection; the dense matrix is computed (or read
 //                    from the .lff cache) once, with any form-factor method (a DenseTransport).
-//   AdaptiveMethod  seed 003's quad-tree; refine() follows the lights every solve, F is
+//   AdaptiveMethod  a quad-tree; refine() follows the lights every solve, F is
 //                    assembled from the master table (.lft cache), a DenseTransport.
 //                    Pair-wise methods only.
 #include <cstdint>

@@ -19,8 +19,8 @@ namespace lambert {
 class Communicator;
 
 enum class MeshStrategy {
-  Uniform,   // longest-edge bisection to a patch count or edge length (seed 000), computed once
-  Adaptive,  // quad-tree cells split at spot, shadow and radiosity edges (seed 003), every solve
+  Uniform,   // longest-edge bisection to a patch count or edge length, computed once
+  Adaptive,  // quad-tree cells split at spot, shadow and radiosity edges, every solve
   // Element trees under clusters, linked by the BF oracle (Hanrahan, Salzman & Aupperle 1991;
   // Smits, Arvo & Greenberg 1994): near-linear in the number of faces
   Hierarchical,
@@ -36,7 +36,7 @@ struct RadiosityOptions {
   AdaptiveMeshOptions adaptive;  // read only with MeshStrategy::Adaptive
   HierarchicalOptions hierarchical;  // read only with MeshStrategy::Hierarchical
   FormFactorOptions formFactors;     // uniform and adaptive meshing
-  bool normalizeRows = false;    // seed 003's row normalisation (flat/table.h): adds energy
+  bool normalizeRows = false;    // row normalisation (flat/table.h): adds energy
   DirectLightOptions directLight;
   SolverKind solver = SolverKind::GaussSeidel;
   double tolerance = 1e-7;       // relative change (gs, jacobi) or unshot power fraction (shoot)

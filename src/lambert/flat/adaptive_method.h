@@ -1,5 +1,5 @@
 #pragma once
-// Seed 003's adaptive quad-tree inside the engine. Each refine():
+// The adaptive quad-tree inside the engine (quad-tree subdivision at light and shadow edges). Each refine():
 //   1. adapts the mesh: a cell is split where a spot's cone edge or a shadow edge crosses it
 //      (down to the deepest level), or where its corners' radiosity differs by more than a
 //      threshold (one level per refine); four sibling leaves are merged back where none of that

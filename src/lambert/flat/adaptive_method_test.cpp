@@ -31,6 +31,8 @@ RadiosityOptions adaptiveOptions(QuadtreeOptions quadtree, double gradientThresh
   options.meshing = MeshStrategy::Adaptive;
   options.adaptive.quadtree = quadtree;
   options.adaptive.gradientThreshold = gradientThreshold;
+  // One refine-and-solve pass per solve(): these tests watch what each pass does.
+  options.adaptive.passesPerSolve = 1;
   options.formFactors.showProgress = false;
   return options;
 }

@@ -78,7 +78,7 @@ bool PairFormFactors::nearField(std::size_t i, std::size_t j) const {
   return lengthSquared(mesh_.patches[i].centroid - mesh_.patches[j].centroid) < 4 * size * size;
 }
 
-// Seed 000 samples a triangle at its incircle centre; a quad has no incircle, so its centroid.
+// The point-to-point method samples a triangle at its incircle centre; a quad has no incircle, so its centroid.
 Vec3 PairFormFactors::seedSamplePoint(std::size_t patch) const {
   PatchCorners c = mesh_.corners(patch);
   return c.size() == 3 ? incenter({c[0], c[1], c[2]}) : mesh_.patches[patch].centroid;

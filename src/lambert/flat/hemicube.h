@@ -2,7 +2,7 @@
 // Row-at-a-time form factors from a point at each patch's centroid.
 //
 // Hemi-cube (Cohen & Greenberg, "The Hemi-Cube: A Radiosity Solution for Complex Environments",
-// SIGGRAPH 1985; seed 001): every other patch is rasterised with a z-buffer onto the five faces of
+// SIGGRAPH 1985): every other patch is rasterised with a z-buffer onto the five faces of
 // a unit half-cube over the patch, and F_ij is the sum of the delta form factors of the pixels
 // where patch j is the nearest front face. Each pixel's delta form factor here is the exact
 // form factor of its square (Lambert's contour integral) rather than the usual midpoint

@@ -8,7 +8,7 @@
 namespace lambert {
 
 enum class FormFactorMethod {
-  // Seed 000: one kernel evaluation and one visibility ray between the patches' incircle centres.
+  // One kernel evaluation and one visibility ray between the patches' incircle centres.
   PointToPoint,
   // Area-to-area Monte Carlo: low-discrepancy sample points x_k on patch i, each paired with a point
   // y_k on patch j; F_ij ≈ 1/N Σ_k F(x_k → P_j) V(x_k, y_k) with the analytic point-to-polygon

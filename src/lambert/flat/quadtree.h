@@ -1,5 +1,5 @@
 #pragma once
-// Adaptive quad-tree meshing (seed 003). Each quad surface is cut into a grid of level-0 cells no
+// Adaptive quad-tree meshing (quad-tree subdivision at light, shadow and radiosity edges). Each quad surface is cut into a grid of level-0 cells no
 // longer than a base edge length; any cell can be split into four children, down to a deepest
 // level, and four sibling leaves merged back into their parent. Every node ever created keeps a
 // unique id for the life of the mesh, so what is computed for a node (its form factors, in the
@@ -9,7 +9,7 @@
 //
 // All positions lie on each surface's finest grid (2^maxLevel × the base grid), so rendering can
 // always use that finest level, with values interpolated from the active level: no T-junction
-// cracks, and no steps where a coarse cell meets refined ones (what seed 003 could not finish).
+// cracks, and no steps where a coarse cell meets refined ones (where a plain quad-tree leaves T-junctions).
 #include <array>
 #include <cstdint>
 #include <vector>

@@ -1,9 +1,9 @@
 #pragma once
-// Seed 003's master form-factor table: form factors between nodes of an adaptive mesh, keyed by
+// The master form-factor table: form factors between nodes of an adaptive mesh, keyed by
 // the nodes' unique ids, computed the first time a pair is active together and found again every
 // later time, never recomputed. matrix() assembles the dense matrix of the current active set.
 //
-// Like seed 003's, the table outlives a run: save() writes it to disk and load() reads it back in
+// The table outlives a run: save() writes it to disk and load() reads it back in
 // a later run, so cells activated before are not computed again. Ids are not stable across runs
 // (they follow the order cells were refined in), so the file names each cell by its stable
 // address (AdaptiveMesh::address) instead; the file format is documented at the top of table.cpp.
@@ -96,7 +96,7 @@ std::uint64_t formFactorTableKey(const Scene& scene, const QuadtreeOptions& quad
 // The file for a key inside a cache directory: <directory>/formfactor-table-<16 hex digits>.lft
 std::string formFactorTablePath(const std::string& directory, std::uint64_t key);
 
-// Seed 003's normalisation: each row divided by its sum, so every patch sends out exactly what it
+// Row normalisation: each row divided by its sum, so every patch sends out exactly what it
 // reflects. Rows that sum to zero are left alone. It hides estimation error in closed scenes, but
 // breaks reciprocity and, where rows rightly sum to less than one (openings), adds energy.
 void normalizeRows(FormFactorMatrix& F);
@@ -105,7 +105,7 @@ void normalizeRows(FormFactorMatrix& F);
 // with ρ_i·S above kRowContraction (ρ_i: the largest channel of the patch's albedo) is an
 // estimate far above the truth (a patch gathers at most its whole hemisphere, S ≤ 1) and is
 // scaled to sum 1; the others are left alone. Hemi-cube and hemisphere-ray rows sum to at most 1
-// by construction; seed 000's point estimate (cos cos / π r² × A_j, unbounded close by) and pair
+// by construction; the point-to-point estimate (cos cos / π r² × A_j, unbounded close by) and pair
 // estimates filled in by reciprocity (F_ji = F_ij A_i / A_j, a small patch close to large ones)
 // do not, and a row with ρS ≥ 1 can make every solver diverge. Rows above 1 by less are
 // estimation noise around a true sum of at most 1, balanced by rows below it: scaling them too

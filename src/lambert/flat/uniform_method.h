@@ -1,5 +1,5 @@
 #pragma once
-// Seed 000's uniform mesh inside the engine: every surface bisected along its longest edges to a
+// The uniform mesh inside the engine: every surface bisected along its longest edges to a
 // patch count or an edge length, patches' open fractions measured, and the dense form-factor
 // matrix computed once by any method (or read from the .lff cache).
 #include "lambert/engine/method.h"

@@ -40,7 +40,7 @@ std::size_t clipAbovePlane(std::span<const Vec3> polygon, const Vec3& point, con
 // Lambert's contour sum for a polygon already clipped to the hemisphere above x.
 double contourFormFactor(const Vec3& x, const Vec3& xNormal, std::span<const Vec3> clippedPolygon);
 
-// Centre of the triangle's inscribed circle (where seed 000 samples its patches).
+// Centre of the triangle's inscribed circle (where the point-to-point method samples its patches).
 Vec3 incenter(const std::array<Vec3, 3>& triangle);
 
 }  // namespace lambert

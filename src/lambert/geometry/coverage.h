@@ -2,7 +2,7 @@
 // Which parts of a mesh are covered by other geometry: the floor under the Cornell box's blocks,
 // the ceiling above its light panel. Radiosity there is zero (no light reaches it), but a patch
 // that is partly covered solves for its area-averaged radiosity B, so the part anyone can see is
-// brighter, B / f with f its open fraction. Drawing and vertex averaging use that (seed 000's
+// brighter, B / f with f its open fraction. Drawing and vertex averaging use that (the
 // Figure 7: a dark vertex under a box darkens the visible floor around it).
 #include <cstdint>
 #include <span>

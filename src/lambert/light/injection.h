@@ -1,5 +1,5 @@
 #pragma once
-// The lights' direct light as the radiosity system sees it (Keller 1997, seed 003): each patch's
+// The lights' direct light as the radiosity system sees it (Keller 1997): each patch's
 // injected radiosity ρ_i·E_direct,i in W/m², summed over the lights. It is kept per light, so that
 // when lights move only the ones that changed are traced again (Chen 1990's incremental update);
 // the solver then shoots or gathers the difference.

@@ -1,5 +1,5 @@
 #pragma once
-// Direct light from point, spot and directional lights (seed 003, after Keller's "Instant
+// Direct light from point, spot and directional lights (after Keller's "Instant
 // Radiosity", 1997): the irradiance a light gives a surface point, with a shadow ray through the
 // RayCaster, and its average over each patch. A patch's share, ρ·E_direct, is injected into the
 // radiosity system as if the patch emitted it; the solver then adds every bounce after the first.
@@ -53,7 +53,7 @@ Rgb irradiance(const Light& light, const Vec3& x, const Vec3& n, const RayCaster
 inline constexpr int kSkyPointsPerPatch = 4;
 
 struct DirectLightOptions {
-  int samplesPerPatch = 16;  // points per patch the irradiance is averaged over (seeds 000, 003)
+  int samplesPerPatch = 16;  // points per patch the irradiance is averaged over
   std::uint64_t seed = 1;
   // Ward's adaptive shadow testing (light/many_lights.h): at each point the lights get shadow
   // rays in decreasing order of their unoccluded irradiance until the untested rest is at most

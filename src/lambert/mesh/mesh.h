@@ -1,7 +1,7 @@
 #pragma once
 // Patches: the finite elements radiosity is solved on, each a planar convex polygon of three or
 // four corners. subdivideScene splits every surface into a triangle fan and bisects each triangle
-// across its longest edge (seed 000) until no edge is longer than a limit; the adaptive quad-tree
+// across its longest edge until no edge is longer than a limit; the adaptive quad-tree
 // (flat/quadtree.h) makes quads. Vertices are shared between the patches of one surface, never
 // across surfaces, so per-vertex averaging never blurs across a crease.
 #include <array>

@@ -3,7 +3,7 @@
 // Each patch counts with the radiosity of its open part, B / openFraction, and its open area
 // (geometry/coverage.h), so the dark floor under a block does not darken the floor around it.
 //
-// Interior vertices take the area-weighted average of the patches around them (seed 000's
+// Interior vertices take the area-weighted average of the patches around them (the usual
 // Gouraud averaging), which is second-order accurate there. At a vertex on a surface's border
 // every patch lies on one side, so the average is biased toward the inside: a wall's top edge
 // looks as lit as its patches' centres although no direct light reaches the very corner. There,

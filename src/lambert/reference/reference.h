@@ -1,5 +1,5 @@
 #pragma once
-// The ground truth lambert measures itself against (issue 4): an unbiased Monte Carlo path tracer
+// The ground truth lambert measures itself against: an unbiased Monte Carlo path tracer
 // for exactly the physics the radiosity solves. Surfaces are one-sided Lambertian polygons (the
 // back is black and opaque), albedo ρ per material; emissive surfaces emit radiance L_e from their
 // front only; point, spot and directional lights give E = I cosθ / r² (r in metres, through

@@ -1,7 +1,7 @@
 #pragma once
 // An image of a solution (engine/solution.h) from a camera, the way every command draws one.
 //
-// Hybrid lighting is seed 000's: the point, spot and directional lights' direct light computed
+// Hybrid lighting: the point, spot and directional lights' direct light computed
 // per pixel sample with a shadow ray per light (crisp spot edges, hard shadows), over the
 // indirect light interpolated from the radiosity solution (B less the injected ρ·E_direct).
 // Emissive surfaces stay in the radiosity, since their light is part of B. Radiosity lighting
@@ -16,7 +16,7 @@
 namespace lambert {
 
 enum class Lighting {
-  Hybrid,     // lights' direct light per pixel over interpolated indirect radiosity (seed 000)
+  Hybrid,     // lights' direct light per pixel over interpolated indirect radiosity
   Radiosity,  // everything from the interpolated radiosity solution
 };
 

@@ -1,5 +1,5 @@
 #pragma once
-// Procedural office buildings for scaling runs (issue 9's curve): storeys of rooms on both sides
+// Procedural office buildings for scaling runs (time and memory against face count): storeys of rooms on both sides
 // of a corridor, each room with a door, a window in its outer wall, a ceiling light panel and
 // furniture blocks; the corridor has its own lights. Deterministic for a given seed. Walls have
 // thickness (no two faces back to back), door and window openings are lined by reveals, and

@@ -13,7 +13,7 @@ namespace lambert {
 Scene cornellBox();
 
 // The Cornell box lit only by two coloured spotlights (the ceiling light is dark), each turning
-// with its own angular velocity: the dynamic-light scene of seed 003.
+// with its own angular velocity: a scene of moving lights.
 Scene cornellBoxWithSpots();
 
 std::optional<Scene> builtinScene(const std::string& name);

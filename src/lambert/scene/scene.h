@@ -72,7 +72,7 @@ struct Surface {
   int twin = -1;
 };
 
-// A light without area (seed 003): its light enters the radiosity solution as the direct
+// A light without area: its light enters the radiosity solution as the direct
 // irradiance it gives each patch (Keller's instant radiosity injection), and is drawn per pixel.
 enum class LightKind {
   Point,        // radiant intensity I in every direction

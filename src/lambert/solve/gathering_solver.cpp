@@ -1,5 +1,5 @@
 // Gathering iterations B_i ← E_i + ρ_i Σ_j F_ij B_j, each sweep one Transport::sweep, so any
-// transport will do. Gauss–Seidel (seed 000) uses each new value as soon as it exists; Jacobi
+// transport will do. Gauss–Seidel uses each new value as soon as it exists; Jacobi
 // sweeps from the previous iterate so rows run in parallel. Both converge because ρ < 1 and the
 // rows of F sum to at most 1. Each sweep is one more bounce.
 #include <cmath>

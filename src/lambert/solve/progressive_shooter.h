@@ -1,6 +1,6 @@
 #pragma once
 // Progressive refinement radiosity (Cohen, Chen, Wallace & Greenberg, "A Progressive Refinement
-// Approach to Fast Radiosity Image Generation", SIGGRAPH 1988; seed 001) with its state kept
+// Approach to Fast Radiosity Image Generation", SIGGRAPH 1988) with its state kept
 // between calls: the radiosity B and the unshot radiosity ΔB. Repeatedly the patch with the most
 // unshot power ΔB_i A_i is shot to every patch j,
 //   ΔB_j += ρ_j ΔB_i F_ji,  F_ji = F_ij A_i / A_j (reciprocity, so row i is all that is read).

@@ -3,7 +3,7 @@
 // the irradiance-like sum H_i = Σ_j F_ij B_j each element gathers (W/m²), so that B = E + ρH.
 // Two kinds stand behind one interface, and the solvers, the residual and the energy balance
 // read only this:
-//   DenseTransport         the full matrix F (uniform and adaptive meshing, seed 000/003);
+//   DenseTransport         the full matrix F (uniform and adaptive meshing);
 //   HierarchicalTransport  links between element and cluster nodes of a hierarchy, gathered
 //                          over the links and pushed and pulled through it (Hanrahan, Salzman &
 //                          Aupperle 1991; Smits, Arvo & Greenberg 1994), hierarchical/transport.h.
