@@ -50,7 +50,7 @@ struct RadiosityOptions {
   double memoryLimitBytes = 0;
   // A distributed solve (docs/distributed.md): every rank of the communicator creates the engine
   // with the same scene and options and makes the same calls; the sweeps are spread over the
-  // ranks (HierarchicalTransport::distribute) and every rank ends each with the whole solution.
+  // ranks (hierarchical/distributed_transport.h) and every rank ends each with the whole solution.
   // The hierarchical method only, swept by Jacobi (the solver option is not read), without the
   // link cache. Null: this process alone.
   std::shared_ptr<Communicator> communicator;

@@ -35,7 +35,7 @@ class Transport {
   // soon as it exists (Gauss–Seidel), or from the previous iterate (Jacobi, in parallel).
   virtual SweepChange sweep(const std::vector<Rgb>& emitted, const std::vector<Rgb>& albedo,
                             std::vector<Rgb>& radiosity, bool inPlace) const = 0;
-  // After the last sweep: a transport whose sweeps are spread over ranks (hierarchical/transport.h),
+  // After the last sweep: a transport whose sweeps are spread over ranks (hierarchical/distributed_transport.h),
   // each rank updating its own elements, hands every rank the whole result. Nothing otherwise.
   virtual void completeSweeps(std::vector<Rgb>& /*radiosity*/) const {}
 
