@@ -15,8 +15,8 @@
 
 #include "lambert/core/warning.h"
 #include "lambert/light/lights.h"
-#include "lambert/light/photometry.h"
 #include "lambert/load/gltf.h"
+#include "lambert/load/photometry_file.h"
 
 namespace lambert {
 namespace {

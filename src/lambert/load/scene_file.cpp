@@ -1,3 +1,4 @@
+#include "lambert/load/photometry_file.h"
 #include "lambert/load/scene_file.h"
 
 #include <algorithm>
@@ -16,7 +17,6 @@
 #include "lambert/core/warning.h"
 #include "lambert/light/sky.h"
 #include "lambert/light/sun.h"
-#include "lambert/light/photometry.h"
 #include "lambert/scene/builtin.h"
 #include "lambert/load/gltf.h"
 #include "lambert/load/mgf.h"
