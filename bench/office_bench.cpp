@@ -42,6 +42,7 @@
 #include "lambert/engine/radiosity.h"
 #include "lambert/light/many_lights.h"
 #include "lambert/light/photometry.h"
+#include "lambert/load/photometry_file.h"
 
 using namespace lambert;
 using namespace lambert::bench;

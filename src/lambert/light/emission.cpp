@@ -3,22 +3,10 @@
 #include <array>
 #include <cmath>
 
+#include "lambert/core/barycentric.h"
 #include "lambert/scene/texture.h"
 
 namespace lambert {
-namespace {
-
-// Barycentric coordinates of q (projected into the triangle's plane) in triangle (a, b, c).
-std::array<double, 3> barycentric(const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 e0 = b - a, e1 = c - a, d = q - a;
-  const double d00 = dot(e0, e0), d01 = dot(e0, e1), d11 = dot(e1, e1), d20 = dot(d, e0), d21 = dot(d, e1);
-  const double denominator = d00 * d11 - d01 * d01;
-  if (!(denominator > 0)) return {1, 0, 0};
-  const double beta = (d11 * d20 - d01 * d21) / denominator, gamma = (d00 * d21 - d01 * d20) / denominator;
-  return {1 - beta - gamma, beta, gamma};
-}
-
-}  // namespace
 
 std::array<Uv, 4> patchCornerUvs(const Scene& scene, const Mesh& mesh, std::size_t patch) {
   const Patch& p = mesh.patches[patch];

@@ -11,6 +11,7 @@
 
 #include "lambert/engine/radiosity.h"
 #include "lambert/geometry/ray_caster.h"
+#include "lambert/load/photometry_file.h"
 #include "lambert/mesh/mesh.h"
 #include "lambert/light/lights.h"
 #include "lambert/light/photometry.h"

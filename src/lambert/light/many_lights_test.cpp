@@ -9,6 +9,7 @@
 #include "lambert/light/lights.h"
 #include "lambert/light/many_lights.h"
 #include "lambert/light/photometry.h"
+#include "lambert/load/photometry_file.h"
 #include "tests/support/scenes.h"
 
 namespace lambert {

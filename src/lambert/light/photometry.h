@@ -4,14 +4,13 @@
 // the vertical angle γ runs from the photometric nadir (0°, the direction the luminaire is aimed)
 // to the zenith (180°); the horizontal angle C names the half plane through the nadir axis,
 // counter-clockwise seen from above the luminaire, 0..360°. Every symmetry a file declares is
-// expanded on reading, so candela(C, γ) covers the whole sphere.
+// expanded on reading, so candela(C, γ) covers the whole sphere. The files are read by
+// load/photometry_file.h.
 //
 // Units: luminous intensity in candela (cd), luminous flux in lumen (lm), lengths in metres.
 // A light built from it gives W/sr = cd × its colour / 683 (scene/scene.h, LightKind::Luminaire).
 #include <string>
 #include <vector>
-
-#include "lambert/core/error.h"
 
 namespace lambert {
 
@@ -74,20 +73,5 @@ class Photometry {
   double rowValue(std::size_t row, double cDegrees) const;
   double flux_ = 0;
 };
-
-// Reads an IES LM-63 file (1986/1991 without a header line, 1995, 2002, 2019). Type C only; types
-// A and B are refused with a message saying how to convert them. TILT=<file> is read relative to
-// the file. Repairs it understands (negative candela, angles a little out of order, trailing
-// values) are warnings naming file:line; the rest is an error naming file:line and what to do.
-Result<Photometry> readIes(const std::string& path);
-Result<Photometry> parseIes(const std::string& text, const std::string& path);
-
-// Reads a EULUMDAT (.ldt) file: the fixed line layout, symmetry Isym 0–4, cd/klm converted to cd
-// through the first lamp set's flux.
-Result<Photometry> readEulumdat(const std::string& path);
-Result<Photometry> parseEulumdat(const std::string& text, const std::string& path);
-
-// readEulumdat for .ldt, readIes otherwise.
-Result<Photometry> readPhotometry(const std::string& path);
 
 }  // namespace lambert

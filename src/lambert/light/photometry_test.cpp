@@ -12,6 +12,7 @@
 #include "lambert/core/rng.h"
 #include "lambert/core/vec3.h"
 #include "lambert/core/warning.h"
+#include "lambert/load/photometry_file.h"
 
 namespace lambert {
 namespace {

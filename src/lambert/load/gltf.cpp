@@ -13,38 +13,13 @@
 #include <map>
 
 #include "lambert/core/text.h"
+#include "lambert/core/transform.h"
 #include "lambert/core/warning.h"
 #include "lambert/load/gltf_types.h"
 #include "lambert/scene/texture.h"
 
 namespace lambert {
 namespace {
-
-// A column-major 4 × 4 affine transform, as glTF writes them.
-struct Transform {
-  std::array<double, 16> m{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
-
-  Transform operator*(const Transform& o) const {
-    Transform r;
-    for (int col = 0; col < 4; ++col)
-      for (int row = 0; row < 4; ++row) {
-        double s = 0;
-        for (int k = 0; k < 4; ++k) s += m[k * 4 + row] * o.m[col * 4 + k];
-        r.m[col * 4 + row] = s;
-      }
-    return r;
-  }
-  Vec3 point(const Vec3& p) const {
-    return {m[0] * p.x + m[4] * p.y + m[8] * p.z + m[12], m[1] * p.x + m[5] * p.y + m[9] * p.z + m[13],
-            m[2] * p.x + m[6] * p.y + m[10] * p.z + m[14]};
-  }
-  Vec3 direction(const Vec3& d) const {
-    return {m[0] * d.x + m[4] * d.y + m[8] * d.z, m[1] * d.x + m[5] * d.y + m[9] * d.z, m[2] * d.x + m[6] * d.y + m[10] * d.z};
-  }
-  double determinant() const {
-    return m[0] * (m[5] * m[10] - m[9] * m[6]) - m[4] * (m[1] * m[10] - m[9] * m[2]) + m[8] * (m[1] * m[6] - m[5] * m[2]);
-  }
-};
 
 Transform localTransform(const tinygltf::Node& node) {
   Transform t;

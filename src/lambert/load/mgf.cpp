@@ -5,236 +5,43 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <functional>
 #include <map>
 #include <optional>
 #include <set>
-#include <sstream>
 #include <type_traits>
 
+#include "lambert/core/cie_colour.h"
+#include "lambert/core/transform.h"
 #include "lambert/core/warning.h"
 #include "lambert/light/lights.h"
-#include "lambert/light/photometry.h"
 #include "lambert/load/gltf.h"
+#include "lambert/load/mgf_source.h"
+#include "lambert/load/photometry_file.h"
 
 namespace lambert {
 namespace {
 
 namespace fs = std::filesystem;
-
-constexpr int kMaxIncludeDepth = 32;
-
-// ---------------------------------------------------------------------------------------------
-// Colour: CIE XYZ, kept at unit luminance (Y = 1) since an MGF colour is a chromaticity only.
-
-struct Xyz {
-  double x = 1, y = 1, z = 1;  // equal-energy white, MGF's default colour
-  std::string origin;          // "file:line: entity" that set it, for a repair's warning
-};
-
-// g(λ; μ, σ1, σ2): a Gaussian with a different width on each side of its peak (Wyman et al.).
-double lobe(double lambdaNm, double mu, double sigmaBelow, double sigmaAbove) {
-  const double t = (lambdaNm - mu) / (lambdaNm < mu ? sigmaBelow : sigmaAbove);
-  return std::exp(-0.5 * t * t);
-}
-
-// CIE 1931 2° colour matching functions, the multi-lobe fit of Wyman, Sloan & Shirley 2013.
-Xyz colourMatching(double lambdaNm) {
-  return {1.056 * lobe(lambdaNm, 599.8, 37.9, 31.0) + 0.362 * lobe(lambdaNm, 442.0, 16.0, 26.7) -
-              0.065 * lobe(lambdaNm, 501.1, 20.4, 26.2),
-          0.821 * lobe(lambdaNm, 568.8, 46.9, 40.5) + 0.286 * lobe(lambdaNm, 530.9, 16.3, 31.1),
-          1.217 * lobe(lambdaNm, 437.0, 11.8, 36.0) + 0.681 * lobe(lambdaNm, 459.0, 26.0, 13.8), {}};
-}
-
-// XYZ of a spectrum given as a function of wavelength (nm), integrated at 1 nm over the visible
-// range 360–830 nm; unnormalised.
-Xyz integrateSpectrum(const std::function<double(double)>& spectrum) {
-  Xyz sum{0, 0, 0, {}};
-  for (double lambda = 360; lambda <= 830; lambda += 1) {
-    const double s = spectrum(lambda);
-    const Xyz cmf = colourMatching(lambda);
-    sum.x += s * cmf.x;
-    sum.y += s * cmf.y;
-    sum.z += s * cmf.z;
-  }
-  return sum;
-}
-
-// Planck's spectral radiance at temperature T (K), up to a constant factor.
-double planck(double lambdaNm, double kelvin) {
-  constexpr double kC2 = 1.4387769e7;  // second radiation constant h·c/k in nm·K
-  const double l = lambdaNm;
-  return 1 / (l * l * l * l * l * (std::exp(kC2 / (l * kelvin)) - 1));
-}
-
-Rgb xyzToRec709(const Xyz& c) {
-  return {3.2404542 * c.x - 1.5371385 * c.y - 0.4985314 * c.z,
-          -0.9692660 * c.x + 1.8760108 * c.y + 0.0415560 * c.z,
-          0.0556434 * c.x - 0.2040259 * c.y + 1.0572252 * c.z};
-}
-
-// The boundary of the chromaticities real spectra have: the convex hull of the CIE 1931 spectral
-// locus (its chromaticities every 10 nm from 380 to 700 nm, from the CIE's table; beyond 700 nm
-// it stays at the last point), closed by the purple line. Tabulated rather than taken from the
-// colour matching functions' fit, whose far tails are too inexact for chromaticity.
-// Counter-clockwise, by Andrew's monotone chain.
-const std::vector<std::pair<double, double>>& realChromaticities() {
-  static const std::vector<std::pair<double, double>> hull = [] {
-    std::vector<std::pair<double, double>> points = {
-        {0.1741, 0.0050}, {0.1738, 0.0049}, {0.1733, 0.0048}, {0.1726, 0.0048}, {0.1714, 0.0051}, {0.1689, 0.0069}, {0.1644, 0.0109},
-        {0.1566, 0.0177}, {0.1440, 0.0297}, {0.1241, 0.0578}, {0.0913, 0.1327}, {0.0454, 0.2950}, {0.0082, 0.5384}, {0.0139, 0.7502},
-        {0.0743, 0.8338}, {0.1547, 0.8059}, {0.2296, 0.7543}, {0.3016, 0.6923}, {0.3731, 0.6245}, {0.4441, 0.5547}, {0.5125, 0.4866},
-        {0.5752, 0.4242}, {0.6270, 0.3725}, {0.6658, 0.3340}, {0.6915, 0.3083}, {0.7079, 0.2920}, {0.7190, 0.2809}, {0.7260, 0.2740},
-        {0.7300, 0.2700}, {0.7320, 0.2680}, {0.7334, 0.2666}, {0.7344, 0.2656}, {0.7347, 0.2653}};
-    std::sort(points.begin(), points.end());
-    auto cross = [](const auto& o, const auto& a, const auto& b) {
-      return (a.first - o.first) * (b.second - o.second) - (a.second - o.second) * (b.first - o.first);
-    };
-    std::vector<std::pair<double, double>> h(2 * points.size());
-    std::size_t k = 0;
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      while (k >= 2 && cross(h[k - 2], h[k - 1], points[i]) <= 0) --k;
-      h[k++] = points[i];
-    }
-    for (std::size_t i = points.size() - 1, t = k + 1; i-- > 0;) {
-      while (k >= t && cross(h[k - 2], h[k - 1], points[i]) <= 0) --k;
-      h[k++] = points[i];
-    }
-    h.resize(k - 1);
-    return h;
-  }();
-  return hull;
-}
-
-// Where the segment from MGF's white (1/3, 1/3), inside the hull, to (x, y), outside it, leaves
-// the hull: the most saturated real chromaticity of (x, y)'s hue.
-std::pair<double, double> ontoRealChromaticities(double x, double y) {
-  const std::vector<std::pair<double, double>>& hull = realChromaticities();
-  const double ex = 1.0 / 3, ey = 1.0 / 3, dx = x - ex, dy = y - ey;
-  double nearest = 1;
-  for (std::size_t i = 0; i < hull.size(); ++i) {
-    const auto& a = hull[i];
-    const auto& b = hull[(i + 1) % hull.size()];
-    const double mx = b.first - a.first, my = b.second - a.second;
-    const double det = dx * -my - dy * -mx;
-    if (det == 0) continue;
-    const double rx = a.first - ex, ry = a.second - ey;
-    const double t = (rx * -my - ry * -mx) / det, s = (dx * ry - dy * rx) / det;
-    if (t > 0 && s >= 0 && s <= 1) nearest = std::min(nearest, t);
-  }
-  nearest *= 1 - 1e-9;  // just inside
-  return {ex + nearest * dx, ey + nearest * dy};
-}
-
-// A colour's CIE XYZ as a real colour at unit luminance; `repair` says what was done to one
-// that is not a real colour (empty when nothing was). MGF allows negative spectral samples and
-// mixing weights (the CIE daylight basis functions are negative by definition): only what they
-// integrate to must be a colour. A negative component is clipped to 0, as RenderPark does; a
-// colour with no luminance left (cxy x 0, as RGB-to-xy converters write for pure blue or
-// purple) keeps its hue and becomes the most saturated real colour of it, rather than black
-// (RenderPark's choice, which loses the reflectance the file gives) or white (which loses the
-// hue); one with nothing left at all is white.
-Xyz realColour(const Xyz& c, std::string& repair) {
-  repair.clear();
-  if (c.x >= 0 && c.y > 0 && c.z >= 0) return Xyz{c.x / c.y, 1, c.z / c.y, c.origin};
-  auto format = [](double v) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.4g", v);
-    return std::string(text);
-  };
-  const double x = std::fmax(0.0, c.x), y = std::fmax(0.0, c.y), z = std::fmax(0.0, c.z);
-  const std::string xyz = "CIE XYZ ∝ (" + format(c.x) + ", " + format(c.y) + ", " + format(c.z) + ")";
-  if (x + y + z == 0) {
-    repair = "no real colour (" + xyz + ", nothing positive): read as white";
-    return Xyz{1, 1, 1, c.origin};
-  }
-  if (y > 0) {
-    repair = "no real colour (" + xyz + "): negative components clipped to 0, giving chromaticity (" + format(x / (x + y + z)) + ", " +
-             format(y / (x + y + z)) + ")";
-    return Xyz{x / y, 1, z / y, c.origin};
-  }
-  const auto [cx, cy] = ontoRealChromaticities(x / (x + z), 0);
-  repair = "no real colour (" + xyz + ", no luminance): read as chromaticity (" + format(cx) + ", " + format(cy) +
-           "), the most saturated real colour of its hue (toward white onto the spectral locus)";
-  return Xyz{cx / cy, 1, (1 - cx - cy) / cy, c.origin};
-}
-
-// A chromaticity as lambert RGB of Rec. 709 luminance 1, with MGF's white (E) at (1, 1, 1).
-Rgb chromaticityToRgb(const Xyz& c) {
-  const Rgb white = xyzToRec709(Xyz{});
-  Rgb rgb = xyzToRec709(c);
-  for (int k = 0; k < 3; ++k) rgb[k] = std::fmax(0.0, rgb[k] / white[k]);
-  const double luminance = rgb.luminance();
-  return luminance > 0 ? rgb / luminance : Rgb::gray(1);
-}
+using mgf::Line;
+using mgf::SourceFile;
 
 // ---------------------------------------------------------------------------------------------
-// Transforms: p' = A·p + t (rigid with uniform scale, possibly mirrored).
+// Colour: CIE XYZ, kept at unit luminance (Y = 1) since an MGF colour is a chromaticity only
+// (core/cie_colour.h).
 
-struct Affine {
-  double a[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-  Vec3 t;
-
-  Vec3 point(const Vec3& p) const {
-    return Vec3{a[0][0] * p.x + a[0][1] * p.y + a[0][2] * p.z, a[1][0] * p.x + a[1][1] * p.y + a[1][2] * p.z,
-                a[2][0] * p.x + a[2][1] * p.y + a[2][2] * p.z} +
-           t;
-  }
-  // This, then `after`: after(this(p)).
-  Affine then(const Affine& after) const {
-    Affine r;
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) r.a[i][j] = after.a[i][0] * a[0][j] + after.a[i][1] * a[1][j] + after.a[i][2] * a[2][j];
-    r.t = after.point(t);
-    return r;
-  }
-  Affine power(int n) const {
-    Affine r;
-    for (int i = 0; i < n; ++i) r = r.then(*this);
-    return r;
-  }
-  // A mirroring transform turns a counter-clockwise polygon clockwise: faces are reversed.
-  bool mirrors() const {
-    const double det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
-                       a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
-    return det < 0;
-  }
+struct Colour {
+  Xyz xyz;             // equal-energy white, MGF's default colour
+  std::string origin;  // "file:line: entity" that set it, for a repair's warning
 };
 
-Affine translation(const Vec3& d) {
-  Affine r;
-  r.t = d;
-  return r;
-}
-Affine rotation(int axis, double degrees) {
-  const double rad = degrees * kPi / 180, c = std::cos(rad), s = std::sin(rad);
-  Affine r;
-  const int i = (axis + 1) % 3, j = (axis + 2) % 3;  // the plane turned counter-clockwise
-  r.a[i][i] = c;
-  r.a[i][j] = -s;
-  r.a[j][i] = s;
-  r.a[j][j] = c;
-  return r;
-}
-Affine scaling(double f) {
-  Affine r;
-  for (int i = 0; i < 3; ++i) r.a[i][i] = f;
-  return r;
-}
-Affine mirror(int axis) {
-  Affine r;
-  r.a[axis][axis] = -1;
-  return r;
-}
+// ---------------------------------------------------------------------------------------------
+// Transforms: p' = A·p + t (rigid with uniform scale, possibly mirrored; core/transform.h).
 
 // MGF's z-up to lambert's y-up: (x, y, z) → (x, z, −y), a rotation of −90° about x.
-Affine zUpToYUp() {
-  Affine r;
-  r.a[1][1] = 0;
-  r.a[1][2] = 1;
-  r.a[2][1] = -1;
-  r.a[2][2] = 0;
+Transform zUpToYUp() {
+  Transform r;
+  r.m = {1, 0, 0, 0, 0, 0, -1, 0, 0, 1, 0, 0, 0, 0, 0, 1};  // the columns: where x, y and z go
   return r;
 }
 
@@ -242,7 +49,7 @@ Affine zUpToYUp() {
 // times).
 struct XfSpec {
   struct Part {
-    Affine step;
+    Transform step;
     int count = 0;  // 0: fixed (applied once); N ≥ 1: an array dimension of N instances
   };
   std::vector<Part> parts;
@@ -251,60 +58,9 @@ struct XfSpec {
   }
 };
 
-// ---------------------------------------------------------------------------------------------
-// Input: logical lines (continuations joined) as words, with the physical line they start on.
-
-struct Line {
-  std::vector<std::string> words;
-  int number = 0;
-};
-
-struct SourceFile {
-  std::string path;  // as named in messages
-  fs::path directory;
-  std::vector<Line> lines;
-};
-
 struct ParseError {
   std::string message;
 };
-
-std::vector<std::string> splitWords(const std::string& text) {
-  std::vector<std::string> words;
-  std::istringstream in(text);
-  for (std::string w; in >> w;) words.push_back(w);
-  return words;
-}
-
-std::optional<SourceFile> loadSource(const fs::path& path, const std::string& shownPath) {
-  std::ifstream in(path);
-  if (!in) return std::nullopt;
-  SourceFile file;
-  file.path = shownPath;
-  file.directory = path.parent_path();
-  std::string physical, logical;
-  int number = 0, start = 0;
-  while (std::getline(in, physical)) {
-    ++number;
-    if (!physical.empty() && physical.back() == '\r') physical.pop_back();
-    if (logical.empty()) start = number;
-    if (!physical.empty() && physical.back() == '\\') {
-      physical.back() = ' ';  // an escaped newline counts as a space
-      logical += physical;
-      continue;
-    }
-    logical += physical;
-    Line line{splitWords(logical), start};
-    logical.clear();
-    if (line.words.empty() || line.words[0][0] == '#') continue;
-    file.lines.push_back(std::move(line));
-  }
-  if (!logical.empty()) {
-    Line line{splitWords(logical), start};
-    if (!line.words.empty() && line.words[0][0] != '#') file.lines.push_back(std::move(line));
-  }
-  return file;
-}
 
 // ---------------------------------------------------------------------------------------------
 // Contexts.
@@ -316,9 +72,9 @@ struct VertexContext {
 
 struct MaterialContext {
   double rd = 0;  // photometric diffuse reflectance
-  Xyz rdColour;
+  Colour rdColour;
   double ed = 0;  // diffuse emittance, lm/m²
-  Xyz edColour;
+  Colour edColour;
   int sides = 2;
   int version = 0;  // bumped on every change: geometry takes the material as it is then
 };
@@ -328,7 +84,7 @@ class Reader {
   Reader(const MgfOptions& options, const fs::path& top) : options_(options) { defaultObject_ = top.stem().string(); }
 
   Scene read(const fs::path& top) {
-    std::optional<SourceFile> file = loadSource(top, top.string());
+    std::optional<SourceFile> file = mgf::loadSource(top, top.string());
     if (!file) throw ParseError{top.string() + ": cannot open MGF file"};
     active_.push_back(fs::weakly_canonical(top));
     runFile(*file);
@@ -349,9 +105,9 @@ class Reader {
     scene.lights = lights_;
     scene.camera = cameraViewingScene(scene);
     // The file's own frame: z up, in metres; every point read went through zUpToYUp.
-    const Affine toScene = zUpToYUp();
-    for (int axis = 0; axis < 3; ++axis) scene.fileFrame.axes[axis] = {toScene.a[0][axis], toScene.a[1][axis], toScene.a[2][axis]};
-    scene.fileFrame.offset = toScene.t;
+    const Transform toScene = zUpToYUp();
+    for (int axis = 0; axis < 3; ++axis) scene.fileFrame.axes[axis] = {toScene.m[axis * 4], toScene.m[axis * 4 + 1], toScene.m[axis * 4 + 2]};
+    scene.fileFrame.offset = {toScene.m[12], toScene.m[13], toScene.m[14]};
     scene.fileFrame.up = {0, 0, 1};
     return scene;
   }
@@ -363,15 +119,15 @@ class Reader {
 
   std::map<std::string, VertexContext> vertices_;
   std::string currentVertex_;  // "" when none
-  std::map<std::string, Xyz> colours_;
-  Xyz unnamedColour_;
+  std::map<std::string, Colour> colours_;
+  Colour unnamedColour_;
   std::string currentColour_;  // "": the unnamed one
   std::map<std::string, MaterialContext> namedMaterials_;
   MaterialContext unnamedMaterial_;
   std::string currentMaterial_;  // "": the unnamed one
   int unnamedResets_ = 0;
 
-  std::vector<Affine> xf_{zUpToYUp()};  // the total transform of each open context
+  std::vector<Transform> xf_{zUpToYUp()};  // the total transform of each open context
   std::vector<std::string> objects_;
   std::set<std::string> warnedKinds_;
   std::set<std::string> repairedColours_;  // the origins of colours repaired (and reported) once
@@ -465,7 +221,7 @@ class Reader {
         }
         const XfSpec spec = parseXf(1);
         if (!spec.hasArray()) {
-          xf_.push_back(instance(spec, {}).then(xf_.back()));
+          xf_.push_back(xf_.back() * instance(spec, {}));
           continue;
         }
         const std::size_t close = matchingXfEnd(file, i, end);
@@ -499,10 +255,10 @@ class Reader {
     for (const XfSpec::Part& p : spec.parts)
       if (p.count > 0) counts.push_back(p.count);
     index.assign(counts.size(), 0);
-    const Affine outer = xf_.back();
+    const Transform outer = xf_.back();
     const std::size_t depth = xf_.size();
     while (true) {
-      xf_.push_back(instance(spec, index).then(outer));
+      xf_.push_back(outer * instance(spec, index));
       body();
       xf_.resize(depth);
       std::size_t d = 0;
@@ -511,11 +267,11 @@ class Reader {
     }
   }
 
-  static Affine instance(const XfSpec& spec, const std::vector<int>& index) {
-    Affine total;
+  static Transform instance(const XfSpec& spec, const std::vector<int>& index) {
+    Transform total;
     std::size_t dimension = 0;
     for (const XfSpec::Part& p : spec.parts)
-      total = total.then(p.count == 0 ? p.step : p.step.power(index[dimension++]));
+      total = (p.count == 0 ? p.step : p.step.power(index[dimension++])) * total;
     return total;
   }
 
@@ -524,10 +280,10 @@ class Reader {
     XfSpec spec;
     spec.parts.push_back({});
     int repeat = 1;  // -i N: the arguments up to the next -i or -a are applied N times
-    Affine repeated;
+    Transform repeated;
     auto closeRepeat = [&] {
-      spec.parts.back().step = spec.parts.back().step.then(repeated.power(repeat));
-      repeated = Affine{};
+      spec.parts.back().step = repeated.power(repeat) * spec.parts.back().step;
+      repeated = Transform{};
       repeat = 1;
     };
     const std::vector<std::string>& w = line_->words;
@@ -538,18 +294,18 @@ class Reader {
       };
       if (flag == "-t") {
         need(3);
-        repeated = repeated.then(translation({number(w[i + 1]), number(w[i + 2]), number(w[i + 3])}));
+        repeated = Transform::translation({number(w[i + 1]), number(w[i + 2]), number(w[i + 3])}) * repeated;
         i += 3;
       } else if (flag == "-rx" || flag == "-ry" || flag == "-rz") {
         need(1);
-        repeated = repeated.then(rotation(flag[2] - 'x', number(w[++i])));
+        repeated = Transform::rotation(flag[2] - 'x', number(w[++i])) * repeated;
       } else if (flag == "-s") {
         need(1);
         const double f = number(w[++i]);
         if (f == 0) fail("xf: -s 0 would collapse everything to a point; give a nonzero scale factor");
-        repeated = repeated.then(scaling(f));
+        repeated = Transform::scaling(f) * repeated;
       } else if (flag == "-mx" || flag == "-my" || flag == "-mz") {
-        repeated = repeated.then(mirror(flag[2] - 'x'));
+        repeated = Transform::mirror(flag[2] - 'x') * repeated;
       } else if (flag == "-i" || flag == "-a") {
         need(1);
         const int n = integer(w[++i]);
@@ -558,7 +314,7 @@ class Reader {
         if (flag == "-i") {
           repeat = n;
         } else {
-          spec.parts.push_back({Affine{}, n});
+          spec.parts.push_back({Transform{}, n});
         }
       } else {
         fail("xf: unknown transformation argument '" + flag + "' (MGF's are -t dx dy dz, -rx/-ry/-rz degrees, -s f, -mx/-my/-mz, -i N, -a N)");
@@ -570,27 +326,9 @@ class Reader {
 
   void include(const SourceFile& from) {
     expectAtLeast(1);
-    const std::string& name = arg(0);
-    const fs::path target = (from.directory / name).lexically_normal();
-    const fs::path canonical = fs::weakly_canonical(target);
-    if (!options_.includeRoot.empty()) {
-      // Before looking at the file, so that nothing outside the root is even probed; both sides
-      // with symbolic links resolved, so that no link leads out of it.
-      const fs::path relative = canonical.lexically_relative(fs::weakly_canonical(options_.includeRoot));
-      if (relative.empty() || *relative.begin() == "..")
-        fail("include '" + name + "' is " + canonical.string() + ", outside the folder includes are confined to (" +
-             options_.includeRoot + "); move the file under it, or give a root that holds it");
-    }
-    std::error_code ec;
-    if (!fs::is_regular_file(target, ec))
-      fail("cannot open include '" + name + "' (looked for " + fs::absolute(target).lexically_normal().string() +
-           ", relative to the including file; check the name, or put the file there)");
-    if (std::find(active_.begin(), active_.end(), canonical) != active_.end())
-      fail("include cycle: '" + name + "' is already being read (it would include itself forever); remove the include that closes the cycle");
-    if (static_cast<int>(active_.size()) > kMaxIncludeDepth)
-      fail("includes nested deeper than " + std::to_string(kMaxIncludeDepth) + " levels; include the innermost files from a shallower one");
-    std::optional<SourceFile> file = loadSource(target, target.string());
-    if (!file) fail("cannot open include '" + name + "' (it is there but cannot be read; check its permissions)");
+    fs::path canonical;
+    Result<SourceFile> file = mgf::openInclude(from, arg(0), options_.includeRoot, active_, canonical);
+    if (!file) fail(file.error().message);
     const XfSpec spec = parseXf(2);
     const SourceFile* savedFile = file_;
     const Line* savedLine = line_;
@@ -626,7 +364,7 @@ class Reader {
     }
     const XfSpec spec = parseXf(xfFrom);
     forEachInstance(spec, [&] {
-      const Affine& xf = xf_.back();
+      const Transform& xf = xf_.back();
       Light light;
       light.kind = LightKind::Luminaire;
       light.name = name + " " + std::to_string(lights_.size());
@@ -654,7 +392,7 @@ class Reader {
     if (it == vertices_.end()) fail(keyword() + ": undefined vertex '" + name + "'; define it before it is used (v " + name + " =, then p x y z)");
     return it->second;
   }
-  Xyz& currentColour() { return currentColour_.empty() ? unnamedColour_ : colours_.at(currentColour_); }
+  Colour& currentColour() { return currentColour_.empty() ? unnamedColour_ : colours_.at(currentColour_); }
   MaterialContext& currentMaterial() {
     return currentMaterial_.empty() ? unnamedMaterial_ : namedMaterials_.at(currentMaterial_);
   }
@@ -697,15 +435,15 @@ class Reader {
       const Vec3 value{number(arg(0)), number(arg(1)), number(arg(2))};
       (k == "p" ? vertices_[currentVertex_].position : vertices_[currentVertex_].normal) = value;
     } else if (k == "c") {
-      if (!context(colours_, currentColour_, Xyz{}, "colour")) {
+      if (!context(colours_, currentColour_, Colour{}, "colour")) {
         currentColour_.clear();
-        unnamedColour_ = Xyz{};  // the unnamed colour is reset to its default
+        unnamedColour_ = Colour{};  // the unnamed colour is reset to its default
       }
     } else if (k == "cxy") {
       expectArgs(2);
       const double x = number(arg(0)), y = number(arg(1));
       // XYZ up to a factor; (x, y) outside x ≥ 0, y > 0, x + y ≤ 1 is repaired where it is used.
-      setColour(Xyz{x, y, 1 - x - y, {}});
+      setColour(Xyz{x, y, 1 - x - y});
     } else if (k == "cspec") {
       expectAtLeast(4);
       const double lo = number(arg(0)), hi = number(arg(1));
@@ -728,14 +466,14 @@ class Reader {
       setColour(integrateSpectrum([&](double lambda) { return planck(lambda, kelvin); }));
     } else if (k == "cmix") {
       if (numArgs() < 2 || numArgs() % 2 != 0) fail("cmix takes pairs of weight and colour name" + usage(k));
-      Xyz sum{0, 0, 0, {}};
+      Xyz sum{0, 0, 0};
       for (std::size_t i = 0; i < numArgs(); i += 2) {
         const double w = number(arg(i));  // negative ones too: the sum is checked where it is used
         auto it = colours_.find(arg(i + 1));
         if (it == colours_.end()) fail("cmix: undefined colour '" + arg(i + 1) + "'; define it before it is used (c " + arg(i + 1) + " =, then cxy, cspec, cct or cmix)");
-        sum.x += w * it->second.x;
-        sum.y += w * it->second.y;
-        sum.z += w * it->second.z;
+        sum.x += w * it->second.xyz.x;
+        sum.y += w * it->second.xyz.y;
+        sum.z += w * it->second.xyz.z;
       }
       setColour(sum);
     } else if (k == "m") {
@@ -830,16 +568,16 @@ class Reader {
     const std::string origin = where() + ": " + entity;
     const double scale = xyz.y > 0 ? xyz.y : std::fmax(std::fabs(xyz.x), std::fmax(std::fabs(xyz.y), std::fabs(xyz.z)));
     if (scale > 0)
-      currentColour() = Xyz{xyz.x / scale, xyz.y / scale, xyz.z / scale, origin};
+      currentColour() = Colour{{xyz.x / scale, xyz.y / scale, xyz.z / scale}, origin};
     else
-      currentColour() = Xyz{0, 0, 0, origin};
+      currentColour() = Colour{{0, 0, 0}, origin};
   }
 
   // The colour a material's rd or ed takes, a real one; a repair is reported once per colour
   // definition, where it matters (a nonzero rd or ed).
-  Xyz usedColour(const Xyz& colour, double amount, const std::string& use) {
+  Xyz usedColour(const Colour& colour, double amount, const std::string& use) {
     std::string repair;
-    Xyz real = realColour(colour, repair);
+    Xyz real = realColour(colour.xyz, repair);
     if (!repair.empty() && amount > 0 && repairedColours_.insert(colour.origin).second)
       warning(colour.origin + ": " + repair + " (first used by " + use + " at " + where() + ")");
     return real;
@@ -894,7 +632,7 @@ class Reader {
 
   // One polygon in the file's (untransformed) coordinates, counter-clockwise from the front.
   void addFace(const std::vector<Vec3>& corners) {
-    const Affine& xf = xf_.back();
+    const Transform& xf = xf_.back();
     const int material = materialIndex();
     PolygonMesh& m = mesh();
     PolygonMesh::Face face;

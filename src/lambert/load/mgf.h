@@ -27,7 +27,8 @@
 //     inner xf acts before its enclosing ones; bare xf ends the context (balanced per file);
 //   i file [xf args]: includes, relative to the including file wherever that leads (RenderPark's
 //     hospital includes ../Materials/), at most 32 deep, no cycles; MgfOptions::includeRoot, when
-//     given, confines them to a folder (for a service reading files it did not choose);
+//     given, confines them to a folder (for a service reading files it did not choose;
+//     load/mgf_source.h);
 //   o name ... o: objects, named "outer/inner", each a set of smooth regions (scene/regions.h);
 //   sph, cyl, cone, ring, torus, prism, tessellated with MgfOptions::divisions segments per full
 //     circle (a sphere: that many around, half as many pole to pole). Normals face outward; a
@@ -55,7 +56,8 @@
 //   RGB space, from E instead of D65), negative channels (out of gamut) clipped to 0 and the
 //   result scaled back to Rec. 709 luminance 1. ρ = rd × that; ρ of 1 or more in a channel is
 //   lowered (boundedAlbedo). cspec and cct integrate against the CIE 1931 2° colour matching
-//   functions in the multi-lobe Gaussian fit of Wyman, Sloan and Shirley 2013 (JCGT 2(2)).
+//   functions in the multi-lobe Gaussian fit of Wyman, Sloan and Shirley 2013 (JCGT 2(2));
+//   core/cie_colour.h.
 // Emission: ed is a luminous emittance M_v in lm/m² from a Lambertian emitter, so its luminance
 //   is M_v/π cd/m²; lambert's L_e in W/(m²·sr) is that divided by 683 lm/W (kLumensPerWatt, the
 //   efficacy the glTF reader converts with, so that the same lamp reads the same from either

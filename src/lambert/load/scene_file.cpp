@@ -1,6 +1,7 @@
 #include "lambert/load/scene_file.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -13,14 +14,15 @@
 
 #include "lambert/core/atomic_file.h"
 #include "lambert/core/text.h"
+#include "lambert/core/transform.h"
 #include "lambert/core/warning.h"
 #include "lambert/light/sky.h"
 #include "lambert/light/sun.h"
-#include "lambert/light/photometry.h"
 #include "lambert/scene/builtin.h"
 #include "lambert/load/gltf.h"
 #include "lambert/load/mgf.h"
 #include "lambert/load/obj.h"
+#include "lambert/load/photometry_file.h"
 #include "lambert/load/ply.h"
 #include "lambert/scene/texture.h"
 
@@ -363,19 +365,24 @@ Camera readCamera(const Json& value, const std::string& pointer) {
   return camera;
 }
 
-// A mesh transform: scale, then rotations about x, y and z (degrees), then translation.
+// A mesh transform: scale, then rotations about x, y and z (degrees), then translation, each
+// step applied to the result of the one before (their product would round differently).
 struct MeshTransform {
-  Vec3 scale{1, 1, 1}, rotateDegrees, translate;
+  std::array<Transform, 5> steps;
+  bool mirrors = false;
 
+  MeshTransform(const Vec3& scale, const Vec3& rotateDegrees, const Vec3& translate)
+      : steps{Transform::scaling(scale), Transform::rotation(0, rotateDegrees.x), Transform::rotation(1, rotateDegrees.y),
+              Transform::rotation(2, rotateDegrees.z), Transform::translation(translate)},
+        mirrors(scale.x * scale.y * scale.z < 0) {}
   Vec3 direction(Vec3 d) const {
-    d = {d.x * scale.x, d.y * scale.y, d.z * scale.z};
-    const double rx = rotateDegrees.x * kPi / 180, ry = rotateDegrees.y * kPi / 180, rz = rotateDegrees.z * kPi / 180;
-    d = {d.x, d.y * std::cos(rx) - d.z * std::sin(rx), d.y * std::sin(rx) + d.z * std::cos(rx)};
-    d = {d.x * std::cos(ry) + d.z * std::sin(ry), d.y, -d.x * std::sin(ry) + d.z * std::cos(ry)};
-    return {d.x * std::cos(rz) - d.y * std::sin(rz), d.x * std::sin(rz) + d.y * std::cos(rz), d.z};
+    for (const Transform& step : steps) d = step.direction(d);
+    return d;
   }
-  Vec3 point(const Vec3& p) const { return direction(p) + translate; }
-  bool mirrors() const { return scale.x * scale.y * scale.z < 0; }
+  Vec3 point(Vec3 p) const {
+    for (const Transform& step : steps) p = step.point(p);
+    return p;
+  }
 };
 
 // A mesh file (OBJ, PLY, glTF, MGF) by a path relative to the scene file, in the scene's units:
@@ -387,20 +394,21 @@ void addMesh(Scene& scene, const Json& value, const std::string& pointer, const 
   const std::string relative = r.string("path", "");
   if (relative.empty()) throw FieldError{pointer, "missing required field \"path\""};
   if (!isMeshFile(relative)) throw FieldError{r.pointerOf("path"), "\"" + relative + "\" is not a mesh file (.obj, .ply, .gltf, .glb, .mgf)"};
-  MeshTransform t;
+  Vec3 scale{1, 1, 1}, rotateDegrees, translate;
   if (r.has("transform")) {
     ObjectReader tr(r.require("transform"), r.pointerOf("transform"));
     if (tr.has("scale") && tr.find("scale")->is_number()) {
       const double s = tr.number("scale", 1, -1e30, 1e30);
-      t.scale = {s, s, s};
+      scale = {s, s, s};
     } else {
-      t.scale = tr.vector("scale", {1, 1, 1});
+      scale = tr.vector("scale", {1, 1, 1});
     }
-    if (t.scale.x * t.scale.y * t.scale.z == 0) throw FieldError{tr.pointerOf("scale"), "a scale of zero flattens the mesh"};
-    t.rotateDegrees = tr.vector("rotateDegrees", {});
-    t.translate = tr.vector("translate", {});
+    if (scale.x * scale.y * scale.z == 0) throw FieldError{tr.pointerOf("scale"), "a scale of zero flattens the mesh"};
+    rotateDegrees = tr.vector("rotateDegrees", {});
+    translate = tr.vector("translate", {});
     tr.finish("scale, rotateDegrees, translate");
   }
+  const MeshTransform t(scale, rotateDegrees, translate);
   LoadOptions load;
   load.creaseAngleDegrees = r.number("creaseAngleDegrees", 20, 0, 180);
   if (r.has("twoSided")) load.twoSided = r.boolean("twoSided", false);
@@ -424,8 +432,8 @@ void addMesh(Scene& scene, const Json& value, const std::string& pointer, const 
     for (Vec3& v : surface.vertices) v = t.point(v * toSceneUnits);
     // A mirror turns every face over; reversing all but the first corner keeps the fan (and so a
     // twin pair's triangles) the same.
-    if (t.mirrors() && surface.faces.empty()) std::reverse(surface.vertices.begin() + 1, surface.vertices.end());
-    if (t.mirrors()) {
+    if (t.mirrors && surface.faces.empty()) std::reverse(surface.vertices.begin() + 1, surface.vertices.end());
+    if (t.mirrors) {
       for (auto& face : surface.faces) std::reverse(face.begin() + 1, face.end());
       for (auto& uvs : surface.faceUvs) std::reverse(uvs.begin() + 1, uvs.end());
       for (auto& uvs : surface.faceLightmapUvs) std::reverse(uvs.begin() + 1, uvs.end());

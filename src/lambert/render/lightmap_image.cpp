@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "lambert/core/barycentric.h"
 #include "lambert/core/error.h"
 #include "lambert/mesh/mesh.h"
 #include "lambert/render/rasterizer.h"
@@ -18,16 +19,6 @@ struct FanTriangle {
   std::uint32_t surface = 0, face = 0;
   std::array<std::uint32_t, 3> corner{};
 };
-
-// The barycentric weights of p (on or near the triangle's plane) in triangle (a, b, c).
-std::array<double, 3> barycentric(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 e0 = b - a, e1 = c - a, d = p - a;
-  const double d00 = dot(e0, e0), d01 = dot(e0, e1), d11 = dot(e1, e1), d20 = dot(d, e0), d21 = dot(d, e1);
-  const double denominator = d00 * d11 - d01 * d01;
-  if (!(denominator > 0)) return {1, 0, 0};
-  const double v = (d11 * d20 - d01 * d21) / denominator, w = (d00 * d21 - d01 * d20) / denominator;
-  return {1 - v - w, v, w};
-}
 
 Uv interpolate(const std::vector<Uv>& uvs, const FanTriangle& t, const std::array<double, 3>& w) {
   Uv uv;

@@ -7,6 +7,7 @@
 #include <numeric>
 #include <set>
 
+#include "lambert/core/vec2.h"
 #include "lambert/core/warning.h"
 
 namespace lambert {
@@ -68,13 +69,10 @@ std::vector<std::array<std::uint32_t, 3>> triangulatePolygon(const std::vector<V
   // Work in the polygon's plane.
   Vec3 tangent, bitangent;
   orthonormalBasis(normal, tangent, bitangent);
-  struct P {
-    double x, y;
-  };
-  std::vector<P> p(n);
+  std::vector<Vec2> p(n);
   for (std::size_t k = 0; k < n; ++k) p[k] = {dot(polygon[k], tangent), dot(polygon[k], bitangent)};
   auto area2 = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-    return (p[b].x - p[a].x) * (p[c].y - p[a].y) - (p[c].x - p[a].x) * (p[b].y - p[a].y);
+    return cross2(p[b] - p[a], p[c] - p[a]);
   };
   const double scale = polygonExtent(polygon);
   const double tiny = 1e-14 * scale * scale;
