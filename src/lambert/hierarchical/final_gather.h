@@ -31,6 +31,10 @@
 // A vertex is evaluated where the path tracer's reference evaluates it (vertexSites: nudged
 // into its own surface) and gathers through the adjacent leaf with the largest open fraction,
 // then the smallest (whose links are the finest).
+//
+// Its files: final_gather.cpp (the traversal, site by site), gather_visibility.cpp (the rays from
+// a site to a source), near_field.cpp (the close sources' corners), final_gather_outputs.h (what
+// a gather hands back beside the irradiance).
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -88,6 +92,9 @@ class FinalGather {
   // Per vertex: the adjacent leaf it gathers through, the one with the largest open fraction,
   // then the smallest (whose links are the finest); kNoNode for a vertex no leaf uses.
   static std::vector<std::uint32_t> gatheringLeaves(const Mesh& mesh);
+  // The same gather (sites, links, rays) through other leaves, one per site (kNoNode: the site is
+  // not gathered): a distributed rank gathers its own sites alone.
+  FinalGather throughLeaves(std::vector<std::uint32_t> leafOfSite) const;
 
   // Per vertex of the leaf mesh: the irradiance Σ K(x, s) B̄_s the links bring (W/m²), from the
   // radiosity every node shows (HierarchicalTransport::pull, W/m²).
@@ -119,6 +126,8 @@ class FinalGather {
   const std::vector<std::uint32_t>& gatheringLeaf() const { return leaf_; }
 
  private:
+  class SiteGather;  // one site's gather, step by step (final_gather.cpp)
+
   // The share of rays from the vertex to stratified points on the source that get through, each
   // weighted by the point-to-point kernel; with penumbraRays, more where the first ones disagree.
   // Adds the rays cast to raysCast.

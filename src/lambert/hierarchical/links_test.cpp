@@ -9,6 +9,7 @@
 
 #include "lambert/engine/radiosity.h"
 #include "lambert/hierarchical/links.h"
+#include "lambert/hierarchical/refiner.h"
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/hierarchical/element_hierarchy.h"
 #include "lambert/load/scene_file.h"

@@ -2,20 +2,19 @@
 // Gathering over the links of hierarchical radiosity (Hanrahan, Salzman & Aupperle 1991, §4):
 // pull the leaves' radiosity up the hierarchy as area-weighted means, gather over every node's
 // links, push what each node gathered down to the leaves under it. One gather costs
-// O(nodes + links), against O(n²) for the dense matrix. hierarchical/links.h makes the links.
+// O(nodes + links), against O(n²) for the dense matrix. hierarchical/refiner.h makes the links;
+// hierarchical/distributed_transport.h spreads the sweeps over ranks.
 #include <memory>
 #include <span>
 #include <vector>
 
-#include "lambert/core/communicator.h"
-#include "lambert/core/timer.h"
-#include "lambert/hierarchical/links.h"
 #include "lambert/hierarchical/element_hierarchy.h"
+#include "lambert/hierarchical/links.h"
 #include "lambert/solve/transport.h"
 
 namespace lambert {
 
-class HierarchicalTransport final : public Transport {
+class HierarchicalTransport : public Transport {
  public:
   // Copies what it needs of the hierarchy (which may be refined further afterwards).
   // leafOpenFraction: per leaf, the share not covered by other geometry (Patch::openFraction);
@@ -34,35 +33,9 @@ class HierarchicalTransport final : public Transport {
   // ancestor's mean as of the sweep's start.
   SweepChange sweep(const std::vector<Rgb>& emitted, const std::vector<Rgb>& albedo, std::vector<Rgb>& radiosity,
                     bool inPlace) const override;
-  void completeSweeps(std::vector<Rgb>& radiosity) const override;
-  // Distributed: the records a sweep's exchange hands this rank (the others' nodes' power, 24 B each).
-  std::size_t receivedPerSweep() const { return receivedNodes_.size() - sentNodes_.size(); }
 
   const Links& links() const { return *links_; }
 
-  // Spreads the Jacobi sweep over the communicator's ranks (docs/distributed.md): rank
-  // nodeRank[i] is the rank whose leaves alone lie under node i, or kSharedNode where several
-  // ranks' do. A rank sweeps its leaves, and holds the links into them and their ancestors (a distributed
-  // refinement's share, hierarchical/links.h: the links here are this rank's alone). A sweep then
-  // gathers, on each rank, the nodes on the paths to its own leaves only and updates those leaves,
-  // reading the means of its own nodes, of the shared nodes above the ranks' subtrees and of the
-  // others' nodes its links read; one collective per sweep hands every rank the power of each
-  // rank's subtree tops and of its nodes that others read (what crosses the cut, planned here
-  // with one more collective). The sweep's change is the largest over the ranks. Each leaf ends a
-  // sweep, on its rank, with the radiosity a single process's Jacobi sweep over the union of the
-  // ranks' links gives, to the bit; the others' leaves are stale until completeSweeps() hands
-  // every rank the whole. gather() is then collective too. The in-place (Gauss–Seidel) sweep
-  // cannot be spread so: sweep() refuses it once distributed. Every rank must call this, and
-  // then every sweep and gather, alike. The row-sum figures below become this rank's leaves'.
-  static constexpr int kSharedNode = -1;
-  void distribute(std::shared_ptr<Communicator> communicator, std::span<const int> nodeRank);
-  // This rank's leaves, and the values a sweep sends from each rank (empty before distribute()).
-  std::span<const std::uint32_t> ownLeaves() const;
-  const std::vector<int>& leavesPerRank() const { return leavesPerRank_; }
-  // Seconds this rank's sweeps spent in their exchange (waiting for the other ranks included).
-  double sweepCommunicationSeconds() const { return sweepCommunicationSeconds_; }
-  // The rank that sweeps a leaf (0 before distribute()).
-  int rankOfLeaf(std::uint32_t leaf) const { return communicator_ ? nodeOwner_[nodeOfLeaf_[leaf]] : 0; }
   // The bound on ρ·Σ K above which a leaf's Σ K is scaled to 1 (leafGain_ below): the flat
   // methods' rowContractionBound(ρ) (flat/table.h), 0.95 or (1 + ρ)/2 where that is higher.
   // The largest Σ K a leaf gathers over its own links and its ancestors' before the bound, and
@@ -76,16 +49,11 @@ class HierarchicalTransport final : public Transport {
   // over all its area.
   void pull(const std::vector<Rgb>& radiosity, std::vector<Rgb>& mean) const;
 
- private:
+ protected:
+  // What the sweeps spread over ranks (hierarchical/distributed_transport.h) read of this transport.
   Rgb gatherNode(std::uint32_t node, const std::vector<Rgb>& mean) const;
-  // Distributed: what this rank's leaves gather (in ownLeaves() order).
-  std::vector<Rgb> gatherOwn(const std::vector<Rgb>& radiosity) const;
-  // Distributed: the node means this rank's links read, from its own leaves' radiosity (the
-  // others' may be stale) and one collective: what crosses the cut (planExchange).
-  std::vector<Rgb> exchangeMeans(const std::vector<Rgb>& radiosity) const;
-  void planExchange();
-  // Every rank's values of its own leaves (in ownLeaves() order), placed at their leaves.
-  std::vector<Rgb> exchangeOwn(const std::vector<Rgb>& mine) const;
+  // A sweep's change at one leaf: the largest over the channels.
+  static double largestChange(const Rgb& a, const Rgb& b);
 
   std::vector<std::uint32_t> parent_;
   std::vector<double> area_;
@@ -110,29 +78,16 @@ class HierarchicalTransport final : public Transport {
   double largestRowSum_ = 0;
   std::size_t rowsScaled_ = 0;
   std::vector<std::uint32_t> leafOfNode_;  // kNoNode for inner nodes
+  std::vector<std::uint32_t> nodeOfLeaf_;
+  std::shared_ptr<const Links> links_;
+
+ private:
   // The nodes depth first from the root (Gauss–Seidel's order), each with its depth (the root's 0).
   struct SweepStep {
     std::uint32_t node, depth;
   };
   std::vector<SweepStep> sweepOrder_;
   std::size_t sweepDepth_ = 0;  // the deepest node's depth + 1
-  std::vector<std::uint32_t> nodeOfLeaf_;
-  // distribute(): the communicator, every rank's leaves one run after another (rank r's from
-  // firstLeaf_[r]), how many each rank has, and the nodes on the paths to this rank's, in
-  // increasing order (parents first).
-  std::shared_ptr<Communicator> communicator_;
-  std::vector<std::uint32_t> leavesByRank_;
-  std::vector<std::size_t> firstLeaf_;
-  std::vector<int> leavesPerRank_;
-  std::vector<std::uint32_t> ownPath_;
-  // The exchange of what crosses the cut: each node's rank (distribute()'s nodeRank); this rank's nodes (increasing); the shared nodes and every rank's subtrees' tops
-  // (increasing); the nodes whose power this rank sends each sweep (its tops, and its nodes other
-  // ranks' links read), and every rank's such nodes in rank order with how many each sends.
-  std::vector<int> nodeOwner_;
-  std::vector<std::uint32_t> ownNodes_, combined_, sentNodes_, receivedNodes_;
-  std::vector<int> sentPerRank_;
-  mutable double sweepCommunicationSeconds_ = 0;
-  std::shared_ptr<const Links> links_;
 };
 
 }  // namespace lambert

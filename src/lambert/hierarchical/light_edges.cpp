@@ -1,0 +1,89 @@
+// The splits at light edges (hierarchical/light_edges.h).
+#include "lambert/hierarchical/light_edges.h"
+
+#include <cmath>
+
+#include "lambert/core/parallel.h"
+#include "lambert/hierarchical/links.h"
+#include "lambert/light/emission.h"
+#include "lambert/light/lights.h"
+#include "lambert/light/many_lights.h"
+
+namespace lambert {
+
+LightEdgeSplits splitAtLightEdges(ElementHierarchy& hierarchy, const Scene& scene, const Mesh& leafMesh,
+                                  const std::vector<Light>& lights, const RayCaster& caster, double rayEpsilon,
+                                  const LinkOptions& options, double threshold) {
+  LightEdgeSplits out;
+  const double minArea = minimumElementArea(hierarchy, options);
+  const std::vector<Rgb> albedo = patchAlbedo(scene, leafMesh);
+  std::vector<std::uint32_t> frontier = hierarchy.leafNodes();
+  std::vector<double> frontierAlbedo(frontier.size());
+  for (std::size_t i = 0; i < frontier.size(); ++i) frontierAlbedo[i] = albedo[i].maxComponent();
+  std::vector<std::uint32_t> next;
+  std::vector<double> nextAlbedo;
+  const DirectLighting lighting(lights, scene.metresPerUnit, 0);
+  while (!frontier.empty()) {
+    std::vector<char> split(frontier.size(), 0);
+    std::vector<std::uint32_t> samples(frontier.size(), 0), rays(frontier.size(), 0);  // points × lights evaluated; shadow rays
+    parallelFor(0, frontier.size(), [&](std::size_t i) {
+      const HierarchyNode& e = hierarchy.node(frontier[i]);
+      if (e.area * 0.25 < minArea) return;
+      Vec3 points[5] = {e.centre};
+      for (std::size_t k = 0; k < e.numCorners; ++k) points[k + 1] = lerp(e.corners[k], e.centre, 0.1);
+      double radius = 0;
+      for (std::size_t k = 0; k < e.numCorners; ++k) radius = std::fmax(radius, length(e.corners[k] - e.centre));
+      radius *= 1 + 1e-9;
+      for (std::size_t l = 0; l < lights.size(); ++l) {
+        // First the light's bound over the element's sphere (no evaluation at its points): most
+        // of many lights are far, or hold the element outside their cones.
+        if (frontierAlbedo[i] * lighting.upperBound(l, e.centre, radius, e.normal).maxComponent() * e.area * (1 + 1e-9) <= threshold) continue;
+        samples[i] += e.numCorners + 1u;
+        // The light's variation over the points is at most its largest unoccluded value there:
+        // where ρ times that times the area cannot exceed the threshold, no shadow ray can make
+        // this light split the element, and none is traced (a cull that changes no split; the
+        // margin covers the rounding between the precomputed and lights.cpp's evaluation). With
+        // many lights most are far or outside their cones from most elements.
+        double unoccluded[5] = {}, largest = 0;
+        for (std::size_t k = 0; k <= e.numCorners; ++k) {
+          unoccluded[k] = lighting.unoccluded(l, points[k], e.normal).maxComponent();
+          largest = std::fmax(largest, unoccluded[k]);
+        }
+        if (frontierAlbedo[i] * largest * e.area * (1 + 1e-9) <= threshold) continue;
+        double lo = INFINITY, hi = 0;
+        for (std::size_t k = 0; k <= e.numCorners; ++k) {
+          double value = 0;
+          if (unoccluded[k] > 0) {
+            ++rays[i];
+            value = irradiance(lights[l], points[k], e.normal, caster, rayEpsilon, scene.metresPerUnit).maxComponent();
+          }
+          lo = std::fmin(lo, value);
+          hi = std::fmax(hi, value);
+        }
+        if (frontierAlbedo[i] * (hi - lo) * e.area > threshold) {
+          split[i] = 1;
+          return;
+        }
+      }
+    }, 16);
+    for (std::uint32_t n : rays) out.rays += n;
+    for (std::uint32_t n : samples) out.samples += n;
+    next.clear();
+    nextAlbedo.clear();
+    for (std::size_t i = 0; i < frontier.size(); ++i) {
+      if (!split[i]) continue;
+      hierarchy.split(frontier[i]);
+      ++out.splits;
+      for (std::uint32_t child : hierarchy.children(frontier[i])) {
+        next.push_back(child);
+        nextAlbedo.push_back(frontierAlbedo[i]);
+      }
+    }
+    frontier.swap(next);
+    frontierAlbedo.swap(nextAlbedo);
+  }
+  hierarchy.numberLeaves();
+  return out;
+}
+
+}  // namespace lambert

@@ -1,0 +1,93 @@
+#pragma once
+// One candidate link as the refinement (hierarchical/refiner.h) sees it, and what estimates it:
+// its K, visibility and verdict by the kernels hierarchical/links.h describes (links.cpp), and the
+// BF oracle that judges it against the link error. The refiner's waves decide which candidates
+// there are; this decides what one is worth. Its own header so that the two meet here and each
+// keeps its own file (refiner.cpp, links.cpp). Internal to hierarchical/.
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "lambert/geometry/ray_caster.h"
+#include "lambert/hierarchical/element_hierarchy.h"
+#include "lambert/hierarchical/options.h"
+
+namespace lambert {
+
+// Estimated: K and visibility known. Inadmissible: too close for the estimate, to be split.
+// Occluded: every ray blocked; a few rays are weak evidence (a mostly shadowed element would lose
+// its sliver of light every time), so it is split where it could carry too much unoccluded.
+// Empty: the two cannot exchange light (back to back, coplanar, or the same element).
+// Coarse: the oracle refines it, and splits the same node, whatever its K and visibility come out
+// as (its bound is known before any ray): it is not estimated, since judge() would not read it.
+enum class Verdict : std::uint8_t { Estimated, Inadmissible, Occluded, Empty, Coarse };
+
+struct Candidate {
+  std::uint32_t receiver, source;
+  float formFactor = 0;        // K with visibility
+  float uncertainty = 0;       // how far K may be from the truth over the receiver (the oracle's factor)
+  bool receiverSide = false;   // the uncertainty is the factor's spread over the receiver, or r's
+                               // points see nothing of s: split the receiver
+  bool openSource = false;     // inadmissible until the source (a cluster) opens: split it first
+  bool openReceiver = false;   // inadmissible until the receiver (a cluster) opens: split it first
+  Verdict verdict = Verdict::Estimated;
+  bool estimated = false;      // already estimated (a previous link judged again)
+  float judgedTransfer = -1;   // cluster links: the oracle's transfer (judgedTransfer()); < 0 until computed
+};
+
+class LinkEstimator {
+ public:
+  // The leaves' radiosities (their largest channel, W/m², one per current leaf) pulled up to
+  // every node as area-weighted means, the oracle's threshold (linkError × the scene's power) and
+  // which nodes hold a partly covered leaf (leafOpenFraction below 1), as refineLinks takes them.
+  LinkEstimator(const ElementHierarchy& hierarchy, const RayCaster& caster, double rayEpsilon,
+                std::span<const std::uint64_t> casterFace, const LinkOptions& options, std::span<const double> leafRadiosity,
+                std::span<const double> leafOpenFraction);
+
+  // Fills in the candidate's verdict, K and visibility; returns the rays it cast.
+  std::uint8_t estimate(Candidate& c) const;
+  // The transfer a cluster link is judged by (links.cpp says why not by its own K).
+  double judgedTransfer(const Candidate& c) const;
+
+  // The BF oracle: B_s · ΔK · A_r above the threshold.
+  bool tooCoarse(const Candidate& c, double uncertainty) const {
+    return radiosity_[c.source] * uncertainty * h_.node(c.receiver).area > threshold_;
+  }
+
+  bool splittable(std::uint32_t node) const {
+    const HierarchyNode& n = h_.node(node);
+    return n.isCluster() || !n.isLeaf() || n.area * 0.25 >= minArea_;
+  }
+
+  // Per node: the area-weighted mean of the leaves' largest channel; and the oracle's threshold.
+  double radiosity(std::uint32_t node) const { return radiosity_[node]; }
+  double threshold() const { return threshold_; }
+  // The children of a node just split start from its estimates.
+  void addChildren(std::uint32_t node);
+
+ private:
+  struct Visibility;
+  struct ClusterSample;
+  struct FaceSample;
+  bool boxesApart(const HierarchyNode& a, const HierarchyNode& b) const;
+  bool mayFace(const HierarchyNode& a, const HierarchyNode& b) const;
+  bool cutsThrough(const HierarchyNode& e, const HierarchyNode& b) const;
+  void trace(const Vec3& x, const Vec3& xNormal, bool xMayBeCovered, const Vec3& y, const Vec3& yNormal,
+             std::uint64_t sourceFace, Visibility& seen) const;
+  template <bool withRays>
+  ClusterSample sampleCluster(const Candidate& c, const Vec3& w, int n, const std::array<std::uint32_t, 4>& scramble) const;
+  FaceSample sampleFace(std::uint32_t node, const Vec3& toward, bool source, double& u) const;
+
+  const ElementHierarchy& h_;  // refined (split) by the refiner between estimates
+  const RayCaster& caster_;
+  std::span<const std::uint64_t> casterFace_;
+  double epsilon_;
+  const LinkOptions& options_;
+  double minArea_;
+  double threshold_ = 0;
+  std::vector<double> radiosity_;  // per node: area-weighted mean of the leaves' largest channel
+  std::vector<std::uint8_t> partlyCovered_;  // per node: a leaf partly covered is, or was, under it
+};
+
+}  // namespace lambert
