@@ -34,6 +34,7 @@
 #include "lambert/core/timer.h"
 #include "lambert/core/warning.h"
 #include "lambert/engine/radiosity.h"
+#include "lambert/engine/solution_internals.h"
 #include "lambert/light/lights.h"
 #include "lambert/scene/builtin.h"
 #include "lambert/solve/solver.h"
@@ -214,7 +215,7 @@ struct Setup {
     }
     if (report)
       *report = Json{{"solver", solverName(coldEngine->options().solver)}, {"iterations", solved->iterations},
-                     {"residual", relativeResidual(view.problem(), view.radiosity())}, {"converged", solved->converged},
+                     {"residual", relativeResidual(radiosityProblem(view), view.radiosity())}, {"converged", solved->converged},
                      {"seconds", seconds(solved->solveSeconds)}};
     return reference;
   }

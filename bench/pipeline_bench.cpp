@@ -24,6 +24,7 @@
 #include "lambert/flat/form_factors.h"
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/engine/radiosity.h"
+#include "lambert/engine/solution_internals.h"
 #include "lambert/render/solution_image.h"
 #include "lambert/scene/builtin.h"
 #include "lambert/solve/solver.h"
@@ -137,7 +138,7 @@ Json benchSize(const Scene& scene, std::size_t target, int samples) {
   if (target <= kComparisonMaxPatches) {
     std::fprintf(stderr, "  direct LU solve (%zu patches)\n", n);
     std::vector<Rgb> direct;
-    SolveReport report = makeSolver(SolverKind::Direct)->solve(solution.problem(), direct);
+    SolveReport report = makeSolver(SolverKind::Direct)->solve(radiosityProblem(solution), direct);
     row["direct_solve_seconds"] = seconds(report.seconds);
     row["direct_residual"] = report.residual;
 

@@ -9,9 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "lambert/engine/radiosity.h"
-#include "lambert/io/gltf_export.h"
-#include "lambert/load/scene_file.h"
+#include "lambert/lambert.h"
 
 namespace {
 

@@ -10,8 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "lambert/engine/radiosity.h"
-#include "lambert/scene/builtin.h"
+#include "lambert/lambert.h"
 
 namespace {
 

@@ -1,8 +1,7 @@
 // The smallest program against liblambert: build the engine, solve, read vertex radiance.
 #include <cstdio>
 
-#include "lambert/engine/radiosity.h"
-#include "lambert/scene/builtin.h"
+#include "lambert/lambert.h"
 
 int main() {
   lambert::RadiosityOptions options;  // the defaults: hierarchical radiosity, as `lambert solve` runs it

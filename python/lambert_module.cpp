@@ -1,7 +1,8 @@
 // The Python module `lambert` (pybind11): load any scene the CLI loads, solve it with the CLI's
 // settings by their names (engine/solve_settings.h: link_error=1e-3 is --link-error), move its
 // lights, read per-vertex values as NumPy arrays and write the CLI's outputs. Errors are
-// lambert.Error carrying the library's message; solves release the GIL.
+// lambert.Error carrying the library's message; solves release the GIL. It includes installed
+// headers only (the public API, lambert/lambert.h), as a program built against the package would.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>

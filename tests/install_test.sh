@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Install.ExamplesBuildAgainstThePackage: installs lambert from a build tree into a scratch
-# prefix and builds examples/ against it as another project would (find_package(lambert),
-# lambert::lambert), then runs the programs. Each step is named; the first that fails ends the
-# test with its name.
+# prefix, checks that the installed headers are exactly the public API (lambert/lambert.h and the
+# lambert headers it reaches, each compiling on its own), and builds examples/ against it as
+# another project would (find_package(lambert), lambert::lambert), then runs the programs. Each
+# step is named; the first that fails ends the test with its name.
 #
 #   tests/install_test.sh BUILD_DIR SOURCE_DIR SCRATCH_DIR
 #
@@ -51,7 +52,7 @@ begin "cmake --install $build --prefix $prefix"
 run cmake --install "$build" --prefix "$prefix"
 
 begin "the prefix holds the CLI, both libraries, the headers and the package"
-for file in bin/lambert "$libdir/liblambert.a" include/lambert/engine/radiosity.h include/lambert/version.h \
+for file in bin/lambert "$libdir/liblambert.a" include/lambert/lambert.h include/lambert/engine/radiosity.h include/lambert/version.h \
   "$libdir/cmake/lambert/lambertConfig.cmake" "$libdir/cmake/lambert/lambertConfigVersion.cmake" \
   "$libdir/cmake/lambert/lambertTargets.cmake"; do
   [ -f "$prefix/$file" ] || fail "$prefix/$file is missing"
@@ -62,19 +63,49 @@ compgen -G "$prefix/$libdir/liblambert.so*" > /dev/null || fail "no $prefix/$lib
 begin "internal headers are not installed"
 for internal in formfactor/kernels.h flat/hemicube.h geometry/coverage.h solve/progressive_shooter.h \
   engine/method.h core/parallel.h hierarchical/links.h formfactor/matrix.h flat/form_factors.h \
-  hierarchical/element_hierarchy.h flat/quadtree.h solve/solver.h solve/transport.h; do
+  hierarchical/element_hierarchy.h flat/quadtree.h solve/solver.h solve/transport.h \
+  engine/point_gather.h engine/solution_internals.h hierarchical/method.h flat/uniform_method.h; do
   [ ! -e "$prefix/include/lambert/$internal" ] || fail "internal header lambert/$internal is installed"
 done
 if grep -rlE '#include <embree' "$prefix/include" > "$scratch/embree-headers.txt"; then
   fail "installed headers include Embree: $(tr '\n' ' ' < "$scratch/embree-headers.txt")"
 fi
 
+# The lambert headers a header includes, as "lambert/…" or <lambert/…>.
+lambert_includes() { sed -n 's/^[[:space:]]*#[[:space:]]*include[[:space:]]*["<]\(lambert\/[^">]*\)[">].*/\1/p' "$1"; }
+
 begin "every lambert header an installed header includes is installed"
 while IFS= read -r header; do
-  for included in $(sed -n 's/^#include "\(lambert\/[^"]*\)".*/\1/p' "$header"); do
+  for included in $(lambert_includes "$header"); do
     [ -f "$prefix/include/$included" ] || fail "${header#"$prefix/include/"} includes $included, which is not installed"
   done
 done < <(find "$prefix/include" -name '*.h')
+
+begin "every installed header is reached from lambert/lambert.h (the public API and nothing else)"
+declare -A reached=()
+pending=(lambert/lambert.h)
+while [ ${#pending[@]} -gt 0 ]; do
+  header=${pending[-1]}
+  unset 'pending[-1]'
+  [ -n "${reached[$header]:-}" ] && continue
+  reached[$header]=1
+  for included in $(lambert_includes "$prefix/include/$header"); do pending+=("$included"); done
+done
+while IFS= read -r header; do
+  [ -n "${reached[${header#"$prefix/include/"}]:-}" ] || fail "${header#"$prefix/include/"} is installed, but lambert/lambert.h does not reach it"
+done < <(find "$prefix/include" -name '*.h')
+
+begin "every installed header compiles on its own"
+compiler=$(cache_value CMAKE_CXX_COMPILER)
+mkdir -p "$scratch/headers" || fail "cannot make $scratch/headers"
+while IFS= read -r header; do
+  name=${header#"$prefix/include/"}
+  unit=$scratch/headers/$(tr '/' '_' <<< "${name%.h}").cpp
+  echo "#include <$name>" > "$unit"
+  "${compiler:-c++}" -std=c++20 -fsyntax-only -I"$prefix/include" "$unit" > "$unit.log" 2>&1 ||
+    fail "#include <$name> alone does not compile: $(head -c 2000 "$unit.log")"
+done < <(find "$prefix/include" -name '*.h' | sort)
+echo "$(find "$prefix/include" -name '*.h' | wc -l) headers"
 
 begin "lambert --version"
 version=$(sed -n 's/^#define LAMBERT_VERSION_STRING "\(.*\)"$/\1/p' "$prefix/include/lambert/version.h")

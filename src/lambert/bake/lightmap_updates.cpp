@@ -7,6 +7,7 @@
 #include "lambert/core/parallel.h"
 #include "lambert/core/timer.h"
 #include "lambert/engine/point_gather.h"
+#include "lambert/engine/solution_internals.h"
 #include "lambert/light/lights.h"
 
 namespace lambert {
@@ -71,7 +72,7 @@ Result<LightmapUpdater> LightmapUpdater::create(const SolutionView& view, const 
     u.texel_[t] = texels.atlas[t] * perAtlas + texels.texel[t];
     u.baked_[t] = baked.irradiance[texels.atlas[t]].pixels[texels.texel[t]];
   }
-  Result<PointGather> sites = view.pointGather(texels.points, PointGatherPart::Sites);
+  Result<PointGather> sites = pointGather(view, texels.points, PointGatherPart::Sites);
   if (!sites) return sites.error();
   u.site_ = std::move(sites->sites);
   u.rayEpsilon_ = sites->rayEpsilon;
@@ -140,7 +141,7 @@ Result<LightmapUpdater> LightmapUpdater::create(const SolutionView& view, const 
   std::vector<std::uint32_t>().swap(at);
 
   // The weights at the gather points, and the solution they were recorded against.
-  Result<PointGather> gathered = view.pointGather(gatherPoints, PointGatherPart::Weights);
+  Result<PointGather> gathered = pointGather(view, gatherPoints, PointGatherPart::Weights);
   if (!gathered) return gathered.error();
   u.nodeWeights_ = std::move(gathered->nodes);
   u.cornerWeights_ = std::move(gathered->near);
@@ -181,7 +182,7 @@ Result<LightmapUpdater> LightmapUpdater::create(const SolutionView& view, const 
   }
   if (gatherPoints.size() > latticePoints) {
     const std::vector<SurfacePoint> refined(gatherPoints.begin() + static_cast<std::ptrdiff_t>(latticePoints), gatherPoints.end());
-    Result<PointGather> more = view.pointGather(refined, PointGatherPart::Weights);
+    Result<PointGather> more = pointGather(view, refined, PointGatherPart::Weights);
     if (!more) return more.error();
     // Appended to the lattice points' lists.
     const auto append = [](std::vector<std::uint32_t>& start, const std::vector<std::uint32_t>& moreStart) {
@@ -204,7 +205,7 @@ Result<LightmapUpdater> LightmapUpdater::create(const SolutionView& view, const 
     return it != u.cornerVertex_.end() && *it == vertex ? static_cast<std::uint32_t>(it - u.cornerVertex_.begin()) : kNoTexel;
   };
   for (std::uint32_t& c : u.cornerWeights_.corner) c = subsetIndex(c);
-  Result<PointGather> corners = view.vertexGather(u.cornerVertex_, PointGatherPart::Weights);
+  Result<PointGather> corners = vertexGather(view, u.cornerVertex_, PointGatherPart::Weights);
   if (!corners) return corners.error();
   u.vertexNodeWeights_ = std::move(corners->nodes);
   u.vertexNearWeights_ = std::move(corners->near);
@@ -215,7 +216,7 @@ Result<LightmapUpdater> LightmapUpdater::create(const SolutionView& view, const 
   u.vertexAlbedo_.assign(u.cornerVertex_.size(), Rgb{});
   for (std::size_t i = 0; i < u.cornerVertex_.size(); ++i)
     if (corners->leaf[i] != PointGather::kNoLeaf) u.vertexAlbedo_[i] = view.albedo()[corners->leaf[i]];
-  Result<std::vector<Rgb>> mean = view.nodeMeanRadiosity();
+  Result<std::vector<Rgb>> mean = nodeMeanRadiosity(view);
   if (!mean) return mean.error();
   u.bakedNodeMean_ = std::move(*mean);
   u.bakedLeafRadiosity_ = view.radiosity();
@@ -264,7 +265,7 @@ Result<LightmapUpdater> LightmapUpdater::create(const SolutionView& view, const 
 Status LightmapUpdater::update(const SolutionView& view) {
   Timer timer;
   const std::size_t n = texel_.size();
-  Result<std::vector<Rgb>> mean = view.nodeMeanRadiosity();
+  Result<std::vector<Rgb>> mean = nodeMeanRadiosity(view);
   if (!mean) return mean.error();
   if (mean->size() != bakedNodeMean_.size() || view.radiosity().size() != bakedLeafRadiosity_.size())
     return Error{"lightmap updates: the solution is not the one the updater was created from (its hierarchy differs)"};

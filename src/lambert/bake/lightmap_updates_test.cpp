@@ -8,6 +8,7 @@
 #include "lambert/bake/lightmaps.h"
 #include "lambert/engine/point_gather.h"
 #include "lambert/engine/radiosity.h"
+#include "lambert/engine/solution_internals.h"
 #include "lambert/scene/builtin.h"
 
 namespace lambert {
@@ -134,9 +135,9 @@ TEST_F(LightmapUpdateTest, GatherWeightsReproduceTheGatherTheyWereRecordedFrom) 
   const LightmapTexels texels = lightmapTexels(scene_, baked_.uvs);
   std::vector<SurfacePoint> points;
   for (std::size_t i = 0; i < texels.points.size(); i += 7) points.push_back(texels.points[i]);
-  auto gathered = view.pointGather(points, PointGatherPart::LightAndWeights);
+  auto gathered = pointGather(view, points, PointGatherPart::LightAndWeights);
   ASSERT_TRUE(gathered.ok()) << gathered.error().message;
-  auto mean = view.nodeMeanRadiosity();
+  auto mean = nodeMeanRadiosity(view);
   ASSERT_TRUE(mean.ok());
   const std::vector<Rgb> corners = view.vertexValues(VertexQuantity::Radiosity);
   ASSERT_EQ(gathered->nodes.start.size(), points.size() + 1);

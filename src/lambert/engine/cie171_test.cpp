@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "lambert/engine/radiosity.h"
+#include "lambert/engine/solution_internals.h"
 #include "lambert/scene/scene.h"
 #include "lambert/solve/transport.h"
 #include "lambert/solve/solver.h"
@@ -328,9 +329,9 @@ TEST(Cie171Test, AreaSourceInABlackRoom_5_3) {
 // solution's B (the irradiance the elements carry, what the energy balance counts), in W.
 std::vector<double> surfaceFlux(const SolutionView& view) {
   std::vector<Rgb> irradiance;
-  view.problem().transport->gather(view.radiosity(), irradiance);
+  radiosityProblem(view).transport->gather(view.radiosity(), irradiance);
   std::vector<double> flux(view.scene().surfaces.size(), 0.0);
-  for (std::size_t i = 0; i < view.mesh().numPatches(); ++i) flux[view.mesh().patches[i].surface] += view.problem().area[i] * irradiance[i].g;
+  for (std::size_t i = 0; i < view.mesh().numPatches(); ++i) flux[view.mesh().patches[i].surface] += radiosityProblem(view).area[i] * irradiance[i].g;
   return flux;
 }
 

@@ -28,6 +28,8 @@ namespace lambert {
 struct RadiosityOptions;
 struct SolveBudget;
 struct SolveCallReport;
+struct PointGather;  // engine/point_gather.h
+enum class PointGatherPart;
 
 // The engine's solution per element, for Method::vertexSolution. W/m²; ρ dimensionless.
 struct ElementSolution {
@@ -68,7 +70,8 @@ class Method {
 
   // SolutionView::pointIrradiance: by default an Error (only hierarchical meshing gathers).
   virtual Result<std::vector<Rgb>> pointIrradiance(const ElementSolution& solution, std::span<const SurfacePoint> points) const;
-  // SolutionView::pointGather and nodeMeanRadiosity: likewise Errors but for hierarchical meshing.
+  // pointGather, vertexGather and nodeMeanRadiosity (engine/solution_internals.h): likewise
+  // Errors but for hierarchical meshing.
   virtual Result<PointGather> pointGather(const ElementSolution& solution, std::span<const SurfacePoint> points, PointGatherPart part) const;
   virtual Result<std::vector<Rgb>> nodeMeanRadiosity(const ElementSolution& solution) const;
   virtual Result<PointGather> vertexGather(const ElementSolution& solution, std::span<const std::uint32_t> vertices, PointGatherPart part) const;

@@ -1,9 +1,10 @@
 #pragma once
 // The light the surfaces bring to points on the scene's faces (lightmap texels), as the final
-// gather brings it to the vertices (hierarchical/final_gather.h); the types that SolutionView's gathers return, and optionally the weights that give
-// it again from a later solution of the same hierarchy (a moved light's warm re-solve) as one
-// sparse product: Σ weight × B̄_node over the node means (SolutionView::nodeMeanRadiosity) plus
-// Σ weight × B_vertex over the close leaf sources' corners (vertexMesh()'s vertex radiosities).
+// gather brings it to the vertices (hierarchical/final_gather.h); the types that the engine's
+// internal gathers return (engine/solution_internals.h), and optionally the weights that give it
+// again from a later solution of the same hierarchy (a moved light's warm re-solve) as one sparse
+// product: Σ weight × B̄_node over the node means (nodeMeanRadiosity) plus Σ weight × B_vertex
+// over the close leaf sources' corners (vertexMesh()'s vertex radiosities).
 #include <cstdint>
 #include <vector>
 
@@ -43,9 +44,9 @@ struct GatherWeights {
   std::size_t bytes() const { return start.size() * sizeof(std::uint32_t) + node.size() * sizeof(std::uint32_t) + weight.size() * sizeof(float); }
 };
 
-// What SolutionView::pointGather computes: the sites alone (where a lightmap's texels are lit
-// from), the surfaces' light there too, that and its weights, or the weights alone (no vertex
-// final gather for the close sources' corners: only the light needs their radiosity).
+// What pointGather (engine/solution_internals.h) computes: the sites alone (where a lightmap's
+// texels are lit from), the surfaces' light there too, that and its weights, or the weights alone
+// (no vertex final gather for the close sources' corners: only the light needs their radiosity).
 enum class PointGatherPart { Sites, Light, LightAndWeights, Weights };
 
 struct PointGather {

@@ -3,12 +3,15 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <string>
 
 #include "lambert/core/timer.h"
 #include "lambert/core/cache_file.h"
 #include "lambert/flat/adaptive_method.h"
 #include "lambert/hierarchical/method.h"
 #include "lambert/engine/point_gather.h"
+#include "lambert/engine/solution_internals.h"
 #include "lambert/flat/uniform_method.h"
 #include "lambert/light/emission.h"
 #include "lambert/light/injection.h"
@@ -83,6 +86,59 @@ std::vector<std::vector<Rgb>> Method::vertexSolution(const ElementSolution& solu
   return out;
 }
 
+// The engine's state, behind Radiosity's one pointer: the scene and options it was made with, the
+// lights, the method, the system it solves and B, and the totals stats() reports. Radiosity's
+// calls, its view and the internal readers (engine/solution_internals.h) read it here.
+struct Radiosity::Impl {
+  Impl(const Radiosity& engine, Scene scene, RadiosityOptions options);
+  void rebuildProblem();
+  Result<SolveCallReport> solve(const SolveBudget& budget);
+  Status solvePass(const SolveBudget& budget, SolveCallReport& report);
+  Stats stats() const;
+  // The solution per element, as the method reads it.
+  ElementSolution elementSolution() const {
+    return {radiosity_, injected_, surfaceEmitted_, problem_->albedo, lights_, scene_.metresPerUnit};
+  }
+
+  Scene scene_;
+  RadiosityOptions options_;
+  std::vector<Light> lights_;
+  std::unique_ptr<Method> meshing_;
+  std::unique_ptr<DirectLightInjection> injection_;
+  std::unique_ptr<RadiosityProblem> problem_;  // E includes the injected direct light
+  std::vector<Rgb> surfaceEmitted_;    // E of emissive surfaces alone, W/m²
+  std::vector<Rgb> injected_;          // the lights' ρ·E_direct, W/m²
+  std::vector<Rgb> vertexMeshAlbedo_;  // ρ per patch of the meshing's vertex mesh
+  std::vector<Rgb> radiosity_;         // B, W/m², one per element
+  bool solved_ = false;                // radiosity_ holds a solution (or a refinement's warm start)
+  double largestEmittedPower_ = 0;     // Σ E A of any solve so far (findSolutionFault's scale)
+  std::unique_ptr<ProgressiveShooter> shooter_;  // shoot: kept between solves, warm
+  SolutionView view_;
+  // Totals over every solve(), for stats().
+  int solves_ = 0;
+  // A distributed solve's residual and energy balance, made by every rank after each solve().
+  struct DistributedFigures {
+    double residual, emittedWatts, absorbedWatts, escapedWatts;
+  };
+  std::optional<DistributedFigures> distributedFigures_;
+  SolveCallReport last_;
+  double injectSeconds_ = 0, solveSeconds_ = 0, adaptSeconds_ = 0, formFactorSeconds_ = 0;
+  std::uint64_t shadowRays_ = 0;
+  int refined_ = 0, coarsened_ = 0;
+};
+
+// What a SolutionView reads: the engine's state behind it.
+struct SolutionInternals {
+  static const Radiosity::Impl& of(const SolutionView& view) { return *view.engine_->impl_; }
+};
+
+// Rank 0's lead over the other ranks' gathers (Method::leadRanks), let go of with its handle.
+struct DistributedOutputs::Lead {
+  explicit Lead(Method& leading) : method(leading) {}
+  ~Lead() { method.leadRanks(false); }
+  Method& method;
+};
+
 Result<std::unique_ptr<Radiosity>> Radiosity::create(Scene scene, RadiosityOptions options) {
   if (options.tolerance <= 0 || options.maxIterations < 1)
     return Error{"the solver needs a positive tolerance and at least one iteration"};
@@ -96,11 +152,12 @@ Result<std::unique_ptr<Radiosity>> Radiosity::create(Scene scene, RadiosityOptio
     options.cacheDirectory.clear();
   }
   std::unique_ptr<Radiosity> engine(new Radiosity(std::move(scene), std::move(options)));
+  Impl& e = *engine->impl_;
   // The strategy keeps a reference to the engine's scene, which never moves.
-  Result<std::unique_ptr<Method>> meshing = makeMethod(engine->scene_, engine->options_);
+  Result<std::unique_ptr<Method>> meshing = makeMethod(e.scene_, e.options_);
   if (!meshing) return meshing.error();
-  engine->meshing_ = std::move(*meshing);
-  engine->rebuildProblem();
+  e.meshing_ = std::move(*meshing);
+  e.rebuildProblem();
   return engine;
 }
 
@@ -113,37 +170,44 @@ Result<Mesh> solutionVertexMesh(const Scene& scene, RadiosityOptions options) {
 }
 
 Radiosity::Radiosity(Scene scene, RadiosityOptions options)
+    : impl_(std::make_unique<Impl>(*this, std::move(scene), std::move(options))) {}
+
+Radiosity::Impl::Impl(const Radiosity& engine, Scene scene, RadiosityOptions options)
     : scene_(std::move(scene)),
       options_(std::move(options)),
       lights_(scene_.lights),
       injection_(std::make_unique<DirectLightInjection>(options_.directLight)),
-      view_(*this) {}
+      view_(engine) {}
 
 Radiosity::~Radiosity() = default;
 
-void Radiosity::setLights(std::vector<Light> lights) { lights_ = std::move(lights); }
-const std::vector<Light>& Radiosity::lights() const { return lights_; }
-const SolutionView& Radiosity::solution() const { return view_; }
-const Scene& Radiosity::scene() const { return scene_; }
-const RadiosityOptions& Radiosity::options() const { return options_; }
-Status Radiosity::saveCache() { return meshing_->saveCache(); }
-DistributedOutputs::~DistributedOutputs() {
-  if (meshing_) meshing_->leadRanks(false);
-}
+void Radiosity::setLights(std::vector<Light> lights) { impl_->lights_ = std::move(lights); }
+const std::vector<Light>& Radiosity::lights() const { return impl_->lights_; }
+Result<SolveCallReport> Radiosity::solve(const SolveBudget& budget) { return impl_->solve(budget); }
+const SolutionView& Radiosity::solution() const { return impl_->view_; }
+Stats Radiosity::stats() const { return impl_->stats(); }
+const Scene& Radiosity::scene() const { return impl_->scene_; }
+const RadiosityOptions& Radiosity::options() const { return impl_->options_; }
+Status Radiosity::saveCache() { return impl_->meshing_->saveCache(); }
+DistributedOutputs::DistributedOutputs(std::unique_ptr<Lead> lead) : lead_(std::move(lead)) {}
+DistributedOutputs::DistributedOutputs(DistributedOutputs&& other) noexcept = default;
+DistributedOutputs::~DistributedOutputs() = default;
 DistributedOutputs Radiosity::leadDistributedOutputs() {
-  if (!options_.communicator || options_.communicator->size() < 2) return DistributedOutputs(nullptr);
-  LAMBERT_CHECK(options_.communicator->rank() == 0);
-  meshing_->leadRanks(true);
-  return DistributedOutputs(meshing_.get());
+  const RadiosityOptions& options = impl_->options_;
+  if (!options.communicator || options.communicator->size() < 2) return DistributedOutputs(nullptr);
+  LAMBERT_CHECK(options.communicator->rank() == 0);
+  impl_->meshing_->leadRanks(true);
+  return DistributedOutputs(std::make_unique<DistributedOutputs::Lead>(*impl_->meshing_));
 }
 void Radiosity::serveDistributedOutputs() {
-  if (!options_.communicator || options_.communicator->size() < 2) return;
-  meshing_->serveRanks({radiosity_, injected_, surfaceEmitted_, problem_->albedo, lights_, scene_.metresPerUnit});
+  const RadiosityOptions& options = impl_->options_;
+  if (!options.communicator || options.communicator->size() < 2) return;
+  impl_->meshing_->serveRanks(impl_->elementSolution());
 }
 
 // The elements changed (or were just made): the system, the lights' injection and the shooter's
 // state all belong to the old ones.
-void Radiosity::rebuildProblem() {
+void Radiosity::Impl::rebuildProblem() {
   const Mesh& elements = meshing_->elements();
   surfaceEmitted_ = emittedRadiosity(scene_, elements);
   problem_ = std::make_unique<RadiosityProblem>(makeRadiosityProblem(elements, surfaceEmitted_, patchAlbedo(scene_, elements), meshing_->transport()));
@@ -174,7 +238,7 @@ Status checkSolveBudget(SolverKind kind, const SolveBudget& budget) {
   return Ok{};
 }
 
-Result<SolveCallReport> Radiosity::solve(const SolveBudget& budget) {
+Result<SolveCallReport> Radiosity::Impl::solve(const SolveBudget& budget) {
   if (Status ok = checkSolveBudget(options_.solver, budget); !ok) return ok.error();
   // Each rank's clock would stop it at a sweep of its own, and the others would wait for it.
   if (options_.communicator && budget.maxMilliseconds > 0)
@@ -217,7 +281,7 @@ Result<SolveCallReport> Radiosity::solve(const SolveBudget& budget) {
   return report;
 }
 
-Status Radiosity::solvePass(const SolveBudget& budget, SolveCallReport& report) {
+Status Radiosity::Impl::solvePass(const SolveBudget& budget, SolveCallReport& report) {
   const Mesh& elements = meshing_->elements();
   const RayCaster& caster = meshing_->caster();
 
@@ -281,7 +345,7 @@ Status Radiosity::solvePass(const SolveBudget& budget, SolveCallReport& report) 
   return Ok{};
 }
 
-Stats Radiosity::stats() const {
+Stats Radiosity::Impl::stats() const {
   Stats stats;
   stats.add("scene", "scene", scene_.name);
   meshing_->addStats(stats);
@@ -329,17 +393,16 @@ Stats Radiosity::stats() const {
 
 // The view reads the engine's current state.
 
-const Scene& SolutionView::scene() const { return engine_->scene_; }
-const std::vector<Light>& SolutionView::lights() const { return engine_->lights_; }
-const Mesh& SolutionView::mesh() const { return engine_->meshing_->elements(); }
-const std::vector<Rgb>& SolutionView::radiosity() const { return engine_->radiosity_; }
-const std::vector<Rgb>& SolutionView::injected() const { return engine_->injected_; }
-const std::vector<Rgb>& SolutionView::emitted() const { return engine_->surfaceEmitted_; }
-const std::vector<Rgb>& SolutionView::albedo() const { return engine_->problem_->albedo; }
-const RadiosityProblem& SolutionView::problem() const { return *engine_->problem_; }
-const RayCaster& SolutionView::caster() const { return engine_->meshing_->caster(); }
-const Mesh& SolutionView::vertexMesh() const { return engine_->meshing_->vertexMesh(); }
-const std::vector<Rgb>& SolutionView::vertexMeshAlbedo() const { return engine_->vertexMeshAlbedo_; }
+const Scene& SolutionView::scene() const { return SolutionInternals::of(*this).scene_; }
+const std::vector<Light>& SolutionView::lights() const { return SolutionInternals::of(*this).lights_; }
+const Mesh& SolutionView::mesh() const { return SolutionInternals::of(*this).meshing_->elements(); }
+const std::vector<Rgb>& SolutionView::radiosity() const { return SolutionInternals::of(*this).radiosity_; }
+const std::vector<Rgb>& SolutionView::injected() const { return SolutionInternals::of(*this).injected_; }
+const std::vector<Rgb>& SolutionView::emitted() const { return SolutionInternals::of(*this).surfaceEmitted_; }
+const std::vector<Rgb>& SolutionView::albedo() const { return SolutionInternals::of(*this).problem_->albedo; }
+const RayCaster& SolutionView::caster() const { return SolutionInternals::of(*this).meshing_->caster(); }
+const Mesh& SolutionView::vertexMesh() const { return SolutionInternals::of(*this).meshing_->vertexMesh(); }
+const std::vector<Rgb>& SolutionView::vertexMeshAlbedo() const { return SolutionInternals::of(*this).vertexMeshAlbedo_; }
 
 std::vector<Rgb> SolutionView::indirectRadiosity() const {
   std::vector<Rgb> indirect = radiosity();
@@ -349,18 +412,18 @@ std::vector<Rgb> SolutionView::indirectRadiosity() const {
 }
 
 Rgb SolutionView::ambientRadiosity() const {
-  const ProgressiveShooter* shooter = engine_->shooter_.get();
-  return shooter ? lambert::ambientRadiosity(*engine_->problem_, shooter->unshot()) : Rgb{};
+  const auto& e = SolutionInternals::of(*this);
+  const ProgressiveShooter* shooter = e.shooter_.get();
+  return shooter ? lambert::ambientRadiosity(*e.problem_, shooter->unshot()) : Rgb{};
 }
 
 std::vector<Rgb> SolutionView::vertexValues(const std::vector<Rgb>& perElement) const {
-  return engine_->meshing_->vertexValues(perElement);
+  return SolutionInternals::of(*this).meshing_->vertexValues(perElement);
 }
 
 std::vector<std::vector<Rgb>> SolutionView::vertexValues(std::span<const VertexQuantity> quantities) const {
-  const Radiosity& e = *engine_;
-  return e.meshing_->vertexSolution({e.radiosity_, e.injected_, e.surfaceEmitted_, e.problem_->albedo, e.lights_, e.scene_.metresPerUnit},
-                                    quantities);
+  const auto& e = SolutionInternals::of(*this);
+  return e.meshing_->vertexSolution(e.elementSolution(), quantities);
 }
 
 std::vector<Rgb> SolutionView::vertexValues(VertexQuantity quantity) const {
@@ -368,32 +431,33 @@ std::vector<Rgb> SolutionView::vertexValues(VertexQuantity quantity) const {
 }
 
 Result<std::vector<Rgb>> SolutionView::pointIrradiance(std::span<const SurfacePoint> points) const {
-  const Radiosity& e = *engine_;
-  return e.meshing_->pointIrradiance({e.radiosity_, e.injected_, e.surfaceEmitted_, e.problem_->albedo, e.lights_, e.scene_.metresPerUnit},
-                                     points);
-}
-
-Result<PointGather> SolutionView::pointGather(std::span<const SurfacePoint> points, PointGatherPart part) const {
-  const Radiosity& e = *engine_;
-  return e.meshing_->pointGather({e.radiosity_, e.injected_, e.surfaceEmitted_, e.problem_->albedo, e.lights_, e.scene_.metresPerUnit},
-                                 points, part);
-}
-
-Result<PointGather> SolutionView::vertexGather(std::span<const std::uint32_t> vertices, PointGatherPart part) const {
-  const Radiosity& e = *engine_;
-  return e.meshing_->vertexGather({e.radiosity_, e.injected_, e.surfaceEmitted_, e.problem_->albedo, e.lights_, e.scene_.metresPerUnit},
-                                  vertices, part);
-}
-
-Result<std::vector<Rgb>> SolutionView::nodeMeanRadiosity() const {
-  const Radiosity& e = *engine_;
-  return e.meshing_->nodeMeanRadiosity({e.radiosity_, e.injected_, e.surfaceEmitted_, e.problem_->albedo, e.lights_, e.scene_.metresPerUnit});
+  const auto& e = SolutionInternals::of(*this);
+  return e.meshing_->pointIrradiance(e.elementSolution(), points);
 }
 
 std::vector<Rgb> SolutionView::vertexRadiance() const {
   std::vector<Rgb> radiance = vertexValues(VertexQuantity::Radiosity);
   for (Rgb& l : radiance) l = l / kPi;
   return radiance;
+}
+
+// The internal readers (engine/solution_internals.h).
+
+const RadiosityProblem& radiosityProblem(const SolutionView& view) { return *SolutionInternals::of(view).problem_; }
+
+Result<PointGather> pointGather(const SolutionView& view, std::span<const SurfacePoint> points, PointGatherPart part) {
+  const auto& e = SolutionInternals::of(view);
+  return e.meshing_->pointGather(e.elementSolution(), points, part);
+}
+
+Result<PointGather> vertexGather(const SolutionView& view, std::span<const std::uint32_t> vertices, PointGatherPart part) {
+  const auto& e = SolutionInternals::of(view);
+  return e.meshing_->vertexGather(e.elementSolution(), vertices, part);
+}
+
+Result<std::vector<Rgb>> nodeMeanRadiosity(const SolutionView& view) {
+  const auto& e = SolutionInternals::of(view);
+  return e.meshing_->nodeMeanRadiosity(e.elementSolution());
 }
 
 }  // namespace lambert

@@ -12,9 +12,6 @@
 // the master table of an adaptive quad-tree; see engine/method.h). It is created behind a unique_ptr and can be neither copied nor moved, so
 // the views and references it hands out stay valid for its whole life. See docs/api.md.
 #include <memory>
-#include <optional>
-#include <string>
-#include <utility>
 #include <vector>
 
 #include "lambert/core/error.h"
@@ -27,23 +24,20 @@
 
 namespace lambert {
 
-class Method;
-
 // Held by rank 0 of a distributed solve while it computes its outputs (Radiosity::
-// leadDistributedOutputs); letting go of it lets the other ranks go.
+// leadDistributedOutputs); letting go of it lets the other ranks go. An opaque handle.
 class DistributedOutputs {
  public:
-  explicit DistributedOutputs(Method* meshing) : meshing_(meshing) {}
-  DistributedOutputs(DistributedOutputs&& other) noexcept : meshing_(std::exchange(other.meshing_, nullptr)) {}
+  DistributedOutputs(DistributedOutputs&& other) noexcept;
   DistributedOutputs& operator=(DistributedOutputs&&) = delete;
   ~DistributedOutputs();
 
  private:
-  Method* meshing_;
+  friend class Radiosity;
+  struct Lead;  // engine/radiosity.cpp
+  explicit DistributedOutputs(std::unique_ptr<Lead> lead);
+  std::unique_ptr<Lead> lead_;  // null: one process, or moved from
 };
-class DirectLightInjection;
-class ProgressiveShooter;
-
 
 // The uniform mesh an engine with these options solves on, for tools that need its vertices
 // without solving (the reference path tracer).
@@ -103,38 +97,10 @@ class Radiosity {
   const RadiosityOptions& options() const;
 
  private:
-  friend class SolutionView;
+  friend struct SolutionInternals;  // engine/radiosity.cpp: what the view reads
+  struct Impl;                      // the engine's state and its steps (engine/radiosity.cpp)
   Radiosity(Scene scene, RadiosityOptions options);
-  void rebuildProblem();
-  Status solvePass(const SolveBudget& budget, SolveCallReport& report);
-
-  Scene scene_;
-  RadiosityOptions options_;
-  std::vector<Light> lights_;
-  std::unique_ptr<Method> meshing_;
-  std::unique_ptr<DirectLightInjection> injection_;
-  // E includes the injected direct light; behind a pointer, so that this header needs only the
-  // solvers' declaration (solve/solver.h is internal).
-  std::unique_ptr<RadiosityProblem> problem_;
-  std::vector<Rgb> surfaceEmitted_;    // E of emissive surfaces alone, W/m²
-  std::vector<Rgb> injected_;          // the lights' ρ·E_direct, W/m²
-  std::vector<Rgb> vertexMeshAlbedo_;  // ρ per patch of the meshing's vertex mesh
-  std::vector<Rgb> radiosity_;         // B, W/m², one per element
-  bool solved_ = false;
-  double largestEmittedPower_ = 0;     // Σ E A of any solve so far (findSolutionFault's scale)                // radiosity_ holds a solution (or a refinement's warm start)
-  std::unique_ptr<ProgressiveShooter> shooter_;  // shoot: kept between solves, warm
-  SolutionView view_;
-  // Totals over every solve(), for stats().
-  int solves_ = 0;
-  // A distributed solve's residual and energy balance, made by every rank after each solve().
-  struct DistributedFigures {
-    double residual, emittedWatts, absorbedWatts, escapedWatts;
-  };
-  std::optional<DistributedFigures> distributedFigures_;
-  SolveCallReport last_;
-  double injectSeconds_ = 0, solveSeconds_ = 0, adaptSeconds_ = 0, formFactorSeconds_ = 0;
-  std::uint64_t shadowRays_ = 0;
-  int refined_ = 0, coarsened_ = 0;
+  std::unique_ptr<Impl> impl_;
 };
 
 }  // namespace lambert

@@ -5,6 +5,7 @@
 
 #include "lambert/core/sampling.h"
 #include "lambert/engine/radiosity.h"
+#include "lambert/engine/solution_internals.h"
 #include "lambert/flat/table.h"
 #include "lambert/render/solution_image.h"
 #include "lambert/solve/solver.h"
@@ -212,7 +213,7 @@ TEST(RadiosityTest, TheViewHoldsOneConsistentSolution) {
     ASSERT_EQ(view.injected().size(), n);
     ASSERT_EQ(view.emitted().size(), n);
     ASSERT_EQ(view.albedo().size(), n);
-    ASSERT_EQ(view.problem().size(), n);
+    ASSERT_EQ(radiosityProblem(view).size(), n);
     EXPECT_EQ(view.lights(), scene.lights);
     double lit = 0;
     std::vector<Rgb> indirect = view.indirectRadiosity();
@@ -289,7 +290,7 @@ TEST(RadiosityTest, TheViewsLightIsTheClosedForm) {
       EXPECT_NEAR(view.injected()[i].g, mean, tolerance) << "element " << i;
       EXPECT_NEAR(indirect[i].g, 0, 1e-9 * mean) << "element " << i;
       EXPECT_EQ(view.emitted()[i].g, 0);
-      EXPECT_NEAR(view.problem().emitted[i].g, mean, tolerance) << "element " << i;
+      EXPECT_NEAR(radiosityProblem(view).emitted[i].g, mean, tolerance) << "element " << i;
     }
     // A vertex value interpolated from elements is a weighted mean of the means of the element
     // holding the vertex and of elements touching its corners, all within one such element's

@@ -19,11 +19,7 @@
 
 namespace lambert {
 
-struct RadiosityProblem;  // solve/solver.h (internal): the system behind problem()
-
 class Radiosity;
-struct PointGather;  // engine/point_gather.h
-enum class PointGatherPart;
 
 // A point on one of the scene's own faces where a consumer asks for the light (a lightmap texel).
 struct SurfacePoint {
@@ -60,9 +56,6 @@ class SolutionView {
   // W/m². Displaying B_i + ρ_i·ambient shows a shooting solve at its final brightness from the
   // first shot. Zero for the gathering solvers, whose iterates carry no unshot power.
   Rgb ambientRadiosity() const;
-  // The system the solver last solved, B = E + ρFB (E here includes the injected light), for
-  // programs that solve it another way.
-  const RadiosityProblem& problem() const;
   // Visibility over the scene's geometry, for shadow rays.
   const RayCaster& caster() const;
 
@@ -81,21 +74,11 @@ class SolutionView {
   // The hierarchical method only (the other methods' elements carry no links to gather over):
   // an Error saying so for the others.
   Result<std::vector<Rgb>> pointIrradiance(std::span<const SurfacePoint> points) const;
-  // Its two parts apart: where each point is gathered (the site shadow rays to the lights start
-  // from), the light from the surfaces there, and the weights that give that light again from a
-  // later solution, as `part` asks (engine/point_gather.h). Hierarchical only.
-  Result<PointGather> pointGather(std::span<const SurfacePoint> points, PointGatherPart part) const;
-  // The same at vertices of vertexMesh(), where vertexValues gathers them (their sites), for
-  // what their radiosity B = E + ρ (E_surfaces + E_lights) will be after the light changes.
-  Result<PointGather> vertexGather(std::span<const std::uint32_t> vertices, PointGatherPart part) const;
-  // Per node of the hierarchy (the hierarchical method's elements and clusters): the mean
-  // radiosity B̄ of the leaves under it, W/m², what PointGather's node weights multiply.
-  // Hierarchical only (an Error for the others).
-  Result<std::vector<Rgb>> nodeMeanRadiosity() const;
   const std::vector<Rgb>& vertexMeshAlbedo() const;
 
  private:
   friend class Radiosity;
+  friend struct SolutionInternals;  // engine/radiosity.cpp: the engine's state behind the view
   explicit SolutionView(const Radiosity& engine) : engine_(&engine) {}
   const Radiosity* engine_;
 };

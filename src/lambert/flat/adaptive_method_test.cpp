@@ -4,6 +4,7 @@
 
 #include "lambert/flat/adaptive_method.h"
 #include "lambert/engine/radiosity.h"
+#include "lambert/engine/solution_internals.h"
 #include "lambert/solve/energy.h"
 #include "lambert/solve/solver.h"
 #include "tests/support/scenes.h"
@@ -203,15 +204,15 @@ TEST(AdaptiveTest, RowNormalisationAndItsEffectOnEnergy) {
     std::unique_ptr<Radiosity> normalisedEngine = solvedEngine(scene, options, {});
     const SolutionView& plain = plainEngine->solution();
     const SolutionView& normalised = normalisedEngine->solution();
-    const FormFactorMatrix& F = *normalised.problem().transport->matrix();
+    const FormFactorMatrix& F = *radiosityProblem(normalised).transport->matrix();
     for (Eigen::Index i = 0; i < F.rows(); ++i) EXPECT_NEAR(F.row(i).cast<double>().sum(), 1, 1e-5);
 
     double plainPower = 0, normalisedPower = 0;
     for (std::size_t k = 0; k < plain.radiosity().size(); ++k) {
-      plainPower += plain.radiosity()[k].sum() * plain.problem().area[k];
-      normalisedPower += normalised.radiosity()[k].sum() * normalised.problem().area[k];
+      plainPower += plain.radiosity()[k].sum() * radiosityProblem(plain).area[k];
+      normalisedPower += normalised.radiosity()[k].sum() * radiosityProblem(normalised).area[k];
     }
-    EnergyBalance balance = energyBalance(normalised.problem(), normalised.radiosity(), scene.metresPerUnit);
+    EnergyBalance balance = energyBalance(radiosityProblem(normalised), normalised.radiosity(), scene.metresPerUnit);
     // In a solution the books close whatever F is: emitted = absorbed + escaped (to the solver's
     // 1e-7 tolerance).
     EXPECT_NEAR(balance.absorbedWatts + balance.escapedWatts, balance.emittedWatts, 1e-6 * balance.emittedWatts);

@@ -13,6 +13,7 @@
 #include "lambert/hierarchical/final_gather.h"
 #include "lambert/hierarchical/method.h"
 #include "lambert/engine/radiosity.h"
+#include "lambert/engine/solution_internals.h"
 #include "lambert/formfactor/kernels.h"
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/light/emission.h"
@@ -154,7 +155,7 @@ TEST(HierarchicalTest, ClosedCornellBoxAbsorbsWhatItEmits) {
   auto engine = solvedEngine(closedCornellBox(), hierarchicalOptions(2e-4));
   ASSERT_TRUE(engine);
   const SolutionView& view = engine->solution();
-  EnergyBalance balance = energyBalance(view.problem(), view.radiosity(), view.scene().metresPerUnit);
+  EnergyBalance balance = energyBalance(radiosityProblem(view), view.radiosity(), view.scene().metresPerUnit);
   // 130 mm × 105 mm emitting π·(17 + 12 + 4) W/m² (the scene's lamp).
   EXPECT_NEAR(balance.emittedWatts, 0.130 * 0.105 * kPi * 33, 1e-9);
   std::printf("absorbed %.4f, escaped %.4f of the emitted power\n", balance.absorbedWatts / balance.emittedWatts,
@@ -1035,7 +1036,7 @@ TEST(HierarchicalTest, AMovingSpotReSolvedWarmEndsWhereAColdSolveDoes) {
         moved.mesh(), moved.albedo(), patchIrradiance(moved.mesh(), moved.caster(), spotAt(1), scene.metresPerUnit, options.directLight));
     for (std::size_t i = 0; i < elements; ++i) {
       ASSERT_EQ(moved.injected()[i], traced[i]) << "element " << i;
-      ASSERT_EQ(moved.problem().emitted[i], moved.emitted()[i] + traced[i]) << "element " << i;
+      ASSERT_EQ(radiosityProblem(moved).emitted[i], moved.emitted()[i] + traced[i]) << "element " << i;
     }
   }
   // The cold solve at the final position: the same system (links, and the spot injected where it
@@ -1045,7 +1046,7 @@ TEST(HierarchicalTest, AMovingSpotReSolvedWarmEndsWhereAColdSolveDoes) {
   cold.tolerance = 1e-12;
   cold.maxIterations = 10000;
   std::vector<Rgb> reference;
-  ASSERT_TRUE(makeSolver(SolverKind::Jacobi, cold)->solve(view.problem(), reference).converged);
+  ASSERT_TRUE(makeSolver(SolverKind::Jacobi, cold)->solve(radiosityProblem(view), reference).converged);
   auto distance = [&] {
     double worst = 0, scale = 0;
     for (std::size_t i = 0; i < reference.size(); ++i) {
