@@ -69,7 +69,7 @@ int main(int argc, char** argv) {
   app.add_option("--padding", padding, "Texels between charts")->check(CLI::Range(0, 64));
   app.add_option("scenes", others, "Further scenes (built-in names or paths), reported but not judged");
   app.add_flag("--only-named", onlyNamed, "Pack only the scenes named, not the shipped ones (no target is judged then)");
-  CLI11_PARSE(app, argc, argv);
+  bench::parseOrExit(app, argc, argv);
   sizes.clear();
   for (std::size_t start = 0; start <= sizeList.size();) {
     const std::size_t comma = std::min(sizeList.find(',', start), sizeList.size());

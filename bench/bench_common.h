@@ -15,6 +15,8 @@
 #include <fstream>
 #include <string>
 
+#include <CLI/CLI.hpp>
+
 #include "lambert/core/error.h"
 
 namespace lambert::bench {
@@ -95,6 +97,23 @@ inline double peakRssMib() {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   return std::max(roundDigits(static_cast<double>(usage.ru_maxrss) / 1024.0, 1), currentRssMib());
+}
+
+// The command line parsed into the options `app` was given: --help prints the usage, and a bad
+// option its error, each ending the process with CLI11's exit code.
+inline void parseOrExit(CLI::App& app, int argc, char** argv) {
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    std::exit(app.exit(e));
+  }
+}
+
+// The generated building's size, as every benchmark over it takes it (lambert generate building's
+// --rooms and --face-size).
+inline void addBuildingOptions(CLI::App& app, int& rooms, double& faceSize) {
+  app.add_option("--rooms", rooms, "Rooms of the generated building")->check(CLI::Range(1, 4096))->capture_default_str();
+  app.add_option("--face-size", faceSize, "Largest face of the building, m")->check(CLI::Range(0.01, 100.0))->capture_default_str();
 }
 
 // The result, or its error after the benchmark's name on stderr and exit 1.

@@ -23,6 +23,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "bench_common.h"
 #include "lambert/core/parallel.h"
 #include "lambert/core/timer.h"
 #include "lambert/engine/radiosity.h"
@@ -84,7 +85,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--reference-cache", cachePath, "File keeping the reference per vertex between runs");
   app.add_option("--dump", dumpPrefix, "Write PREFIX<seed>.csv: per vertex position, surface, mask, value, both references");
-  CLI11_PARSE(app, argc, argv);
+  bench::parseOrExit(app, argc, argv);
 
   const Scene scene = cornellBox();
   const double diagonal = sceneDiagonal(scene);

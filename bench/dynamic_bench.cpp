@@ -89,11 +89,7 @@ Options parseOptions(int argc, char** argv) {
       ->check(CLI::Range(0, 1000000))
       ->capture_default_str();
   app.add_option("--cache-dir", options.cacheDirectory, "Form-factor cache; '' disables it")->capture_default_str();
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    std::exit(app.exit(e));
-  }
+  parseOrExit(app, argc, argv);
   return options;
 }
 

@@ -199,11 +199,7 @@ Options parseOptions(int argc, char** argv) {
   app.add_option("--part", options.part, "Which measurement to run")
       ->check(CLI::IsMember({"all", "dynamic", "real_scene"}))
       ->capture_default_str();
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    std::exit(app.exit(e));
-  }
+  parseOrExit(app, argc, argv);
   if (options.quick && !divisions->count()) options.mgfDivisions = 128;
   return options;
 }

@@ -44,18 +44,13 @@ struct Options {
 Options parseOptions(int argc, char** argv) {
   Options options;
   CLI::App app{"illuminance_bench: lux at 10⁵ points of the 10⁵-face building after its solve, as JSON"};
-  app.add_option("--rooms", options.rooms, "Rooms of the generated building")->check(CLI::Range(1, 4096))->capture_default_str();
-  app.add_option("--face-size", options.faceSize, "Largest face of the building, m")->check(CLI::Range(0.01, 100.0))->capture_default_str();
+  addBuildingOptions(app, options.rooms, options.faceSize);
   app.add_option("--points", options.points, "Points on the work plane, about")->check(CLI::Range(1, 10000000))->capture_default_str();
   app.add_option("--runs", options.runs, "Runs timed (the median is reported)")->check(CLI::Range(1, 99))->capture_default_str();
   app.add_option("--indirect-rays", options.indirectRays, "Hemisphere rays per point (lambert's --illuminance-rays)")
       ->check(CLI::Range(1, 1 << 16))
       ->capture_default_str();
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    std::exit(app.exit(e));
-  }
+  parseOrExit(app, argc, argv);
   return options;
 }
 

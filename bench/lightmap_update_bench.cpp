@@ -44,15 +44,10 @@ struct Options {
 Options parseOptions(int argc, char** argv) {
   Options options;
   CLI::App app{"lightmap_update_bench: lightmap updates while a spot moves through the 10⁵-face building, as JSON"};
-  app.add_option("--rooms", options.rooms, "Rooms of the generated building")->check(CLI::Range(1, 4096))->capture_default_str();
-  app.add_option("--face-size", options.faceSize, "Largest face of the building, m")->check(CLI::Range(0.01, 100.0))->capture_default_str();
+  addBuildingOptions(app, options.rooms, options.faceSize);
   app.add_option("--lightmap-size", options.lightmapSize, "Texels per side of the atlas")->check(CLI::Range(16, 16384))->capture_default_str();
   app.add_option("--frames", options.frames, "Frames the spot moves")->check(CLI::Range(1, 100000))->capture_default_str();
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    std::exit(app.exit(e));
-  }
+  parseOrExit(app, argc, argv);
   return options;
 }
 

@@ -61,11 +61,7 @@ Options parseOptions(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--scenes", options.scenes, "Directory of shipped scenes (.json, .gltf, .glb, searched recursively)")->capture_default_str();
   app.add_option("--keep", options.keep, "Also keep the generated .glb at this path");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    std::exit(app.exit(e));
-  }
+  parseOrExit(app, argc, argv);
   return options;
 }
 

@@ -317,7 +317,7 @@ int main(int argc, char** argv) {
   app.add_option("--lights", options.lights, "ies (luminaires from an IES file the bench writes) or spot")
       ->check(CLI::IsMember({"ies", "spot"}))
       ->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  parseOrExit(app, argc, argv);
   if (options.quick) options.faceSize = 0.5, options.runs = 1;
 
   Json out;

@@ -62,11 +62,7 @@ Options parseOptions(int argc, char** argv) {
   app.add_option("--samples", options.samples, "Area Monte Carlo sample pairs per patch pair")
       ->check(CLI::Range(1, 4096))
       ->capture_default_str();
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    std::exit(app.exit(e));
-  }
+  parseOrExit(app, argc, argv);
   if (quick && patches->count() == 0) options.patches = {192, 304, 464, 784};
   return options;
 }

@@ -25,6 +25,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "bench_common.h"
 #include "lambert/core/parallel.h"
 #include "lambert/core/timer.h"
 #include "lambert/geometry/coverage.h"
@@ -78,7 +79,7 @@ int main(int argc, char** argv) {
   app.add_option("--samples", samples, "Hemisphere samples per vertex")->check(CLI::Range(1, 1 << 24))->capture_default_str();
   app.add_option("--seed", seed, "Random seed (another seed gives an independent estimate)")->capture_default_str();
   app.add_option("-o,--output", output, "Vertex file to write (.csv or .ply)")->required();
-  CLI11_PARSE(app, argc, argv);
+  bench::parseOrExit(app, argc, argv);
 
   Result<Scene> scene = loadScene(sceneName);
   if (!scene) {

@@ -60,7 +60,7 @@ int main(int argc, char** argv) {
   app.add_option("--lightmap-size", options.lightmapSize, "Lightmap mode: texels per side of the atlas")->capture_default_str();
   app.add_option("--light-moves", options.lightMoves, "Lightmap mode: moves of the spot timed to their lightmaps on screen")->capture_default_str();
   app.add_flag("--quick", quick, "1,000 patches, 60 frames, 128² lightmaps, 2 moves (a few seconds)");
-  CLI11_PARSE(app, argc, argv);
+  parseOrExit(app, argc, argv);
   if (quick) options.patches = 1000, options.frames = 60, options.lightmapSize = 128, options.lightMoves = 2;
 
   Json doc;

@@ -13,27 +13,20 @@
 #include "lambert/reference/compare.h"
 #include "lambert/reference/reference.h"
 #include "lambert/scene/builtin.h"
+#include "tests/support/engines.h"
 
 namespace lambert {
 namespace {
 
+// The flat method on about `patches` patches, its form factors by `method`.
 std::unique_ptr<Radiosity> solved(const Scene& scene, std::size_t patches, FormFactorMethod method) {
-  RadiosityOptions options;
-  options.meshing = MeshStrategy::Uniform;
-  options.uniform.targetPatches = patches;
+  RadiosityOptions options = testing::uniformOptions(patches);
   options.formFactors.method = method;
-  options.formFactors.showProgress = false;
-  auto engine = Radiosity::create(scene, options);
-  EXPECT_TRUE(engine.ok());
-  EXPECT_TRUE((*engine)->solve().ok());
-  return std::move(*engine);
+  return testing::solved(scene, options);
 }
 
 VertexComparison againstReference(const Scene& scene, const SolutionView& solution) {
-  ReferenceOptions options;
-  options.vertexSamples = 1024;
-  options.showProgress = false;
-  ReferenceRenderer reference(scene, subdivideScene(scene, 2 * sceneDiagonal(scene)), options);
+  ReferenceRenderer reference(scene, subdivideScene(scene, 2 * sceneDiagonal(scene)), testing::quietReferenceOptions(1024));
   std::vector<VertexSample> truth = vertexSamples(solution.vertexMesh(), reference.vertexRadiance(solution.vertexMesh()));
   Result<VertexComparison> comparison = compareVertices(scene, vertexSamples(solution), truth);
   EXPECT_TRUE(comparison.ok());
@@ -57,13 +50,9 @@ TEST(AgreementTest, CornellBoxRadiosityMatchesThePathTracer) {
 // the final-gather test) or mislaid the lamp's light fails it.
 TEST(AgreementTest, TheDefaultHierarchicalMethodMatchesThePathTracer) {
   Scene scene = cornellBox();
-  RadiosityOptions options;
-  options.meshing = MeshStrategy::Hierarchical;
-  options.formFactors.showProgress = false;
-  auto engine = Radiosity::create(scene, options);
-  ASSERT_TRUE(engine.ok()) << engine.error().message;
-  ASSERT_TRUE((*engine)->solve().ok());
-  VertexComparison comparison = againstReference(scene, (*engine)->solution());
+  auto engine = testing::solved(scene);
+  ASSERT_TRUE(engine);
+  VertexComparison comparison = againstReference(scene, engine->solution());
   std::printf("%zu values compared: relative RMSE %.4f, bias %+.4f\n", comparison.error.count, comparison.error.relativeRmse,
               comparison.error.meanValue / comparison.error.meanReference - 1);
   EXPECT_GT(comparison.error.count, 3 * 1000u);

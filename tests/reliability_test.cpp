@@ -63,7 +63,7 @@ void interruptMidSolve(int signal, int expectedExit) {
   const fs::path dir = testing::scratchDirectory("reliability", "signal-" + std::to_string(signal));
   const fs::path image = dir / "cornell.png", cache = dir / "cache";
   // The previous output and a cache from an earlier run, which must survive.
-  ASSERT_EQ(shell(std::string(LAMBERT_CLI_PATH) + " render --quiet --patches 200 --width 64 --height 64 --cache-dir " + cache.string() +
+  ASSERT_EQ(shell(std::string(LAMBERT_CLI_PATH) + " render --quiet --width 64 --height 64 --cache-dir " + cache.string() +
                   " -o " + image.string())
                 .exitCode,
             0);
@@ -72,8 +72,9 @@ void interruptMidSolve(int signal, int expectedExit) {
   for (const auto& entry : fs::directory_iterator(cache)) previousCache.emplace_back(entry.path(), testing::readBytes(entry.path()));
   ASSERT_FALSE(previousCache.empty());
 
-  // A solve that takes a minute (form factors of 5,000 patches), stopped after a second.
-  const pid_t pid = start({"render", "--patches", "5000", "--cache-dir", cache.string(), "-o", image.string()}, dir / "log.txt");
+  // A solve that takes several seconds (the default method refining the box to link error 3e-6,
+  // some twenty times the default's time), stopped after a second and a half.
+  const pid_t pid = start({"render", "--link-error", "3e-6", "--cache-dir", cache.string(), "-o", image.string()}, dir / "log.txt");
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));
   ASSERT_EQ(waitpid(pid, nullptr, WNOHANG), 0) << "the solve ended before it could be interrupted";
   const auto sent = std::chrono::steady_clock::now();
@@ -105,7 +106,7 @@ TEST(ReliabilityTest, AWriteBeyondTheFileSizeLimitFailsNamingTheFileAndKeepsTheO
   testing::writeBytes(image, {'o', 'l', 'd'});
   // A full disk, as the process sees it: no file may grow past 4 KiB (the PNG is larger).
   testing::CommandResult result = shell("ulimit -f 4 && " + std::string(LAMBERT_CLI_PATH) +
-                                        " render --no-cache --patches 200 --width 256 --height 256 -o " + image.string());
+                                        " render --no-cache --width 256 --height 256 -o " + image.string());
   EXPECT_EQ(result.exitCode, 1) << result.output;
   EXPECT_TRUE(contains(result.output, image.string())) << result.output;
   EXPECT_TRUE(contains(result.output, "File too large")) << result.output;

@@ -101,11 +101,11 @@ void expectSamePicture(const Luminance& viewer, const Luminance& software, doubl
   EXPECT_LT(difference, tolerance * software.mean());
 }
 
-// lambert's own software rasterizer, on the same solution (mesh, solver, tolerance and light
-// samples as the viewer's defaults), camera and tone mapping.
-Luminance softwareImage(const fs::path& path, const std::string& arguments, const std::string& lightSamples = "") {
-  CommandResult rendered = shell(kCli + " render --no-cache --quiet --solver shoot --tolerance 1e-4 " + lightSamples + " --width " + std::to_string(kWidth) +
-                                 " --height " + std::to_string(kHeight) + " -o " + path.string() + " " + arguments);
+// lambert's own software rasterizer, on the same solution (`arguments` give the viewer's mesh,
+// solver, tolerance and light samples), camera and tone mapping.
+Luminance softwareImage(const fs::path& path, const std::string& arguments) {
+  CommandResult rendered = shell(kCli + " render --no-cache --quiet --width " + std::to_string(kWidth) + " --height " + std::to_string(kHeight) +
+                                 " -o " + path.string() + " " + arguments);
   EXPECT_EQ(rendered.exitCode, 0) << rendered.output;
   return luminance(path);
 }
@@ -131,7 +131,8 @@ TEST(ViewerTest, MatchesTheSoftwareRendererAndBrightensWhileConverging) {
   const Luminance early = luminance(dir / "early.png"), late = luminance(dir / "late.png");
   // Not blank: the box fills the middle of the frame.
   EXPECT_GT(late.mean(), 20);
-  expectSamePicture(late, softwareImage(dir / "software.png", "--scene cornell --patches 1000"));
+  // The viewer's flat method: progressive shooting to 1e-4.
+  expectSamePicture(late, softwareImage(dir / "software.png", "--scene cornell --patches 1000 --solver shoot --tolerance 1e-4"));
   // The picture brightens while the solve converges (interreflections arrive shot by shot).
   std::printf("first solution on screen: mean luminance %.2f\n", early.mean());
   EXPECT_LT(early.mean(), 0.95 * late.mean());
@@ -154,10 +155,11 @@ TEST(ViewerTest, MovingASpotMovesTheLitRegion) {
                               "light 0 aim 330 420 559.2\n"
                               "wait-converged\n"
                               "screenshot " + (dir / "wall.png").string() + "\n",
-                              "--scene cornell-spots --patches 800 --quiet");
+                              "--scene cornell-spots --quiet");
   if (noXServer(viewed)) GTEST_SKIP() << "Xvfb could not start here: " << viewed.output;
   ASSERT_EQ(viewed.exitCode, 0) << viewed.output;
-  expectSamePicture(luminance(dir / "scene.png"), softwareImage(dir / "software.png", "--scene cornell-spots --patches 800", "--light-samples 4"));
+  // The viewer's default method: Gauss–Seidel to 1e-4 with 4 light samples an element.
+  expectSamePicture(luminance(dir / "scene.png"), softwareImage(dir / "software.png", "--scene cornell-spots --tolerance 1e-4 --light-samples 4"));
   const Luminance floorLit = luminance(dir / "floor.png"), wallLit = luminance(dir / "wall.png");
   // Where the aimed points are on screen, from the scene's camera (render/camera.h).
   const PinholeCamera camera(cornellBoxWithSpots().camera, kWidth, kHeight);
@@ -322,7 +324,7 @@ TEST(ViewerTest, ABadScriptIsRefusedWithItsLineBeforeAnyWindowOpens) {
 }
 
 TEST(ViewerTest, WithoutADisplayItSaysSoAndExits) {
-  CommandResult result = shell("env -u DISPLAY -u WAYLAND_DISPLAY " + kCli + " view --scene cornell --patches 200 --frames 1");
+  CommandResult result = shell("env -u DISPLAY -u WAYLAND_DISPLAY " + kCli + " view --scene cornell --frames 1");
   EXPECT_EQ(result.exitCode, 1) << result.output;
   EXPECT_TRUE(contains(result.output, "no display")) << result.output;
 }

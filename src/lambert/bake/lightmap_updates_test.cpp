@@ -10,17 +10,10 @@
 #include "lambert/engine/radiosity.h"
 #include "lambert/engine/solution_internals.h"
 #include "lambert/scene/builtin.h"
+#include "tests/support/engines.h"
 
 namespace lambert {
 namespace {
-
-RadiosityOptions hierarchical() {
-  RadiosityOptions options;
-  options.meshing = MeshStrategy::Hierarchical;
-  options.formFactors.showProgress = false;
-  options.hierarchical.links.showProgress = false;
-  return options;
-}
 
 LightmapBakeOptions bakeOptions(int atlasSize) {
   LightmapBakeOptions options;
@@ -64,10 +57,8 @@ class LightmapUpdateTest : public ::testing::Test {
  protected:
   void SetUp() override {
     scene_ = *builtinScene("cornell-spots");
-    auto engine = Radiosity::create(scene_, hierarchical());
-    ASSERT_TRUE(engine.ok()) << engine.error().message;
-    engine_ = std::move(*engine);
-    ASSERT_TRUE(engine_->solve().ok());
+    engine_ = testing::solved(scene_);
+    ASSERT_TRUE(engine_);
     auto baked = bakeLightmaps(engine_->solution(), bakeOptions(128));
     ASSERT_TRUE(baked.ok()) << baked.error().message;
     baked_ = std::move(*baked);
@@ -155,14 +146,9 @@ TEST_F(LightmapUpdateTest, GatherWeightsReproduceTheGatherTheyWereRecordedFrom) 
 }
 
 TEST_F(LightmapUpdateTest, TheFlatMethodIsRefused) {
-  RadiosityOptions flat;
-  flat.meshing = MeshStrategy::Uniform;
-  flat.uniform.targetPatches = 200;
-  flat.formFactors.showProgress = false;
-  auto engine = Radiosity::create(scene_, flat);
-  ASSERT_TRUE(engine.ok());
-  ASSERT_TRUE((*engine)->solve().ok());
-  auto updater = LightmapUpdater::create((*engine)->solution(), baked_);
+  auto engine = testing::solved(scene_, testing::uniformOptions(200));
+  ASSERT_TRUE(engine);
+  auto updater = LightmapUpdater::create(engine->solution(), baked_);
   ASSERT_FALSE(updater.ok());
   EXPECT_NE(updater.error().message.find("hierarchical"), std::string::npos) << updater.error().message;
 }

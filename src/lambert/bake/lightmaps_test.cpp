@@ -11,26 +11,13 @@
 #include "lambert/geometry/coverage.h"
 #include "lambert/reference/reference.h"
 #include "lambert/scene/builtin.h"
+#include "tests/support/engines.h"
 #include "tests/support/scenes.h"
 
 namespace lambert {
 namespace {
 
-RadiosityOptions hierarchical() {
-  RadiosityOptions options;
-  options.meshing = MeshStrategy::Hierarchical;
-  options.formFactors.showProgress = false;
-  return options;
-}
-
-std::unique_ptr<Radiosity> solved(const Scene& scene, const RadiosityOptions& options) {
-  auto engine = Radiosity::create(scene, options);
-  EXPECT_TRUE(engine.ok()) << engine.error().message;
-  if (!engine.ok()) return nullptr;
-  auto report = (*engine)->solve();
-  EXPECT_TRUE(report.ok()) << report.error().message;
-  return std::move(*engine);
-}
+using testing::solved;
 
 // Each face of each surface in a cell of its own in one atlas: a grid of `cells` × `cells` cells
 // of the atlas, the face's corners (3 or 4) at the cell's corners inset by `inset` texels.
@@ -80,7 +67,7 @@ Rgb bilinear(const Image& image, double u, double v) {
 // mean difference must stay within 3% and the RMSE within 4% (issue 24's target: 3%).
 TEST(LightmapTest, CornellTexelsAgreeWithThePathTracer) {
   const Scene scene = cornellBox();
-  auto engine = solved(scene, hierarchical());
+  auto engine = solved(scene);
   ASSERT_TRUE(engine);
   const LightmapUvs uvs = gridUvs(scene, 256, 4, 3);
   Result<BakedLightmaps> baked = quietBake(*engine, uvs);
@@ -136,7 +123,7 @@ TEST(LightmapTest, SeamsAreStitched) {
   light.position = {0.8, 0.5, 0.5};
   light.intensity = Rgb::gray(1);
   scene.lights = {light};
-  auto engine = solved(scene, hierarchical());
+  auto engine = solved(scene);
   ASSERT_TRUE(engine);
   const LightmapUvs uvs = gridUvs(scene, 128, 2, 4);
   Result<BakedLightmaps> baked = quietBake(*engine, uvs);
@@ -159,7 +146,7 @@ TEST(LightmapTest, SeamsAreStitched) {
 // far from every chart stay empty.
 TEST(LightmapTest, PaddingIsDilatedFromTheChart) {
   const Scene scene = testing::closedCube(1, Rgb::gray(1), Rgb::gray(0.5));
-  auto engine = solved(scene, hierarchical());
+  auto engine = solved(scene);
   ASSERT_TRUE(engine);
   const LightmapUvs uvs = gridUvs(scene, 64, 4, 4);
   Result<BakedLightmaps> baked = quietBake(*engine, uvs);
@@ -176,11 +163,7 @@ TEST(LightmapTest, PaddingIsDilatedFromTheChart) {
 
 TEST(LightmapTest, TheFlatMethodIsRefusedWithTheReason) {
   const Scene scene = testing::closedCube(1, Rgb::gray(1), Rgb::gray(0.5));
-  RadiosityOptions options;
-  options.meshing = MeshStrategy::Uniform;
-  options.uniform.targetPatches = 96;
-  options.formFactors.showProgress = false;
-  auto engine = solved(scene, options);
+  auto engine = solved(scene, testing::uniformOptions(96));
   ASSERT_TRUE(engine);
   Result<BakedLightmaps> baked = bakeLightmaps(engine->solution(), gridUvs(scene, 64, 4, 4));
   ASSERT_FALSE(baked.ok());

@@ -19,27 +19,17 @@
 #include "lambert/core/sampling.h"
 #include "lambert/engine/radiosity.h"
 #include "lambert/reference/reference.h"
+#include "tests/support/engines.h"
 #include "tests/support/scenes.h"
 
 namespace lambert {
 namespace {
 
+using testing::solved;
+using testing::uniformOptions;
+
 const Vec3 kNormals[] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},  {0, -1, 0},          {0, 0, 1},
                          {0, 0, -1}, {0.6, 0.8, 0}, {0, -0.6, 0.8}, {0.48, 0.6, -0.64}};
-
-std::unique_ptr<Radiosity> solvedEngine(const Scene& scene, std::size_t patches, SolverKind solver = SolverKind::Direct) {
-  RadiosityOptions options;
-  options.meshing = MeshStrategy::Uniform;
-  options.uniform.targetPatches = patches;
-  options.formFactors.showProgress = false;
-  options.solver = solver;
-  auto engine = Radiosity::create(scene, options);
-  EXPECT_TRUE(engine.ok()) << engine.error().message;
-  if (!engine.ok()) return nullptr;
-  Result<SolveCallReport> solved = (*engine)->solve();
-  EXPECT_TRUE(solved.ok()) << solved.error().message;
-  return std::move(*engine);
-}
 
 // One probe at p: a grid of one cell over a small box about it.
 ProbeOptions probeAt(const Vec3& p, double halfSize = 0.01) {
@@ -125,7 +115,7 @@ TEST(ProbesTest, PointAndDirectionalLightsGiveTheL2CosineLobe) {
   } cases[] = {{point, normalize(Vec3{1, 2, 2}), point.intensity / 36.0}, {sun, Vec3{0, 0.6, 0.8}, sun.irradiance}};
   for (const Case& c : cases) {
     scene.lights = {c.light};
-    auto engine = solvedEngine(scene, 8);
+    auto engine = solved(scene, uniformOptions(8, SolverKind::Direct));
     ASSERT_TRUE(engine);
     const ProbeVolume volume = baked(engine->solution(), probeAt(p));
     ASSERT_EQ(volume.numProbes(), 1u);
@@ -153,7 +143,7 @@ TEST(ProbesTest, AnOccludedLightAddsNothing) {
   point.position = {0, 2, 0};
   point.intensity = Rgb::gray(10);
   scene.lights = {point};
-  auto engine = solvedEngine(scene, 8);
+  auto engine = solved(scene, uniformOptions(8, SolverKind::Direct));
   ASSERT_TRUE(engine);
   const ProbeVolume shadowed = baked(engine->solution(), probeAt({0, 0, 0}));
   ASSERT_EQ(shadowed.numValid, 1u);
@@ -168,7 +158,7 @@ TEST(ProbesTest, AnOccludedLightAddsNothing) {
 
 TEST(ProbesTest, FurnaceGivesPiLEverywhereAndProbesInsideABlockAreInvalid) {
   const Scene scene = roomWithBlock();
-  auto engine = solvedEngine(scene, 600);
+  auto engine = solved(scene, uniformOptions(600, SolverKind::Direct));
   ASSERT_TRUE(engine);
   ProbeOptions options;
   options.spacing = 0.5;  // 8³ probes at 0.25 + 0.5 i
@@ -203,7 +193,7 @@ TEST(ProbesTest, ReflectingFurnaceGivesPiLeOverOneMinusAlbedo) {
   // Every face emits L_e and reflects ρ = 0.5: L = L_e / (1 − ρ) everywhere. The uniform solve's
   // own error is within 3% (engine/two_sided_test.cpp), which bounds the probes' here.
   const Rgb emitted{1.0, 0.5, 0.25};
-  auto engine = solvedEngine(testing::closedCube(1, emitted, Rgb::gray(0.5)), 400);
+  auto engine = solved(testing::closedCube(1, emitted, Rgb::gray(0.5)), uniformOptions(400, SolverKind::Direct));
   ASSERT_TRUE(engine);
   ProbeOptions options;
   options.spacing = 0.25;
@@ -243,7 +233,7 @@ Rgb tracedIrradiance(const ReferenceRenderer& tracer, const Mesh& geometry, cons
 // cosine-weighted estimator above) within the truncation bound, 0.094 of the brightest E.
 TEST(ProbesTest, CornellBoxProbeAgreesWithThePathTracer) {
   const Scene scene = cornellBox();
-  auto engine = solvedEngine(scene, 1500, SolverKind::GaussSeidel);
+  auto engine = solved(scene, uniformOptions(1500, SolverKind::GaussSeidel));
   ASSERT_TRUE(engine);
   const Vec3 x{278, 420, 200};  // above the blocks, 129 mm below the lamp
   ProbeOptions options = probeAt(x, 1);
@@ -251,11 +241,8 @@ TEST(ProbesTest, CornellBoxProbeAgreesWithThePathTracer) {
   const ProbeVolume volume = baked(engine->solution(), options);
   ASSERT_EQ(volume.numValid, 1u);
 
-  ReferenceOptions reference;
-  reference.vertexSamples = 16;
-  reference.showProgress = false;
   const Mesh geometry = subdivideScene(scene, 1e4);
-  ReferenceRenderer tracer(scene, geometry, reference);
+  ReferenceRenderer tracer(scene, geometry, testing::quietReferenceOptions(16));
   const std::unique_ptr<RayCaster> caster = makeEmbreeRayCaster(geometry);
   std::uint64_t stream = 1u << 20;
   const ShRgb tracedSh = irradianceFromRadiance(projectRadiance([&](const Vec3& w) -> Rgb {
@@ -279,7 +266,7 @@ TEST(ProbesTest, CornellBoxProbeAgreesWithThePathTracer) {
 }
 
 TEST(ProbesTest, FileRoundTripsAndItsHeaderIsAsDocumented) {
-  auto engine = solvedEngine(roomWithBlock(), 200);
+  auto engine = solved(roomWithBlock(), uniformOptions(200, SolverKind::Direct));
   ASSERT_TRUE(engine);
   ProbeOptions options;
   options.spacing = 1.1;  // 4 cells of 1.1 over 4 units: centred, the first probe at 2 − 1.5·1.1
@@ -336,7 +323,7 @@ TEST(ProbesTest, FileRoundTripsAndItsHeaderIsAsDocumented) {
 }
 
 TEST(ProbesTest, TheFileIsTheSameForOneThreadAndFour) {
-  auto engine = solvedEngine(cornellBox(), 300);
+  auto engine = solved(cornellBox(), uniformOptions(300, SolverKind::Direct));
   ASSERT_TRUE(engine);
   ProbeOptions options;
   options.spacing = 100;  // 6³ probes

@@ -10,23 +10,13 @@
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/reference/reference.h"
 #include "lambert/scene/builtin.h"
+#include "tests/support/engines.h"
 #include "tests/support/scenes.h"
 
 namespace lambert {
 namespace {
 
-std::unique_ptr<Radiosity> solved(const Scene& scene, MeshStrategy meshing = MeshStrategy::Hierarchical) {
-  RadiosityOptions options;
-  options.meshing = meshing;
-  options.uniform.targetPatches = 600;
-  options.formFactors.showProgress = false;
-  auto engine = Radiosity::create(scene, options);
-  EXPECT_TRUE(engine.ok()) << engine.error().message;
-  if (!engine.ok()) return nullptr;
-  Result<SolveCallReport> report = (*engine)->solve();
-  EXPECT_TRUE(report.ok()) << report.error().message;
-  return std::move(*engine);
-}
+using testing::solved;
 
 // The factor by brute-force quadrature: the midpoint rule over an n × n grid of the rectangle
 // corner + s·u + t·v (s, t ∈ [0, 1]), cos θ_x cos θ_y / (π r²) dA, only the part in front of x.
@@ -128,7 +118,7 @@ TEST(IlluminanceTest, FarEmittersAreGatheredAndNearOnesIntegrated) {
       tiles.push_back({c});
       scene.surfaces.push_back({"tile", {c, c + Vec3{0.2, 0, 0}, c + Vec3{0.2, 0, 0.2}, c + Vec3{0, 0, 0.2}}, 0, Rgb::gray(1)});
     }
-  auto engine = solved(scene, MeshStrategy::Uniform);
+  auto engine = solved(scene, testing::uniformOptions(600));
   ASSERT_TRUE(engine);
   IlluminanceOptions options;
   options.indirectRays = 4096;
@@ -272,11 +262,8 @@ TEST(IlluminanceTest, IndirectLightMatchesThePathTracerOnTheCornellBox) {
   Result<std::vector<PointIrradiance>> measured = meter.measure(points);
   ASSERT_TRUE(measured.ok());
 
-  ReferenceOptions reference;
-  reference.vertexSamples = 16;
-  reference.showProgress = false;
   const Mesh geometry = subdivideScene(scene, 1e4);
-  const ReferenceRenderer tracer(scene, geometry, reference);
+  const ReferenceRenderer tracer(scene, geometry, testing::quietReferenceOptions(16));
   const std::unique_ptr<RayCaster> caster = makeEmbreeRayCaster(geometry);
   double sumSquares = 0, sumTraced = 0;
   for (std::size_t i = 0; i < points.size(); ++i) {

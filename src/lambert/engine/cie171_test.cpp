@@ -23,9 +23,14 @@
 #include "lambert/scene/scene.h"
 #include "lambert/solve/transport.h"
 #include "lambert/solve/solver.h"
+#include "tests/support/engines.h"
 
 namespace lambert {
 namespace {
+
+using testing::quietOptions;
+using testing::solved;
+using testing::uniformOptions;
 
 // ---- Closed forms (independent of formfactor/kernels.h, which integrates Lambert's contour) ----
 
@@ -133,23 +138,6 @@ struct RoomPoint {
   Vec3 point, normal;
   std::uint32_t surface = 0;
 };
-
-RadiosityOptions quietOptions() {
-  RadiosityOptions options;  // the defaults: hierarchical radiosity, Gauss–Seidel to 1e-7
-  options.formFactors.showProgress = false;
-  return options;
-}
-
-std::unique_ptr<Radiosity> solved(const Scene& scene, const RadiosityOptions& options) {
-  auto engine = Radiosity::create(scene, options);
-  EXPECT_TRUE(engine.ok()) << engine.error().message;
-  if (!engine.ok()) return nullptr;
-  auto report = (*engine)->solve();
-  EXPECT_TRUE(report.ok()) << report.error().message;
-  if (!report.ok()) return nullptr;
-  EXPECT_TRUE(report->converged) << "the solve stopped before its tolerance";
-  return std::move(*engine);
-}
 
 // The solution's irradiance (g channel) at the points, each on face 0 of its surface.
 std::vector<double> irradianceAt(const SolutionView& view, const std::vector<RoomPoint>& points) {
@@ -360,10 +348,7 @@ TEST(Cie171Test, FluxConservationInABlackRoom_5_4) {
   for (double f : expected) expectedTotal += f;
   EXPECT_LT(relativeError(expectedTotal, emitted), 1e-6) << "the closed forms do not conserve the lamp's flux";
 
-  RadiosityOptions uniform = quietOptions();
-  uniform.meshing = MeshStrategy::Uniform;
-  uniform.uniform.targetPatches = 600;
-  for (const RadiosityOptions& options : {quietOptions(), uniform}) {
+  for (const RadiosityOptions& options : {quietOptions(), uniformOptions(600)}) {
     const char* method = options.meshing == MeshStrategy::Hierarchical ? "hierarchical" : "uniform";
     auto engine = solved(room.scene, options);
     ASSERT_TRUE(engine);
@@ -586,10 +571,7 @@ TEST(Cie171Test, IntegratingSphereCube_5_8) {
     check("hierarchical: mean E − E_direct at points", indirect);
 
     if (albedo != 0.5 && albedo != 0.95) continue;  // the flat method at two reflectances (its form factors cost)
-    RadiosityOptions uniform = quietOptions();
-    uniform.meshing = MeshStrategy::Uniform;
-    uniform.uniform.targetPatches = 384;
-    auto flat = solved(scene, uniform);
+    auto flat = solved(scene, uniformOptions(384));
     ASSERT_TRUE(flat);
     check("uniform: mean B of the elements", meanRadiosity(flat->solution()));
   }

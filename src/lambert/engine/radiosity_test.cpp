@@ -9,26 +9,22 @@
 #include "lambert/flat/table.h"
 #include "lambert/render/solution_image.h"
 #include "lambert/solve/solver.h"
+#include "tests/support/engines.h"
 #include "tests/support/scenes.h"
 
 namespace lambert {
 namespace {
 
+using testing::engineFor;
+using testing::solveCall;
+using testing::statNumber;
+
+// The flat method to `tolerance`, with sweeps (or shots) enough to reach any of them.
 RadiosityOptions uniformOptions(std::size_t patches, SolverKind solver, double tolerance) {
-  RadiosityOptions options;
-  options.meshing = MeshStrategy::Uniform;
-  options.uniform.targetPatches = patches;
-  options.formFactors.showProgress = false;
-  options.solver = solver;
+  RadiosityOptions options = testing::uniformOptions(patches, solver);
   options.tolerance = tolerance;
   options.maxIterations = 100000;
   return options;
-}
-
-std::unique_ptr<Radiosity> makeEngine(const Scene& scene, const RadiosityOptions& options) {
-  auto engine = Radiosity::create(scene, options);
-  EXPECT_TRUE(engine.ok()) << engine.error().message;
-  return engine.ok() ? std::move(*engine) : nullptr;
 }
 
 std::vector<Light> lightsAt(const Scene& scene, double seconds) {
@@ -37,17 +33,11 @@ std::vector<Light> lightsAt(const Scene& scene, double seconds) {
   return lights;
 }
 
-SolveCallReport solved(Radiosity& engine, const SolveBudget& budget = {}) {
-  Result<SolveCallReport> report = engine.solve(budget);
-  EXPECT_TRUE(report.ok()) << report.error().message;
-  return report.ok() ? *report : SolveCallReport{};
-}
-
 // The reference: the same scene and mesh, lights injected once, solved by LU from scratch.
 std::vector<Rgb> coldSolve(const Scene& scene, std::size_t patches, const std::vector<Light>& lights) {
-  std::unique_ptr<Radiosity> engine = makeEngine(scene, uniformOptions(patches, SolverKind::Direct, 1e-7));
+  std::unique_ptr<Radiosity> engine = engineFor(scene, uniformOptions(patches, SolverKind::Direct, 1e-7));
   engine->setLights(lights);
-  solved(*engine);
+  solveCall(*engine);
   return engine->solution().radiosity();
 }
 
@@ -62,19 +52,12 @@ double relativeError(const std::vector<Rgb>& a, const std::vector<Rgb>& b) {
   return worst / scale;
 }
 
-double statNumber(const Stats& stats, const std::string& key) {
-  const Stats::Entry* entry = stats.find(key);
-  if (!entry) return NAN;
-  if (const auto* i = std::get_if<std::int64_t>(&entry->value)) return static_cast<double>(*i);
-  return std::get<double>(entry->value);
-}
-
 TEST(RadiosityTest, EachFrameConvergesToTheColdSolve) {
   Scene scene = cornellBoxWithSpots();
-  std::unique_ptr<Radiosity> engine = makeEngine(scene, uniformOptions(400, SolverKind::Shooting, 1e-8));
+  std::unique_ptr<Radiosity> engine = engineFor(scene, uniformOptions(400, SolverKind::Shooting, 1e-8));
   for (double t : {0.0, 0.4, 1.3}) {
     engine->setLights(lightsAt(scene, t));
-    SolveCallReport report = solved(*engine);
+    SolveCallReport report = solveCall(*engine);
     EXPECT_EQ(report.lightsInjected, 2);
     EXPECT_TRUE(report.converged);
     EXPECT_LT(report.unshotFraction, 1e-8);
@@ -87,11 +70,11 @@ TEST(RadiosityTest, GatheringSolversWarmStartFromTheLastFrame) {
   Scene scene = cornellBoxWithSpots();
   const std::vector<Rgb> reference = coldSolve(scene, 300, lightsAt(scene, 0.05));
   for (SolverKind solver : {SolverKind::GaussSeidel, SolverKind::Jacobi}) {
-    std::unique_ptr<Radiosity> engine = makeEngine(scene, uniformOptions(300, solver, 1e-9));
+    std::unique_ptr<Radiosity> engine = engineFor(scene, uniformOptions(300, solver, 1e-9));
     engine->setLights(lightsAt(scene, 0));
-    SolveCallReport cold = solved(*engine);
+    SolveCallReport cold = solveCall(*engine);
     engine->setLights(lightsAt(scene, 0.05));
-    SolveCallReport warm = solved(*engine);
+    SolveCallReport warm = solveCall(*engine);
     EXPECT_TRUE(warm.converged);
     EXPECT_LT(warm.iterations, cold.iterations) << solverName(solver);
     EXPECT_LT(relativeError(engine->solution().radiosity(), reference), 1e-6) << solverName(solver);
@@ -100,20 +83,20 @@ TEST(RadiosityTest, GatheringSolversWarmStartFromTheLastFrame) {
 
 TEST(RadiosityTest, UnchangedLightsAreNotReinjected) {
   Scene scene = cornellBoxWithSpots();
-  std::unique_ptr<Radiosity> engine = makeEngine(scene, uniformOptions(200, SolverKind::Shooting, 1e-4));
+  std::unique_ptr<Radiosity> engine = engineFor(scene, uniformOptions(200, SolverKind::Shooting, 1e-4));
   engine->setLights(lightsAt(scene, 0));
-  EXPECT_EQ(solved(*engine).lightsInjected, 2);
-  SolveCallReport again = solved(*engine);
+  EXPECT_EQ(solveCall(*engine).lightsInjected, 2);
+  SolveCallReport again = solveCall(*engine);
   EXPECT_EQ(again.lightsInjected, 0);
   EXPECT_EQ(again.iterations, 0);
   std::vector<Light> oneMoved = lightsAt(scene, 0);
   oneMoved[1] = lightAtTime(scene.lights[1], 0.2);
   engine->setLights(oneMoved);
-  EXPECT_EQ(solved(*engine).lightsInjected, 1);
+  EXPECT_EQ(solveCall(*engine).lightsInjected, 1);
   engine->setLights({oneMoved[0]});  // a light removed: the rest are traced afresh
-  EXPECT_EQ(solved(*engine).lightsInjected, 1);
+  EXPECT_EQ(solveCall(*engine).lightsInjected, 1);
   engine->setLights({});
-  solved(*engine);
+  solveCall(*engine);
   for (const Rgb& injected : engine->solution().injected()) EXPECT_EQ(injected.maxComponent(), 0);
 }
 
@@ -121,17 +104,17 @@ TEST(RadiosityTest, UnchangedLightsAreNotReinjected) {
 // 1% of the converged answer a few frames after the light stops.
 TEST(RadiosityTest, BudgetedFramesCatchUpAfterTheLightStops) {
   Scene scene = cornellBoxWithSpots();
-  std::unique_ptr<Radiosity> engine = makeEngine(scene, uniformOptions(400, SolverKind::Shooting, 1e-9));
+  std::unique_ptr<Radiosity> engine = engineFor(scene, uniformOptions(400, SolverKind::Shooting, 1e-9));
   const SolveBudget budget{.maxShots = 40};
   for (int frame = 0; frame < 30; ++frame) {
     engine->setLights(lightsAt(scene, frame / 30.0));
-    EXPECT_EQ(solved(*engine, budget).iterations, 40);
+    EXPECT_EQ(solveCall(*engine, budget).iterations, 40);
   }
   const std::vector<Rgb> converged = coldSolve(scene, 400, lightsAt(scene, 29 / 30.0));
   double lagging = relativeError(engine->solution().radiosity(), converged);
   int frames = 0;
   while (relativeError(engine->solution().radiosity(), converged) > 0.01 && frames < 100) {
-    solved(*engine, budget);
+    solveCall(*engine, budget);
     ++frames;
   }
   EXPECT_LT(relativeError(engine->solution().radiosity(), converged), 0.01);
@@ -151,17 +134,17 @@ TEST(RadiosityTest, BudgetsBelongToTheirSolvers) {
   EXPECT_TRUE(checkSolveBudget(SolverKind::Jacobi, {.maxSweeps = 3, .maxMilliseconds = 5}).ok());
 
   Scene scene = cornellBox();
-  std::unique_ptr<Radiosity> gs = makeEngine(scene, uniformOptions(200, SolverKind::GaussSeidel, 1e-12));
+  std::unique_ptr<Radiosity> gs = engineFor(scene, uniformOptions(200, SolverKind::GaussSeidel, 1e-12));
   EXPECT_FALSE(gs->solve({.maxShots = 5}).ok());
-  SolveCallReport two = solved(*gs, {.maxSweeps = 2});
+  SolveCallReport two = solveCall(*gs, {.maxSweeps = 2});
   EXPECT_EQ(two.iterations, 2);
   EXPECT_FALSE(two.converged);
-  SolveCallReport timed = solved(*gs, {.maxMilliseconds = 1e-6});  // one sweep, then the clock
+  SolveCallReport timed = solveCall(*gs, {.maxMilliseconds = 1e-6});  // one sweep, then the clock
   EXPECT_EQ(timed.iterations, 1);
   EXPECT_FALSE(timed.converged);
   // A time budget stops the shooter at its first look at the clock, after 32 shots.
-  std::unique_ptr<Radiosity> shoot = makeEngine(scene, uniformOptions(200, SolverKind::Shooting, 1e-12));
-  SolveCallReport brief = solved(*shoot, {.maxMilliseconds = 1e-6});
+  std::unique_ptr<Radiosity> shoot = engineFor(scene, uniformOptions(200, SolverKind::Shooting, 1e-12));
+  SolveCallReport brief = solveCall(*shoot, {.maxMilliseconds = 1e-6});
   EXPECT_EQ(brief.iterations, 32);
   EXPECT_FALSE(brief.converged);
 }
@@ -184,9 +167,9 @@ TEST(RadiosityTest, EverySolverWorksWithEveryMeshStrategy) {
             << refused.error().message;
         continue;
       }
-      std::unique_ptr<Radiosity> engine = makeEngine(scene, options);
+      std::unique_ptr<Radiosity> engine = engineFor(scene, options);
       ASSERT_TRUE(engine) << solverName(solver);
-      SolveCallReport report = solved(*engine);
+      SolveCallReport report = solveCall(*engine);
       EXPECT_TRUE(report.converged) << solverName(solver);
       double lit = 0;
       for (const Rgb& b : engine->solution().radiosity()) lit += b.sum();
@@ -205,8 +188,8 @@ TEST(RadiosityTest, TheViewHoldsOneConsistentSolution) {
     RadiosityOptions options = uniformOptions(300, SolverKind::GaussSeidel, 1e-9);
     options.meshing = strategy;
     options.adaptive.quadtree = {200, 2};
-    std::unique_ptr<Radiosity> engine = makeEngine(scene, options);
-    solved(*engine);
+    std::unique_ptr<Radiosity> engine = engineFor(scene, options);
+    solveCall(*engine);
     const SolutionView& view = engine->solution();
     const std::size_t n = view.mesh().numPatches();
     ASSERT_EQ(view.radiosity().size(), n);
@@ -276,9 +259,9 @@ TEST(RadiosityTest, TheViewsLightIsTheClosedForm) {
     options.meshing = strategy;
     options.adaptive.quadtree = {0.3, 2};
     options.hierarchical.links.linkError = 1e-4;
-    std::unique_ptr<Radiosity> engine = makeEngine(scene, options);
+    std::unique_ptr<Radiosity> engine = engineFor(scene, options);
     ASSERT_TRUE(engine);
-    solved(*engine);
+    solveCall(*engine);
     const SolutionView& view = engine->solution();
     const Mesh& mesh = view.mesh();
     ASSERT_GT(mesh.numPatches(), 8u);
@@ -350,10 +333,10 @@ TEST(RadiosityTest, TheViewsLightIsTheClosedForm) {
 // Stats describe the solve the view holds: its lights' power, and every solve counted.
 TEST(RadiosityTest, StatsDescribeTheCurrentSolution) {
   Scene scene = cornellBoxWithSpots();
-  std::unique_ptr<Radiosity> engine = makeEngine(scene, uniformOptions(200, SolverKind::Shooting, 1e-6));
+  std::unique_ptr<Radiosity> engine = engineFor(scene, uniformOptions(200, SolverKind::Shooting, 1e-6));
   for (int frame = 0; frame < 3; ++frame) {
     engine->setLights(lightsAt(scene, frame / 10.0));
-    solved(*engine);
+    solveCall(*engine);
   }
   Stats stats = engine->stats();
   EXPECT_EQ(statNumber(stats, "solves"), 3);
@@ -364,9 +347,9 @@ TEST(RadiosityTest, StatsDescribeTheCurrentSolution) {
   // solved once reports the same (the injection to the bit, the solve to its tolerance), and the
   // first frame's lights report other figures.
   auto powerOf = [&](double seconds) {
-    std::unique_ptr<Radiosity> once = makeEngine(scene, uniformOptions(200, SolverKind::Shooting, 1e-6));
+    std::unique_ptr<Radiosity> once = engineFor(scene, uniformOptions(200, SolverKind::Shooting, 1e-6));
     once->setLights(lightsAt(scene, seconds));
-    solved(*once);
+    solveCall(*once);
     return once->stats();
   };
   const Stats last = powerOf(2 / 10.0), first = powerOf(0);
@@ -386,13 +369,13 @@ TEST(RadiosityTest, AMovedEngineRendersTheSameImage) {
   const SolutionView* view = nullptr;
   {
     Scene scene = cornellBoxWithSpots();
-    std::unique_ptr<Radiosity> engine = makeEngine(scene, uniformOptions(200, SolverKind::GaussSeidel, 1e-7));
-    solved(*engine);
+    std::unique_ptr<Radiosity> engine = engineFor(scene, uniformOptions(200, SolverKind::GaussSeidel, 1e-7));
+    solveCall(*engine);
     view = &engine->solution();
     before = renderSolution(*view, image);
     engines.push_back(std::move(engine));
   }
-  for (int k = 0; k < 16; ++k) engines.push_back(makeEngine(testing::closedCube(), uniformOptions(12, SolverKind::GaussSeidel, 1e-7)));
+  for (int k = 0; k < 16; ++k) engines.push_back(engineFor(testing::closedCube(), uniformOptions(12, SolverKind::GaussSeidel, 1e-7)));
   std::unique_ptr<Radiosity> moved = std::move(engines.front());
   engines.clear();
   EXPECT_EQ(&moved->solution(), view);

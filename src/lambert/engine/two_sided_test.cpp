@@ -7,6 +7,7 @@
 #include "lambert/engine/radiosity.h"
 #include "lambert/reference/reference.h"
 #include "lambert/render/solution_image.h"
+#include "tests/support/engines.h"
 #include "tests/support/scenes.h"
 
 namespace lambert {
@@ -30,15 +31,6 @@ Scene furnaceWithPlate() {
   return scene;
 }
 
-RadiosityOptions quiet(std::size_t patches) {
-  RadiosityOptions options;
-  options.meshing = MeshStrategy::Uniform;
-  options.uniform.targetPatches = patches;
-  options.formFactors.showProgress = false;
-  options.solver = SolverKind::Direct;
-  return options;
-}
-
 TEST(TwoSidedTest, TwinsAreReversedCopiesLinkedBothWays) {
   Scene scene = furnaceWithPlate();
   ASSERT_EQ(scene.surfaces.size(), 8u);
@@ -57,10 +49,9 @@ TEST(TwoSidedTest, TwinsAreReversedCopiesLinkedBothWays) {
 
 TEST(TwoSidedTest, FurnaceHoldsOnBothSidesOfAPlate) {
   const Scene scene = furnaceWithPlate();
-  auto engine = Radiosity::create(scene, quiet(800));
-  ASSERT_TRUE(engine.ok()) << engine.error().message;
-  ASSERT_TRUE((*engine)->solve({}).ok());
-  const SolutionView view = (*engine)->solution();
+  auto engine = testing::solved(scene, testing::uniformOptions(800, SolverKind::Direct));
+  ASSERT_TRUE(engine);
+  const SolutionView view = engine->solution();
   const Rgb expected = kEmission * (kPi / (1 - 0.5));  // B = E / (1 − ρ), E = π L_e
   int plateSides[2] = {0, 0};
   for (std::size_t i = 0; i < view.mesh().numPatches(); ++i) {
@@ -72,10 +63,7 @@ TEST(TwoSidedTest, FurnaceHoldsOnBothSidesOfAPlate) {
   EXPECT_EQ(plateSides[0], plateSides[1]);
 
   // The path tracer agrees on both sides, through the same rule for rays meeting a twin.
-  ReferenceOptions options;
-  options.vertexSamples = 4096;
-  options.showProgress = false;
-  ReferenceRenderer reference(scene, subdivideScene(scene, 2), options);
+  ReferenceRenderer reference(scene, subdivideScene(scene, 2), testing::quietReferenceOptions(4096));
   for (std::uint32_t side : {6u, 7u}) {
     const Vec3 n = surfaceNormal(scene.surfaces[side]);
     const Rgb radiance = reference.outgoingRadiance({0.4, 0.5, 0.6}, n, side, side);
@@ -94,10 +82,9 @@ TEST(TwoSidedTest, EachSideTakesTheLightOfItsOwnHalfSpace) {
   below.position = {0.5, -1, 0.5};
   below.intensity = Rgb::gray(1);
   scene.lights = {below};
-  auto engine = Radiosity::create(scene, quiet(200));
-  ASSERT_TRUE(engine.ok()) << engine.error().message;
-  ASSERT_TRUE((*engine)->solve({}).ok());
-  const SolutionView view = (*engine)->solution();
+  auto engine = testing::solved(scene, testing::uniformOptions(200, SolverKind::Direct));
+  ASSERT_TRUE(engine);
+  const SolutionView view = engine->solution();
   for (std::size_t i = 0; i < view.mesh().numPatches(); ++i) {
     const Patch& p = view.mesh().patches[i];
     const double irradiance = dot(below.position - p.centroid, p.normal) / std::pow(length(below.position - p.centroid), 3);

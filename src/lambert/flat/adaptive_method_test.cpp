@@ -7,6 +7,7 @@
 #include "lambert/engine/solution_internals.h"
 #include "lambert/solve/energy.h"
 #include "lambert/solve/solver.h"
+#include "tests/support/engines.h"
 #include "tests/support/scenes.h"
 
 namespace lambert {
@@ -28,32 +29,16 @@ Light downwardSpot(Vec3 position, Vec3 direction) {
 }
 
 RadiosityOptions adaptiveOptions(QuadtreeOptions quadtree, double gradientThreshold) {
-  RadiosityOptions options;
+  RadiosityOptions options = testing::quietOptions();
   options.meshing = MeshStrategy::Adaptive;
   options.adaptive.quadtree = quadtree;
   options.adaptive.gradientThreshold = gradientThreshold;
   // One refine-and-solve pass per solve(): these tests watch what each pass does.
   options.adaptive.passesPerSolve = 1;
-  options.formFactors.showProgress = false;
   return options;
 }
 
 RadiosityOptions geometricOnly() { return adaptiveOptions({0.25, 3}, 0); }
-
-// An adaptive engine lit by `lights`, solved once.
-std::unique_ptr<Radiosity> solvedEngine(const Scene& scene, const RadiosityOptions& options, std::vector<Light> lights) {
-  auto engine = Radiosity::create(scene, options);
-  EXPECT_TRUE(engine.ok()) << engine.error().message;
-  (*engine)->setLights(std::move(lights));
-  auto solved = (*engine)->solve();
-  EXPECT_TRUE(solved.ok());
-  return std::move(*engine);
-}
-
-std::int64_t statInt(const Stats& stats, const std::string& key) {
-  const Stats::Entry* entry = stats.find(key);
-  return entry ? std::get<std::int64_t>(entry->value) : -1;
-}
 
 // A square cell of the floor y = 0, corner (x0, z0), facing up.
 PatchCorners floorCell(double x0, double z0, double size) {
@@ -133,20 +118,20 @@ TEST(AdaptiveTest, ReactivatedCellsReuseTheirFormFactors) {
 
   SolveCallReport first = update(here);
   EXPECT_GT(first.pairsEstimated, 0u);
-  const std::int64_t afterFirst = statInt(engine.stats(), "pairs_estimated");
+  const std::int64_t afterFirst = testing::statCount(engine.stats(), "pairs_estimated");
   const std::size_t activeHere = first.elements;
 
   SolveCallReport moved = update(there);
   EXPECT_GT(moved.pairsEstimated, 0u);   // new cells: new pairs
   EXPECT_GT(moved.pairsReused, 0u);      // the rest were known
   EXPECT_GT(moved.coarsened, 0);         // the old footprint merged back
-  const std::int64_t afterMove = statInt(engine.stats(), "pairs_estimated");
+  const std::int64_t afterMove = testing::statCount(engine.stats(), "pairs_estimated");
   EXPECT_GT(afterMove, afterFirst);
 
   SolveCallReport back = update(here);
   EXPECT_EQ(back.elements, activeHere);
   EXPECT_EQ(back.pairsEstimated, 0u);    // everything found in the table
-  EXPECT_EQ(statInt(engine.stats(), "pairs_estimated"), afterMove);
+  EXPECT_EQ(testing::statCount(engine.stats(), "pairs_estimated"), afterMove);
   EXPECT_EQ(back.pairsReused, activeHere * (activeHere - 1) / 2);
   SolveCallReport still = update(here);
   EXPECT_EQ(still.refined + still.coarsened, 0);
@@ -199,9 +184,9 @@ TEST(AdaptiveTest, RowNormalisationAndItsEffectOnEnergy) {
     Scene scene = closed ? testing::closedCube(1, {}, Rgb::gray(0.5)) : cornellBox();
     if (closed) scene.surfaces[0].emittedRadiance = {1, 1, 1};
     RadiosityOptions options = adaptiveOptions({closed ? 0.25 : 110.0, 0}, 0);
-    std::unique_ptr<Radiosity> plainEngine = solvedEngine(scene, options, {});
+    std::unique_ptr<Radiosity> plainEngine = testing::solved(scene, options, {});
     options.normalizeRows = true;
-    std::unique_ptr<Radiosity> normalisedEngine = solvedEngine(scene, options, {});
+    std::unique_ptr<Radiosity> normalisedEngine = testing::solved(scene, options, {});
     const SolutionView& plain = plainEngine->solution();
     const SolutionView& normalised = normalisedEngine->solution();
     const FormFactorMatrix& F = *radiosityProblem(normalised).transport->matrix();

@@ -18,6 +18,7 @@
 #include "lambert/mesh/mesh.h"
 #include "lambert/scene/builtin.h"
 
+#include "tests/support/engines.h"
 #include "tests/support/files.h"
 
 namespace lambert {
@@ -26,6 +27,7 @@ namespace {
 namespace fs = std::filesystem;
 using testing::hasTemporaryFiles;
 using testing::contains;
+using testing::quietFormFactorOptions;
 
 constexpr std::size_t kHeaderBytes = 32;
 constexpr std::size_t kChecksumBytes = 8;
@@ -51,19 +53,13 @@ bool bitIdentical(const FormFactorMatrix& a, const FormFactorMatrix& b) {
 }
 
 
-FormFactorOptions quietOptions() {
-  FormFactorOptions options;
-  options.showProgress = false;
-  return options;
-}
-
 // One small Cornell-box mesh and its form factors, computed once for the whole file.
 class FormFactorCacheTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     mesh_ = std::make_unique<Mesh>(subdivideScene(cornellBox(), 200));
     caster_ = makeEmbreeRayCaster(*mesh_);
-    F_ = std::make_unique<FormFactorMatrix>(computeFormFactors(*mesh_, *caster_, quietOptions()));
+    F_ = std::make_unique<FormFactorMatrix>(computeFormFactors(*mesh_, *caster_, quietFormFactorOptions()));
   }
   static void TearDownTestSuite() {
     F_.reset();
@@ -75,7 +71,7 @@ class FormFactorCacheTest : public ::testing::Test {
   static const RayCaster& caster() { return *caster_; }
   static const FormFactorMatrix& F() { return *F_; }
   static std::size_t n() { return mesh_->numPatches(); }
-  static std::uint64_t key() { return formFactorCacheKey(*mesh_, quietOptions()); }
+  static std::uint64_t key() { return formFactorCacheKey(*mesh_, quietFormFactorOptions()); }
 
   // A valid file for F() in a fresh scratch directory; its bytes in *bytes.
   static std::string savedFile(const std::string& test, std::vector<char>* bytes = nullptr) {
@@ -103,7 +99,7 @@ TEST_F(FormFactorCacheTest, MeshIsNontrivial) {
 }
 
 TEST_F(FormFactorCacheTest, KeyIsStableForEqualInputs) {
-  FormFactorOptions options = quietOptions();
+  FormFactorOptions options = quietFormFactorOptions();
   Mesh copy = mesh();
   EXPECT_EQ(formFactorCacheKey(mesh(), options), formFactorCacheKey(mesh(), options));
   EXPECT_EQ(formFactorCacheKey(copy, options), formFactorCacheKey(mesh(), options));
@@ -116,7 +112,7 @@ TEST_F(FormFactorCacheTest, KeyIsStableForEqualInputs) {
 }
 
 TEST_F(FormFactorCacheTest, KeyChangesWithEveryInput) {
-  const FormFactorOptions base = quietOptions();
+  const FormFactorOptions base = quietFormFactorOptions();
   std::vector<std::pair<std::string, std::uint64_t>> keys = {{"base", formFactorCacheKey(mesh(), base)}};
   auto withOptions = [&](const std::string& what, auto change) {
     FormFactorOptions options = base;
@@ -401,7 +397,7 @@ TEST_F(FormFactorCacheTest, HugePatchCountIsRejectedWithoutAllocating) {
 TEST_F(FormFactorCacheTest, ComputesOnceThenLoads) {
   const fs::path dir = scratch("cached") / "cache";
   FormFactorStats stats;
-  CachedFormFactors first = cachedFormFactors(mesh(), caster(), quietOptions(), dir.string(), &stats);
+  CachedFormFactors first = cachedFormFactors(mesh(), caster(), quietFormFactorOptions(), dir.string(), &stats);
   EXPECT_FALSE(first.fromCache);
   EXPECT_TRUE(first.warning.empty()) << first.warning;
   EXPECT_EQ(first.path, formFactorCachePath(dir.string(), key()));
@@ -412,7 +408,7 @@ TEST_F(FormFactorCacheTest, ComputesOnceThenLoads) {
 
   stats = FormFactorStats{};
   stats.pairsEvaluated = 99;
-  CachedFormFactors second = cachedFormFactors(mesh(), caster(), quietOptions(), dir.string(), &stats);
+  CachedFormFactors second = cachedFormFactors(mesh(), caster(), quietFormFactorOptions(), dir.string(), &stats);
   EXPECT_TRUE(second.fromCache);
   EXPECT_TRUE(second.warning.empty()) << second.warning;
   EXPECT_EQ(second.path, first.path);
@@ -423,7 +419,7 @@ TEST_F(FormFactorCacheTest, ComputesOnceThenLoads) {
   EXPECT_GE(stats.seconds, 0.0);
 
   // Other options are another computation, in another file beside the first.
-  FormFactorOptions other = quietOptions();
+  FormFactorOptions other = quietFormFactorOptions();
   other.seed = 2;
   CachedFormFactors third = cachedFormFactors(mesh(), caster(), other, dir.string());
   EXPECT_FALSE(third.fromCache);
@@ -432,7 +428,7 @@ TEST_F(FormFactorCacheTest, ComputesOnceThenLoads) {
   EXPECT_EQ(fileCount(dir), 2u);
   EXPECT_FALSE(hasTemporaryFiles(dir));
   EXPECT_TRUE(cachedFormFactors(mesh(), caster(), other, dir.string()).fromCache);
-  EXPECT_TRUE(cachedFormFactors(mesh(), caster(), quietOptions(), dir.string()).fromCache);
+  EXPECT_TRUE(cachedFormFactors(mesh(), caster(), quietFormFactorOptions(), dir.string()).fromCache);
 }
 
 TEST_F(FormFactorCacheTest, DamagedFileWarnsRecomputesAndIsRepaired) {
@@ -445,7 +441,7 @@ TEST_F(FormFactorCacheTest, DamagedFileWarnsRecomputesAndIsRepaired) {
   damaged[kHeaderBytes + payloadBytes() / 3] ^= 0x01;
   writeBytes(path, damaged);
   ::testing::internal::CaptureStderr();
-  CachedFormFactors result = cachedFormFactors(mesh(), caster(), quietOptions(), dir.string());
+  CachedFormFactors result = cachedFormFactors(mesh(), caster(), quietFormFactorOptions(), dir.string());
   const std::string printed = ::testing::internal::GetCapturedStderr();
   EXPECT_FALSE(result.fromCache);
   EXPECT_TRUE(contains(result.warning, path)) << result.warning;
@@ -456,7 +452,7 @@ TEST_F(FormFactorCacheTest, DamagedFileWarnsRecomputesAndIsRepaired) {
   // The damaged file was replaced by a valid one.
   EXPECT_EQ(readBytes(path), good);
   EXPECT_FALSE(hasTemporaryFiles(dir));
-  CachedFormFactors again = cachedFormFactors(mesh(), caster(), quietOptions(), dir.string());
+  CachedFormFactors again = cachedFormFactors(mesh(), caster(), quietFormFactorOptions(), dir.string());
   EXPECT_TRUE(again.fromCache);
   EXPECT_TRUE(again.warning.empty()) << again.warning;
 }
@@ -467,7 +463,7 @@ TEST_F(FormFactorCacheTest, StaleFileAtTheKeysPathIsRecomputed) {
   const std::string path = formFactorCachePath(dir.string(), key());
   ASSERT_TRUE(saveFormFactors(path, key(), FormFactorMatrix::Zero(4, 4)).ok());
   ::testing::internal::CaptureStderr();
-  CachedFormFactors result = cachedFormFactors(mesh(), caster(), quietOptions(), dir.string());
+  CachedFormFactors result = cachedFormFactors(mesh(), caster(), quietFormFactorOptions(), dir.string());
   ::testing::internal::GetCapturedStderr();
   EXPECT_FALSE(result.fromCache);
   EXPECT_TRUE(contains(result.warning, path)) << result.warning;
@@ -484,8 +480,8 @@ TEST_F(FormFactorCacheTest, EmptyDirectoryDisablesTheCache) {
     ~WorkingDirectory() { fs::current_path(before); }
   } inDir(dir);
   FormFactorStats stats;
-  CachedFormFactors first = cachedFormFactors(mesh(), caster(), quietOptions(), "", &stats);
-  CachedFormFactors second = cachedFormFactors(mesh(), caster(), quietOptions(), "");
+  CachedFormFactors first = cachedFormFactors(mesh(), caster(), quietFormFactorOptions(), "", &stats);
+  CachedFormFactors second = cachedFormFactors(mesh(), caster(), quietFormFactorOptions(), "");
   EXPECT_FALSE(first.fromCache);
   EXPECT_FALSE(second.fromCache);
   EXPECT_TRUE(first.path.empty());
@@ -501,7 +497,7 @@ TEST_F(FormFactorCacheTest, UnwritableDirectoryWarnsAndStillComputes) {
   writeBytes(dir / "file", {'x'});
   const std::string cacheDirectory = (dir / "file" / "cache").string();
   ::testing::internal::CaptureStderr();
-  CachedFormFactors result = cachedFormFactors(mesh(), caster(), quietOptions(), cacheDirectory);
+  CachedFormFactors result = cachedFormFactors(mesh(), caster(), quietFormFactorOptions(), cacheDirectory);
   const std::string printed = ::testing::internal::GetCapturedStderr();
   EXPECT_FALSE(result.fromCache);
   EXPECT_TRUE(bitIdentical(result.matrix, F()));

@@ -23,6 +23,7 @@
 #include "lambert/flat/quadtree.h"
 #include "tests/support/scenes.h"
 
+#include "tests/support/engines.h"
 #include "tests/support/files.h"
 
 namespace lambert {
@@ -31,6 +32,7 @@ namespace {
 namespace fs = std::filesystem;
 using testing::hasTemporaryFiles;
 using testing::contains;
+using testing::quietFormFactorOptions;
 
 constexpr std::size_t kHeaderBytes = 32, kEntryBytes = 20, kChecksumBytes = 8;
 
@@ -52,12 +54,6 @@ bool bitIdentical(const FormFactorMatrix& a, const FormFactorMatrix& b) {
 }
 
 
-FormFactorOptions quietOptions() {
-  FormFactorOptions options;
-  options.showProgress = false;
-  return options;
-}
-
 const QuadtreeOptions kQuadtree{0.5, 2};  // four level-0 cells per face of the unit cube
 
 // An adaptive mesh of the unit cube with its master table, as AdaptiveMethod sets them up.
@@ -70,7 +66,7 @@ struct Cells {
 
   explicit Cells(AdaptiveMesh built) : mesh(std::move(built)), base(mesh.activeMesh()) {
     caster = makeEmbreeRayCaster(base);
-    table = std::make_unique<FormFactorTable>(mesh.nodeMesh(), *caster, quietOptions(),
+    table = std::make_unique<FormFactorTable>(mesh.nodeMesh(), *caster, quietFormFactorOptions(),
                                               [this](std::uint32_t id) { return mesh.address(id); });
   }
 
@@ -165,9 +161,9 @@ TEST(FormFactorTableAddressTest, GridsTooLargeToAddressAreRejected) {
 
 TEST(FormFactorTableKeyTest, ChangesWithQuadtreeOptionsFormFactorOptionsAndGeometry) {
   const Scene scene = testing::closedCube(1);
-  const FormFactorOptions options = quietOptions();
+  const FormFactorOptions options = quietFormFactorOptions();
   const std::uint64_t key = formFactorTableKey(scene, kQuadtree, options);
-  EXPECT_EQ(formFactorTableKey(testing::closedCube(1), kQuadtree, quietOptions()), key);
+  EXPECT_EQ(formFactorTableKey(testing::closedCube(1), kQuadtree, quietFormFactorOptions()), key);
 
   std::set<std::uint64_t> keys = {key};
   auto expectNew = [&](std::uint64_t k, const char* what) { EXPECT_TRUE(keys.insert(k).second) << what; };
@@ -234,7 +230,7 @@ SavedTable savedTable(const std::string& test) {
   s.cells->refine(kOrderA);
   s.refined = s.cells->activeAddresses();
   s.refinedF = s.cells->table->matrix(s.cells->ids(s.refined));
-  s.key = formFactorTableKey(testing::closedCube(1), kQuadtree, quietOptions());
+  s.key = formFactorTableKey(testing::closedCube(1), kQuadtree, quietFormFactorOptions());
   s.path = formFactorTablePath(scratch(test).string(), s.key);
   Result<std::size_t> saved = s.cells->table->save(s.path, s.key);
   EXPECT_TRUE(saved.ok()) << saved.error().message;

@@ -14,6 +14,7 @@
 #include "lambert/core/communicator.h"
 #include "lambert/engine/radiosity.h"
 #include "lambert/scene/builtin.h"
+#include "tests/support/engines.h"
 
 namespace lambert {
 namespace {
@@ -76,20 +77,10 @@ class ThreadCommunicator final : public Communicator {
 };
 
 RadiosityOptions jacobiOptions() {
-  RadiosityOptions options;
+  RadiosityOptions options = testing::quietOptions();
   options.solver = SolverKind::Jacobi;
   options.tolerance = 1e-6;
-  options.formFactors.showProgress = false;
   return options;
-}
-
-std::int64_t integer(const Stats& stats, const std::string& key) {
-  const Stats::Entry* entry = stats.find(key);
-  if (!entry || !std::holds_alternative<std::int64_t>(entry->value)) {
-    ADD_FAILURE() << "no count " << key;
-    return -1;
-  }
-  return std::get<std::int64_t>(entry->value);
 }
 
 // What rank 0 of a distributed solve, or one process, gives out: B per element, B at the
@@ -117,8 +108,8 @@ Outputs outputsOf(Radiosity& engine, const Scene& scene) {
   EXPECT_TRUE(points.ok()) << points.error().message;
   if (points.ok()) out.points = *points;
   const Stats stats = engine.stats();
-  out.links = integer(stats, "links");
-  out.linksHeld = engine.options().communicator ? integer(stats, "rank_links") : out.links;
+  out.links = testing::statCount(stats, "links");
+  out.linksHeld = engine.options().communicator ? testing::statCount(stats, "rank_links") : out.links;
   return out;
 }
 

@@ -24,6 +24,7 @@
 #include "lambert/solve/energy.h"
 #include "lambert/hierarchical/transport.h"
 #include "lambert/solve/solver.h"
+#include "tests/support/engines.h"
 #include "tests/support/scenes.h"
 
 namespace lambert {
@@ -32,16 +33,15 @@ namespace {
 using testing::closedCornellBox;
 using testing::closedCube;
 using testing::relativeError;
+using testing::solved;
 using testing::sceneOf;
 
 RadiosityOptions hierarchicalOptions(double linkError, SolverKind solver = SolverKind::GaussSeidel) {
-  RadiosityOptions options;
-  options.meshing = MeshStrategy::Hierarchical;
+  RadiosityOptions options = testing::quietOptions();
   options.hierarchical.links.linkError = linkError;
   options.solver = solver;
   options.tolerance = 1e-6;
   options.maxIterations = 10000;
-  options.formFactors.showProgress = false;
   return options;
 }
 
@@ -55,16 +55,6 @@ Light spotLight(const Vec3& position, const Vec3& toward, double intensity, doub
   spot.coneAngleDegrees = coneDegrees;
   spot.falloffDegrees = falloffDegrees;
   return spot;
-}
-
-std::unique_ptr<Radiosity> solvedEngine(const Scene& scene, const RadiosityOptions& options) {
-  auto engine = Radiosity::create(scene, options);
-  EXPECT_TRUE(engine.ok()) << engine.error().message;
-  if (!engine.ok()) return nullptr;
-  auto report = (*engine)->solve();
-  EXPECT_TRUE(report.ok()) << report.error().message;
-  EXPECT_TRUE(report.ok() && report->converged);
-  return std::move(*engine);
 }
 
 // Area-weighted mean of B over the elements of one surface.
@@ -113,7 +103,7 @@ TEST(HierarchicalTest, FurnaceIsUniformAtEmissionOverOneMinusAlbedo) {
   // ancestors takes their mean factors for its own, which the oracle bounds per link: at link
   // error 3e-5 every element is within 1% (measured 0.7%; 2.6% at 1e-3).
   const Scene scene = closedCube(1, Rgb::gray(1), Rgb::gray(0.5));
-  auto engine = solvedEngine(scene, hierarchicalOptions(3e-5));
+  auto engine = solved(scene, hierarchicalOptions(3e-5));
   ASSERT_TRUE(engine);
   const SolutionView& view = engine->solution();
   const double expected = kPi / (1 - 0.5);
@@ -139,7 +129,7 @@ TEST(HierarchicalTest, HowellTwoPatchFactorsThroughTheSolver) {
     c.scene.materials.push_back({"black", Rgb::gray(0)});
     c.scene.surfaces[0].material = 1;
     c.scene.surfaces[0].emittedRadiance = Rgb::gray(1);
-    auto engine = solvedEngine(c.scene, hierarchicalOptions(1e-4));
+    auto engine = solved(c.scene, hierarchicalOptions(1e-4));
     ASSERT_TRUE(engine);
     const double expected = 0.5 * c.formFactor * kPi;
     EXPECT_LT(relativeError(surfaceMean(engine->solution(), 1).g, expected), 0.01) << c.scene.surfaces[1].name;
@@ -152,7 +142,7 @@ TEST(HierarchicalTest, ClosedCornellBoxAbsorbsWhatItEmits) {
   // emitted: a solve that stopped a bounce short, or links that lose or double light, fail.
   // Within 1% at the default link error (measured 0.29% short; the flat method with 3000
   // patches loses 0.5%). Nothing escapes: what leaves the surfaces arrives at them.
-  auto engine = solvedEngine(closedCornellBox(), hierarchicalOptions(2e-4));
+  auto engine = solved(closedCornellBox(), hierarchicalOptions(2e-4));
   ASSERT_TRUE(engine);
   const SolutionView& view = engine->solution();
   EnergyBalance balance = energyBalance(radiosityProblem(view), view.radiosity(), view.scene().metresPerUnit);
@@ -172,7 +162,7 @@ TEST(HierarchicalTest, EmitterOverAPlateAbsorbsAndLetsOutTheClosedForm) {
   // than 10%. Both within 2% at link error 1e-4 (the Howell test's setting, where the plate's
   // mean is within 1%; the second term is the first's 1/5 and rides on the same links).
   const testing::EnergyBalanceWatts exact = testing::emitterOverPlateBalance(0.5);
-  auto engine = solvedEngine(testing::emitterOverPlate(0.5), hierarchicalOptions(1e-4));
+  auto engine = solved(testing::emitterOverPlate(0.5), hierarchicalOptions(1e-4));
   ASSERT_TRUE(engine);
   const Stats stats = engine->stats();
   const auto watts = [&](const char* key) { return std::get<double>(stats.find(key)->value); };
@@ -194,7 +184,7 @@ TEST(HierarchicalTest, FinalGatherGivesTheExactPointIrradianceAtEveryVertex) {
   scene.surfaces[1].emittedRadiance = Rgb::gray(1);
   RadiosityOptions options = hierarchicalOptions(1e-4);
   options.hierarchical.links.minElementArea = 10;
-  auto engine = solvedEngine(scene, options);
+  auto engine = solved(scene, options);
   ASSERT_TRUE(engine);
   const SolutionView& view = engine->solution();
   ASSERT_EQ(view.mesh().numPatches(), 2u);
@@ -230,7 +220,7 @@ TEST(HierarchicalTest, AVertexSeesTheLampThroughAGapThatItsElementsRaysMissed) {
   RadiosityOptions options = hierarchicalOptions(1e-4);
   options.hierarchical.links.minElementArea = 10;
   options.hierarchical.links.clusters = false;
-  auto engine = solvedEngine(scene, options);
+  auto engine = solved(scene, options);
   ASSERT_TRUE(engine);
   const SolutionView& view = engine->solution();
   const Mesh& mesh = view.vertexMesh();
@@ -405,7 +395,7 @@ TEST(HierarchicalTest, PartlyCoveredLeavesShowTheLightOfTheirOpenPart) {
   // what it gathers falls on the open part. A floor leaf straddling a block's base must show
   // (B / open fraction) the floor's light next to the block, never more than the brightest
   // open floor leaf. Pushed as a plain mean, such leaves showed up to 30 times as much.
-  auto engine = solvedEngine(cornellBox(), hierarchicalOptions(2e-4));
+  auto engine = solved(cornellBox(), hierarchicalOptions(2e-4));
   ASSERT_TRUE(engine);
   const SolutionView& view = engine->solution();
   double brightestOpen = 0;
@@ -425,8 +415,8 @@ TEST(HierarchicalTest, PartlyCoveredLeavesShowTheLightOfTheirOpenPart) {
 }
 
 TEST(HierarchicalTest, JacobiAndGaussSeidelReachTheSameSolution) {
-  auto gs = solvedEngine(testing::closedCornellBox(), hierarchicalOptions(1e-3, SolverKind::GaussSeidel));
-  auto jacobi = solvedEngine(testing::closedCornellBox(), hierarchicalOptions(1e-3, SolverKind::Jacobi));
+  auto gs = solved(testing::closedCornellBox(), hierarchicalOptions(1e-3, SolverKind::GaussSeidel));
+  auto jacobi = solved(testing::closedCornellBox(), hierarchicalOptions(1e-3, SolverKind::Jacobi));
   ASSERT_TRUE(gs && jacobi);
   const auto& a = gs->solution().radiosity();
   const auto& b = jacobi->solution().radiosity();
@@ -567,7 +557,7 @@ Scene linkErrorRoom(const std::vector<double>& albedo) {
 // its edges (docs/hierarchical.md), and must stay within 5%.
 TEST(HierarchicalTest, TheGatherMatchesThePathTracerAlongTheCornellBoxsCeilingEdge) {
   const Scene scene = cornellBox();
-  auto engine = solvedEngine(scene, hierarchicalOptions(LinkOptions{}.linkError));
+  auto engine = solved(scene, hierarchicalOptions(LinkOptions{}.linkError));
   ASSERT_TRUE(engine);
   const SolutionView view = engine->solution();
   const Mesh& mesh = view.vertexMesh();
@@ -634,7 +624,7 @@ TEST(HierarchicalTest, TheMethodConvergesToTheExactSolutionWithAndWithoutCluster
   ASSERT_LT(referenceError, 2e-3);
   // Every surface's mean against it, as a fraction of the mean radiosity.
   const auto worstSurface = [&](const RadiosityOptions& options, std::size_t& links) {
-    auto engine = solvedEngine(scene, options);
+    auto engine = solved(scene, options);
     EXPECT_TRUE(engine);
     if (!engine) return double(INFINITY);
     double worst = 0;
@@ -677,9 +667,9 @@ TEST(HierarchicalTest, TheMethodConvergesToTheExactSolutionWithAndWithoutCluster
     EXPECT_LT(worstSurface(clustered, links), 0.025) << "seed " << seed;
   }
   clustered.hierarchical.links.seed = 1;
-  auto eight = solvedEngine(scene, clustered);
+  auto eight = solved(scene, clustered);
   clustered.hierarchical.links.visibilityRays = 64;
-  auto sixtyFour = solvedEngine(scene, clustered);
+  auto sixtyFour = solved(scene, clustered);
   ASSERT_TRUE(eight && sixtyFour);
   for (std::uint32_t s = 0; s < 6; ++s)
     EXPECT_LT(std::fabs(surfaceMean(eight->solution(), s).g - surfaceMean(sixtyFour->solution(), s).g) / scale, 0.01)
@@ -692,8 +682,8 @@ TEST(HierarchicalTest, ClusteringStartsFromLinearlyManyLinksAndAgreesWithoutClus
   RadiosityOptions clustered = hierarchicalOptions(1e-3);
   RadiosityOptions unclustered = clustered;
   unclustered.hierarchical.links.clusters = false;
-  auto a = solvedEngine(scene, clustered);
-  auto b = solvedEngine(scene, unclustered);
+  auto a = solved(scene, clustered);
+  auto b = solved(scene, unclustered);
   ASSERT_TRUE(a && b);
   auto number = [](const Radiosity& e, const char* key) {
     const Stats stats = e.stats();
@@ -779,7 +769,7 @@ TEST(HierarchicalTest, AColumnLinksToTheFloorAndCeilingThroughItsClusters) {
   // still 1.9 M and 0.38 M; with boxes for both (and a kernel valid close by) 0.6 M and 21 k.
   Scene scene = gridBox(4);
   scene.surfaces.push_back(column(0.25, 0.25, 0.03, 256));
-  auto engine = solvedEngine(scene, hierarchicalOptions(2e-4));
+  auto engine = solved(scene, hierarchicalOptions(2e-4));
   ASSERT_TRUE(engine);
   const Stats stats = engine->stats();
   const auto value = [&](const char* key) { return static_cast<double>(std::get<std::int64_t>(stats.find(key)->value)); };
@@ -798,7 +788,7 @@ TEST(HierarchicalTest, MirrorImageSurfacesGetMirrorImageLinks) {
   // do (Σ K over receivers' areas), as reciprocity and the symmetry of the scene demand.
   Scene scene = testing::parallelSquares();
   for (Surface& s : scene.surfaces) s.emittedRadiance = Rgb::gray(1);
-  auto engine = solvedEngine(scene, hierarchicalOptions(1e-4));
+  auto engine = solved(scene, hierarchicalOptions(1e-4));
   ASSERT_TRUE(engine);
   const SolutionView& view = engine->solution();
   const Rgb bottom = surfaceMean(view, 0), top = surfaceMean(view, 1);
@@ -810,7 +800,7 @@ TEST(HierarchicalTest, VertexValuesAreContinuousAcrossTJunctions) {
   // lies inside a leaf's edge must carry the value interpolated along that edge.
   Scene scene = closedCube(1, {}, Rgb::gray(0.5));
   scene.lights.push_back(spotLight({0.3, 0.9, 0.3}, {0.2, -1, 0.1}, 2, 20, 2));
-  auto engine = solvedEngine(scene, hierarchicalOptions(1e-3));
+  auto engine = solved(scene, hierarchicalOptions(1e-3));
   ASSERT_TRUE(engine);
   const SolutionView& view = engine->solution();
   const Mesh& mesh = view.vertexMesh();
@@ -864,7 +854,7 @@ TEST(HierarchicalTest, FacesLyingOnOneAnotherAreSeenOnce) {
   const Scene scene = furnaceWithStackedPlates(3);
   const double furnace = kPi / (1 - 0.5);
   for (SolverKind solver : {SolverKind::GaussSeidel, SolverKind::Jacobi}) {
-    auto engine = solvedEngine(scene, hierarchicalOptions(2e-4, solver));
+    auto engine = solved(scene, hierarchicalOptions(2e-4, solver));
     ASSERT_TRUE(engine);
     // Measured 1.24 (3.0 with every face of a stack seen whole).
     EXPECT_LT(std::get<double>(engine->stats().find("largest_row_sum")->value), 1.5);
@@ -1189,7 +1179,7 @@ TEST_P(HungPanelTest, PointsUnderTheCeilingSeePastThePanelWithoutSteps) {
                          gridSurface("panel", {-7.0 / 6, 2.4, 1.0 / 6}, {1, 0, 0}, {0, 0, 1}, 1, Rgb::gray(10)),
                          gridSurface("panel back", {-7.0 / 6, 2.401, 1.0 / 6}, {0, 0, 1}, {1, 0, 0}, 1, Rgb::gray(panel.backEmission))},
                         Rgb::gray(0.7));
-  auto engine = solvedEngine(scene, hierarchicalOptions(LinkOptions{}.linkError));
+  auto engine = solved(scene, hierarchicalOptions(LinkOptions{}.linkError));
   ASSERT_TRUE(engine);
   const SolutionView view = engine->solution();
   const auto cell = [](double c) { return static_cast<std::uint32_t>(std::floor((c + 2) / 4 * n)); };

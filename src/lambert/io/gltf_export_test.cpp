@@ -16,6 +16,7 @@
 #include "lambert/scene/builtin.h"
 #include "lambert/load/scene_file.h"
 #include "tests/support/emissive_strip.h"
+#include "tests/support/engines.h"
 #include "tests/support/files.h"
 
 namespace lambert {
@@ -53,14 +54,9 @@ tinygltf::Model exportAndRead(const SolutionView& solution, const GltfExportOpti
 }
 
 TEST(GltfExportTest, BaseColourTimesColourIsTheSolvedRadiance) {
-  RadiosityOptions options;
-  options.meshing = MeshStrategy::Uniform;
-  options.uniform.targetPatches = 300;
-  options.formFactors.showProgress = false;
-  auto engine = Radiosity::create(cornellBox(), options);
-  ASSERT_TRUE(engine.ok());
-  ASSERT_TRUE((*engine)->solve().ok());
-  const SolutionView& solution = (*engine)->solution();
+  auto engine = testing::solved(cornellBox(), testing::uniformOptions(300));
+  ASSERT_TRUE(engine);
+  const SolutionView& solution = engine->solution();
   double meshArea = 0;
   for (const Patch& p : solution.vertexMesh().patches) meshArea += p.area;
 
@@ -147,15 +143,9 @@ void expectValidBuffers(const tinygltf::Model& model) {
 TEST(GltfExportTest, TexturedTwoSidedSceneRoundTrips) {
   Result<Scene> scene = loadScene(std::string(LAMBERT_SOURCE_DIR) + "/tests/data/blender_room.glb");
   ASSERT_TRUE(scene.ok()) << scene.error().message;
-  RadiosityOptions options;
-  options.meshing = MeshStrategy::Uniform;
-  options.uniform.targetPatches = 1500;
-  options.formFactors.showProgress = false;
-  auto engine = Radiosity::create(*scene, options);
-  ASSERT_TRUE(engine.ok()) << engine.error().message;
-  (*engine)->setLights(scene->lights);
-  ASSERT_TRUE((*engine)->solve().ok());
-  const SolutionView& solution = (*engine)->solution();
+  auto engine = testing::solved(*scene, testing::uniformOptions(1500), scene->lights);
+  ASSERT_TRUE(engine);
+  const SolutionView& solution = engine->solution();
   const std::filesystem::path dir = testing::scratchDirectory("gltf-export", "textured");
   const std::string path = (dir / "room.glb").string();
   ASSERT_TRUE(writeGlb(path, solution).ok());
@@ -254,16 +244,10 @@ std::size_t expectInputUvs(const tinygltf::Model& model, const std::vector<UvTri
 }
 
 std::unique_ptr<Radiosity> solvedWith(const Scene& scene, MeshStrategy strategy, std::size_t uniformPatches, double linkError) {
-  RadiosityOptions options;
+  RadiosityOptions options = testing::uniformOptions(uniformPatches);
   options.meshing = strategy;
-  options.uniform.targetPatches = uniformPatches;
   options.hierarchical.links.linkError = linkError;
-  options.formFactors.showProgress = false;
-  auto engine = Radiosity::create(scene, options);
-  EXPECT_TRUE(engine.ok()) << engine.error().message;
-  if (!engine.ok()) return nullptr;
-  EXPECT_TRUE((*engine)->solve().ok());
-  return std::move(*engine);
+  return testing::solved(scene, options);
 }
 
 const char* strategyName(MeshStrategy strategy) {
@@ -476,14 +460,9 @@ TEST(GltfExportTest, PatchesAnEmissionTextureLeavesDarkKeepTheirBaseColourTextur
       {"material": "lamp", "vertices": [[1,0,0], [2,0,0], [2,1,0], [1,1,0]], "uvs": [[0.5,1], [1,1], [1,0], [0.5,0]]}]})";
   Result<Scene> scene = loadScene(path);
   ASSERT_TRUE(scene.ok()) << scene.error().message;
-  RadiosityOptions options;
-  options.meshing = MeshStrategy::Uniform;
-  options.uniform.targetPatches = 256;
-  options.formFactors.showProgress = false;
-  auto engine = Radiosity::create(*scene, options);
-  ASSERT_TRUE(engine.ok()) << engine.error().message;
-  ASSERT_TRUE((*engine)->solve().ok());
-  const tinygltf::Model model = exportAndRead((*engine)->solution(), {}, "emission-texture");
+  auto engine = testing::solved(*scene, testing::uniformOptions(256));
+  ASSERT_TRUE(engine);
+  const tinygltf::Model model = exportAndRead(engine->solution(), {}, "emission-texture");
   ASSERT_EQ(model.meshes.size(), 1u);
   double emittingArea = 0, texturedArea = 0;
   for (const tinygltf::Primitive& primitive : model.meshes[0].primitives) {

@@ -9,18 +9,13 @@
 #include "lambert/formfactor/kernels.h"
 #include "lambert/light/lights.h"
 #include "lambert/scene/builtin.h"
+#include "tests/support/engines.h"
 #include "tests/support/scenes.h"
 
 namespace lambert {
 namespace {
 
-ReferenceOptions quietOptions(int vertexSamples = 256, int samplesPerPixel = 16) {
-  ReferenceOptions options;
-  options.vertexSamples = vertexSamples;
-  options.samplesPerPixel = samplesPerPixel;
-  options.showProgress = false;
-  return options;
-}
+using testing::quietReferenceOptions;
 
 // The geometry the path tracer traces against: each surface as its fan triangles.
 Mesh coarse(const Scene& scene) { return subdivideScene(scene, 2 * sceneDiagonal(scene)); }
@@ -38,7 +33,7 @@ constexpr Rgb kFurnaceEmission{1.0, 0.5, 0.25};
 
 TEST(ReferenceFurnace, OutgoingRadianceIsEmissionOverOneMinusAlbedo) {
   Scene cube = testing::closedCube(1, kFurnaceEmission, Rgb::gray(0.5));
-  ReferenceRenderer reference(cube, coarse(cube), quietOptions(8192));
+  ReferenceRenderer reference(cube, coarse(cube), quietReferenceOptions(8192, 16));
   const Rgb expected = kFurnaceEmission / (1 - 0.5);
   // Face z0 (normal +z): its centre, near an edge, near a corner, and next to one.
   const std::uint32_t face = 0;
@@ -53,7 +48,7 @@ TEST(ReferenceFurnace, OutgoingRadianceIsEmissionOverOneMinusAlbedo) {
 TEST(ReferenceFurnace, VertexRadianceIsUniform) {
   Scene cube = testing::closedCube(2, kFurnaceEmission, Rgb::gray(0.5));
   Mesh mesh = subdivideScene(cube, 1.0);  // vertices on every edge and at every corner
-  ReferenceRenderer reference(cube, coarse(cube), quietOptions(8192));
+  ReferenceRenderer reference(cube, coarse(cube), quietReferenceOptions(8192, 16));
   std::vector<Rgb> radiance = reference.vertexRadiance(mesh);
   ASSERT_EQ(radiance.size(), mesh.numVertices());
   const Rgb expected = kFurnaceEmission / (1 - 0.5);
@@ -64,7 +59,7 @@ TEST(ReferenceFurnace, VertexRadianceIsUniform) {
 TEST(ReferenceFurnace, ImageFromInsideTheBoxIsUniform) {
   Scene cube = testing::closedCube(1, kFurnaceEmission, Rgb::gray(0.5));
   cube.camera = {{0.5, 0.4, 0.3}, {0.8, 0.6, 1}, {0, 1, 0}, 100};  // sees edges and corners
-  ReferenceRenderer reference(cube, coarse(cube), quietOptions(256, 512));
+  ReferenceRenderer reference(cube, coarse(cube), quietReferenceOptions(256, 512));
   Image image = reference.render(16, 12);
   ASSERT_EQ(image.pixels.size(), 16u * 12u);
   const Rgb expected = kFurnaceEmission / (1 - 0.5);
@@ -104,7 +99,7 @@ TEST(ReferenceLights, FloorUnderPointDirectionalAndSpotLightsIsExact) {
   spot.coneAngleDegrees = 60;
   spot.falloffDegrees = 5;
   scene.lights = {point, sun, spot};
-  ReferenceRenderer reference(scene, coarse(scene), quietOptions(64));
+  ReferenceRenderer reference(scene, coarse(scene), quietReferenceOptions(64, 16));
   const Vec3 up{0, 1, 0};
   ASSERT_NEAR(dot(surfaceNormal(scene.surfaces[0]), up), 1, 1e-12);
   std::uint64_t stream = 0;
@@ -132,7 +127,7 @@ TEST(ReferenceLights, ShadowedPointGetsNothingFromTheLight) {
   point.position = {0, 3, 0};
   point.intensity = {1, 1, 1};
   scene.lights = {point};
-  ReferenceRenderer reference(scene, coarse(scene), quietOptions(64));
+  ReferenceRenderer reference(scene, coarse(scene), quietReferenceOptions(64, 16));
   EXPECT_EQ(reference.outgoingRadiance({0, 0, 0}, {0, 1, 0}, 0, 0), Rgb{});
   Rgb lit = reference.outgoingRadiance({4, 0, 4}, {0, 1, 0}, 0, 1);
   EXPECT_NEAR(lit.g, 0.5 / kPi * 3 / std::pow(41.0, 1.5), 1e-12);
@@ -154,7 +149,7 @@ Scene emitterOverFloor() {
 TEST(ReferenceAreaLight, FloorMatchesThePointToPolygonFormFactor) {
   Scene scene = emitterOverFloor();
   ASSERT_LT(surfaceNormal(scene.surfaces[1]).y, 0);  // faces the floor
-  ReferenceRenderer reference(scene, coarse(scene), quietOptions(1024));
+  ReferenceRenderer reference(scene, coarse(scene), quietReferenceOptions(1024, 16));
   const Vec3 up{0, 1, 0};
   std::uint64_t stream = 0;
   for (Vec3 x : {Vec3{0, 0, 0}, Vec3{0.4, 0, 0.3}, Vec3{0.5, 0, -0.5}, Vec3{1.5, 0, -1}, Vec3{4, 0, 2}}) {
@@ -173,7 +168,7 @@ TEST(ReferenceAreaLight, FloorNextToAnEmittingWall) {
       Rgb::gray(0.5));
   scene.materials.push_back({"black emitter", {0, 0, 0}});
   ASSERT_GT(surfaceNormal(scene.surfaces[1]).x, 0);  // faces the floor side
-  ReferenceRenderer reference(scene, coarse(scene), quietOptions(1024));
+  ReferenceRenderer reference(scene, coarse(scene), quietReferenceOptions(1024, 16));
   const Vec3 up{0, 1, 0};
   std::uint64_t stream = 0;
   for (Vec3 x : {Vec3{1e-3, 0, 0}, Vec3{1e-4, 0, 0.5}, Vec3{1e-3, 0, 0.999}, Vec3{0.3, 0, 0}}) {
@@ -191,7 +186,7 @@ Mesh smallCornellMesh(const Scene& scene) { return subdivideScene(scene, edgeLen
 TEST(ReferenceDeterminism, SameSeedSameResultsWhateverTheThreadCount) {
   Scene scene = cornellBox();
   Mesh mesh = smallCornellMesh(scene);
-  ReferenceOptions options = quietOptions(16, 4);
+  ReferenceOptions options = quietReferenceOptions(16, 4);
   options.seed = 7;
   ReferenceRenderer a(scene, coarse(scene), options);
   ReferenceRenderer b(scene, coarse(scene), options);
@@ -221,7 +216,7 @@ TEST(ReferenceCornell, VertexRadianceIsFiniteAndTheRedWallIsRed) {
   ASSERT_EQ(scene.surfaces[3].name, "green wall");
   ASSERT_EQ(scene.surfaces[4].name, "red wall");
   Mesh mesh = smallCornellMesh(scene);
-  ReferenceRenderer reference(scene, coarse(scene), quietOptions(64));
+  ReferenceRenderer reference(scene, coarse(scene), quietReferenceOptions(64, 16));
   std::vector<Rgb> radiance = reference.vertexRadiance(mesh);
   ASSERT_EQ(radiance.size(), mesh.numVertices());
   Rgb red, green;

@@ -20,6 +20,7 @@
 #include "lambert/render/solution_image.h"
 #include "lambert/render/tonemap.h"
 #include "lambert/load/scene_file.h"
+#include "tests/support/engines.h"
 #include "tests/support/files.h"
 
 namespace lambert {
@@ -103,18 +104,11 @@ Scene corridor(double lampRadiance) {
   return scene;
 }
 
+// The flat method on about `patches` patches, solved by Gauss–Seidel to 1e-9.
 std::unique_ptr<Radiosity> solved(const Scene& scene, std::size_t patches) {
-  RadiosityOptions options;
-  options.meshing = MeshStrategy::Uniform;
-  options.uniform.targetPatches = patches;
-  options.formFactors.showProgress = false;
-  options.solver = SolverKind::GaussSeidel;
+  RadiosityOptions options = testing::uniformOptions(patches, SolverKind::GaussSeidel);
   options.tolerance = 1e-9;
-  Result<std::unique_ptr<Radiosity>> engine = Radiosity::create(scene, options);
-  EXPECT_TRUE(engine.ok()) << engine.error().message;
-  if (!engine.ok()) return nullptr;
-  EXPECT_TRUE((*engine)->solve().ok());
-  return std::move(*engine);
+  return testing::solved(scene, options);
 }
 
 double percentile(std::vector<double> values, double q) {
