@@ -1,4 +1,4 @@
-// Moving lights on a fixed scene (the engine with the shoot solver, seed 003): how many light updates per second a
+// Moving lights on a fixed scene (the engine with the shoot solver): how many light updates per second a
 // per-frame shot budget allows, how far the radiosity lags the moving lights, and how many frames it
 // takes to get within 1% of the converged solution once the lights stop. The target: ≥ 60
 // light updates per second at 5000 patches on a 2-core machine, with the light within 1% of a fully
@@ -201,7 +201,7 @@ struct Setup {
   // Inject the lights and solve cold, to convergence.
   Reference solve(const std::vector<Light>& lights, Json* report) const {
     coldEngine->setLights(lights);
-    Result<SolveCallReport> solved = coldEngine->solve();
+    Result<SolveReport> solved = coldEngine->solve();
     const SolutionView& view = coldEngine->solution();
     Reference reference;
     reference.radiosity = view.radiosity();
@@ -249,7 +249,7 @@ Json runBudget(const Setup& setup, const Options& options, long long budget,
   for (int f = 0; f < options.frames; ++f) {
     std::vector<Light> lights = setup.lightsAt(f / options.fps);
     Timer timer;
-    SolveCallReport report = update(lights);
+    SolveReport report = update(lights);
     double w = timer.seconds();
     movingWall += w;
     wall.push_back(w);
@@ -285,7 +285,7 @@ Json runBudget(const Setup& setup, const Options& options, long long budget,
   long long settleShots = 0;
   bool stalled = false;
   while (!(total.reached && indirect.reached) && settleFrames < options.maxSettleFrames) {
-    SolveCallReport report = update(held);
+    SolveReport report = update(held);
     ++settleFrames;
     settleSeconds += report.injectSeconds + report.solveSeconds;
     settleShots += report.iterations;

@@ -32,7 +32,7 @@ using Json = nlohmann::ordered_json;
 namespace {
 
 constexpr double kRealSceneSecondsTarget = 30;
-constexpr double kUpdatesPerSecondTarget = 60, kIndirectTarget = 0.01;  // issue 23: ≥ 60 updates/s, within 1% after it stops
+constexpr double kUpdatesPerSecondTarget = 60, kIndirectTarget = 0.01;  // the targets: ≥ 60 updates/s, within 1% after it stops
 
 struct Options {
   bool quick = false;

@@ -1,4 +1,4 @@
-// Illuminance at 10⁵ points after the solve (issue 25: "illuminance at 10⁵ points in < 5 s after
+// Illuminance at 10⁵ points after the solve (the target: "illuminance at 10⁵ points in < 5 s after
 // the solve"): the 10⁵-face building (`lambert generate building --rooms 64 --face-size 0.25`,
 // 111k faces, its ceiling panels the lights) solved with the default method, then a work plane
 // 0.8 m above its ground floor laid with the spacing that gives about 10⁵ points, measured three

@@ -1,4 +1,4 @@
-// Lightmap bake of the 10⁵-face building (issue 24: "a 10⁵-face building at 10⁶ texels: < 30 s
+// Lightmap bake of the 10⁵-face building (the target: "a 10⁵-face building at 10⁶ texels: < 30 s
 // after the solve, < 2 GB"): the building `lambert generate building --rooms 64 --face-size 0.25`
 // writes (111k faces), solved with the default method, then baked at the default atlas (one
 // 1024² atlas at the smallest texel size whose charts fit it: about 0.94 × 10⁶ texels) three

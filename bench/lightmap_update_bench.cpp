@@ -1,4 +1,4 @@
-// Lightmap updates while a spot moves (issue 24: "moving spot, 10⁶ texels: ≥ 30 lightmap
+// Lightmap updates while a spot moves (the target: "moving spot, 10⁶ texels: ≥ 30 lightmap
 // updates/s"): the 10⁵-face building (`lambert generate building --rooms 64 --face-size 0.25`),
 // its default 1024² atlas (about 0.94 × 10⁶ texels), a spot under the first office's ceiling
 // sweeping across its floor as hierarchical_bench's does. Per frame: the engine's warm re-solve

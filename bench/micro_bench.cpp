@@ -146,12 +146,12 @@ BENCHMARK(BM_EmbreeOccludedBatch16);
 // residual the solver computes before returning (a second pass over F).
 void BM_GaussSeidelSolveOneSweep(benchmark::State& state) {
   const CornellFixture& f = cornell();
-  SolveOptions options;
+  SolverOptions options;
   options.maxIterations = 1;
   auto solver = makeSolver(SolverKind::GaussSeidel, options);
   std::vector<Rgb> radiosity = f.problem.emitted;
   for (auto _ : state) {
-    const SolveReport report = solver->solve(f.problem, radiosity);
+    const SolverReport report = solver->solve(f.problem, radiosity);
     benchmark::DoNotOptimize(report);
     benchmark::DoNotOptimize(radiosity.data());
   }

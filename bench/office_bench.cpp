@@ -1,4 +1,4 @@
-// Many lights (issue 25): an open-plan office floor of about 10⁵ faces lit by 200 ceiling
+// Many lights: an open-plan office floor of about 10⁵ faces lit by 200 ceiling
 // downlights in a regular grid, solved by the default method (hierarchical radiosity) with lux on
 // its work planes, as one JSON document on stdout.
 //
@@ -51,7 +51,7 @@ using Json = nlohmann::ordered_json;
 
 namespace {
 
-constexpr double kTargetSeconds = 60;  // issue 25: solved, with lux on the work planes, in < 60 s on 2 cores
+constexpr double kTargetSeconds = 60;  // the target: solved, with lux on the work planes, in < 60 s on 2 cores
 constexpr double kLumensPerWatt = 683;
 constexpr double kWidth = 48, kDepth = 24, kHeight = 2.8, kDeskHeight = 0.8;
 constexpr double kDeskWidth = 1.6, kDeskDepth = 0.8;  // one desk's top, the task area

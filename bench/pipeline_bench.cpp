@@ -102,7 +102,7 @@ Json benchSize(const Scene& scene, std::size_t target, int samples) {
   Timer total;
   const double cpuBefore = processCpuSeconds();
   std::unique_ptr<Radiosity> engine = std::move(*Radiosity::create(scene, options));
-  if (Result<SolveCallReport> solved = engine->solve(); !solved) std::fprintf(stderr, "pipeline_bench: %s\n", solved.error().message.c_str());
+  if (Result<SolveReport> solved = engine->solve(); !solved) std::fprintf(stderr, "pipeline_bench: %s\n", solved.error().message.c_str());
   Timer renderTimer;
   Image image = renderSolution(engine->solution(), SolutionImageOptions{});
   double renderSeconds = renderTimer.seconds();
@@ -134,7 +134,7 @@ Json benchSize(const Scene& scene, std::size_t target, int samples) {
   if (target <= kComparisonMaxPatches) {
     std::fprintf(stderr, "  direct LU solve (%zu patches)\n", n);
     std::vector<Rgb> direct;
-    SolveReport report = makeSolver(SolverKind::Direct)->solve(radiosityProblem(solution), direct);
+    SolverReport report = makeSolver(SolverKind::Direct)->solve(radiosityProblem(solution), direct);
     row["direct_solve_seconds"] = seconds(report.seconds);
     row["direct_residual"] = report.residual;
 

@@ -4,7 +4,7 @@
 // second while the spots move, and the radiosity updated at least 60 times per second on its
 // thread; the viewer's own time per frame is reported apart from the solve's.
 //
-// Then lightmap mode (`--lightmaps`, issue 24) on the same scene with the hierarchical method:
+// Then lightmap mode (`--lightmaps`) on the same scene with the hierarchical method:
 // the frame time while the lightmapped faces are drawn, and, for a few aims of the warm spot,
 // the time from the light's move to the lightmaps baked for it on screen (the radiosity thread
 // re-solves warm and re-bakes; the lightmaps are drawn from float textures).

@@ -1,5 +1,5 @@
 // The Python module `lambert` (pybind11): load any scene the CLI loads, solve it with the CLI's
-// settings by their names (engine/solve_settings.h: link_error=1e-3 is --link-error), move its
+// settings by their names (engine/radiosity_settings.h: link_error=1e-3 is --link-error), move its
 // lights, read per-vertex values as NumPy arrays and write the CLI's outputs. Errors are
 // lambert.Error carrying the library's message; solves release the GIL. It includes installed
 // headers only (the public API, lambert/lambert.h), as a program built against the package would.
@@ -19,7 +19,7 @@
 #include "lambert/core/rgb.h"
 #include "lambert/core/warning.h"
 #include "lambert/engine/radiosity.h"
-#include "lambert/engine/solve_settings.h"
+#include "lambert/engine/radiosity_settings.h"
 #include "lambert/bake/lightmaps.h"
 #include "lambert/core/photometric.h"
 #include "lambert/design/illuminance.h"
@@ -135,7 +135,7 @@ SettingValue settingValue(const std::string& name, const py::handle& value) {
 class PyRadiosity {
  public:
   PyRadiosity(Scene scene, const py::kwargs& options) {
-    SolveSettings settings;
+    RadiositySettings settings;
     std::vector<std::string> given;
     for (const auto& [key, value] : options) {
       std::string name = "--" + py::str(key).cast<std::string>();
@@ -156,7 +156,7 @@ class PyRadiosity {
   }
 
   py::dict solve(long long maxShots, int maxSweeps, double maxMilliseconds) {
-    Result<SolveCallReport> report = Error{""};
+    Result<SolveReport> report = Error{""};
     {
       py::gil_scoped_release release;
       report = engine_->solve(SolveBudget{maxShots, maxSweeps, maxMilliseconds});

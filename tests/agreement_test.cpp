@@ -1,7 +1,7 @@
 // Radiosity against the truth: on the Cornell box, the flat method (area Monte Carlo factors) at
 // ~5,000 patches and the default hierarchical method at its default link error agree with the
 // unbiased path tracer at every vertex (away from the light's rim and not inside the blocks), and
-// the flat method is much closer than seed 000's point-to-point method on the seed's own mesh
+// the flat method is much closer than the point-to-point method on the same uniform mesh
 // size.
 #include <gtest/gtest.h>
 
@@ -43,7 +43,7 @@ TEST(AgreementTest, CornellBoxRadiosityMatchesThePathTracer) {
 
 // The default method (hierarchical, clustered, link error 2e-4, final gather at the vertices) at
 // its own leaves' vertices. The path tracer's 1024 samples a vertex leave it ~2.7% noisy per
-// vertex (issue 23), which adds to the method's error in quadrature: the bound is 8%, the method's
+// vertex, which adds to the method's error in quadrature: the bound is 8%, the method's
 // 6.1% (measured against a reference of < 0.5% noise) and the noise together with a margin of 1.3
 // points. A method that lost a bounce (the Cornell box's walls get a third of their light from
 // the second and later bounces), kept the elements' means at the vertices (44% off under the lamp,

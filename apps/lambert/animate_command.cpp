@@ -19,7 +19,7 @@ namespace lambert::cli {
 namespace {
 
 struct AnimateCommandOptions {
-  SolveCommandOptions solve;
+  SolvingOptions solve;
   ImageCommandOptions image;
   CameraCommandOptions camera;
   int frames = 120;
@@ -97,7 +97,7 @@ int runAnimate(const AnimateCommandOptions& o) {
     std::vector<Light> lights;
     for (const Light& light : scene->lights) lights.push_back(lightAtTime(light, frame / o.fps));
     engine->setLights(std::move(lights));
-    Result<SolveCallReport> report = engine->solve(frame == 0 ? SolveBudget{} : budget);
+    Result<SolveReport> report = engine->solve(frame == 0 ? SolveBudget{} : budget);
     if (!report) return fail("animate", report.error().message);
     inject.add(report->injectSeconds, o.frames);
     solve.add(report->adaptSeconds + report->formFactorSeconds + report->solveSeconds, o.frames);

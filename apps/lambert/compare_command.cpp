@@ -16,7 +16,7 @@ namespace lambert::cli {
 namespace {
 
 struct CompareCommandOptions {
-  SolveCommandOptions solve;
+  SolvingOptions solve;
   ImageCommandOptions image;
   CameraCommandOptions camera;
   ReferenceOptions reference;
@@ -101,7 +101,7 @@ int runCompare(const CompareCommandOptions& o) {
   } else {
     engine = makeEngine("compare", *scene, o.solve);
     if (!engine) return 2;
-    if (Result<SolveCallReport> solved = engine->solve(); !solved) return fail("compare", solved.error().message);
+    if (Result<SolveReport> solved = engine->solve(); !solved) return fail("compare", solved.error().message);
     (void)engine->saveCache();
     stats = engine->stats();
     radiosity = vertexSamples(engine->solution());

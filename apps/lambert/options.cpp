@@ -22,7 +22,7 @@ namespace lambert::cli {
 
 namespace {
 
-// A setting's range as the library checks it (engine/solve_settings.h), for CLI11, in the
+// A setting's range as the library checks it (engine/radiosity_settings.h), for CLI11, in the
 // option's own type (so that a message reads "1 to 255", not "1.000000 to 255.000000").
 template <typename T = double>
 CLI::Range rangeOf(const char* setting) {
@@ -72,7 +72,7 @@ void addMeshOptions(CLI::App& cmd, MeshCommandOptions& o, PatchOptions role) {
       ->capture_default_str();
 }
 
-void addSolveOptions(CLI::App& cmd, SolveCommandOptions& o) {
+void addSolveOptions(CLI::App& cmd, SolvingOptions& o) {
   addMeshOptions(cmd, o, PatchOptions::FlatMethod);
   // The flat method's own options say so, and that giving one chooses it (radiosityOptions); their
   // defaults are in the text, not shown as the command's defaults, which the default method never reads.
@@ -350,13 +350,13 @@ Status refuseGiven(const GivenOptions& o, std::initializer_list<const char*> opt
   return Ok{};
 }
 
-Result<RadiosityOptions> radiosityOptions(const Scene& scene, const SolveCommandOptions& o) {
-  SolveSettings settings = o;
+Result<RadiosityOptions> radiosityOptions(const Scene& scene, const SolvingOptions& o) {
+  RadiositySettings settings = o;
   settings.showProgress = !o.quiet && !o.json;
   return lambert::radiosityOptions(scene, settings, [&](std::string_view name) { return o.given(std::string(name)); });
 }
 
-Result<Mesh> exportedVertexMesh(const Scene& scene, const SolveCommandOptions& o) {
+Result<Mesh> exportedVertexMesh(const Scene& scene, const SolvingOptions& o) {
   Result<RadiosityOptions> options = radiosityOptions(scene, o);
   if (!options) return options.error();
   // --no-cache is not refused: it asks for nothing to be read or written, which the uniform mesh needs.
@@ -375,7 +375,7 @@ Status checkImageOptions(const Scene& scene, const ImageCommandOptions& o) {
   return Ok{};
 }
 
-std::unique_ptr<Radiosity> makeEngine(const std::string& command, const Scene& scene, const SolveCommandOptions& o,
+std::unique_ptr<Radiosity> makeEngine(const std::string& command, const Scene& scene, const SolvingOptions& o,
                                       std::shared_ptr<Communicator> communicator) {
   Result<RadiosityOptions> options = radiosityOptions(scene, o);
   if (!options) {

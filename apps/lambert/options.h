@@ -13,7 +13,7 @@
 #include "lambert/core/image.h"
 #include "lambert/core/stats.h"
 #include "lambert/engine/radiosity.h"
-#include "lambert/engine/solve_settings.h"
+#include "lambert/engine/radiosity_settings.h"
 #include "lambert/io/gltf_export.h"
 #include "lambert/render/solution_image.h"
 #include "lambert/scene/scene.h"
@@ -26,10 +26,10 @@ struct GivenOptions {
   bool given(const std::string& option) const { return command && command->count(option) > 0; }
 };
 
-// Which scene, meshed how finely, and the solve's settings (engine/solve_settings.h: the
-// library's SolveSettings, the same names and defaults the Python module takes): all that
+// Which scene, meshed how finely, and the solve's settings (engine/radiosity_settings.h: the
+// library's RadiositySettings, the same names and defaults the Python module takes): all that
 // `reference` and `info` need to find the solution's vertices, and what the solving commands read.
-struct MeshCommandOptions : GivenOptions, SolveSettings {
+struct MeshCommandOptions : GivenOptions, RadiositySettings {
   std::string scene = "cornell";
   double metresPerUnit = 0;       // --units for OBJ files; 0: metres
   double creaseAngleDegrees = 20; // --crease-angle for mesh files
@@ -38,7 +38,7 @@ struct MeshCommandOptions : GivenOptions, SolveSettings {
   std::string sides = "file";     // --sides: file (what each material says), one or two
 };
 
-struct SolveCommandOptions : MeshCommandOptions {
+struct SolvingOptions : MeshCommandOptions {
   bool json = false;
   bool quiet = false;
 };
@@ -70,7 +70,7 @@ void addExportOptions(CLI::App& command, ExportCommandOptions& options);
 Status checkExportOptions(const ExportCommandOptions& options);
 // Writes the .glb when one is asked for (Ok otherwise); COLOR_0 scaled by 2^exposureStops.
 Status exportSolution(const ExportCommandOptions& options, const SolutionView& solution, double exposureStops);
-void addSolveOptions(CLI::App& command, SolveCommandOptions& options);
+void addSolveOptions(CLI::App& command, SolvingOptions& options);
 void addImageOptions(CLI::App& command, ImageCommandOptions& options);
 void addCameraOptions(CLI::App& command, CameraCommandOptions& options);
 
@@ -93,20 +93,20 @@ Status refuseGiven(const GivenOptions& given, std::initializer_list<const char*>
 
 // The library's options for a solve, or an error naming a given option the solve would not use
 // (a method's own setting under another method, adaptive settings on a uniform mesh, …).
-Result<RadiosityOptions> radiosityOptions(const Scene& scene, const SolveCommandOptions& options);
+Result<RadiosityOptions> radiosityOptions(const Scene& scene, const SolvingOptions& options);
 // The vertices `solve` with these options exports (solutionVertexMesh), for the commands that
 // trace the reference there without solving themselves (`reference --export-vertices`, `compare
 // --radiosity-vertices`). The options are checked as a solve checks them, and with the flat
 // method's uniform mesh, whose vertices depend on its size alone, the options that would not
 // move them are refused.
-Result<Mesh> exportedVertexMesh(const Scene& scene, const SolveCommandOptions& options);
+Result<Mesh> exportedVertexMesh(const Scene& scene, const SolvingOptions& options);
 // The same check for the image options (--lighting on a scene without lights).
 Status checkImageOptions(const Scene& scene, const ImageCommandOptions& options);
 
 // The engine for a scene and options: errors (refused options, impossible combinations) are
 // printed as "lambert <command>: <why>" and give nothing.
 // communicator: a distributed solve's (RadiosityOptions::communicator), else null.
-std::unique_ptr<Radiosity> makeEngine(const std::string& command, const Scene& scene, const SolveCommandOptions& options,
+std::unique_ptr<Radiosity> makeEngine(const std::string& command, const Scene& scene, const SolvingOptions& options,
                                       std::shared_ptr<Communicator> communicator = nullptr);
 
 // Images are written by their extension: .png (tone mapped: exposure, sRGB, 8 bits) or .exr

@@ -16,7 +16,7 @@ namespace lambert::cli {
 namespace {
 
 struct ReferenceCommandOptions {
-  SolveCommandOptions mesh;  // the method and options whose vertices --export-vertices traces at
+  SolvingOptions mesh;  // the method and options whose vertices --export-vertices traces at
   ReferenceOptions reference;
   CameraCommandOptions camera;
   int width = 512, height = 512;

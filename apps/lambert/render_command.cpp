@@ -11,7 +11,7 @@ namespace lambert::cli {
 namespace {
 
 struct RenderCommandOptions {
-  SolveCommandOptions solve;
+  SolvingOptions solve;
   ImageCommandOptions image;
   CameraCommandOptions camera;
   ExportCommandOptions exported;
@@ -29,7 +29,7 @@ int runRender(const RenderCommandOptions& o) {
   if (Status ok = chooseCamera(*scene, o.camera, cameraStats); !ok) return fail("render", ok.error().message);
   std::unique_ptr<Radiosity> engine = makeEngine("render", *scene, o.solve);
   if (!engine) return 2;
-  if (Result<SolveCallReport> solved = engine->solve(); !solved) return fail("render", solved.error().message);
+  if (Result<SolveReport> solved = engine->solve(); !solved) return fail("render", solved.error().message);
   // The solve is done, so the adaptive table is complete: save it now, whatever follows. A
   // failure is already a warning, and costs only the next run's time.
   (void)engine->saveCache();

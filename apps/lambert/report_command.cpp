@@ -18,7 +18,7 @@ namespace lambert::cli {
 namespace {
 
 struct ReportOptions {
-  SolveCommandOptions solve;
+  SolvingOptions solve;
   LightingCommandOptions lighting;
   std::string output;
 };
@@ -42,7 +42,7 @@ int runReport(ReportOptions o) {
   request->illuminance.shadowTolerance = o.solve.shadowTolerance;  // the solve's own testing of the lights
   std::unique_ptr<Radiosity> engine = makeEngine("report", *scene, o.solve);
   if (!engine) return 2;
-  if (Result<SolveCallReport> solved = engine->solve(); !solved) return fail("report", solved.error().message);
+  if (Result<SolveReport> solved = engine->solve(); !solved) return fail("report", solved.error().message);
   (void)engine->saveCache();
   Result<LightingResults> lighting = measureLighting(engine->solution(), *request);
   if (!lighting) return fail("report", lighting.error().message);

@@ -33,8 +33,8 @@ struct LightmapCommandOptions : GivenOptions {
   LightmapImageOptions imageOptions;
 };
 
-struct SolveOnlyOptions {
-  SolveCommandOptions solve;
+struct SolveCommandOptions {
+  SolvingOptions solve;
   ExportCommandOptions exported;
   LightmapCommandOptions lightmaps;
   double exposure = 0;  // of the --export's COLOR_0, or with --lightmaps of the --image
@@ -48,7 +48,7 @@ struct SolveOnlyOptions {
 };
 
 // --points and --export-points come together; --export-grids needs a grid to write.
-Status checkLightingOptions(const SolveOnlyOptions& o) {
+Status checkLightingOptions(const SolveCommandOptions& o) {
   if (o.lighting.points.empty() != o.exportPoints.empty())
     return Error{o.exportPoints.empty() ? "--points needs --export-points OUT.csv to write its lux to"
                                         : "--export-points writes the lux at --points' points: give --points IN.csv"};
@@ -59,7 +59,7 @@ Status checkLightingOptions(const SolveOnlyOptions& o) {
 
 // --lightmaps needs --export's glb to write into, and replaces its COLOR_0 (so --bake says
 // nothing then); its settings need --lightmaps, and --image's size needs --image.
-Status checkLightmapOptions(const SolveOnlyOptions& o) {
+Status checkLightmapOptions(const SolveCommandOptions& o) {
   if (!o.lightmaps.lightmaps)
     return refuseGiven(o.lightmaps, {"--texel-size", "--lightmap-size", "--lightmap-padding", "--image", "--width", "--height", "--supersample"},
                        "it sets up --lightmaps, which is not asked for");
@@ -71,7 +71,7 @@ Status checkLightmapOptions(const SolveOnlyOptions& o) {
   return refuseGiven(o.exported, {"--bake"}, "the glb of --lightmaps carries lightmaps, not COLOR_0");
 }
 
-LightmapBakeOptions lightmapBakeOptions(const Scene& scene, const LightmapCommandOptions& o, const SolveCommandOptions& solve) {
+LightmapBakeOptions lightmapBakeOptions(const Scene& scene, const LightmapCommandOptions& o, const SolvingOptions& solve) {
   LightmapBakeOptions options;
   options.showProgress = !solve.quiet && !solve.json;
   options.uvs.texelSize = o.texelSizeMetres / scene.metresPerUnit;  // 0 stays 0: the library's default
@@ -80,9 +80,9 @@ LightmapBakeOptions lightmapBakeOptions(const Scene& scene, const LightmapComman
   return options;
 }
 
-int runSolve(const SolveOnlyOptions& given) {
+int runSolve(const SolveCommandOptions& given) {
   Timer total;
-  SolveOnlyOptions o = given;
+  SolveCommandOptions o = given;
   std::shared_ptr<Communicator> communicator;
   if (o.distributed) {
     Result<std::shared_ptr<Communicator>> joined = joinDistributedJob();
@@ -132,7 +132,7 @@ int runSolve(const SolveOnlyOptions& given) {
       return fail("solve", all.error().message);
   }
   if (!engine) return 2;
-  Result<SolveCallReport> solved = engine->solve();
+  Result<SolveReport> solved = engine->solve();
   if (communicator) {
     if (Status all = communicator->agree(solved ? Status(Ok{}) : Status(solved.error())); !all) return fail("solve", all.error().message);
     // Rank 0 alone computes and writes the outputs; the final gathers they need are spread over
@@ -236,7 +236,7 @@ int runSolve(const SolveOnlyOptions& given) {
 }  // namespace
 
 std::function<int()> addSolveCommand(CLI::App& app) {
-  auto options = std::make_shared<SolveOnlyOptions>();
+  auto options = std::make_shared<SolveCommandOptions>();
   CLI::App* cmd = app.add_subcommand("solve", "Solve a scene's radiosity; export per-vertex radiance (CSV or PLY)");
   addSolveOptions(*cmd, options->solve);
   addExportOptions(*cmd, options->exported);

@@ -13,7 +13,7 @@ namespace lambert::cli {
 namespace {
 
 struct ViewCommandOptions : GivenOptions {
-  SolveCommandOptions solve;
+  SolvingOptions solve;
   int width = 1280, height = 720;
   int msaa = 0;  // Mesa's software OpenGL halves its frame rate at 4 samples
   CameraCommandOptions camera;

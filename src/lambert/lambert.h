@@ -30,7 +30,7 @@
 #include "lambert/engine/options.h"
 #include "lambert/engine/radiosity.h"
 #include "lambert/engine/solution.h"
-#include "lambert/engine/solve_settings.h"
+#include "lambert/engine/radiosity_settings.h"
 
 // What a solution gives: images of a view, lightmaps and probes, illuminance in lux.
 #include "lambert/bake/lightmaps.h"

@@ -59,10 +59,10 @@ inline std::unique_ptr<Radiosity> engineFor(const Scene& scene, const RadiosityO
 }
 
 // One solve() within the budget: its report, or an empty one after a test failure.
-inline SolveCallReport solveCall(Radiosity& engine, const SolveBudget& budget = {}) {
-  Result<SolveCallReport> report = engine.solve(budget);
+inline SolveReport solveCall(Radiosity& engine, const SolveBudget& budget = {}) {
+  Result<SolveReport> report = engine.solve(budget);
   EXPECT_TRUE(report.ok()) << report.error().message;
-  return report.ok() ? *report : SolveCallReport{};
+  return report.ok() ? *report : SolveReport{};
 }
 
 // The engine after its first solve, with no budget: it must reach the options' tolerance.

@@ -1,5 +1,5 @@
 #pragma once
-// Draws a Snapshot with OpenGL 3.3 core: the hybrid picture of seed 000 (the lights' direct light
+// Draws a Snapshot with OpenGL 3.3 core: the hybrid picture (the lights' direct light
 // per pixel in the fragment shader, shadowed by the visibility traced at the corners, over the
 // interpolated radiosity), flat or Gouraud, with patch edges, a false-colour view of B, light
 // markers, and the same exposure and sRGB encoding as lambert's own images (render/tonemap.h).
@@ -24,7 +24,7 @@ struct DisplaySettings {
   bool wireframe = false;
   bool falseColour = false;
   bool srgb = true;
-  bool ambient = true;       // add progressive refinement's ambient term mid-solve (seed 001)
+  bool ambient = true;       // add progressive refinement's ambient term mid-solve
   double exposure = 0;       // stops: radiance × 2^exposure before encoding
   // Follow each solution's automatic exposure (Snapshot::autoExposureStops) until the user or a
   // script sets one: for scenes that set none, without --exposure.

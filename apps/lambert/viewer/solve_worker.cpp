@@ -381,7 +381,7 @@ void SolveWorker::run() {
   // interpolated), then comes as an update of its own.
   const bool gathersAtVertices = options_.meshing == MeshStrategy::Hierarchical;
   bool needsSolve = true, meshStale = true, gatherPending = false;
-  SolveCallReport last;
+  SolveReport last;
   double lastUpdate = 0;
   while (true) {
     bool lightsChanged = false, republish = false;
@@ -424,7 +424,7 @@ void SolveWorker::run() {
     bool gathered = !gathersAtVertices;
     if (needsSolve) {
       const std::size_t elementsBefore = engine_->solution().mesh().numPatches();
-      Result<SolveCallReport> report = engine_->solve(budget_.solve);
+      Result<SolveReport> report = engine_->solve(budget_.solve);
       if (!report) {
         std::lock_guard lock(mutex_);
         error_ = report.error().message;
@@ -460,7 +460,7 @@ void SolveWorker::run() {
   }
 }
 
-void SolveWorker::publish(const Radiosity& engine, const SolveCallReport& report, bool meshStale, bool visibilityStale, bool gathered) {
+void SolveWorker::publish(const Radiosity& engine, const SolveReport& report, bool meshStale, bool visibilityStale, bool gathered) {
   const SolutionView& view = engine.solution();
   bool flat;
   {

@@ -1,7 +1,7 @@
 #pragma once
 // The viewer's radiosity thread: it owns the engine (engine/radiosity.h), brings the solution up
-// to date in small budgets so the picture can follow it frame by frame (seed 001's progressive
-// display), re-solves warm whenever the lights change (seed 003), and publishes each state as a
+// to date in small budgets so the picture can follow it frame by frame (progressive
+// refinement's display), re-solves warm whenever the lights change, and publishes each state as a
 // Snapshot the drawing thread uploads. The engine is only ever touched on this thread.
 #include <atomic>
 #include <condition_variable>
@@ -157,7 +157,7 @@ class SolveWorker {
 
  private:
   void run();
-  void publish(const Radiosity& engine, const SolveCallReport& report, bool meshStale, bool visibilityStale, bool gathered);
+  void publish(const Radiosity& engine, const SolveReport& report, bool meshStale, bool visibilityStale, bool gathered);
   // Whether a settled solution for the engine's lights still lacks the lightmaps or probes asked
   // for (under mutex_).
   bool bakeDue() const;

@@ -24,8 +24,6 @@ constexpr double kInterpolationTolerance = 0.05;
 // mean texel irradiance (and a corner vertex's where its change does).
 constexpr double kChangeTolerance = 1e-4;
 
-Rgb nonNegative(const Rgb& e) { return {std::fmax(0.0, e.r), std::fmax(0.0, e.g), std::fmax(0.0, e.b)}; }
-
 // Whether the light can reach a point facing `normal` at all (before any shadow ray): in front of
 // the surface, and for a spot inside its cone. Light::irradiance gives zero wherever this is false.
 bool mayLight(const Light& light, const VertexSite& site) {

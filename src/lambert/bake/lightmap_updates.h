@@ -1,5 +1,5 @@
 #pragma once
-// Lightmaps kept up to date while lights move, without baking again (issue 24, "moving lights").
+// Lightmaps kept up to date while lights move, without baking again.
 //
 // A texel's irradiance is the light the surfaces bring, E_s, plus the lights' direct light, E_d.
 // After a light moves, the engine's warm re-solve (Radiosity::setLights + solve) gives new leaf

@@ -64,7 +64,7 @@ Rgb bilinear(const Image& image, double u, double v) {
 // The Cornell box's texels against the path tracer at the same points: E = π (L − L_e) / ρ from
 // its outgoing radiance, green channel, at every 100th texel not under a block (1,000 samples
 // each, the tracer's own noise about 2% a texel). Measured: bias −1.3%, relative RMSE 2.4%. The
-// mean difference must stay within 3% and the RMSE within 4% (issue 24's target: 3%).
+// mean difference must stay within 3% and the RMSE within 4% (the lightmaps' accuracy target: 3%).
 TEST(LightmapTest, CornellTexelsAgreeWithThePathTracer) {
   const Scene scene = cornellBox();
   auto engine = solved(scene);

@@ -33,6 +33,9 @@ struct Rgb {
 
 constexpr Rgb operator*(double s, const Rgb& c) { return c * s; }
 
+// Each channel clamped at zero from below (a gather's sum of weighted terms can dip under it).
+inline Rgb nonNegative(const Rgb& e) { return {std::fmax(0.0, e.r), std::fmax(0.0, e.g), std::fmax(0.0, e.b)}; }
+
 inline constexpr double kPi = 3.14159265358979323846;
 
 }  // namespace lambert

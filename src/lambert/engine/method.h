@@ -27,7 +27,7 @@ namespace lambert {
 
 struct RadiosityOptions;
 struct SolveBudget;
-struct SolveCallReport;
+struct SolveReport;
 struct PointGather;  // engine/point_gather.h
 enum class PointGatherPart;
 
@@ -54,7 +54,7 @@ class Method {
   // transport() describe the new ones and radiosity holds a warm start for them. Adds what it
   // did (cells split and merged, pairs estimated, times) to report. An Error when the refined
   // elements would not fit in the memory the options allow (core/memory.h).
-  virtual Result<bool> refine(const std::vector<Light>& lights, std::vector<Rgb>& radiosity, SolveCallReport& report) = 0;
+  virtual Result<bool> refine(const std::vector<Light>& lights, std::vector<Rgb>& radiosity, SolveReport& report) = 0;
   // The budget of the solve() about to refine (hierarchical meshing keys its link cache on the
   // budget of the solves between its first refinement passes).
   virtual void startSolve(const SolveBudget& /*budget*/) {}

@@ -2,7 +2,7 @@
 // The options of a solve: what Radiosity::create takes (RadiosityOptions). Each layer owns the
 // options it reads (flat/options.h, hierarchical/options.h, solve/solver_kind.h, light/lights.h's
 // DirectLightOptions); this header collects them and chooses the method. The defaults are
-// written here and in those headers only: the CLI's table (engine/solve_settings.h) starts from
+// written here and in those headers only: the CLI's table (engine/radiosity_settings.h) starts from
 // RadiosityOptions{}.
 #include <cstddef>
 #include <cstdint>

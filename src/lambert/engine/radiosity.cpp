@@ -92,8 +92,8 @@ std::vector<std::vector<Rgb>> Method::vertexSolution(const ElementSolution& solu
 struct Radiosity::Impl {
   Impl(const Radiosity& engine, Scene scene, RadiosityOptions options);
   void rebuildProblem();
-  Result<SolveCallReport> solve(const SolveBudget& budget);
-  Status solvePass(const SolveBudget& budget, SolveCallReport& report);
+  Result<SolveReport> solve(const SolveBudget& budget);
+  Status solvePass(const SolveBudget& budget, SolveReport& report);
   Stats stats() const;
   // The solution per element, as the method reads it.
   ElementSolution elementSolution() const {
@@ -121,7 +121,7 @@ struct Radiosity::Impl {
     double residual, emittedWatts, absorbedWatts, escapedWatts;
   };
   std::optional<DistributedFigures> distributedFigures_;
-  SolveCallReport last_;
+  SolveReport last_;
   double injectSeconds_ = 0, solveSeconds_ = 0, adaptSeconds_ = 0, formFactorSeconds_ = 0;
   std::uint64_t shadowRays_ = 0;
   int refined_ = 0, coarsened_ = 0;
@@ -165,7 +165,7 @@ Result<Mesh> solutionVertexMesh(const Scene& scene, RadiosityOptions options) {
   if (options.meshing == MeshStrategy::Uniform) return uniformMesh(scene, options.uniform);
   Result<std::unique_ptr<Radiosity>> engine = Radiosity::create(scene, std::move(options));
   if (!engine) return engine.error();
-  if (Result<SolveCallReport> solved = (*engine)->solve(); !solved) return solved.error();
+  if (Result<SolveReport> solved = (*engine)->solve(); !solved) return solved.error();
   return (*engine)->solution().vertexMesh();
 }
 
@@ -183,7 +183,7 @@ Radiosity::~Radiosity() = default;
 
 void Radiosity::setLights(std::vector<Light> lights) { impl_->lights_ = std::move(lights); }
 const std::vector<Light>& Radiosity::lights() const { return impl_->lights_; }
-Result<SolveCallReport> Radiosity::solve(const SolveBudget& budget) { return impl_->solve(budget); }
+Result<SolveReport> Radiosity::solve(const SolveBudget& budget) { return impl_->solve(budget); }
 const SolutionView& Radiosity::solution() const { return impl_->view_; }
 Stats Radiosity::stats() const { return impl_->stats(); }
 const Scene& Radiosity::scene() const { return impl_->scene_; }
@@ -238,13 +238,13 @@ Status checkSolveBudget(SolverKind kind, const SolveBudget& budget) {
   return Ok{};
 }
 
-Result<SolveCallReport> Radiosity::Impl::solve(const SolveBudget& budget) {
+Result<SolveReport> Radiosity::Impl::solve(const SolveBudget& budget) {
   if (Status ok = checkSolveBudget(options_.solver, budget); !ok) return ok.error();
   // Each rank's clock would stop it at a sweep of its own, and the others would wait for it.
   if (options_.communicator && budget.maxMilliseconds > 0)
     return Error{"a distributed solve stops when it converges or after a number of sweeps, not after a time: "
                  "every rank must sweep alike"};
-  SolveCallReport report;
+  SolveReport report;
   // Adaptive meshing refines every solve; the hierarchy refines in the first one only, then
   // later solves (lights moved) re-solve over the same links.
   const int passes = options_.meshing == MeshStrategy::Adaptive                  ? options_.adaptive.passesPerSolve
@@ -281,7 +281,7 @@ Result<SolveCallReport> Radiosity::Impl::solve(const SolveBudget& budget) {
   return report;
 }
 
-Status Radiosity::Impl::solvePass(const SolveBudget& budget, SolveCallReport& report) {
+Status Radiosity::Impl::solvePass(const SolveBudget& budget, SolveReport& report) {
   const Mesh& elements = meshing_->elements();
   const RayCaster& caster = meshing_->caster();
 
@@ -323,13 +323,13 @@ Status Radiosity::Impl::solvePass(const SolveBudget& budget, SolveCallReport& re
     report.unshotFraction = shooter_->unshotFraction();
     radiosity_ = shooter_->radiosity();
   } else {
-    SolveOptions solve;
+    SolverOptions solve;
     solve.tolerance = options_.tolerance;
     solve.maxIterations = budget.maxSweeps > 0 ? std::min(budget.maxSweeps, options_.maxIterations) : options_.maxIterations;
     solve.maxSeconds = budget.maxMilliseconds / 1e3;
     solve.measureResidual = false;  // the engine reports its residual in stats(), when asked
     if (!solved_) radiosity_.clear();  // start from B = E
-    SolveReport solved = makeSolver(options_.solver, solve)->solve(*problem_, radiosity_);
+    SolverReport solved = makeSolver(options_.solver, solve)->solve(*problem_, radiosity_);
     report.iterations += solved.iterations;
     report.converged = solved.converged;
   }

@@ -70,7 +70,7 @@ class Radiosity {
   // Brings the solution up to date: (adaptive) refines the mesh, injects the lights that
   // changed, and solves warm from the last state, to the tolerance or within the budget.
   // Errors: a budget the solver cannot honour (shots for gs, sweeps for shoot, any for direct).
-  Result<SolveCallReport> solve(const SolveBudget& budget = {});
+  Result<SolveReport> solve(const SolveBudget& budget = {});
 
   // The current solution. Valid for the engine's life; its contents change with solve().
   const SolutionView& solution() const;

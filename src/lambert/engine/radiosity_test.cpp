@@ -57,7 +57,7 @@ TEST(RadiosityTest, EachFrameConvergesToTheColdSolve) {
   std::unique_ptr<Radiosity> engine = engineFor(scene, uniformOptions(400, SolverKind::Shooting, 1e-8));
   for (double t : {0.0, 0.4, 1.3}) {
     engine->setLights(lightsAt(scene, t));
-    SolveCallReport report = solveCall(*engine);
+    SolveReport report = solveCall(*engine);
     EXPECT_EQ(report.lightsInjected, 2);
     EXPECT_TRUE(report.converged);
     EXPECT_LT(report.unshotFraction, 1e-8);
@@ -72,9 +72,9 @@ TEST(RadiosityTest, GatheringSolversWarmStartFromTheLastFrame) {
   for (SolverKind solver : {SolverKind::GaussSeidel, SolverKind::Jacobi}) {
     std::unique_ptr<Radiosity> engine = engineFor(scene, uniformOptions(300, solver, 1e-9));
     engine->setLights(lightsAt(scene, 0));
-    SolveCallReport cold = solveCall(*engine);
+    SolveReport cold = solveCall(*engine);
     engine->setLights(lightsAt(scene, 0.05));
-    SolveCallReport warm = solveCall(*engine);
+    SolveReport warm = solveCall(*engine);
     EXPECT_TRUE(warm.converged);
     EXPECT_LT(warm.iterations, cold.iterations) << solverName(solver);
     EXPECT_LT(relativeError(engine->solution().radiosity(), reference), 1e-6) << solverName(solver);
@@ -86,7 +86,7 @@ TEST(RadiosityTest, UnchangedLightsAreNotReinjected) {
   std::unique_ptr<Radiosity> engine = engineFor(scene, uniformOptions(200, SolverKind::Shooting, 1e-4));
   engine->setLights(lightsAt(scene, 0));
   EXPECT_EQ(solveCall(*engine).lightsInjected, 2);
-  SolveCallReport again = solveCall(*engine);
+  SolveReport again = solveCall(*engine);
   EXPECT_EQ(again.lightsInjected, 0);
   EXPECT_EQ(again.iterations, 0);
   std::vector<Light> oneMoved = lightsAt(scene, 0);
@@ -136,15 +136,15 @@ TEST(RadiosityTest, BudgetsBelongToTheirSolvers) {
   Scene scene = cornellBox();
   std::unique_ptr<Radiosity> gs = engineFor(scene, uniformOptions(200, SolverKind::GaussSeidel, 1e-12));
   EXPECT_FALSE(gs->solve({.maxShots = 5}).ok());
-  SolveCallReport two = solveCall(*gs, {.maxSweeps = 2});
+  SolveReport two = solveCall(*gs, {.maxSweeps = 2});
   EXPECT_EQ(two.iterations, 2);
   EXPECT_FALSE(two.converged);
-  SolveCallReport timed = solveCall(*gs, {.maxMilliseconds = 1e-6});  // one sweep, then the clock
+  SolveReport timed = solveCall(*gs, {.maxMilliseconds = 1e-6});  // one sweep, then the clock
   EXPECT_EQ(timed.iterations, 1);
   EXPECT_FALSE(timed.converged);
   // A time budget stops the shooter at its first look at the clock, after 32 shots.
   std::unique_ptr<Radiosity> shoot = engineFor(scene, uniformOptions(200, SolverKind::Shooting, 1e-12));
-  SolveCallReport brief = solveCall(*shoot, {.maxMilliseconds = 1e-6});
+  SolveReport brief = solveCall(*shoot, {.maxMilliseconds = 1e-6});
   EXPECT_EQ(brief.iterations, 32);
   EXPECT_FALSE(brief.converged);
 }
@@ -169,7 +169,7 @@ TEST(RadiosityTest, EverySolverWorksWithEveryMeshStrategy) {
       }
       std::unique_ptr<Radiosity> engine = engineFor(scene, options);
       ASSERT_TRUE(engine) << solverName(solver);
-      SolveCallReport report = solveCall(*engine);
+      SolveReport report = solveCall(*engine);
       EXPECT_TRUE(report.converged) << solverName(solver);
       double lit = 0;
       for (const Rgb& b : engine->solution().radiosity()) lit += b.sum();
@@ -405,7 +405,7 @@ TEST(RadiosityTest, ImpossibleCombinationsAreRefusedWithAReason) {
 }
 
 // The flat methods' rows. Two plates face each other across a gap 1/40 of their size inside the
-// furnace: seed 000's point estimate (cos cos / π r² × A_j between the centres) makes the facing
+// furnace: the point-to-point estimate (cos cos / π r² × A_j between the centres) makes the facing
 // patches' rows sum far above 1/ρ, and every solver diverges on them. flat/table.h's
 // boundRowSums scales each such row to sum 1, so no solver can diverge: every element stays
 // below E / (1 − 0.95) (the maximum principle, ρS ≤ 0.95 for the rows left as measured).

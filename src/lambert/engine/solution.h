@@ -49,10 +49,10 @@ class SolutionView {
   const std::vector<Rgb>& emitted() const;
   const std::vector<Rgb>& albedo() const;
   // B less the injected direct light: what to interpolate when direct light is drawn per pixel
-  // (seed 000's hybrid image).
+  // (the hybrid image).
   std::vector<Rgb> indirectRadiosity() const;
   // Mid-solve, progressive refinement's ambient term (Cohen, Chen, Wallace & Greenberg 1988;
-  // seed 001): the unshot power spread evenly over the scene and reflected to convergence, in
+  // the ambient term): the unshot power spread evenly over the scene and reflected to convergence, in
   // W/m². Displaying B_i + ρ_i·ambient shows a shooting solve at its final brightness from the
   // first shot. Zero for the gathering solvers, whose iterates carry no unshot power.
   Rgb ambientRadiosity() const;

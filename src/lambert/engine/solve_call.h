@@ -25,7 +25,7 @@ struct SolveBudget {
 Status checkSolveBudget(SolverKind solver, const SolveBudget& budget);
 
 // What one solve() did.
-struct SolveCallReport {
+struct SolveReport {
   int lightsInjected = 0;    // lights traced again (moved, new, or every one after refinement)
   // Sweeps (gs, jacobi), shots (shoot) or 1 (direct), summed over every pass of this call (the
   // hierarchy's refinement passes in its first solve, the adaptive mesh's passes). A budget

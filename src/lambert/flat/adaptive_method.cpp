@@ -150,7 +150,7 @@ bool AdaptiveMethod::mustSplit(std::uint32_t node, const std::vector<Light>& lig
   return false;
 }
 
-void AdaptiveMethod::refineNode(std::uint32_t node, SolveCallReport& report) {
+void AdaptiveMethod::refineNode(std::uint32_t node, SolveReport& report) {
   if (!mesh_.refine(node)) return;
   ++report.refined;
   nodeRadiosity_.resize(mesh_.numNodes());
@@ -159,7 +159,7 @@ void AdaptiveMethod::refineNode(std::uint32_t node, SolveCallReport& report) {
 }
 
 void AdaptiveMethod::adapt(std::uint32_t node, const std::vector<Light>& lights, const std::vector<char>& steep,
-                            SolveCallReport& report) {
+                            SolveReport& report) {
   // Nodes created during this refine have no solution yet, so they are never steep.
   auto isSteep = [&](std::uint32_t id) { return id < steep.size() && steep[id]; };
   const QuadNode n = mesh_.node(node);
@@ -216,7 +216,7 @@ std::vector<char> AdaptiveMethod::steepLeaves(const std::vector<Rgb>& radiosity)
   return steep;
 }
 
-Result<bool> AdaptiveMethod::refine(const std::vector<Light>& lights, std::vector<Rgb>& radiosity, SolveCallReport& report) {
+Result<bool> AdaptiveMethod::refine(const std::vector<Light>& lights, std::vector<Rgb>& radiosity, SolveReport& report) {
   Timer adaptTimer;
   nodeRadiosity_.resize(mesh_.numNodes());
   if (radiosity.size() == mesh_.activeNodes().size())

@@ -45,7 +45,7 @@ class AdaptiveMethod final : public Method {
   const Mesh& elements() const override { return activeMesh_; }
   const RayCaster& caster() const override { return *caster_; }
   std::shared_ptr<const Transport> transport() const override { return transport_; }
-  Result<bool> refine(const std::vector<Light>& lights, std::vector<Rgb>& radiosity, SolveCallReport& report) override;
+  Result<bool> refine(const std::vector<Light>& lights, std::vector<Rgb>& radiosity, SolveReport& report) override;
   const Mesh& vertexMesh() const override { return mesh_.fineMesh(); }
   std::vector<Rgb> vertexValues(const std::vector<Rgb>& perElement) const override;
   void addStats(Stats& stats) const override;
@@ -65,8 +65,8 @@ class AdaptiveMethod final : public Method {
  private:
   AdaptiveMethod(const Scene& scene, AdaptiveMesh mesh, const RadiosityOptions& options);
   bool mustSplit(std::uint32_t node, const std::vector<Light>& lights) const;
-  void adapt(std::uint32_t node, const std::vector<Light>& lights, const std::vector<char>& steep, SolveCallReport& report);
-  void refineNode(std::uint32_t node, SolveCallReport& report);
+  void adapt(std::uint32_t node, const std::vector<Light>& lights, const std::vector<char>& steep, SolveReport& report);
+  void refineNode(std::uint32_t node, SolveReport& report);
   std::vector<char> steepLeaves(const std::vector<Rgb>& radiosity) const;
   void loadTable();
 

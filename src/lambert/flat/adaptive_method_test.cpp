@@ -60,7 +60,7 @@ TEST(AdaptiveTest, RefinesExactlyAlongTheSpotsEdge) {
   AdaptiveMethod& a = **adaptive;
   Light spot = downwardSpot({0.45, 0.6, 0.55}, {0.1, -1, 0});
   std::vector<Rgb> radiosity;
-  SolveCallReport update;
+  SolveReport update;
   Result<bool> changed = a.refine({spot}, radiosity, update);
   ASSERT_TRUE(changed) << changed.error().message;
   EXPECT_TRUE(*changed);
@@ -100,7 +100,7 @@ TEST(AdaptiveTest, RefinesExactlyAlongTheSpotsEdge) {
   EXPECT_TRUE(AdaptiveMethod::crossesSpotEdge(narrow, quad(0.25, 0.25, 0.5), up));
 }
 
-// Seed 003's master table: a spot moves away and back; the cells it re-activates find their form
+// The master table: a spot moves away and back; the cells it re-activates find their form
 // factors in the table, and nothing is computed twice.
 TEST(AdaptiveTest, ReactivatedCellsReuseTheirFormFactors) {
   Scene scene = testing::closedCube(1, {}, Rgb::gray(0.5));
@@ -111,29 +111,29 @@ TEST(AdaptiveTest, ReactivatedCellsReuseTheirFormFactors) {
   Light there = downwardSpot({0.5, 0.95, 0.5}, {-0.4, -1, -0.3});
   auto update = [&](const Light& light) {
     engine.setLights({light});
-    Result<SolveCallReport> report = engine.solve();
+    Result<SolveReport> report = engine.solve();
     EXPECT_TRUE(report.ok());
     return *report;
   };
 
-  SolveCallReport first = update(here);
+  SolveReport first = update(here);
   EXPECT_GT(first.pairsEstimated, 0u);
   const std::int64_t afterFirst = testing::statCount(engine.stats(), "pairs_estimated");
   const std::size_t activeHere = first.elements;
 
-  SolveCallReport moved = update(there);
+  SolveReport moved = update(there);
   EXPECT_GT(moved.pairsEstimated, 0u);   // new cells: new pairs
   EXPECT_GT(moved.pairsReused, 0u);      // the rest were known
   EXPECT_GT(moved.coarsened, 0);         // the old footprint merged back
   const std::int64_t afterMove = testing::statCount(engine.stats(), "pairs_estimated");
   EXPECT_GT(afterMove, afterFirst);
 
-  SolveCallReport back = update(here);
+  SolveReport back = update(here);
   EXPECT_EQ(back.elements, activeHere);
   EXPECT_EQ(back.pairsEstimated, 0u);    // everything found in the table
   EXPECT_EQ(testing::statCount(engine.stats(), "pairs_estimated"), afterMove);
   EXPECT_EQ(back.pairsReused, activeHere * (activeHere - 1) / 2);
-  SolveCallReport still = update(here);
+  SolveReport still = update(here);
   EXPECT_EQ(still.refined + still.coarsened, 0);
   EXPECT_EQ(still.lightsInjected, 0);    // the same light on the same cells: nothing traced
 }
@@ -149,7 +149,7 @@ TEST(AdaptiveTest, RefinesAlongShadowEdges) {
   point.position = {0.5, 1.0, 0.5};
   point.intensity = {1, 1, 1};
   std::vector<Rgb> radiosity;
-  SolveCallReport report;
+  SolveReport report;
   ASSERT_TRUE(a.refine({point}, radiosity, report));
   // The blocker's shadow on the floor spans 0.3 … 0.7: cells across its edge are split.
   auto cell = floorCell;
@@ -168,14 +168,14 @@ TEST(AdaptiveTest, GradientCriterionRefinesWhereRadiosityChanges) {
   auto created = Radiosity::create(cornellBox(), adaptiveOptions({120, 2}, 0.5));
   ASSERT_TRUE(created.ok());
   Radiosity& engine = **created;
-  SolveCallReport first = *engine.solve();
+  SolveReport first = *engine.solve();
   EXPECT_EQ(first.refined, 0);  // no solution yet to judge by
-  SolveCallReport second = *engine.solve();
+  SolveReport second = *engine.solve();
   EXPECT_GT(second.refined, 0);
   EXPECT_GT(second.elements, first.elements);
 }
 
-// Seed 003 divides each row of F by its sum. In a closed room, where rows already sum to one,
+// Row normalisation divides each row of F by its sum. In a closed room, where rows already sum to one,
 // that changes little; through the Cornell box's open front it stops light escaping, so the
 // room gets brighter than energy conservation allows. The energy balance shows it: escaped power
 // (leaving minus arriving) turns negative, the power the normalised, no longer reciprocal, F makes.

@@ -205,7 +205,7 @@ TEST(FormFactorTest, ResultsDoNotDependOnThreadsAndFollowTheSeed) {
   EXPECT_GT((a - c).cwiseAbs().maxCoeff(), 0.0f);
 }
 
-// Seed 000's estimator converges only as patches shrink, and overshoots between neighbours.
+// The point-to-point estimator converges only as patches shrink, and overshoots between neighbours.
 TEST(FormFactorTest, PointToPointIsTheSeedsCoarseEstimate) {
   Scene scene = testing::parallelSquares();
   FormFactorOptions point;

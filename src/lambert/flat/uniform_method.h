@@ -18,7 +18,7 @@ class UniformMethod final : public Method {
   const Mesh& elements() const override { return mesh_; }
   const RayCaster& caster() const override { return *caster_; }
   std::shared_ptr<const Transport> transport() const override { return transport_; }
-  Result<bool> refine(const std::vector<Light>&, std::vector<Rgb>&, SolveCallReport&) override { return false; }
+  Result<bool> refine(const std::vector<Light>&, std::vector<Rgb>&, SolveReport&) override { return false; }
   const Mesh& vertexMesh() const override { return mesh_; }
   std::vector<Rgb> vertexValues(const std::vector<Rgb>& perElement) const override;
   void addStats(Stats& stats) const override { stats.append(stats_); }

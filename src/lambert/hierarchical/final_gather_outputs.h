@@ -20,10 +20,9 @@
 
 namespace lambert {
 
-// Irradiance is never negative: the shaped means' and the corners' corrections, added to a sum
-// that should be 0 (a covered site), leave rounding of either sign (−1e-17).
-inline Rgb nonNegative(const Rgb& e) { return {std::fmax(0.0, e.r), std::fmax(0.0, e.g), std::fmax(0.0, e.b)}; }
-
+// Irradiance is never negative (core/rgb.h's nonNegative): the shaped means' and the corners'
+// corrections, added to a sum that should be 0 (a covered site), leave rounding of either sign
+// (−1e-17).
 class GatherOutputs {
  public:
   // The outputs FinalGather::irradiance was given (null: not asked for); known: the visibility

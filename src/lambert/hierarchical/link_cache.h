@@ -1,7 +1,7 @@
 #pragma once
-// The hierarchical method's links cached on disk: seed 003's master form-factor table, saved so
+// The hierarchical method's links cached on disk, as the flat method keeps its master form-factor table, saved so
 // that "the form factors computed during the initial computation run do not have to be
-// recomputed" (seed 003 §"master form-factor table", Brennan), for the element hierarchy and its
+// recomputed", for the element hierarchy and its
 // links (Hanrahan, Salzman & Aupperle 1991) instead of a quad-tree's pairs.
 //
 // A file holds what the first solve's refinement passes leave behind, so that a later process

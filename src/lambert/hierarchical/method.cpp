@@ -70,7 +70,7 @@ void HierarchicalMethod::startSolve(const SolveBudget& budget) {
   if (passesDone_ == 0) linkCache_.firstBudget = budget;
 }
 
-void HierarchicalMethod::refineAtLightEdges(const std::vector<Light>& lights, double threshold, SolveCallReport& report) {
+void HierarchicalMethod::refineAtLightEdges(const std::vector<Light>& lights, double threshold, SolveReport& report) {
   Timer timer;
   const LightEdgeSplits split = splitAtLightEdges(hierarchy_, scene_, leaves_.mesh, lights, *caster_, epsilon_, options_.links, threshold);
   lightSplits_ += split.splits;
@@ -109,7 +109,7 @@ void HierarchicalMethod::rebuildLeaves() {
   coverageSeconds_ += coverage.seconds();
 }
 
-Result<bool> HierarchicalMethod::refine(const std::vector<Light>& lights, std::vector<Rgb>& radiosity, SolveCallReport& report) {
+Result<bool> HierarchicalMethod::refine(const std::vector<Light>& lights, std::vector<Rgb>& radiosity, SolveReport& report) {
   if (passesDone_ >= options_.refinePasses) return false;
   if (passesDone_ == 0) {
     if (!linkCache_.directory.empty() && loadLinks(lights, radiosity)) return true;

@@ -45,7 +45,7 @@ class HierarchicalMethod final : public Method {
   const RayCaster& caster() const override { return *caster_; }
   std::shared_ptr<const Transport> transport() const override { return transport_; }
   void startSolve(const SolveBudget& budget) override;
-  Result<bool> refine(const std::vector<Light>& lights, std::vector<Rgb>& radiosity, SolveCallReport& report) override;
+  Result<bool> refine(const std::vector<Light>& lights, std::vector<Rgb>& radiosity, SolveReport& report) override;
   Status saveCache() override { return Ok{}; }  // the link cache is written as soon as the links are made
 
   const Mesh& vertexMesh() const override { return leaves_.mesh; }
@@ -67,7 +67,7 @@ class HierarchicalMethod final : public Method {
 
  private:
   // The refinement (method.cpp).
-  void refineAtLightEdges(const std::vector<Light>& lights, double threshold, SolveCallReport& report);
+  void refineAtLightEdges(const std::vector<Light>& lights, double threshold, SolveReport& report);
   void rebuildLeaves();
   // The transport over the current hierarchy and links, spread over the ranks once they share
   // the hierarchy.

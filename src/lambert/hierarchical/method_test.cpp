@@ -922,7 +922,7 @@ TEST(HierarchicalTest, AGaussSeidelSweepGathersEachLeafFromTheCurrentMeans) {
   RadiosityOptions options = hierarchicalOptions(2e-3);
   HierarchicalMethod meshing(scene, options);
   std::vector<Rgb> start;
-  SolveCallReport report;
+  SolveReport report;
   ASSERT_TRUE(meshing.refine(scene.lights, start, report).ok());
   const ElementHierarchy& hierarchy = meshing.hierarchy();
   const Links& links = meshing.links();
@@ -1012,7 +1012,7 @@ TEST(HierarchicalTest, AMovingSpotReSolvedWarmEndsWhereAColdSolveDoes) {
   const int frames = 6;
   for (int frame = 1; frame <= frames; ++frame) {
     engine.setLights({spotAt(static_cast<double>(frame) / frames)});
-    Result<SolveCallReport> report = engine.solve({.maxSweeps = 2});
+    Result<SolveReport> report = engine.solve({.maxSweeps = 2});
     ASSERT_TRUE(report.ok()) << report.error().message;
     EXPECT_EQ(report->lightsInjected, 1);
     EXPECT_EQ(report->iterations, 2);
@@ -1032,7 +1032,7 @@ TEST(HierarchicalTest, AMovingSpotReSolvedWarmEndsWhereAColdSolveDoes) {
   // The cold solve at the final position: the same system (links, and the spot injected where it
   // stopped) solved from B = E by Jacobi sweeps, another solver than the engine's, to 1e-12.
   const SolutionView& view = engine.solution();
-  SolveOptions cold;
+  SolverOptions cold;
   cold.tolerance = 1e-12;
   cold.maxIterations = 10000;
   std::vector<Rgb> reference;

@@ -456,9 +456,9 @@ void addMesh(Scene& scene, const Json& value, const std::string& pointer, const 
   }
 }
 
-SolveDefaults readDefaults(const Json& value, const std::string& pointer) {
+SuggestedSettings readDefaults(const Json& value, const std::string& pointer) {
   ObjectReader r(value, pointer);
-  SolveDefaults d;
+  SuggestedSettings d;
   if (r.has("patches") && r.has("maxEdge")) throw FieldError{pointer + "/maxEdge", "give either \"patches\" or \"maxEdge\", not both"};
   const double patches = r.number("patches", 0, 1, 200000);
   if (patches != std::floor(patches)) throw FieldError{pointer + "/patches", "expected a whole number of patches"};
@@ -788,7 +788,7 @@ std::string sceneFileText(const Scene& scene) {
                      {"up", triple(scene.camera.up)},
                      {"verticalFovDegrees", scene.camera.verticalFovDegrees}};
   if (scene.exposureStops) doc["exposure"] = *scene.exposureStops;
-  const SolveDefaults& d = scene.defaults;
+  const SuggestedSettings& d = scene.defaults;
   OrderedJson defaults = OrderedJson::object();
   if (d.patches > 0) defaults["patches"] = d.patches;
   if (d.maxEdgeLength > 0) defaults["maxEdge"] = d.maxEdgeLength;

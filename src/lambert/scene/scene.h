@@ -129,7 +129,7 @@ struct Camera {
 };
 
 // What a scene file suggests for solving it, taken where the command line does not say.
-struct SolveDefaults {
+struct SuggestedSettings {
   std::size_t patches = 0;     // uniform mesh: target patch count; 0: the program's default
   double maxEdgeLength = 0;    // uniform mesh: longest patch edge in scene units (instead of patches)
   std::string solver;          // "direct", "gs", "jacobi" or "shoot"; empty: the program's default
@@ -170,7 +170,7 @@ struct Scene {
   std::optional<double> exposureStops;
   double metresPerUnit = 1;  // 0.001 for a scene in millimetres
   FileFrame fileFrame;       // identity except for loaders that turn or scale what they read
-  SolveDefaults defaults;
+  SuggestedSettings defaults;
 };
 
 // The surface's faces as vertex-index lists (the single polygon when Surface::faces is empty).

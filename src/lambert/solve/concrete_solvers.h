@@ -7,29 +7,29 @@ namespace lambert {
 class DirectSolver final : public Solver {
  public:
   explicit DirectSolver(bool measureResidual) : measureResidual_(measureResidual) {}
-  SolveReport solve(const RadiosityProblem& problem, std::vector<Rgb>& radiosity) const override;
+  SolverReport solve(const RadiosityProblem& problem, std::vector<Rgb>& radiosity) const override;
 
  private:
-  bool measureResidual_;  // SolveOptions::measureResidual; the direct solver reads no other option
+  bool measureResidual_;  // SolverOptions::measureResidual; the direct solver reads no other option
 };
 
 class GatheringSolver final : public Solver {
  public:
-  GatheringSolver(SolveOptions options, bool inPlace) : options_(std::move(options)), inPlace_(inPlace) {}
-  SolveReport solve(const RadiosityProblem& problem, std::vector<Rgb>& radiosity) const override;
+  GatheringSolver(SolverOptions options, bool inPlace) : options_(std::move(options)), inPlace_(inPlace) {}
+  SolverReport solve(const RadiosityProblem& problem, std::vector<Rgb>& radiosity) const override;
 
  private:
-  SolveOptions options_;
+  SolverOptions options_;
   bool inPlace_;  // Gauss–Seidel when true, Jacobi when false
 };
 
 class ShootingSolver final : public Solver {
  public:
-  explicit ShootingSolver(SolveOptions options) : options_(std::move(options)) {}
-  SolveReport solve(const RadiosityProblem& problem, std::vector<Rgb>& radiosity) const override;
+  explicit ShootingSolver(SolverOptions options) : options_(std::move(options)) {}
+  SolverReport solve(const RadiosityProblem& problem, std::vector<Rgb>& radiosity) const override;
 
  private:
-  SolveOptions options_;
+  SolverOptions options_;
 };
 
 }  // namespace lambert

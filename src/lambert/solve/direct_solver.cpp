@@ -11,7 +11,7 @@
 
 namespace lambert {
 
-SolveReport DirectSolver::solve(const RadiosityProblem& problem, std::vector<Rgb>& radiosity) const {
+SolverReport DirectSolver::solve(const RadiosityProblem& problem, std::vector<Rgb>& radiosity) const {
   Timer timer;
   const auto n = static_cast<Eigen::Index>(problem.size());
   LAMBERT_CHECK(problem.transport && problem.transport->matrix());
@@ -28,7 +28,7 @@ SolveReport DirectSolver::solve(const RadiosityProblem& problem, std::vector<Rgb
     Eigen::VectorXd solution = system.partialPivLu().solve(emitted);
     for (Eigen::Index i = 0; i < n; ++i) radiosity[i][c] = solution[i];
   }
-  SolveReport report{"direct", 1, measureResidual_ ? relativeResidual(problem, radiosity) : std::nan(""), 0, true};
+  SolverReport report{"direct", 1, measureResidual_ ? relativeResidual(problem, radiosity) : std::nan(""), 0, true};
   report.seconds = timer.seconds();
   return report;
 }

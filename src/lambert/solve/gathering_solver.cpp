@@ -10,14 +10,14 @@
 
 namespace lambert {
 
-SolveReport GatheringSolver::solve(const RadiosityProblem& problem, std::vector<Rgb>& radiosity) const {
+SolverReport GatheringSolver::solve(const RadiosityProblem& problem, std::vector<Rgb>& radiosity) const {
   Timer timer;
   const std::size_t n = problem.size();
   LAMBERT_CHECK(problem.transport && problem.transport->size() == n);
   const Transport& transport = *problem.transport;
   if (radiosity.size() != n) radiosity = problem.emitted;
 
-  SolveReport report;
+  SolverReport report;
   report.solver = inPlace_ ? "gs" : "jacobi";
   for (int sweep = 1; sweep <= options_.maxIterations; ++sweep) {
     const SweepChange step = transport.sweep(problem.emitted, problem.albedo, radiosity, inPlace_);

@@ -9,12 +9,12 @@
 
 namespace lambert {
 
-SolveReport ShootingSolver::solve(const RadiosityProblem& problem, std::vector<Rgb>& radiosity) const {
+SolverReport ShootingSolver::solve(const RadiosityProblem& problem, std::vector<Rgb>& radiosity) const {
   Timer timer;
   ProgressiveShooter shooter(problem);
   if (radiosity.size() == problem.size()) shooter.warmStart(radiosity);
 
-  SolveReport report;
+  SolverReport report;
   report.solver = "shoot";
   const long long maxShots = static_cast<long long>(options_.maxIterations) * static_cast<long long>(problem.size());
   const bool reporting = options_.onProgress && options_.progressEvery > 0;

@@ -19,7 +19,7 @@ std::string solverName(SolverKind kind) {
   return "?";
 }
 
-std::unique_ptr<Solver> makeSolver(SolverKind kind, SolveOptions options) {
+std::unique_ptr<Solver> makeSolver(SolverKind kind, SolverOptions options) {
   switch (kind) {
     case SolverKind::Direct: return std::make_unique<DirectSolver>(options.measureResidual);
     case SolverKind::GaussSeidel: return std::make_unique<GatheringSolver>(options, /*inPlace=*/true);

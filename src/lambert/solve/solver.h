@@ -24,7 +24,7 @@ struct RadiosityProblem {
 
 
 
-struct SolveOptions {
+struct SolverOptions {
   // Stop when the relative change (sweeps) or the unshot power fraction (shooting) falls below.
   double tolerance = 1e-7;
   // Sweeps for Gauss–Seidel and Jacobi; shots for shooting are limited to this many per patch.
@@ -35,14 +35,14 @@ struct SolveOptions {
   // plus the ambient term); 0 turns it off.
   int progressEvery = 0;
   bool displayAmbient = true;  // shooting: add the ambient term to what onProgress sees
-  // Whether SolveReport::residual is measured: one more gather over the whole transport after the
+  // Whether SolverReport::residual is measured: one more gather over the whole transport after the
   // last iteration (for a warm one-sweep update of the hierarchical method, about as long as the
   // sweep). Off, the report's residual is NaN.
   bool measureResidual = true;
   std::function<void(int iteration, const std::vector<Rgb>& estimate)> onProgress;
 };
 
-struct SolveReport {
+struct SolverReport {
   std::string solver;
   int iterations = 0;     // sweeps, shots for shooting, 1 for direct
   double residual = 0;    // max |E + ρFB − B| / max |B|, over patches and channels; NaN if not measured
@@ -55,14 +55,14 @@ class Solver {
   virtual ~Solver() = default;
   // Solves in place: radiosity holds the starting guess (any size other than the problem's
   // means "start from E") and receives B_i in W/m².
-  virtual SolveReport solve(const RadiosityProblem& problem, std::vector<Rgb>& radiosity) const = 0;
+  virtual SolverReport solve(const RadiosityProblem& problem, std::vector<Rgb>& radiosity) const = 0;
 };
 
 // Gauss–Seidel and Jacobi read the problem's transport only through Transport::sweep, so they
 // solve any kind. Direct and Shooting need the dense matrix (Transport::matrix()): handed a
 // problem whose transport has none, their solve() stops with a failed LAMBERT_CHECK, so callers
 // (the engine) must refuse those combinations before solving.
-std::unique_ptr<Solver> makeSolver(SolverKind kind, SolveOptions options = {});
+std::unique_ptr<Solver> makeSolver(SolverKind kind, SolverOptions options = {});
 
 // max_i,c |E + ρFB − B| / max_i,c |B|, with FB from one Transport::gather.
 double relativeResidual(const RadiosityProblem& problem, const std::vector<Rgb>& radiosity);

@@ -31,9 +31,9 @@ Solved setUp(const Scene& scene, double maxEdge) {
   return s;
 }
 
-std::vector<Rgb> solveWith(SolverKind kind, const RadiosityProblem& problem, SolveOptions options = {}) {
+std::vector<Rgb> solveWith(SolverKind kind, const RadiosityProblem& problem, SolverOptions options = {}) {
   std::vector<Rgb> radiosity;
-  SolveReport report = makeSolver(kind, options)->solve(problem, radiosity);
+  SolverReport report = makeSolver(kind, options)->solve(problem, radiosity);
   EXPECT_TRUE(report.converged) << solverName(kind);
   EXPECT_EQ(report.solver, solverName(kind));
   EXPECT_LT(report.residual, 1e-5) << solverName(kind);
@@ -66,7 +66,7 @@ TEST(SolverTest, FurnaceGivesEOverOneMinusRho) {
 TEST(SolverTest, SolversAgreeOnTheCornellBox) {
   Scene scene = cornellBox();
   Solved s = setUp(scene, edgeLengthForPatchCount(scene, 784));
-  SolveOptions tight;
+  SolverOptions tight;
   tight.tolerance = 1e-10;
   std::vector<Rgb> direct = solveWith(SolverKind::Direct, s.problem, tight);
   for (SolverKind kind : {SolverKind::GaussSeidel, SolverKind::Jacobi, SolverKind::Shooting})
@@ -80,12 +80,12 @@ TEST(SolverTest, TheResidualIsMeasuredOnlyWhenAskedAndDoesNotChangeTheSolution) 
   Solved s = setUp(scene, edgeLengthForPatchCount(scene, 300));
   const FormFactorMatrix& F = *s.problem.transport->matrix();
   for (SolverKind kind : kAllSolvers) {
-    SolveOptions options;
+    SolverOptions options;
     options.maxIterations = 3;  // stopped early: a residual well above rounding
     std::vector<Rgb> measured, unmeasured;
-    const SolveReport a = makeSolver(kind, options)->solve(s.problem, measured);
+    const SolverReport a = makeSolver(kind, options)->solve(s.problem, measured);
     options.measureResidual = false;
-    const SolveReport b = makeSolver(kind, options)->solve(s.problem, unmeasured);
+    const SolverReport b = makeSolver(kind, options)->solve(s.problem, unmeasured);
     EXPECT_TRUE(std::isnan(b.residual)) << solverName(kind);
     ASSERT_EQ(measured.size(), unmeasured.size());
     for (std::size_t i = 0; i < measured.size(); ++i) ASSERT_EQ(measured[i], unmeasured[i]) << solverName(kind) << " patch " << i;
@@ -129,7 +129,7 @@ TEST(SolverTest, WarmStartFromTheSolutionConvergesAtOnce) {
   std::vector<Rgb> solution = solveWith(SolverKind::Direct, s.problem);
   for (SolverKind kind : {SolverKind::GaussSeidel, SolverKind::Jacobi, SolverKind::Shooting}) {
     std::vector<Rgb> radiosity = solution;
-    SolveReport report = makeSolver(kind)->solve(s.problem, radiosity);
+    SolverReport report = makeSolver(kind)->solve(s.problem, radiosity);
     EXPECT_TRUE(report.converged);
     EXPECT_LE(report.iterations, 1) << solverName(kind);
     EXPECT_LT(maxRelativeDifference(radiosity, solution), 1e-6);
@@ -145,9 +145,9 @@ TEST(SolverTest, WarmStartFromAStaleSolutionConverges) {
   std::vector<Rgb> cold = solveWith(SolverKind::Direct, s.problem);
   for (SolverKind kind : {SolverKind::GaussSeidel, SolverKind::Jacobi, SolverKind::Shooting}) {
     std::vector<Rgb> radiosity = stale;
-    SolveOptions tight;
+    SolverOptions tight;
     tight.tolerance = 1e-10;
-    SolveReport report = makeSolver(kind, tight)->solve(s.problem, radiosity);
+    SolverReport report = makeSolver(kind, tight)->solve(s.problem, radiosity);
     EXPECT_TRUE(report.converged) << solverName(kind);
     EXPECT_LT(maxRelativeDifference(radiosity, cold), 1e-5) << solverName(kind);
   }
@@ -158,10 +158,10 @@ TEST(SolverTest, IterationsApproachTheSolutionFromBelow) {
   Scene scene = cornellBox();
   Solved s = setUp(scene, edgeLengthForPatchCount(scene, 192));
   std::vector<Rgb> converged = solveWith(SolverKind::Direct, s.problem);
-  SolveOptions two;
+  SolverOptions two;
   two.maxIterations = 2;
   std::vector<Rgb> early;
-  SolveReport report = makeSolver(SolverKind::Jacobi, two)->solve(s.problem, early);
+  SolverReport report = makeSolver(SolverKind::Jacobi, two)->solve(s.problem, early);
   EXPECT_FALSE(report.converged);
   EXPECT_EQ(report.iterations, 2);
   double meanDeficit = 0;
@@ -183,7 +183,7 @@ TEST(SolverTest, ShootingAmbientTermImprovesEarlyEstimates) {
   Solved s = setUp(scene, edgeLengthForPatchCount(scene, 304));
   std::vector<Rgb> converged = solveWith(SolverKind::Direct, s.problem);
   auto errorAfter50Shots = [&](bool ambient) {
-    SolveOptions options;
+    SolverOptions options;
     options.displayAmbient = ambient;
     options.progressEvery = 50;
     double error = -1;
@@ -236,7 +236,7 @@ RadiosityProblem energyMakingPair() {
 TEST(SolutionFaultTest, ADivergedSolveIsFoundAndTheBrightestElementNamed) {
   RadiosityProblem problem = energyMakingPair();
   std::vector<Rgb> radiosity;
-  SolveOptions options;
+  SolverOptions options;
   options.maxIterations = 50;
   makeSolver(SolverKind::Jacobi, options)->solve(problem, radiosity);
   std::optional<SolutionFault> fault = findSolutionFault(problem, radiosity);

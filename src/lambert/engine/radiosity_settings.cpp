@@ -1,4 +1,4 @@
-#include "lambert/engine/solve_settings.h"
+#include "lambert/engine/radiosity_settings.h"
 
 #include <algorithm>
 #include <cmath>
@@ -40,7 +40,7 @@ std::string shortNumber(double x) {
 struct SettingRule {
   const char* name;
   SettingRange range;
-  std::function<Status(SolveSettings&, const SettingValue&)> set;
+  std::function<Status(RadiositySettings&, const SettingValue&)> set;
 };
 
 Result<double> number(std::string_view name, const SettingValue& value) {
@@ -50,8 +50,8 @@ Result<double> number(std::string_view name, const SettingValue& value) {
 }
 
 template <typename T>
-SettingRule numeric(const char* name, SettingRange range, T SolveSettings::*field, bool whole) {
-  return {name, range, [=](SolveSettings& s, const SettingValue& value) -> Status {
+SettingRule numeric(const char* name, SettingRange range, T RadiositySettings::*field, bool whole) {
+  return {name, range, [=](RadiositySettings& s, const SettingValue& value) -> Status {
             Result<double> x = number(name, value);
             if (!x) return x.error();
             if (!(std::isfinite(*x) && *x >= range.least && *x <= range.most))
@@ -62,8 +62,8 @@ SettingRule numeric(const char* name, SettingRange range, T SolveSettings::*fiel
           }};
 }
 
-SettingRule flag(const char* name, bool SolveSettings::*field) {
-  return {name, {0, 1}, [=](SolveSettings& s, const SettingValue& value) -> Status {
+SettingRule flag(const char* name, bool RadiositySettings::*field) {
+  return {name, {0, 1}, [=](RadiositySettings& s, const SettingValue& value) -> Status {
             const auto* b = std::get_if<bool>(&value);
             if (!b) return Error{std::string(name) + " takes true or false"};
             s.*field = *b;
@@ -72,8 +72,8 @@ SettingRule flag(const char* name, bool SolveSettings::*field) {
 }
 
 template <typename Enum>
-SettingRule named(const char* name, Enum SolveSettings::*field, const std::vector<std::pair<std::string, Enum>>& names) {
-  return {name, {0, 0}, [=, &names](SolveSettings& s, const SettingValue& value) -> Status {
+SettingRule named(const char* name, Enum RadiositySettings::*field, const std::vector<std::pair<std::string, Enum>>& names) {
+  return {name, {0, 0}, [=, &names](RadiositySettings& s, const SettingValue& value) -> Status {
             const auto* text = std::get_if<std::string>(&value);
             const auto it = text ? std::find_if(names.begin(), names.end(), [&](const auto& n) { return n.first == *text; }) : names.end();
             if (it == names.end()) return Error{std::string(name) + " takes one of " + namesOf(names)};
@@ -84,42 +84,42 @@ SettingRule named(const char* name, Enum SolveSettings::*field, const std::vecto
 
 const std::vector<SettingRule>& settingRules() {
   static const std::vector<SettingRule> rules = {
-      numeric("--patches", {1, 200000}, &SolveSettings::patches, true),
-      numeric("--max-edge", {1e-9, 1e12}, &SolveSettings::maxEdge, false),
-      numeric("--seed", {0, 1.8e19}, &SolveSettings::seed, true),
-      named("--formfactor", &SolveSettings::formFactor, formFactorNames()),
-      {"--hemicube-resolution", {2, 4096}, [](SolveSettings& s, const SettingValue& v) -> Status {
-         Status set = numeric("--hemicube-resolution", {2, 4096}, &SolveSettings::hemicubeResolution, true).set(s, v);
+      numeric("--patches", {1, 200000}, &RadiositySettings::patches, true),
+      numeric("--max-edge", {1e-9, 1e12}, &RadiositySettings::maxEdge, false),
+      numeric("--seed", {0, 1.8e19}, &RadiositySettings::seed, true),
+      named("--formfactor", &RadiositySettings::formFactor, formFactorNames()),
+      {"--hemicube-resolution", {2, 4096}, [](RadiositySettings& s, const SettingValue& v) -> Status {
+         Status set = numeric("--hemicube-resolution", {2, 4096}, &RadiositySettings::hemicubeResolution, true).set(s, v);
          if (set && s.hemicubeResolution % 2 != 0) return Error{"--hemicube-resolution must be even"};
          return set;
        }},
-      numeric("--hemisphere-rays", {1, 1 << 24}, &SolveSettings::hemisphereRays, true),
-      numeric("--samples", {1, 4096}, &SolveSettings::samples, true),
-      numeric("--light-samples", {1, 4096}, &SolveSettings::lightSamples, true),
-      numeric("--shadow-tolerance", {0, 0.5}, &SolveSettings::shadowTolerance, false),
-      named("--solver", &SolveSettings::solver, solverNames()),
-      numeric("--tolerance", {1e-15, 1}, &SolveSettings::tolerance, false),
-      numeric("--max-iterations", {1, 1000000}, &SolveSettings::maxIterations, true),
-      {"--cache-dir", {0, 0}, [](SolveSettings& s, const SettingValue& v) -> Status {
+      numeric("--hemisphere-rays", {1, 1 << 24}, &RadiositySettings::hemisphereRays, true),
+      numeric("--samples", {1, 4096}, &RadiositySettings::samples, true),
+      numeric("--light-samples", {1, 4096}, &RadiositySettings::lightSamples, true),
+      numeric("--shadow-tolerance", {0, 0.5}, &RadiositySettings::shadowTolerance, false),
+      named("--solver", &RadiositySettings::solver, solverNames()),
+      numeric("--tolerance", {1e-15, 1}, &RadiositySettings::tolerance, false),
+      numeric("--max-iterations", {1, 1000000}, &RadiositySettings::maxIterations, true),
+      {"--cache-dir", {0, 0}, [](RadiositySettings& s, const SettingValue& v) -> Status {
          const auto* text = std::get_if<std::string>(&v);
          if (!text) return Error{"--cache-dir takes a directory"};
          s.cacheDir = *text;
          return Ok{};
        }},
-      flag("--no-cache", &SolveSettings::noCache),
-      flag("--normalize-rows", &SolveSettings::normalizeRows),
-      named("--method", &SolveSettings::method, methodNames()),
-      numeric("--link-error", {1e-12, 1}, &SolveSettings::linkError, false),
-      numeric("--min-area", {1e-30, 1e30}, &SolveSettings::minElementArea, false),
-      numeric("--visibility-rays", {1, 255}, &SolveSettings::visibilityRays, true),
-      flag("--no-clusters", &SolveSettings::noClusters),
-      numeric("--refine-passes", {1, 20}, &SolveSettings::refinePasses, true),
-      numeric("--memory-limit", {1, 1e18}, &SolveSettings::memoryLimitBytes, false),
-      flag("--adaptive", &SolveSettings::adaptive),
-      numeric("--base-edge", {1e-9, 1e12}, &SolveSettings::baseEdge, false),
-      numeric("--max-level", {0, 8}, &SolveSettings::maxLevel, true),
-      numeric("--gradient-threshold", {0, 1e6}, &SolveSettings::gradientThreshold, false),
-      numeric("--adapt-passes", {1, 20}, &SolveSettings::adaptPasses, true),
+      flag("--no-cache", &RadiositySettings::noCache),
+      flag("--normalize-rows", &RadiositySettings::normalizeRows),
+      named("--method", &RadiositySettings::method, methodNames()),
+      numeric("--link-error", {1e-12, 1}, &RadiositySettings::linkError, false),
+      numeric("--min-area", {1e-30, 1e30}, &RadiositySettings::minElementArea, false),
+      numeric("--visibility-rays", {1, 255}, &RadiositySettings::visibilityRays, true),
+      flag("--no-clusters", &RadiositySettings::noClusters),
+      numeric("--refine-passes", {1, 20}, &RadiositySettings::refinePasses, true),
+      numeric("--memory-limit", {1, 1e18}, &RadiositySettings::memoryLimitBytes, false),
+      flag("--adaptive", &RadiositySettings::adaptive),
+      numeric("--base-edge", {1e-9, 1e12}, &RadiositySettings::baseEdge, false),
+      numeric("--max-level", {0, 8}, &RadiositySettings::maxLevel, true),
+      numeric("--gradient-threshold", {0, 1e6}, &RadiositySettings::gradientThreshold, false),
+      numeric("--adapt-passes", {1, 20}, &RadiositySettings::adaptPasses, true),
   };
   return rules;
 }
@@ -146,7 +146,7 @@ const std::vector<std::pair<std::string, FormFactorMethod>>& formFactorNames() {
   return names;
 }
 
-Status setSolveSetting(SolveSettings& settings, std::string_view cliName, const SettingValue& value) {
+Status setSolveSetting(RadiositySettings& settings, std::string_view cliName, const SettingValue& value) {
   for (const SettingRule& rule : settingRules())
     if (cliName == rule.name) return rule.set(settings, value);
   std::string known;
@@ -173,13 +173,13 @@ const std::initializer_list<const char*>& flatMethodSettings() {
   return options;
 }
 
-UniformMeshOptions uniformMeshOptions(const Scene& scene, const SolveSettings& o, const GivenSetting& given) {
+UniformMeshOptions uniformMeshOptions(const Scene& scene, const RadiositySettings& o, const GivenSetting& given) {
   if (given("--patches") || given("--max-edge") || (scene.defaults.patches == 0 && scene.defaults.maxEdgeLength == 0))
     return {o.patches, o.maxEdge};
   return {scene.defaults.patches > 0 ? scene.defaults.patches : o.patches, scene.defaults.maxEdgeLength};
 }
 
-Result<RadiosityOptions> radiosityOptions(const Scene& scene, const SolveSettings& o, const GivenSetting& given) {
+Result<RadiosityOptions> radiosityOptions(const Scene& scene, const RadiositySettings& o, const GivenSetting& given) {
   const auto refuseGiven = [&](std::initializer_list<const char*> options, const std::string& why) -> Status {
     for (const char* option : options)
       if (given(option)) return Error{std::string(option) + " has no effect: " + why};

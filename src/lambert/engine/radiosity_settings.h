@@ -21,7 +21,7 @@ namespace lambert {
 // defaults are written once, in the options each layer owns.
 const RadiosityOptions& defaultRadiosityOptions();
 
-struct SolveSettings {
+struct RadiositySettings {
   // The flat method's uniform mesh.
   std::size_t patches = defaultRadiosityOptions().uniform.targetPatches;
   double maxEdge = defaultRadiosityOptions().uniform.maxEdgeLength;
@@ -63,9 +63,9 @@ using GivenSetting = std::function<bool(std::string_view cliName)>;
 // The library's options for a solve of `scene`, or an error naming a given setting the solve
 // would not read (a method's own setting under another method, adaptive settings on a uniform
 // mesh, …). The method: "--method", or hierarchical unless something asks for a flat one.
-Result<RadiosityOptions> radiosityOptions(const Scene& scene, const SolveSettings& settings, const GivenSetting& given);
+Result<RadiosityOptions> radiosityOptions(const Scene& scene, const RadiositySettings& settings, const GivenSetting& given);
 // The flat method's mesh size: the settings', or the scene file's where none is given.
-UniformMeshOptions uniformMeshOptions(const Scene& scene, const SolveSettings& settings, const GivenSetting& given);
+UniformMeshOptions uniformMeshOptions(const Scene& scene, const RadiositySettings& settings, const GivenSetting& given);
 // The settings only the flat method reads; giving one chooses it.
 const std::initializer_list<const char*>& flatMethodSettings();
 
@@ -79,7 +79,7 @@ const std::vector<std::pair<std::string, FormFactorMethod>>& formFactorNames();
 // names an unknown setting, a value of the wrong kind or outside the CLI's range, and says what
 // is allowed.
 using SettingValue = std::variant<bool, std::int64_t, double, std::string>;
-Status setSolveSetting(SolveSettings& settings, std::string_view cliName, const SettingValue& value);
+Status setSolveSetting(RadiositySettings& settings, std::string_view cliName, const SettingValue& value);
 // Every name setSolveSetting takes, in the CLI's order.
 std::vector<std::string> solveSettingNames();
 
