@@ -352,7 +352,7 @@ int main(int argc, char** argv) {
   // The direct light alone, Ward's against the exact sum, at the same sites of one solution: the
   // culling's own error, and the bound checked at every point.
   const SolutionView& view = last.engine->solution();
-  const PointGather sites = orExit(pointGather(view, last.points, PointGatherPart::Sites), "office_bench");
+  const PointGather sites = orExit(pointGather(view, last.points, PointGatherRequest::Sites), "office_bench");
   const DirectLighting ward(view.lights(), view.scene().metresPerUnit, options.tolerance);
   const DirectLighting everyLight(view.lights(), view.scene().metresPerUnit, 0);
   DirectLightingCounts wardCounts, exactCounts;

@@ -70,7 +70,7 @@ Result<LightmapUpdater> LightmapUpdater::create(const SolutionView& view, const 
     u.texel_[t] = texels.atlas[t] * perAtlas + texels.texel[t];
     u.baked_[t] = baked.irradiance[texels.atlas[t]].pixels[texels.texel[t]];
   }
-  Result<PointGather> sites = pointGather(view, texels.points, PointGatherPart::Sites);
+  Result<PointGather> sites = pointGather(view, texels.points, PointGatherRequest::Sites);
   if (!sites) return sites.error();
   u.site_ = std::move(sites->sites);
   u.rayEpsilon_ = sites->rayEpsilon;
@@ -139,7 +139,7 @@ Result<LightmapUpdater> LightmapUpdater::create(const SolutionView& view, const 
   std::vector<std::uint32_t>().swap(at);
 
   // The weights at the gather points, and the solution they were recorded against.
-  Result<PointGather> gathered = pointGather(view, gatherPoints, PointGatherPart::Weights);
+  Result<PointGather> gathered = pointGather(view, gatherPoints, PointGatherRequest::Weights);
   if (!gathered) return gathered.error();
   u.nodeWeights_ = std::move(gathered->nodes);
   u.cornerWeights_ = std::move(gathered->near);
@@ -180,7 +180,7 @@ Result<LightmapUpdater> LightmapUpdater::create(const SolutionView& view, const 
   }
   if (gatherPoints.size() > latticePoints) {
     const std::vector<SurfacePoint> refined(gatherPoints.begin() + static_cast<std::ptrdiff_t>(latticePoints), gatherPoints.end());
-    Result<PointGather> more = pointGather(view, refined, PointGatherPart::Weights);
+    Result<PointGather> more = pointGather(view, refined, PointGatherRequest::Weights);
     if (!more) return more.error();
     // Appended to the lattice points' lists.
     const auto append = [](std::vector<std::uint32_t>& start, const std::vector<std::uint32_t>& moreStart) {
@@ -203,7 +203,7 @@ Result<LightmapUpdater> LightmapUpdater::create(const SolutionView& view, const 
     return it != u.cornerVertex_.end() && *it == vertex ? static_cast<std::uint32_t>(it - u.cornerVertex_.begin()) : kNoTexel;
   };
   for (std::uint32_t& c : u.cornerWeights_.corner) c = subsetIndex(c);
-  Result<PointGather> corners = vertexGather(view, u.cornerVertex_, PointGatherPart::Weights);
+  Result<PointGather> corners = vertexGather(view, u.cornerVertex_, PointGatherRequest::Weights);
   if (!corners) return corners.error();
   u.vertexNodeWeights_ = std::move(corners->nodes);
   u.vertexNearWeights_ = std::move(corners->near);

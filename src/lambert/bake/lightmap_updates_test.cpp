@@ -126,7 +126,7 @@ TEST_F(LightmapUpdateTest, GatherWeightsReproduceTheGatherTheyWereRecordedFrom) 
   const LightmapTexels texels = lightmapTexels(scene_, baked_.uvs);
   std::vector<SurfacePoint> points;
   for (std::size_t i = 0; i < texels.points.size(); i += 7) points.push_back(texels.points[i]);
-  auto gathered = pointGather(view, points, PointGatherPart::LightAndWeights);
+  auto gathered = pointGather(view, points, PointGatherRequest::LightAndWeights);
   ASSERT_TRUE(gathered.ok()) << gathered.error().message;
   auto mean = nodeMeanRadiosity(view);
   ASSERT_TRUE(mean.ok());

@@ -29,7 +29,7 @@ struct RadiosityOptions;
 struct SolveBudget;
 struct SolveReport;
 struct PointGather;  // engine/point_gather.h
-enum class PointGatherPart;
+enum class PointGatherRequest;
 
 // The engine's solution per element, for Method::vertexSolution. W/m²; ρ dimensionless.
 struct ElementSolution {
@@ -72,9 +72,9 @@ class Method {
   virtual Result<std::vector<Rgb>> pointIrradiance(const ElementSolution& solution, std::span<const SurfacePoint> points) const;
   // pointGather, vertexGather and nodeMeanRadiosity (engine/solution_internals.h): likewise
   // Errors but for hierarchical meshing.
-  virtual Result<PointGather> pointGather(const ElementSolution& solution, std::span<const SurfacePoint> points, PointGatherPart part) const;
+  virtual Result<PointGather> pointGather(const ElementSolution& solution, std::span<const SurfacePoint> points, PointGatherRequest part) const;
   virtual Result<std::vector<Rgb>> nodeMeanRadiosity(const ElementSolution& solution) const;
-  virtual Result<PointGather> vertexGather(const ElementSolution& solution, std::span<const std::uint32_t> vertices, PointGatherPart part) const;
+  virtual Result<PointGather> vertexGather(const ElementSolution& solution, std::span<const std::uint32_t> vertices, PointGatherRequest part) const;
   // The strategy's figures: mesh, form-factor method, times, cache.
   // A distributed solve's outputs (Radiosity::leadDistributedOutputs): rank 0 leads (true) while
   // it computes them, its final gathers asking the other ranks, waiting in serveRanks, to join

@@ -47,7 +47,7 @@ struct GatherWeights {
 // What pointGather (engine/solution_internals.h) computes: the sites alone (where a lightmap's
 // texels are lit from), the surfaces' light there too, that and its weights, or the weights alone
 // (no vertex final gather for the close sources' corners: only the light needs their radiosity).
-enum class PointGatherPart { Sites, Light, LightAndWeights, Weights };
+enum class PointGatherRequest { Sites, Light, LightAndWeights, Weights };
 
 struct PointGather {
   // The leaf of a site that no leaf holds (the hierarchy's kNoNode).
@@ -59,7 +59,7 @@ struct PointGather {
   // vertex no leaf uses.
   std::vector<std::uint32_t> leaf;
   // Per point: the irradiance from the surfaces (links), W/m²; the lights' direct light not
-  // included (empty for PointGatherPart::Sites and Weights).
+  // included (empty for PointGatherRequest::Sites and Weights).
   std::vector<Rgb> fromSurfaces;
   // The offset shadow rays start above a site, along its normal (scene units).
   double rayEpsilon = 0;

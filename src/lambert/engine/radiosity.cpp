@@ -55,12 +55,12 @@ Result<std::vector<Rgb>> Method::pointIrradiance(const ElementSolution&, std::sp
                "--method hierarchical (the default) instead of the flat method"};
 }
 
-Result<PointGather> Method::pointGather(const ElementSolution&, std::span<const SurfacePoint>, PointGatherPart) const {
+Result<PointGather> Method::pointGather(const ElementSolution&, std::span<const SurfacePoint>, PointGatherRequest) const {
   return Error{"light at points of the faces (lightmaps) is gathered over the hierarchical method's links: solve with "
                "--method hierarchical (the default) instead of the flat method"};
 }
 
-Result<PointGather> Method::vertexGather(const ElementSolution&, std::span<const std::uint32_t>, PointGatherPart) const {
+Result<PointGather> Method::vertexGather(const ElementSolution&, std::span<const std::uint32_t>, PointGatherRequest) const {
   return Error{"light at the vertices as weights is gathered over the hierarchical method's links: solve with --method hierarchical (the default)"};
 }
 
@@ -445,12 +445,12 @@ std::vector<Rgb> SolutionView::vertexRadiance() const {
 
 const RadiosityProblem& radiosityProblem(const SolutionView& view) { return *SolutionInternals::of(view).problem_; }
 
-Result<PointGather> pointGather(const SolutionView& view, std::span<const SurfacePoint> points, PointGatherPart part) {
+Result<PointGather> pointGather(const SolutionView& view, std::span<const SurfacePoint> points, PointGatherRequest part) {
   const auto& e = SolutionInternals::of(view);
   return e.meshing_->pointGather(e.elementSolution(), points, part);
 }
 
-Result<PointGather> vertexGather(const SolutionView& view, std::span<const std::uint32_t> vertices, PointGatherPart part) {
+Result<PointGather> vertexGather(const SolutionView& view, std::span<const std::uint32_t> vertices, PointGatherRequest part) {
   const auto& e = SolutionInternals::of(view);
   return e.meshing_->vertexGather(e.elementSolution(), vertices, part);
 }

@@ -26,10 +26,10 @@ const RadiosityProblem& radiosityProblem(const SolutionView& view);
 // rays to the lights start from), the light from the surfaces there, and the weights that give
 // that light again from a later solution, as `part` asks (engine/point_gather.h). Hierarchical
 // only (an Error for the others).
-Result<PointGather> pointGather(const SolutionView& view, std::span<const SurfacePoint> points, PointGatherPart part);
+Result<PointGather> pointGather(const SolutionView& view, std::span<const SurfacePoint> points, PointGatherRequest part);
 // The same at vertices of the view's vertexMesh(), where vertexValues gathers them (their sites),
 // for what their radiosity B = E + ρ (E_surfaces + E_lights) will be after the light changes.
-Result<PointGather> vertexGather(const SolutionView& view, std::span<const std::uint32_t> vertices, PointGatherPart part);
+Result<PointGather> vertexGather(const SolutionView& view, std::span<const std::uint32_t> vertices, PointGatherRequest part);
 // Per node of the hierarchy (the hierarchical method's elements and clusters): the mean
 // radiosity B̄ of the leaves under it, W/m², what PointGather's node weights multiply.
 // Hierarchical only (an Error for the others).

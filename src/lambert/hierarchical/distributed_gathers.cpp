@@ -21,7 +21,7 @@ void HierarchyRanks::askRanks(const Asked& asked, std::span<const SurfacePoint> 
 }
 
 void HierarchyRanks::serve(const std::function<void()>& gatherVertices,
-                           const std::function<void(std::span<const SurfacePoint>, PointGatherPart)>& gatherPoints) {
+                           const std::function<void(std::span<const SurfacePoint>, PointGatherRequest)>& gatherPoints) {
   if (!communicator_ || communicator_->size() < 2) return;
   LAMBERT_CHECK(communicator_->rank() != 0);
   const Answering answering(*this);
@@ -35,18 +35,18 @@ void HierarchyRanks::serve(const std::function<void()>& gatherVertices,
       LAMBERT_CHECK(lastAtVertices_.digest == asked[0].digest);
     } else {
       const std::vector<SurfacePoint> points = communicator_->allGatherVariable<SurfacePoint>({});
-      gatherPoints(points, static_cast<PointGatherPart>(asked[0].part));
+      gatherPoints(points, static_cast<PointGatherRequest>(asked[0].part));
     }
   }
 }
 
-Status HierarchyRanks::canGather(PointGatherPart part) const {
-  if (!communicator_ || communicator_->size() < 2 || part == PointGatherPart::Sites || part == PointGatherPart::Light) return Ok{};
+Status HierarchyRanks::canGather(PointGatherRequest part) const {
+  if (!communicator_ || communicator_->size() < 2 || part == PointGatherRequest::Sites || part == PointGatherRequest::Light) return Ok{};
   return Error{"a distributed solve gathers the light at points, not its weights for later solves (they read every rank's links): "
                "solve in one process to update lightmaps as lights move"};
 }
 
-void HierarchyRanks::askForPoints(PointGatherPart part, std::span<const SurfacePoint> points) const {
+void HierarchyRanks::askForPoints(PointGatherRequest part, std::span<const SurfacePoint> points) const {
   askRanks({Ask::Points, static_cast<std::uint32_t>(part), 0}, points);
 }
 

@@ -62,11 +62,11 @@ class HierarchyRanks {
   // The other ranks: makes every gather rank 0 asks for (the vertices' radiosity, or the points'
   // gather of a part) until it lets them go.
   void serve(const std::function<void()>& gatherVertices,
-             const std::function<void(std::span<const SurfacePoint>, PointGatherPart)>& gatherPoints);
+             const std::function<void(std::span<const SurfacePoint>, PointGatherRequest)>& gatherPoints);
   // Ok where the part can be gathered across the ranks.
-  Status canGather(PointGatherPart part) const;
+  Status canGather(PointGatherRequest part) const;
   // Rank 0 leading: asks the others to join a gather of the part at the points.
-  void askForPoints(PointGatherPart part, std::span<const SurfacePoint> points) const;
+  void askForPoints(PointGatherRequest part, std::span<const SurfacePoint> points) const;
   // The vertices' final gather spread over the ranks: the gathered irradiance at every vertex
   // with the close sources' corners coupled (FinalGather::coupleNearField), as `whole` (the gather
   // over every vertex, whose sites and leaves it reuses) would give it in one process; counts and
@@ -75,7 +75,7 @@ class HierarchyRanks {
   std::vector<Rgb> gatherAtVertices(const FinalGather& whole, const std::vector<Rgb>& mean, const std::vector<Rgb>& direct,
                                     const std::vector<Rgb>& emitted, const std::vector<Rgb>& albedo, FinalGatherCounts& counts,
                                     NearFieldWeights& near, int* nearIterations) const;
-  // The light at the sites of `whole` (PointGatherPart::Light), each gathered by the rank of its
+  // The light at the sites of `whole` (PointGatherRequest::Light), each gathered by the rank of its
   // leaf and handed to every rank; cornerRadiosity: the vertices' radiosity the close sources'
   // corners read (asked for within the gather).
   std::vector<Rgb> gatherAtSites(const FinalGather& whole, const std::vector<Rgb>& mean,
@@ -104,7 +104,7 @@ class HierarchyRanks {
   enum class Ask : std::uint32_t { Done, Vertices, Points };
   struct Asked {
     Ask ask;
-    std::uint32_t part;      // Points: the PointGatherPart
+    std::uint32_t part;      // Points: the PointGatherRequest
     std::uint64_t digest;    // Vertices: the gather's input (lastAtVertices_)
   };
   // Rank 0 leading asks the others to join, unless they are making the gather already

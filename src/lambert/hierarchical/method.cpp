@@ -210,7 +210,7 @@ void HierarchicalMethod::leadRanks(bool leading) { ranks_.lead(leading); }
 
 void HierarchicalMethod::serveRanks(const ElementSolution& solution) {
   ranks_.serve([&] { (void)vertexRadiosity(solution); },
-               [&](std::span<const SurfacePoint> points, PointGatherPart part) { (void)pointGather(solution, points, part); });
+               [&](std::span<const SurfacePoint> points, PointGatherRequest part) { (void)pointGather(solution, points, part); });
 }
 
 }  // namespace lambert

@@ -55,9 +55,9 @@ class HierarchicalMethod final : public Method {
   std::vector<std::vector<Rgb>> vertexSolution(const ElementSolution& solution,
                                                std::span<const VertexQuantity> quantities) const override;
   Result<std::vector<Rgb>> pointIrradiance(const ElementSolution& solution, std::span<const SurfacePoint> points) const override;
-  Result<PointGather> pointGather(const ElementSolution& solution, std::span<const SurfacePoint> points, PointGatherPart part) const override;
+  Result<PointGather> pointGather(const ElementSolution& solution, std::span<const SurfacePoint> points, PointGatherRequest part) const override;
   Result<std::vector<Rgb>> nodeMeanRadiosity(const ElementSolution& solution) const override;
-  Result<PointGather> vertexGather(const ElementSolution& solution, std::span<const std::uint32_t> vertices, PointGatherPart part) const override;
+  Result<PointGather> vertexGather(const ElementSolution& solution, std::span<const std::uint32_t> vertices, PointGatherRequest part) const override;
   void leadRanks(bool leading) override;
   void serveRanks(const ElementSolution& solution) override;
   void addStats(Stats& stats) const override;
@@ -90,7 +90,7 @@ class HierarchicalMethod final : public Method {
   // PointGather's light (and weights) at its sites, each through its leaf.
   // atPoints: sites anywhere on the leaves (pointGather), else the vertices (vertexGather), gathered
   // as vertexValues gathers them (FinalGather's resolveClusterVisibility).
-  void gatherAt(const ElementSolution& solution, PointGatherPart part, bool atPoints, PointGather& out) const;
+  void gatherAt(const ElementSolution& solution, PointGatherRequest part, bool atPoints, PointGather& out) const;
 
   const Scene& scene_;  // the engine's, which owns this strategy
   HierarchicalOptions options_;

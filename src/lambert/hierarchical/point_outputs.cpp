@@ -35,9 +35,9 @@ double insideness(const HierarchyNode& node, const Vec3& p) {
 }  // namespace
 
 Result<PointGather> HierarchicalMethod::pointGather(const ElementSolution& solution, std::span<const SurfacePoint> points,
-                                                     PointGatherPart part) const {
+                                                     PointGatherRequest part) const {
   if (Status spread = ranks_.canGather(part); !spread) return spread.error();
-  if (part != PointGatherPart::Sites) ranks_.askForPoints(part, points);
+  if (part != PointGatherRequest::Sites) ranks_.askForPoints(part, points);
   // Each face's root elements (one, or its triangle fan's), then down to the leaf that holds the
   // point (the child it lies deepest inside: points on an edge go either way alike).
   std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> roots;
@@ -79,11 +79,11 @@ Result<PointGather> HierarchicalMethod::pointGather(const ElementSolution& solut
     leafOfSite[i] = leaf.leaf;
   }, 256);
   out.leaf = std::move(leafOfSite);
-  if (part != PointGatherPart::Sites) gatherAt(solution, part, true, out);
+  if (part != PointGatherRequest::Sites) gatherAt(solution, part, true, out);
   return out;
 }
 
-void HierarchicalMethod::gatherAt(const ElementSolution& solution, PointGatherPart part, bool atPoints, PointGather& out) const {
+void HierarchicalMethod::gatherAt(const ElementSolution& solution, PointGatherRequest part, bool atPoints, PointGather& out) const {
   const FinalGather gather(hierarchy_, leaves_, *links_, *caster_, epsilon_, out.sites, out.leaf, options_.links.visibilityRays,
                            options_.links.seed, atPoints);
   std::vector<Rgb> mean;
@@ -92,16 +92,16 @@ void HierarchicalMethod::gatherAt(const ElementSolution& solution, PointGatherPa
     out.fromSurfaces = ranks_.gatherAtSites(gather, mean, [&] { return vertexRadiosity(solution); });
     return;
   }
-  const bool withWeights = part == PointGatherPart::LightAndWeights || part == PointGatherPart::Weights;
+  const bool withWeights = part == PointGatherRequest::LightAndWeights || part == PointGatherRequest::Weights;
   const std::vector<Rgb> gathered = gather.irradiance(mean, nullptr, nullptr, nullptr, &out.near, withWeights ? &out.nodes : nullptr);
-  if (part == PointGatherPart::Weights) return;
+  if (part == PointGatherRequest::Weights) return;
   out.fromSurfaces = FinalGather::withCorners(gathered, out.near, vertexRadiosity(solution));
   if (!withWeights) out.near = {};
 }
 
 Result<std::vector<Rgb>> HierarchicalMethod::pointIrradiance(const ElementSolution& solution,
                                                               std::span<const SurfacePoint> points) const {
-  Result<PointGather> gathered = pointGather(solution, points, PointGatherPart::Light);
+  Result<PointGather> gathered = pointGather(solution, points, PointGatherRequest::Light);
   if (!gathered) return gathered.error();
   std::vector<Rgb> irradiance = std::move(gathered->fromSurfaces);
   const std::vector<VertexSite>& sites = gathered->sites;

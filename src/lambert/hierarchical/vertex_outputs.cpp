@@ -132,8 +132,8 @@ std::vector<Rgb> HierarchicalMethod::vertexRadiosity(const ElementSolution& solu
 }
 
 Result<PointGather> HierarchicalMethod::vertexGather(const ElementSolution& solution, std::span<const std::uint32_t> vertices,
-                                                      PointGatherPart part) const {
-  if (Status spread = ranks_.canGather(part == PointGatherPart::Light ? PointGatherPart::Weights : part); !spread) return spread.error();
+                                                      PointGatherRequest part) const {
+  if (Status spread = ranks_.canGather(part == PointGatherRequest::Light ? PointGatherRequest::Weights : part); !spread) return spread.error();
   const std::vector<VertexSite> sites = vertexSites(leaves_.mesh, 1e-4 * sceneDiagonal(scene_));
   const std::vector<std::uint32_t> leaf = FinalGather::gatheringLeaves(leaves_.mesh);
   PointGather out;
@@ -143,7 +143,7 @@ Result<PointGather> HierarchicalMethod::vertexGather(const ElementSolution& solu
     out.sites.push_back(sites[v]);
     out.leaf.push_back(leaf[v]);
   }
-  if (part != PointGatherPart::Sites) gatherAt(solution, part, false, out);
+  if (part != PointGatherRequest::Sites) gatherAt(solution, part, false, out);
   return out;
 }
 
