@@ -28,6 +28,8 @@ struct SurfaceGeometry {
   double sharedEdgeLength(std::uint32_t f, std::uint32_t g) const;
 };
 
+// Faces of one surface laid flat: their corners in scene units, turned to the chart's
+// minimum-area bounding rectangle (wider than tall) at the origin.
 struct Chart {
   std::uint32_t surface = 0;
   std::vector<std::uint32_t> faces;      // into surfaceFaces(surface)
@@ -38,6 +40,7 @@ struct Chart {
   bool conformal = false;
 };
 
+// Charts made, by kind, and the splits of maps that failed.
 struct ChartStats {
   std::size_t planar = 0, conformal = 0, splits = 0;
 };

@@ -10,6 +10,7 @@
 
 namespace lambert {
 
+// Where a chart's rectangle went.
 struct Placement {
   std::uint32_t atlas = 0;
   int x = 0, y = 0;  // the rectangle's corner (its padding starts here)
