@@ -9,15 +9,10 @@
 #include "lambert/core/parallel.h"
 #include "lambert/core/progress.h"
 #include "lambert/core/timer.h"
+#include "lambert/core/vec2.h"
 
 namespace lambert {
 namespace {
-
-struct Vec2 {
-  double x = 0, y = 0;
-};
-Vec2 operator-(Vec2 a, Vec2 b) { return {a.x - b.x, a.y - b.y}; }
-double cross2(Vec2 a, Vec2 b) { return a.x * b.y - a.y * b.x; }
 
 // The point of triangle abc nearest p, as barycentric weights (of a, b, c).
 std::array<double, 3> nearestInTriangle(Vec2 p, Vec2 a, Vec2 b, Vec2 c) {
