@@ -107,8 +107,7 @@ TEST(CliTest, JsonStatsAreMachineReadable) {
   ASSERT_EQ(result.exitCode, 0) << result.output;
   nlohmann::json stats = nlohmann::json::parse(result.output);
   EXPECT_EQ(stats["mesh"], "hierarchical, clustered");
-  EXPECT_EQ(stats["faces"], 17);
-  EXPECT_GT(stats["patches"].get<int>(), 17) << "the leaves refine the faces";
+  EXPECT_GT(stats["patches"].get<int>(), stats["faces"].get<int>()) << "the leaves refine the faces";
   EXPECT_GT(stats["links"].get<long>(), 0);
   EXPECT_EQ(stats["solver"], "gs");
   EXPECT_EQ(stats["converged"], "yes");
@@ -675,11 +674,12 @@ TEST(CliTest, SceneFilesRenderAndBadOnesAreRefused) {
   // each of the solve's leaves.
   CommandResult glbOut = run("solve --scene cornell-spots --export " + (dir / "spots.glb").string() + " --bake radiance --json");
   ASSERT_EQ(glbOut.exitCode, 0) << glbOut.output;
-  const int leaves = nlohmann::json::parse(glbOut.output.substr(glbOut.output.find('{')))["patches"].get<int>();
+  const nlohmann::json solvedStats = nlohmann::json::parse(glbOut.output.substr(glbOut.output.find('{')));
+  const int leaves = solvedStats["patches"].get<int>();
+  EXPECT_GT(leaves, solvedStats["faces"].get<int>());
   CommandResult reread = run("info --scene " + (dir / "spots.glb").string() + " --json");
   ASSERT_EQ(reread.exitCode, 0) << reread.output;
   EXPECT_GE(nlohmann::json::parse(reread.output.substr(reread.output.find('{')))["faces"].get<int>(), leaves);
-  EXPECT_GT(leaves, 17);
   CommandResult bakeAlone = run("solve --bake radiance");
   EXPECT_EQ(bakeAlone.exitCode, 2);
   EXPECT_NE(bakeAlone.output.find("--bake has no effect"), std::string::npos) << bakeAlone.output;
