@@ -38,7 +38,7 @@
 #include "bench_common.h"
 #include "lambert/core/timer.h"
 #include "lambert/design/illuminance.h"
-#include "lambert/engine/point_gather.h"
+#include "lambert/method/point_gather.h"
 #include "lambert/engine/radiosity.h"
 #include "lambert/engine/solution_internals.h"
 #include "lambert/light/many_lights.h"

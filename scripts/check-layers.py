@@ -22,6 +22,7 @@ LAYERS = [
     ("load",),
     ("formfactor",),
     ("solve",),
+    ("method",),
     ("flat", "hierarchical"),
     ("engine",),
     ("bake",),
@@ -31,24 +32,15 @@ LAYERS = [
     ("distributed",),
 ]
 ENGINE_INTERNALS = {"flat", "hierarchical", "solve"}
+# method/ holds what the engine and every method share: the interface a method implements
+# (method.h), the options it reads (options.h, collecting flat_options.h and
+# hierarchical_options.h), a solve call's budget and report, the view and its point types.
 LEVEL = {folder: level for level, group in enumerate(LAYERS) for folder in group}
-# The engine's interface, which the methods implement (engine/method.h) and fill in (the options,
-# the solve call's budget and report, the view's point types): it sits just below the methods.
-# Each method's own options sit below that, since engine/options.h collects them.
-FILE_LEVEL = {
-    "engine/options.h": LEVEL["flat"] - 0.5,
-    "engine/method.h": LEVEL["flat"] - 0.5,
-    "engine/solution.h": LEVEL["flat"] - 0.5,
-    "engine/solve_call.h": LEVEL["flat"] - 0.5,
-    "engine/point_gather.h": LEVEL["flat"] - 0.5,
-    "flat/options.h": LEVEL["solve"],
-    "hierarchical/options.h": LEVEL["solve"],
-}
 INCLUDE = re.compile(r'^\s*#\s*include\s+"lambert/(([a-z_]+)/[a-z_0-9]+\.h)"')
 
 
 def level_of(relative):
-    return FILE_LEVEL.get(relative, LEVEL.get(relative.split("/")[0]))
+    return LEVEL.get(relative.split("/")[0])
 
 
 def problems(root):

@@ -62,9 +62,9 @@ compgen -G "$prefix/$libdir/liblambert.so*" > /dev/null || fail "no $prefix/$lib
 
 begin "internal headers are not installed"
 for internal in formfactor/kernels.h flat/hemicube.h geometry/coverage.h solve/progressive_shooter.h \
-  engine/method.h core/parallel.h hierarchical/links.h formfactor/matrix.h flat/form_factors.h \
+  method/method.h core/parallel.h hierarchical/links.h formfactor/matrix.h flat/form_factors.h \
   hierarchical/element_hierarchy.h flat/quadtree.h solve/solver.h solve/transport.h \
-  engine/point_gather.h engine/solution_internals.h hierarchical/method.h flat/uniform_method.h; do
+  method/point_gather.h engine/solution_internals.h hierarchical/method.h flat/uniform_method.h; do
   [ ! -e "$prefix/include/lambert/$internal" ] || fail "internal header lambert/$internal is installed"
 done
 if grep -rlE '#include <embree' "$prefix/include" > "$scratch/embree-headers.txt"; then

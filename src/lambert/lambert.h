@@ -27,9 +27,9 @@
 
 // The engine: its options (plain structs, or by the CLI's names), the solve and its view.
 #include "lambert/core/communicator.h"
-#include "lambert/engine/options.h"
+#include "lambert/method/options.h"
 #include "lambert/engine/radiosity.h"
-#include "lambert/engine/solution.h"
+#include "lambert/method/solution.h"
 #include "lambert/engine/radiosity_settings.h"
 
 // What a solution gives: images of a view, lightmaps and probes, illuminance in lux.

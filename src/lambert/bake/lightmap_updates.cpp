@@ -6,7 +6,7 @@
 
 #include "lambert/core/parallel.h"
 #include "lambert/core/timer.h"
-#include "lambert/engine/point_gather.h"
+#include "lambert/method/point_gather.h"
 #include "lambert/engine/solution_internals.h"
 #include "lambert/light/lights.h"
 

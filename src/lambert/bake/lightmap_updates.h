@@ -7,7 +7,7 @@
 //
 //   E_s' = E_s + Σ_n w_n (B̄'_n − B̄_n) + Σ_c w_c (B'_c − B_c)
 //
-// with the final gather's weights recorded once at creation (engine/point_gather.h: the links'
+// with the final gather's weights recorded once at creation (method/point_gather.h: the links'
 // sources as node means, the close leaf sources through their corner vertices) — one sparse
 // product over the change, so the bake's own value stays exact where nothing changed and only the
 // change is approximated: the gather's decisions (which sources it opened, whose visibility it
@@ -36,8 +36,8 @@
 #include "lambert/bake/lightmaps.h"
 #include "lambert/core/error.h"
 #include "lambert/core/image.h"
-#include "lambert/engine/point_gather.h"
-#include "lambert/engine/solution.h"
+#include "lambert/method/point_gather.h"
+#include "lambert/method/solution.h"
 
 namespace lambert {
 

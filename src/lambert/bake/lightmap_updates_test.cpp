@@ -6,7 +6,7 @@
 
 #include "lambert/bake/lightmap_updates.h"
 #include "lambert/bake/lightmaps.h"
-#include "lambert/engine/point_gather.h"
+#include "lambert/method/point_gather.h"
 #include "lambert/engine/radiosity.h"
 #include "lambert/engine/solution_internals.h"
 #include "lambert/scene/builtin.h"

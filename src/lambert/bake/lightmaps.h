@@ -15,7 +15,7 @@
 
 #include "lambert/core/error.h"
 #include "lambert/core/image.h"
-#include "lambert/engine/solution.h"
+#include "lambert/method/solution.h"
 #include "lambert/mesh/lightmap_uvs.h"
 
 namespace lambert {

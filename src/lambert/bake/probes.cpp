@@ -15,7 +15,7 @@
 #include "lambert/core/rng.h"
 #include "lambert/core/sampling.h"
 #include "lambert/core/timer.h"
-#include "lambert/engine/solution.h"
+#include "lambert/method/solution.h"
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/light/lights.h"
 #include "lambert/light/sky.h"

@@ -5,7 +5,7 @@
 
 #include "lambert/core/photometric.h"
 #include "lambert/core/timer.h"
-#include "lambert/engine/solution.h"
+#include "lambert/method/solution.h"
 #include "lambert/io/png.h"
 #include "lambert/light/sky.h"
 

@@ -5,7 +5,7 @@
 #include <cstdio>
 
 #include "lambert/core/photometric.h"
-#include "lambert/engine/solution.h"
+#include "lambert/method/solution.h"
 #include "lambert/io/png.h"
 #include "lambert/light/emission.h"
 #include "lambert/light/photometry.h"

@@ -10,7 +10,7 @@
 #include "lambert/core/cache_file.h"
 #include "lambert/flat/adaptive_method.h"
 #include "lambert/hierarchical/method.h"
-#include "lambert/engine/point_gather.h"
+#include "lambert/method/point_gather.h"
 #include "lambert/engine/solution_internals.h"
 #include "lambert/flat/uniform_method.h"
 #include "lambert/light/emission.h"

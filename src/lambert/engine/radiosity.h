@@ -9,16 +9,16 @@
 //
 // The engine owns the mesh, the ray caster over it and the transport between its elements (the
 // links of the element hierarchy, by default; the dense form-factor matrix of a uniform mesh, or
-// the master table of an adaptive quad-tree; see engine/method.h). It is created behind a unique_ptr and can be neither copied nor moved, so
+// the master table of an adaptive quad-tree; see method/method.h). It is created behind a unique_ptr and can be neither copied nor moved, so
 // the views and references it hands out stay valid for its whole life. See docs/api.md.
 #include <memory>
 #include <vector>
 
 #include "lambert/core/error.h"
 #include "lambert/core/stats.h"
-#include "lambert/engine/options.h"
-#include "lambert/engine/solution.h"
-#include "lambert/engine/solve_call.h"
+#include "lambert/method/options.h"
+#include "lambert/method/solution.h"
+#include "lambert/method/solve_call.h"
 #include "lambert/light/lights.h"
 #include "lambert/scene/scene.h"
 

@@ -1,7 +1,7 @@
 #pragma once
 // What the library's own consumers read behind a SolutionView and a program using lambert does
 // not: the system the solver last solved, and the hierarchical method's final gather at points
-// and at vertices as weights on the node means (engine/point_gather.h), which lightmap updates
+// and at vertices as weights on the node means (method/point_gather.h), which lightmap updates
 // (bake/lightmap_updates.h) apply again after the light changes. Internal, not installed: their
 // types are the solvers' and the gathers'. The view itself keeps what a user calls, the light at
 // points (SolutionView::pointIrradiance). Each reads the engine's current state, as the view does.
@@ -11,8 +11,8 @@
 
 #include "lambert/core/error.h"
 #include "lambert/core/rgb.h"
-#include "lambert/engine/point_gather.h"
-#include "lambert/engine/solution.h"
+#include "lambert/method/point_gather.h"
+#include "lambert/method/solution.h"
 
 namespace lambert {
 
@@ -24,7 +24,7 @@ const RadiosityProblem& radiosityProblem(const SolutionView& view);
 
 // SolutionView::pointIrradiance's two parts apart: where each point is gathered (the site shadow
 // rays to the lights start from), the light from the surfaces there, and the weights that give
-// that light again from a later solution, as `part` asks (engine/point_gather.h). Hierarchical
+// that light again from a later solution, as `part` asks (method/point_gather.h). Hierarchical
 // only (an Error for the others).
 Result<PointGather> pointGather(const SolutionView& view, std::span<const SurfacePoint> points, PointGatherRequest part);
 // The same at vertices of the view's vertexMesh(), where vertexValues gathers them (their sites),

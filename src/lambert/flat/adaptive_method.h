@@ -15,9 +15,9 @@
 #include <vector>
 
 #include "lambert/core/error.h"
-#include "lambert/engine/method.h"
-#include "lambert/engine/options.h"
-#include "lambert/engine/solve_call.h"
+#include "lambert/method/method.h"
+#include "lambert/method/options.h"
+#include "lambert/method/solve_call.h"
 #include "lambert/flat/table.h"
 #include "lambert/light/lights.h"
 #include "lambert/flat/quadtree.h"

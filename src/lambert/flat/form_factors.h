@@ -10,7 +10,7 @@
 #include "lambert/formfactor/matrix.h"
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/mesh/mesh.h"
-#include "lambert/flat/options.h"
+#include "lambert/method/flat_options.h"
 
 namespace lambert {
 

@@ -18,7 +18,7 @@
 #include "lambert/core/rgb.h"
 #include "lambert/mesh/mesh.h"
 #include "lambert/scene/scene.h"
-#include "lambert/flat/options.h"
+#include "lambert/method/flat_options.h"
 
 namespace lambert {
 

@@ -2,9 +2,9 @@
 // The uniform mesh inside the engine: every surface bisected along its longest edges to a
 // patch count or an edge length, patches' open fractions measured, and the dense form-factor
 // matrix computed once by any method (or read from the .lff cache).
-#include "lambert/engine/method.h"
-#include "lambert/engine/options.h"
-#include "lambert/engine/solve_call.h"
+#include "lambert/method/method.h"
+#include "lambert/method/options.h"
+#include "lambert/method/solve_call.h"
 #include "lambert/mesh/vertex_radiosity.h"
 
 namespace lambert {

@@ -40,7 +40,7 @@
 #include <vector>
 
 #include "lambert/core/rgb.h"
-#include "lambert/engine/point_gather.h"
+#include "lambert/method/point_gather.h"
 #include "lambert/hierarchical/links.h"
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/hierarchical/element_hierarchy.h"

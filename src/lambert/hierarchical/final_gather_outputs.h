@@ -15,7 +15,7 @@
 #include <tbb/enumerable_thread_specific.h>
 
 #include "lambert/core/rgb.h"
-#include "lambert/engine/point_gather.h"
+#include "lambert/method/point_gather.h"
 #include "lambert/hierarchical/final_gather.h"
 
 namespace lambert {

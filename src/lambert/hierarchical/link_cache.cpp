@@ -30,8 +30,8 @@
 #include <memory>
 #include <numeric>
 
-#include "lambert/engine/options.h"
-#include "lambert/engine/solve_call.h"
+#include "lambert/method/options.h"
+#include "lambert/method/solve_call.h"
 #include "lambert/light/sky.h"
 #include "lambert/core/cache_file.h"
 #include "lambert/link_sources_digest.h"

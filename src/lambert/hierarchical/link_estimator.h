@@ -11,7 +11,7 @@
 
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/hierarchical/element_hierarchy.h"
-#include "lambert/hierarchical/options.h"
+#include "lambert/method/hierarchical_options.h"
 
 namespace lambert {
 

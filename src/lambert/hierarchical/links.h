@@ -31,7 +31,7 @@
 #include <vector>
 
 #include "lambert/hierarchical/element_hierarchy.h"
-#include "lambert/hierarchical/options.h"
+#include "lambert/method/hierarchical_options.h"
 
 namespace lambert {
 

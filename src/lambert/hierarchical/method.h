@@ -24,9 +24,9 @@
 #include <vector>
 
 #include "lambert/core/timer.h"
-#include "lambert/engine/method.h"
-#include "lambert/engine/options.h"
-#include "lambert/engine/solve_call.h"
+#include "lambert/method/method.h"
+#include "lambert/method/options.h"
+#include "lambert/method/solve_call.h"
 #include "lambert/hierarchical/distributed_ranks.h"
 #include "lambert/hierarchical/element_hierarchy.h"
 #include "lambert/hierarchical/final_gather.h"

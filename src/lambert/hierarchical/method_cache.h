@@ -11,8 +11,8 @@
 #include <string>
 
 #include "lambert/core/stats.h"
-#include "lambert/engine/options.h"
-#include "lambert/engine/solve_call.h"
+#include "lambert/method/options.h"
+#include "lambert/method/solve_call.h"
 #include "lambert/hierarchical/final_gather.h"
 #include "lambert/hierarchical/link_cache.h"
 

@@ -9,7 +9,7 @@
 #include <unordered_map>
 
 #include "lambert/core/parallel.h"
-#include "lambert/engine/point_gather.h"
+#include "lambert/method/point_gather.h"
 #include "lambert/light/many_lights.h"
 
 namespace lambert {

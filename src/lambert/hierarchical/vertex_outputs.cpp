@@ -8,7 +8,7 @@
 #include <mutex>
 
 #include "lambert/core/parallel.h"
-#include "lambert/engine/point_gather.h"
+#include "lambert/method/point_gather.h"
 #include "lambert/geometry/coverage.h"
 #include "lambert/light/many_lights.h"
 

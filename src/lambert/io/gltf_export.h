@@ -16,7 +16,7 @@
 #include <string>
 
 #include "lambert/core/error.h"
-#include "lambert/engine/solution.h"
+#include "lambert/method/solution.h"
 
 namespace lambert {
 

@@ -8,7 +8,7 @@
 
 #include "lambert/core/error.h"
 #include "lambert/core/rgb.h"
-#include "lambert/engine/solution.h"
+#include "lambert/method/solution.h"
 #include "lambert/mesh/mesh.h"
 
 namespace lambert {

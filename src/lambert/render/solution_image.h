@@ -1,5 +1,5 @@
 #pragma once
-// An image of a solution (engine/solution.h) from a camera, the way every command draws one.
+// An image of a solution (method/solution.h) from a camera, the way every command draws one.
 //
 // Hybrid lighting: the point, spot and directional lights' direct light computed
 // per pixel sample with a shadow ray per light (crisp spot edges, hard shadows), over the
@@ -10,7 +10,7 @@
 #include <optional>
 
 #include "lambert/core/image.h"
-#include "lambert/engine/solution.h"
+#include "lambert/method/solution.h"
 #include "lambert/render/rasterizer.h"
 
 namespace lambert {

@@ -1,5 +1,5 @@
 #pragma once
-// Which solver a solve uses, as the solvers (solve/solver.h) and the options (engine/options.h)
+// Which solver a solve uses, as the solvers (solve/solver.h) and the options (method/options.h)
 // name it.
 #include <string>
 

@@ -1,16 +1,17 @@
 #pragma once
-// The options of a solve: what Radiosity::create takes (RadiosityOptions). Each layer owns the
-// options it reads (flat/options.h, hierarchical/options.h, solve/solver_kind.h, light/lights.h's
-// DirectLightOptions); this header collects them and chooses the method. The defaults are
-// written here and in those headers only: the CLI's table (engine/radiosity_settings.h) starts from
-// RadiosityOptions{}.
+// The options of a solve: what Radiosity::create takes (RadiosityOptions) and every method reads.
+// Each method's options have their own header (method/flat_options.h, method/hierarchical_options.h;
+// the solvers' solve/solver_kind.h, the lights' DirectLightOptions in light/lights.h); this header
+// collects them and chooses the method. They sit here, below the methods, because the engine reads
+// them too. The defaults are written here and in those headers only: the CLI's table
+// (engine/radiosity_settings.h) starts from RadiosityOptions{}.
 #include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <string>
 
-#include "lambert/flat/options.h"
-#include "lambert/hierarchical/options.h"
+#include "lambert/method/flat_options.h"
+#include "lambert/method/hierarchical_options.h"
 #include "lambert/light/lights.h"
 #include "lambert/solve/solver_kind.h"
 

@@ -17,7 +17,7 @@
 
 #include "lambert/core/error.h"
 #include "lambert/core/stats.h"
-#include "lambert/engine/solution.h"
+#include "lambert/method/solution.h"
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/mesh/mesh.h"
 #include "lambert/scene/scene.h"
@@ -28,7 +28,7 @@ namespace lambert {
 struct RadiosityOptions;
 struct SolveBudget;
 struct SolveReport;
-struct PointGather;  // engine/point_gather.h
+struct PointGather;  // method/point_gather.h
 enum class PointGatherRequest;
 
 // The engine's solution per element, for Method::vertexSolution. W/m²; ρ dimensionless.

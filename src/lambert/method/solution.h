@@ -60,7 +60,7 @@ class SolutionView {
   const RayCaster& caster() const;
 
   // Per vertex of vertexMesh(): the solution's B, its indirect part or the irradiance
-  // (engine/method.h; gathered at the vertices themselves by the hierarchical method, the
+  // (method/method.h; gathered at the vertices themselves by the hierarchical method, the
   // elements' values interpolated otherwise), continuous values of any per-element quantity,
   // and the outgoing radiance L = B/π; albedo per patch of vertexMesh().
   const Mesh& vertexMesh() const;

@@ -1,6 +1,6 @@
 #pragma once
 // The flat method's options: the uniform mesh, the adaptive quad-tree and the form factors
-// between their elements (flat/form_factors.h). Collected by engine/options.h.
+// between their elements (flat/form_factors.h). Collected by method/options.h.
 #include <cstddef>
 #include <cstdint>
 #include <string>

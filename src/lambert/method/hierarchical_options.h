@@ -1,6 +1,6 @@
 #pragma once
 // The hierarchical method's options: the link refinement (hierarchical/links.h) and the
-// refine-then-solve passes (hierarchical/method.h). Collected by engine/options.h.
+// refine-then-solve passes (hierarchical/method.h). Collected by method/options.h.
 #include <cstdint>
 
 namespace lambert {
