@@ -29,13 +29,16 @@ test: build
 	@cd $(BUILD_DIR) && ctest --output-on-failure -j$(JOBS)
 
 # Benchmarks: one JSON document on stdout, {"pipeline": …, "dynamic": …, "load": …, "hierarchical": …, "default_method": …,
-# "viewer": …, "atlas": …, "lightmap": …, "lightmap_update": …, "illuminance": …, "distributed": …, "corpus": …, "office": …}, each part also in out/bench/; the micro-benchmarks' table goes to stderr and their JSON to
+# "viewer": …, "atlas": …, "lightmap": …, "lightmap_update": …, "illuminance": …, "distributed": …, "corpus": …, "office": …, "accuracy": …}, each part also in out/bench/; the micro-benchmarks' table goes to stderr and their JSON to
 # out/bench/micro.json. default_method times whole `lambert` processes (Cornell box against a cached path-traced
 # reference, RenderPark beside it where ../rpk/src/build/rpk or RENDERPARK is built, buildings to 10^6 faces, the link
 # cache); BENCH_FLAGS passes it options, e.g. BENCH_FLAGS=--no-million.
 # The corpus part fetches the third-party scenes of bench/corpus/manifest.json into real-scenes/ where the network
 # (or LAMBERT_CORPUS_MIRROR) allows, says which it skipped and why, and runs RenderPark beside lambert where
 # RENDERPARK names its binary.
+# The accuracy part (bench/accuracy_bench.py) measures every output of the default method against the path tracer
+# on the accuracy scenes (three Blender-style exports it writes, the corpus's RenderPark and McGuire scenes) and
+# writes the table of docs/accuracy.md to out/bench/accuracy.md.
 bench: build
 	@mkdir -p out/bench
 	@$(BUILD_DIR)/bin/micro_bench --benchmark_format=console --benchmark_out_format=json \
@@ -55,13 +58,16 @@ bench: build
 	@if command -v mpirun > /dev/null; then python3 bench/distributed_bench.py --lambert $(LAMBERT) > out/bench/distributed.json; \
 	  else echo null > out/bench/distributed.json; fi
 	@$(BUILD_DIR)/bin/office_bench > out/bench/office.json
+	@python3 bench/accuracy_bench.py --lambert $(LAMBERT) --vertex-reference $(BUILD_DIR)/bin/vertex_reference \
+	  --corpus real-scenes --markdown out/bench/accuracy.md > out/bench/accuracy.json
 	@printf '{"pipeline": ' && cat out/bench/pipeline.json && printf ', "dynamic": ' && cat out/bench/dynamic.json && \
 	  printf ', "load": ' && cat out/bench/load.json && printf ', "hierarchical": ' && cat out/bench/hierarchical.json && \
 	  printf ', "default_method": ' && cat out/bench/default_method.json && \
 	  printf ', "viewer": ' && cat out/bench/viewer.json && printf ', "atlas": ' && cat out/bench/atlas.json && \
 	  printf ', "lightmap": ' && cat out/bench/lightmap.json && printf ', "lightmap_update": ' && cat out/bench/lightmap_update.json && \
 	  printf ', "illuminance": ' && cat out/bench/illuminance.json && printf ', "distributed": ' && cat out/bench/distributed.json && \
-	  printf ', "corpus": ' && cat out/bench/corpus.json && printf ', "office": ' && cat out/bench/office.json && printf '}\n'
+	  printf ', "corpus": ' && cat out/bench/corpus.json && printf ', "office": ' && cat out/bench/office.json && \
+	  printf ', "accuracy": ' && cat out/bench/accuracy.json && printf '}\n'
 
 # The whole suite under AddressSanitizer (leaks included) and UndefinedBehaviorSanitizer, in
 # build-sanitize/; the CLI runs the tests start are instrumented too. Any report fails its test.

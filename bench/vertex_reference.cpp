@@ -73,11 +73,15 @@ int main(int argc, char** argv) {
   std::string sceneName = "cornell", input, output;
   int samples = 32768;
   std::uint64_t seed = 1;
+  bool irradiance = false;
   CLI::App app{"vertex_reference: the path-traced outgoing radiance at the vertices of a vertex file"};
   app.add_option("--scene", sceneName, "Built-in scene name or scene file")->capture_default_str();
   app.add_option("--vertices", input, "Vertex file (.csv or .ply, lambert's vertex format) whose points are traced")->required();
   app.add_option("--samples", samples, "Hemisphere samples per vertex")->check(CLI::Range(1, 1 << 24))->capture_default_str();
   app.add_option("--seed", seed, "Random seed (another seed gives an independent estimate)")->capture_default_str();
+  app.add_flag("--irradiance", irradiance,
+               "Write the irradiance E in W/m2 (what a light meter on the surface reads; lux = 683 x its luminance) "
+               "in the radiance columns instead of the outgoing radiance L");
   app.add_option("-o,--output", output, "Vertex file to write (.csv or .ply)")->required();
   bench::parseOrExit(app, argc, argv);
 
@@ -163,9 +167,12 @@ int main(int argc, char** argv) {
   ReferenceRenderer tracer(*scene, geometry, options);
   Timer timer;
   std::vector<VertexSample> result = *vertices;
+  // Shaded with the file's normal (a smooth surface's vertex normal, as lambert's vertex values
+  // and a renderer's smooth shading use it) on the triangle's point and surface.
   parallelFor(0, result.size(), [&](std::size_t v) {
     const Triangle& t = triangles[triangleOf[v]];
-    result[v].radiance = tracer.outgoingRadiance(points[v], t.normal, t.surface, v);
+    const Vec3 n = normalize((*vertices)[v].normal);
+    result[v].radiance = irradiance ? tracer.irradianceAt(points[v], n, t.surface, v) : tracer.outgoingRadiance(points[v], n, t.surface, v);
   });
   if (Status written = writeVertices(output, result); !written) {
     std::fprintf(stderr, "vertex_reference: %s\n", written.error().message.c_str());

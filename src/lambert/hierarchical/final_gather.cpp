@@ -71,21 +71,8 @@ LeafRange leafRange(const ElementHierarchy& hierarchy, const std::vector<Rgb>& m
 }  // namespace
 
 std::vector<std::uint32_t> FinalGather::gatheringLeaves(const Mesh& mesh) {
-  std::vector<std::uint32_t> leaf(mesh.numVertices(), kNoNode);
-  for (std::uint32_t p = 0; p < mesh.numPatches(); ++p) {
-    const Patch& patch = mesh.patches[p];
-    for (std::uint32_t v : mesh.cornerIndices(p)) {
-      const std::uint32_t current = leaf[v];
-      if (current == kNoNode) {
-        leaf[v] = p;
-        continue;
-      }
-      const Patch& other = mesh.patches[current];
-      if (patch.openFraction > other.openFraction || (patch.openFraction == other.openFraction && patch.area < other.area))
-        leaf[v] = p;
-    }
-  }
-  return leaf;
+  static_assert(kNoSitePatch == kNoNode, "a vertex without a patch has no gathering leaf");
+  return vertexSitePatches(mesh);  // the leaf the vertex's site lies on
 }
 
 FinalGather::FinalGather(const ElementHierarchy& hierarchy, const ElementHierarchy::LeafMesh& leaves, const Links& links,

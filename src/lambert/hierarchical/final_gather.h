@@ -89,8 +89,9 @@ class FinalGather {
   FinalGather(const ElementHierarchy& hierarchy, const ElementHierarchy::LeafMesh& leaves, const Links& links,
               const RayCaster& caster, double rayEpsilon, std::vector<VertexSite> sites, std::vector<std::uint32_t> leafOfSite,
               int visibilityRays, std::uint64_t seed, bool resolveClusterVisibility);
-  // Per vertex: the adjacent leaf it gathers through, the one with the largest open fraction,
-  // then the smallest (whose links are the finest); kNoNode for a vertex no leaf uses.
+  // Per vertex: the adjacent leaf it gathers through, the one its site lies on (mesh/
+  // vertex_radiosity.h vertexSitePatches: the largest open fraction, then the smallest, whose
+  // links are the finest); kNoNode for a vertex no leaf uses.
   static std::vector<std::uint32_t> gatheringLeaves(const Mesh& mesh);
   // The same gather (sites, links, rays) through other leaves, one per site (kNoNode: the site is
   // not gathered): a distributed rank gathers its own sites alone.

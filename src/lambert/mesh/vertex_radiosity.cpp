@@ -110,30 +110,36 @@ std::vector<Rgb> vertexRadiosity(const Mesh& mesh, const std::vector<Rgb>& radio
   return VertexInterpolation(mesh).apply(radiosity);
 }
 
-std::vector<VertexSite> vertexSites(const Mesh& mesh, double nudge) {
-  const std::size_t n = mesh.numVertices();
-  // Per vertex: the centroids' sum and count over every patch, and weighted by open fraction.
-  std::vector<Vec3> centroidSum(n), openCentroidSum(n), normalSum(n);
-  std::vector<std::uint32_t> uses(n, 0);
-  std::vector<double> openWeight(n, 0.0);
-  for (std::size_t p = 0; p < mesh.numPatches(); ++p) {
+std::vector<std::uint32_t> vertexSitePatches(const Mesh& mesh) {
+  std::vector<std::uint32_t> chosen(mesh.numVertices(), kNoSitePatch);
+  for (std::uint32_t p = 0; p < mesh.numPatches(); ++p) {
     const Patch& patch = mesh.patches[p];
-    for (std::uint32_t corner : mesh.cornerIndices(p)) {
-      centroidSum[corner] += patch.centroid;
-      openCentroidSum[corner] += patch.centroid * patch.openFraction;
-      openWeight[corner] += patch.openFraction;
-      normalSum[corner] += patch.normal * patch.area;
-      ++uses[corner];
+    for (std::uint32_t v : mesh.cornerIndices(p)) {
+      const std::uint32_t current = chosen[v];
+      if (current == kNoSitePatch) {
+        chosen[v] = p;
+        continue;
+      }
+      const Patch& other = mesh.patches[current];
+      if (patch.openFraction > other.openFraction || (patch.openFraction == other.openFraction && patch.area < other.area))
+        chosen[v] = p;
     }
   }
+  return chosen;
+}
+
+std::vector<VertexSite> vertexSites(const Mesh& mesh, double nudge) {
+  const std::size_t n = mesh.numVertices();
+  std::vector<Vec3> normalSum(n);
+  for (std::size_t p = 0; p < mesh.numPatches(); ++p)
+    for (std::uint32_t corner : mesh.cornerIndices(p)) normalSum[corner] += mesh.patches[p].normal * mesh.patches[p].area;
+  const std::vector<std::uint32_t> patchOf = vertexSitePatches(mesh);
   std::vector<VertexSite> sites(n);
   for (std::size_t i = 0; i < n; ++i) {
     sites[i].point = mesh.positions[i];
-    if (uses[i] == 0 || !(lengthSquared(normalSum[i]) > 0)) continue;
+    if (patchOf[i] == kNoSitePatch || !(lengthSquared(normalSum[i]) > 0)) continue;
     sites[i].normal = normalize(normalSum[i]);
-    // Every patch covered (the floor well under a block): the plain mean.
-    const Vec3 centroid = openWeight[i] > 0 ? openCentroidSum[i] / openWeight[i] : centroidSum[i] / uses[i];
-    const Vec3 toCentroid = centroid - mesh.positions[i];
+    const Vec3 toCentroid = mesh.patches[patchOf[i]].centroid - mesh.positions[i];
     const double distance = length(toCentroid);
     if (distance > 0) sites[i].point += toCentroid * (std::fmin(nudge, 0.5 * distance) / distance);
   }

@@ -52,18 +52,26 @@ class VertexInterpolation {
 std::vector<Rgb> vertexRadiosity(const Mesh& mesh, const std::vector<Rgb>& patchRadiosity);
 
 // Where a quantity is evaluated "at" a vertex (the path tracer's reference and the hierarchical
-// final gather): the vertex moved `nudge` scene units (at most half way) toward the mean of its
-// patches' centroids, so as not to sit exactly on an edge shared with a perpendicular surface,
-// where the irradiance jumps, and the area-weighted mean normal of its patches (zero for a vertex
-// no patch uses). The centroids are weighted by the patches' open fractions (geometry/coverage.h),
-// so that a vertex on a contact line (a block's foot on the floor) is evaluated on the open side,
-// whose light it shows (vertexRadiosity weighs the patches by their open part too): moved toward
-// the plain mean, it lay under the block, where the reference is black and the final gather is
-// not, and that one Cornell-box vertex made a quarter of the default solve's squared error.
+// final gather): the vertex moved `nudge` scene units (at most half way) toward the centroid of
+// one of its patches (vertexSitePatches), so as not to sit exactly on an edge shared with a
+// perpendicular surface, where the irradiance jumps, with the area-weighted mean normal of its
+// patches (zero for a vertex no patch uses). The point stays in that patch's plane: moved toward
+// the mean of all its patches' centroids, a vertex of a convex curved surface went inside it (a
+// UV sphere's, under every face round it), where every shadow ray meets the back of a face, and
+// a lit sphere's vertices were all black. The patch is the most open one (geometry/coverage.h),
+// so that a vertex on a contact line (a block's foot on the floor) is evaluated on the open
+// side, whose light it shows (vertexRadiosity weighs the patches by their open part too): under
+// the block the reference is black and the final gather is not, and that one Cornell-box vertex
+// made a quarter of the default solve's squared error.
 struct VertexSite {
   Vec3 point;
   Vec3 normal;
 };
+inline constexpr std::uint32_t kNoSitePatch = 0xffffffffu;
+// Per vertex, the patch its site lies on: of the patches using it, the largest open fraction, then
+// the smallest area (the hierarchical method's finest leaf, whose links are the finest), then the
+// first; kNoSitePatch where none uses it.
+std::vector<std::uint32_t> vertexSitePatches(const Mesh& mesh);
 std::vector<VertexSite> vertexSites(const Mesh& mesh, double nudge);
 
 // A per-vertex quantity looked up at ray hits: at(patch, x) is the patch's corner values

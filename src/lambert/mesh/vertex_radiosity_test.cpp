@@ -33,19 +33,40 @@ TEST(VertexSitesTest, AVertexOnAContactLineIsEvaluatedOnItsOpenSide) {
   EXPECT_NEAR(sites[1].point.x, 1 + nudge / std::sqrt(2.0), 1e-12);
   EXPECT_NEAR(sites[1].point.y, nudge / std::sqrt(2.0), 1e-12);
   EXPECT_NEAR(sites[1].normal.z, 1, 1e-12);
-  // With both squares open the plain mean of the two centroids, (1, 0.5, 0): straight in.
-  const std::vector<VertexSite> open = vertexSites(twoSquares(1, 1), nudge);
-  EXPECT_NEAR(open[1].point.x, 1, 1e-12);
-  EXPECT_NEAR(open[1].point.y, nudge, 1e-12);
-  // Both covered (a vertex well under the block): the plain mean too.
-  const std::vector<VertexSite> covered = vertexSites(twoSquares(0, 0), nudge);
-  EXPECT_NEAR(covered[1].point.x, 1, 1e-12);
-  EXPECT_NEAR(covered[1].point.y, nudge, 1e-12);
-  // Partly open squares weigh by their open share: 0.25 and 0.75 put the mean at x = 1.25.
+  // The more open square wins however little: 0.25 and 0.75 put it in the right one too.
   const std::vector<VertexSite> partly = vertexSites(twoSquares(0.25, 0.75), nudge);
-  const Vec3 toMean = normalize(Vec3{0.25, 0.5, 0});
-  EXPECT_NEAR(partly[1].point.x, 1 + nudge * toMean.x, 1e-12);
-  EXPECT_NEAR(partly[1].point.y, nudge * toMean.y, 1e-12);
+  EXPECT_NEAR(partly[1].point.x, 1 + nudge / std::sqrt(2.0), 1e-12);
+  // Alike (both open, or both covered: a vertex well under the block), the first: into the left one.
+  for (const double open : {1.0, 0.0}) {
+    const std::vector<VertexSite> alike = vertexSites(twoSquares(open, open), nudge);
+    EXPECT_NEAR(alike[1].point.x, 1 - nudge / std::sqrt(2.0), 1e-12);
+    EXPECT_NEAR(alike[1].point.y, nudge / std::sqrt(2.0), 1e-12);
+    EXPECT_EQ(vertexSitePatches(twoSquares(open, open))[1], 0u);
+  }
+}
+
+// A ridge: two squares folded down 30° each side of the edge x = 0, as the faces round a convex
+// curved surface's vertex meet. The site of a ridge vertex lies on one of the faces, never under
+// both (toward the mean of their centroids it went inside the solid, behind every face, and a lit
+// sphere's vertices were black), with the mean normal of the two.
+TEST(VertexSitesTest, AVertexOnARidgeStaysOnAFace) {
+  Mesh mesh;
+  const double c = std::cos(kPi / 6), s = std::sin(kPi / 6);
+  mesh.positions = {{-c, -s, 0}, {0, 0, 0}, {0, 0, 1}, {-c, -s, 1}, {c, -s, 0}, {c, -s, 1}};
+  mesh.vertexSurface.assign(mesh.positions.size(), 0);
+  const std::vector<std::uint32_t> left{0, 3, 2, 1}, right{1, 2, 5, 4};
+  mesh.patches.push_back(makePatch(mesh.positions, left, 0));
+  mesh.patches.push_back(makePatch(mesh.positions, right, 0));
+  ASSERT_GT(mesh.patches[0].normal.y, 0);
+  ASSERT_GT(mesh.patches[1].normal.y, 0);
+  const double nudge = 1e-3;
+  const VertexSite site = vertexSites(mesh, nudge)[1];
+  const double aboveLeft = dot(site.point - mesh.positions[1], mesh.patches[0].normal);
+  const double aboveRight = dot(site.point - mesh.positions[1], mesh.patches[1].normal);
+  EXPECT_NEAR(std::fmax(aboveLeft, aboveRight), 0, 1e-12) << "on one face's plane";
+  EXPECT_GE(std::fmin(aboveLeft, aboveRight), -nudge) << "and within the nudge of the other";
+  EXPECT_NEAR(length(site.point - mesh.positions[1]), nudge, 1e-12);
+  EXPECT_NEAR(site.normal.y, 1, 1e-12);
 }
 
 }  // namespace

@@ -178,6 +178,11 @@ Rgb ReferenceRenderer::outgoingRadiance(const Vec3& x, const Vec3& n, std::uint3
   const Rgb& le = emitted_[surface];
   const Rgb& rho = albedo_[surface];
   if (rho.maxComponent() <= 0) return le;
+  return le + rho * irradianceAt(x, n, surface, stream) / kPi;
+}
+
+Rgb ReferenceRenderer::irradianceAt(const Vec3& x, const Vec3& n, std::uint32_t surface, std::uint64_t stream) const {
+  LAMBERT_CHECK(surface < scene_.surfaces.size());
   Pcg32 rng(options_.seed, stream);
   const std::uint32_t lu = rng.nextUint(), lv = rng.nextUint(), du = rng.nextUint(), dv = rng.nextUint();
   const Vertex v{x, n, surface};
@@ -198,8 +203,8 @@ Rgb ReferenceRenderer::outgoingRadiance(const Vec3& x, const Vec3& n, std::uint3
       incomingSum += lz * cosineWeight(dot(direction, n), hit->t * hit->t, -dot(direction, z.normal));
     incomingSum += reflected(z, 1, rng, nullptr, nullptr);
   }
-  // ρ/π (E_lights + E_emitters) + ρ/π · π L_in (cosine sampling).
-  return le + rho * (lightIrradiance(v) + emitterSum / samples) / kPi + rho * incomingSum / samples;
+  // E_lights + E_emitters + π L_in (cosine sampling).
+  return lightIrradiance(v) + emitterSum / samples + incomingSum * (kPi / samples);
 }
 
 std::vector<Rgb> ReferenceRenderer::vertexRadiance(const Mesh& mesh) const {

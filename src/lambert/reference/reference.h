@@ -69,6 +69,9 @@ class ReferenceRenderer {
   // and as many stratified emitter samples; the first bounce is never rouletted). Deterministic in
   // (options.seed, stream).
   Rgb outgoingRadiance(const Vec3& x, const Vec3& n, std::uint32_t surface, std::uint64_t stream) const;
+  // The irradiance E in W/m² at the front of that point, of which outgoingRadiance is L_e + ρ/π·E
+  // (the same estimate, stream for stream): what a light meter on the surface reads.
+  Rgb irradianceAt(const Vec3& x, const Vec3& n, std::uint32_t surface, std::uint64_t stream) const;
 
   // (b) outgoingRadiance at every vertex of a radiosity mesh, stream = vertex index. The normal is
   // that of the vertex's patches (their mean; the surface's plane for a planar surface). So as not

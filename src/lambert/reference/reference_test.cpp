@@ -113,6 +113,8 @@ TEST(ReferenceLights, FloorUnderPointDirectionalAndSpotLightsIsExact) {
     e += sun.irradiance * (-sun.direction.y);
     Rgb expected = rho * e / kPi;
     expectNearRelative(reference.outgoingRadiance(x, up, 0, stream++), expected, 1e-9, "lit floor");
+    // What a light meter on the floor reads: the irradiance itself, whatever the albedo.
+    expectNearRelative(reference.irradianceAt(x, up, 0, stream++), e, 1e-9, "meter on the floor");
   }
 }
 
