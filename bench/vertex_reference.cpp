@@ -2,8 +2,10 @@
 // --export-vertices`) or another renderer's (RenderPark's, converted by bench/default_method_bench.py),
 // so that every solution is measured against the same estimator at its own points.
 //
-//   vertex_reference --scene cornell --vertices IN.csv --samples 32768 --seed 1 -o OUT.csv
+//   vertex_reference --scene cornell --vertices IN.csv --samples 32768 --seed 1 -o OUT.csv [--irradiance]
 //
+// --irradiance writes the irradiance E (W/m², what a light meter lying on the surface reads) instead
+// of the outgoing radiance: bench/accuracy_bench.py holds lambert's meter (`--points`) against it.
 // Each vertex is moved onto the nearest point of the tracer's own triangles (every scene face as a
 // fan) whose normal agrees with the file's (within 60°); that triangle gives its surface (albedo,
 // emission) and normal. A twisted quad's fan (the Cornell box's red wall is 3 mm out of plane)
@@ -12,7 +14,8 @@
 // is refused with its line, as its surface would be a guess. Like
 // ReferenceRenderer::vertexRadiance, the point is then moved 1e-4 of the diagonal toward the
 // triangle's centroid, into its own surface, so that it is not evaluated exactly on an edge shared
-// with a perpendicular surface, where the irradiance jumps. The estimate is
+// with a perpendicular surface, where the irradiance jumps; it is shaded with the file's normal (a
+// smooth surface's vertex normal, as the solution's vertex values are). The estimate is
 // ReferenceRenderer::outgoingRadiance with stream = the vertex's index: deterministic per (seed,
 // index), whatever the thread count. OUT has IN's positions and normals with the reference's
 // radiance, written atomically (writeVertices), so `lambert compare --radiosity-vertices IN

@@ -73,6 +73,16 @@ inline UnitSquarePoint concentricDisk(double u, double v) {
   return {r * std::cos(phi), r * std::sin(phi)};
 }
 
+// Cosine-weighted unit direction about n (pdf cosθ/π): the concentric disc lifted onto the
+// hemisphere, which keeps the (0,2)-sequence's stratification.
+inline Vec3 cosineDirection(const Vec3& n, UnitSquarePoint s) {
+  const auto [dx, dy] = concentricDisk(s.u, s.v);
+  const double dz = std::sqrt(std::fmax(0.0, 1 - dx * dx - dy * dy));
+  Vec3 t, bt;
+  orthonormalBasis(n, t, bt);
+  return normalize(t * dx + bt * dy + n * dz);
+}
+
 // Maps (u, v) ∈ [0,1)² onto the triangle with equal area (Shirley & Chiu's warp, which keeps the
 // square's stratification).
 inline Vec3 sampleTriangle(const std::array<Vec3, 3>& triangle, double u, double v) {

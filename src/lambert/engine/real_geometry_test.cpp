@@ -3,6 +3,7 @@
 // curved surfaces, on two-sided sheets, and in narrow cavities.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -75,6 +76,142 @@ TEST(RealGeometryTest, SphereVerticesShowTheLampsDirectLight) {
     }
     EXPECT_GE(lit, 60) << "the sphere's lit cap";
   }
+}
+
+// The six faces of the box [lo, hi], each an n × n grid of quads over shared vertices, normals
+// outward (inward: a room).
+std::vector<Surface> gridBox(const Vec3& lo, const Vec3& hi, int n, int material, bool inward) {
+  std::vector<Surface> faces;
+  const Vec3 size = hi - lo;
+  for (int axis = 0; axis < 3; ++axis)
+    for (const int side : {0, 1}) {
+      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+      Surface s{"face", {}, material, {}};
+      for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) {
+          double c[3];
+          c[axis] = side ? hi[axis] : lo[axis];
+          c[u] = lo[u] + size[u] * i / n;
+          c[v] = lo[v] + size[v] * j / n;
+          s.vertices.push_back({c[0], c[1], c[2]});
+        }
+      // Counter-clockwise seen from +axis with (u, v) in order; reversed for the −axis side.
+      const bool towardPlus = (side == 1) != inward;
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+          const auto at = [&](int a, int b) { return static_cast<std::uint32_t>(b * (n + 1) + a); };
+          std::vector<std::uint32_t> quad{at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)};
+          if (!towardPlus) std::reverse(quad.begin() + 1, quad.end());
+          s.faces.push_back(quad);
+        }
+      faces.push_back(std::move(s));
+    }
+  return faces;
+}
+
+// A closed two-sided box in a lit room: no light reaches its inside (its faces' twins), and its
+// outside must not depend on its inside being there (the invariant): the room solved with
+// the box one-sided shows the box's outside alike. Clusters hold both shells, and receiving
+// through them, the inside showed a fifth of the room's light and the outside lost its share.
+TEST(RealGeometryTest, TheInsideOfAClosedTwoSidedBoxIsDarkAndItsOutsideAsIfOneSided) {
+  const auto solve = [](bool twoSided) {
+    Scene scene = testing::sceneOf(gridBox({0, 0, 0}, {6, 3, 5}, 6, 0, true));
+    scene.materials.push_back({"box", Rgb::gray(0.7), twoSided});
+    for (Surface& s : gridBox({2, 0.5, 2}, {3, 1.5, 3}, 4, 1, false)) scene.surfaces.push_back(std::move(s));
+    addTwins(scene);
+    scene.lights.push_back(pointLight({4.5, 2.6, 4}, 20));
+    auto engine = testing::solved(scene);
+    return engine ? vertexSamples(engine->solution()) : std::vector<VertexSample>{};
+  };
+  const std::vector<VertexSample> twoSided = solve(true), oneSided = solve(false);
+  ASSERT_FALSE(twoSided.empty());
+  ASSERT_FALSE(oneSided.empty());
+  const Vec3 centre{2.5, 1.0, 2.5};
+  const auto onBox = [&](const VertexSample& v) {
+    const Vec3 d = v.position - centre;
+    return std::fmax(std::fabs(d.x), std::fmax(std::fabs(d.y), std::fabs(d.z))) < 0.5 + 1e-9;
+  };
+  // Per face of the box (its outward normal), the mean of its outside vertices' radiance.
+  const auto outsideMeans = [&](const std::vector<VertexSample>& vertices, int& inside, double& insideLargest) {
+    std::vector<double> sum(6, 0.0), count(6, 0.0);
+    for (const VertexSample& v : vertices) {
+      if (!onBox(v)) continue;
+      if (dot(v.normal, v.position - centre) < 0) {
+        ++inside;
+        insideLargest = std::fmax(insideLargest, v.radiance.maxComponent());
+        continue;
+      }
+      const int axis = std::fabs(v.normal.x) > 0.9 ? 0 : std::fabs(v.normal.y) > 0.9 ? 1 : 2;
+      const int face = 2 * axis + ((axis == 0 ? v.normal.x : axis == 1 ? v.normal.y : v.normal.z) > 0);
+      sum[face] += v.radiance.r;
+      count[face] += 1;
+    }
+    for (int f = 0; f < 6; ++f) sum[f] = count[f] > 0 ? sum[f] / count[f] : 0;
+    return sum;
+  };
+  int inside = 0, insideOneSided = 0;
+  double insideLargest = 0, unused = 0;
+  const std::vector<double> two = outsideMeans(twoSided, inside, insideLargest);
+  const std::vector<double> one = outsideMeans(oneSided, insideOneSided, unused);
+  EXPECT_GT(inside, 100) << "the two-sided box's inside vertices";
+  EXPECT_EQ(insideOneSided, 0);
+  EXPECT_EQ(insideLargest, 0) << "light inside a closed box";
+  for (int f = 0; f < 6; ++f) {
+    ASSERT_GT(one[f], 0) << "face " << f;
+    EXPECT_NEAR(two[f], one[f], 0.03 * one[f]) << "the outside of face " << f << " (axis " << f / 2 << ", " << (f % 2 ? "+" : "-") << ")";
+  }
+}
+
+// A small two-sided sheet (10 cm, 8 × 8 faces) between a large red emitter 3 m above and a blue one
+// 3 m below, nothing else: each side sees one emitter only, so its top shows no blue and its bottom
+// no red, exactly, in its vertex values and in the solution's own elements (whose radiosity lights
+// everything else). Both sides lie in the clusters the sheet's light arrives through.
+TEST(RealGeometryTest, EachSideOfAnOpenSheetShowsOnlyWhatItFaces) {
+  Scene scene = testing::sceneOf({}, Rgb::gray(0.5));
+  scene.materials[0].twoSided = true;
+  scene.materials.push_back({"emitter", Rgb{}, false});
+  Surface sheet{"sheet", {}, 0, {}};
+  const int n = 8;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) sheet.vertices.push_back({0.45 + 0.1 * i / n, 0, 0.45 + 0.1 * j / n});
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const auto at = [&](int a, int b) { return static_cast<std::uint32_t>(b * (n + 1) + a); };
+      sheet.faces.push_back({at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i + 1, j)});  // facing +y
+    }
+  scene.surfaces.push_back(sheet);
+  scene.surfaces.push_back({"red", {{-1, 3, -1}, {2, 3, -1}, {2, 3, 2}, {-1, 3, 2}}, 1, Rgb{1, 0, 0}});      // facing −y
+  scene.surfaces.push_back({"blue", {{-1, -3, -1}, {-1, -3, 2}, {2, -3, 2}, {2, -3, -1}}, 1, Rgb{0, 0, 1}});  // facing +y
+  ASSERT_GT(surfaceNormal(scene.surfaces[0]).y, 0.99);
+  ASSERT_LT(surfaceNormal(scene.surfaces[1]).y, -0.99);
+  ASSERT_GT(surfaceNormal(scene.surfaces[2]).y, 0.99);
+  addTwins(scene);
+  auto engine = testing::solved(scene);
+  ASSERT_TRUE(engine);
+  int top = 0, bottom = 0;
+  for (const VertexSample& v : vertexSamples(engine->solution())) {
+    if (std::fabs(v.position.y) > 1e-9) continue;
+    const bool up = v.normal.y > 0;
+    const double seen = up ? v.radiance.r : v.radiance.b, other = up ? v.radiance.b : v.radiance.r;
+    EXPECT_GT(seen, 0) << (up ? "top" : "bottom") << " at (" << v.position.x << ", " << v.position.z << ")";
+    EXPECT_LT(other, 1e-3 * seen) << (up ? "top" : "bottom") << " at (" << v.position.x << ", " << v.position.z << ")";
+    ++(up ? top : bottom);
+  }
+  EXPECT_GT(top, 50);
+  EXPECT_GT(bottom, 50);
+  // The solution's own elements too: their radiosity is what lights everything else.
+  const SolutionView view = engine->solution();
+  int elements = 0;
+  for (std::size_t i = 0; i < view.mesh().numPatches(); ++i) {
+    const std::uint32_t surface = view.mesh().patches[i].surface;
+    if (surface != 0 && surface != 3) continue;  // the sheet (0) and its twin (3)
+    const Rgb& b = view.radiosity()[i];
+    const double seen = surface == 0 ? b.r : b.b, other = surface == 0 ? b.b : b.r;
+    EXPECT_GT(seen, 0) << "element " << i << " of surface " << surface;
+    EXPECT_LT(other, 1e-3 * seen) << "element " << i << " of surface " << surface;
+    ++elements;
+  }
+  EXPECT_GT(elements, 2 * n * n - 1);
 }
 
 }  // namespace

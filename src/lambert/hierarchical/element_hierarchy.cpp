@@ -229,6 +229,7 @@ void ElementHierarchy::split(std::uint32_t element) {
     child.numCorners = parent.numCorners;
     child.depth = static_cast<std::uint8_t>(std::min(parent.depth + 1, 255));
     child.twinned = parent.twinned;
+    child.enclosed = parent.enclosed;
     child.surface = parent.surface;
     child.face = parent.face;
     child.parent = element;
@@ -238,6 +239,14 @@ void ElementHierarchy::split(std::uint32_t element) {
   }
   nodes_[element].firstChild = first;
   nodes_[element].numChildren = 4;
+}
+
+void ElementHierarchy::markEnclosedFaces(std::span<const std::uint8_t> perLeaf) {
+  LAMBERT_CHECK(perLeaf.size() == leafNodes_.size());
+  for (std::size_t l = 0; l < perLeaf.size(); ++l) {
+    LAMBERT_CHECK(nodes_[leafNodes_[l]].depth == 0 && !nodes_[leafNodes_[l]].isCluster());  // a face, not yet split
+    nodes_[leafNodes_[l]].enclosed = perLeaf[l] != 0;
+  }
 }
 
 std::size_t ElementHierarchy::numberLeaves() {

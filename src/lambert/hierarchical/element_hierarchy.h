@@ -61,6 +61,7 @@ struct HierarchyNode {
   std::uint8_t numCorners = 0;
   std::uint8_t depth = 0;     // splits below the face (elements) or below the root (clusters)
   bool twinned = false;       // element of a two-sided surface (Patch::twinned)
+  bool enclosed = false;      // element inside a closed two-sided object, where no light reaches (geometry/enclosures.h)
 
   bool isCluster() const { return numCorners == 0; }
   // The area the node shows toward the unit direction ω: A·max(0, n·ω) for an element; for a
@@ -111,6 +112,10 @@ class ElementHierarchy {
   std::size_t numClusters() const { return numClusters_; }
   std::size_t numElements() const { return nodes_.size() - numClusters_; }
   double totalArea() const { return nodes_[0].area; }
+
+  // Marks the faces whose root leaf is flagged (per leaf, in leaf order, before any split) and
+  // everything split from them later as enclosed.
+  void markEnclosedFaces(std::span<const std::uint8_t> perLeaf);
 
   // Splits a leaf element four ways (triangles at the edge midpoints into four triangles, quads
   // at the midpoints and centre into four quads). Children are appended to nodes().

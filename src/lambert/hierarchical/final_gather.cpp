@@ -427,7 +427,9 @@ std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean, FinalGath
   const LeafRange range = leafRange(hierarchy_, mean);
   std::vector<Rgb> out(sites_.size());
   parallelFor(0, sites_.size(), [&](std::size_t v) {
-    if (leaf_[v] == kNoNode) return;
+    // No light reaches inside a closed two-sided object (geometry/enclosures.h), whatever the
+    // links of the clusters holding it carry.
+    if (leaf_[v] == kNoNode || hierarchy_.node(hierarchy_.leafNodes()[leaf_[v]]).enclosed) return;
     out[v] = SiteGather(*this, static_cast<std::uint32_t>(v), mean, range, outputs).irradiance();
   }, 64);
   outputs.finish(leaf_);

@@ -73,7 +73,7 @@ class LinkEstimator {
   bool boxesApart(const HierarchyNode& a, const HierarchyNode& b) const;
   bool mayFace(const HierarchyNode& a, const HierarchyNode& b) const;
   bool cutsThrough(const HierarchyNode& e, const HierarchyNode& b) const;
-  void trace(const Vec3& x, const Vec3& xNormal, bool xMayBeCovered, const Vec3& y, const Vec3& yNormal,
+  void trace(const Vec3& x, const Vec3& xNormal, std::uint8_t xCoverage, const Vec3& y, const Vec3& yNormal,
              std::uint64_t sourceFace, Visibility& seen) const;
   template <bool withRays>
   ClusterSample sampleCluster(const Candidate& c, const Vec3& w, int n, const std::array<std::uint32_t, 4>& scramble) const;
@@ -87,7 +87,10 @@ class LinkEstimator {
   double minArea_;
   double threshold_ = 0;
   std::vector<double> radiosity_;  // per node: area-weighted mean of the leaves' largest channel
-  std::vector<std::uint8_t> partlyCovered_;  // per node: a leaf partly covered is, or was, under it
+  // Per node: kOpen, kMayBeCovered (a leaf partly covered is, or was, under it) or kEnclosed (an
+  // element inside a closed two-sided object, every point covered: geometry/enclosures.h).
+  enum Coverage : std::uint8_t { kOpen = 0, kMayBeCovered = 1, kEnclosed = 2 };
+  std::vector<std::uint8_t> partlyCovered_;
 };
 
 }  // namespace lambert

@@ -109,7 +109,9 @@ LinkEstimator::LinkEstimator(const ElementHierarchy& hierarchy, const RayCaster&
   partlyCovered_.assign(nodes.size(), 0);
   for (std::size_t l = 0; l < leafOpenFraction.size(); ++l) partlyCovered_[h_.leafNodes()[l]] = leafOpenFraction[l] < 1;
   for (std::size_t i = nodes.size(); i-- > 0;)  // children have larger indices than their parents
-    if (nodes[i].parent != kNoNode && partlyCovered_[i]) partlyCovered_[nodes[i].parent] = 1;
+    if (nodes[i].parent != kNoNode && partlyCovered_[i]) partlyCovered_[nodes[i].parent] = kMayBeCovered;
+  for (std::size_t i = 0; i < nodes.size(); ++i)
+    if (nodes[i].enclosed) partlyCovered_[i] = kEnclosed;
   radiosity_.assign(nodes.size(), 0.0);
   double power = 0;
   for (std::size_t l = 0; l < leafRadiosity.size(); ++l) {
@@ -217,7 +219,7 @@ std::uint8_t LinkEstimator::estimate(Candidate& c) const {
       auto [u2, v2] = scrambledZeroTwo(static_cast<std::uint32_t>(i), tu, tv);
       const Vec3 x = sampleConvexPolygon(r.polygon(), u1, v1), y = sampleConvexPolygon(s.polygon(), u2, v2);
       if (!(pointToPointKernel(x, r.normal, y, s.normal) > 0)) continue;
-      trace(x, r.normal, partlyCovered_[c.receiver] != 0, y, s.normal, faceKey(s), seen);
+      trace(x, r.normal, partlyCovered_[c.receiver], y, s.normal, faceKey(s), seen);
     }
     const int open = seen.open, facing = seen.facing;
     if (facing == 0 && seen.covered == 0) {
@@ -343,8 +345,13 @@ bool LinkEstimator::cutsThrough(const HierarchyNode& e, const HierarchyNode& b) 
 // the source's own face blocks it, a face lying on the source included. A ray run only to a
 // point in front of the source never meets a face lying on it, and every face of a stack is
 // then seen whole (a binder ring in office1/graz.mgf gathered K = 0.99 from each of three).
-void LinkEstimator::trace(const Vec3& x, const Vec3& xNormal, bool xMayBeCovered, const Vec3& y, const Vec3& yNormal,
+void LinkEstimator::trace(const Vec3& x, const Vec3& xNormal, std::uint8_t xCoverage, const Vec3& y, const Vec3& yNormal,
                           std::uint64_t sourceFace, Visibility& seen) const {
+  if (xCoverage == kEnclosed) {  // no light reaches inside a closed object: as covered, left out of K
+    ++seen.covered;
+    return;
+  }
+  const bool xMayBeCovered = xCoverage == kMayBeCovered;
   const Vec3 from = x + xNormal * epsilon_, to = y - yNormal * epsilon_;
   const std::optional<RayHit> hit = caster_.intersect(Ray{from, to - from, 0, 1});
   const bool blocked = hit && casterFace_[hit->patch] != sourceFace;
@@ -387,7 +394,7 @@ LinkEstimator::ClusterSample LinkEstimator::sampleCluster(const Candidate& c, co
       // the part above, which no ray to y would test: counted as unoccluded.
       if (pointToPointKernel(x, g.normal, y, f.normal) > 0) {
         const int openBefore = seen.open, coveredBefore = seen.covered;
-        trace(x, g.normal, partlyCovered_[onReceiver.element] != 0, y, f.normal, faceKey(f), seen);
+        trace(x, g.normal, partlyCovered_[onReceiver.element], y, f.normal, faceKey(f), seen);
         if (seen.covered > coveredBefore) continue;
         open = seen.open > openBefore;
       } else {

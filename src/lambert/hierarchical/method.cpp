@@ -9,6 +9,7 @@
 #include "lambert/core/memory.h"
 #include "lambert/core/timer.h"
 #include "lambert/geometry/coverage.h"
+#include "lambert/geometry/enclosures.h"
 #include "lambert/hierarchical/light_edges.h"
 #include "lambert/light/emission.h"
 #include "lambert/light/many_lights.h"
@@ -48,6 +49,11 @@ HierarchicalMethod::HierarchicalMethod(const Scene& scene, const RadiosityOption
   for (const Patch& p : leaves_.mesh.patches) casterFace_.push_back(static_cast<std::uint64_t>(p.surface) << 32 | p.face);
   epsilon_ = rayEpsilon(leaves_.mesh);
   bvhSeconds_ = bvh.seconds();
+  // The inside of closed two-sided objects, before any split: its faces are covered whole (their
+  // open fraction 0), so that no cluster hands them light and none is pulled from them.
+  Timer enclosures;
+  hierarchy_.markEnclosedFaces(enclosedPatches(leaves_.mesh, *caster_, scene_));
+  coverageSeconds_ += enclosures.seconds();
   // The faces' open fractions are measured by the first refine(), unless the link cache holds them.
   // Until the first refinement, the leaves (the faces) exchange nothing.
   auto none = std::make_shared<Links>();
@@ -82,6 +88,12 @@ void HierarchicalMethod::refineAtLightEdges(const std::vector<Light>& lights, do
   report.adaptSeconds += timer.seconds();
 }
 
+void HierarchicalMethod::closeEnclosedLeaves() {
+  const std::vector<std::uint32_t>& leafNodes = hierarchy_.leafNodes();
+  for (std::size_t l = 0; l < leafNodes.size(); ++l)
+    if (hierarchy_.node(leafNodes[l]).enclosed) leaves_.mesh.patches[l].openFraction = 0;
+}
+
 void HierarchicalMethod::rebuildLeaves() {
   // Nodes are only ever added, by splitting a leaf: as many as before, the leaves are the same.
   if (hierarchy_.nodes().size() == leafMeshNodes_) return;
@@ -104,6 +116,7 @@ void HierarchicalMethod::rebuildLeaves() {
   Timer coverage;
   for (std::size_t l = 0; l < open.size(); ++l) leaves_.mesh.patches[l].openFraction = open[l];
   measureOpenFractions(leaves_.mesh, *caster_, measure);
+  closeEnclosedLeaves();
   ++leafMeshGeneration_;
   measuredLeafNodes_ = leafNodes;
   coverageSeconds_ += coverage.seconds();
@@ -115,6 +128,7 @@ Result<bool> HierarchicalMethod::refine(const std::vector<Light>& lights, std::v
     if (!linkCache_.directory.empty() && loadLinks(lights, radiosity)) return true;
     Timer coverage;
     measureOpenFractions(leaves_.mesh, *caster_);
+    closeEnclosedLeaves();
     measuredLeafNodes_ = hierarchy_.leafNodes();
     coverageSeconds_ += coverage.seconds();
   }

@@ -68,6 +68,8 @@ class HierarchicalMethod final : public Method {
  private:
   // The refinement (method.cpp).
   void refineAtLightEdges(const std::vector<Light>& lights, double threshold, SolveReport& report);
+  // Sets the open fraction of every leaf inside a closed two-sided object to 0 (after measuring).
+  void closeEnclosedLeaves();
   void rebuildLeaves();
   // The transport over the current hierarchy and links, spread over the ranks once they share
   // the hierarchy.

@@ -23,16 +23,6 @@ constexpr std::uint64_t kPixelStreamBase = std::uint64_t{1} << 40;
 // pixel is black.
 constexpr int kMaxCulledBacks = 64;
 
-// Cosine-weighted unit direction about n (pdf cosθ/π), by Shirley & Chiu's concentric map of the
-// square onto the disc, which keeps the (0,2)-sequence's stratification.
-Vec3 cosineDirection(const Vec3& n, UnitSquarePoint s) {
-  const auto [dx, dy] = concentricDisk(s.u, s.v);
-  double dz = std::sqrt(std::fmax(0.0, 1 - dx * dx - dy * dy));
-  Vec3 t, bt;
-  orthonormalBasis(n, t, bt);
-  return normalize(t * dx + bt * dy + n * dz);
-}
-
 // A uniformly random permutation of 0 .. order.size() - 1 (Fisher–Yates).
 void shuffle(std::vector<std::uint32_t>& order, Pcg32& rng) {
   for (std::uint32_t i = 0; i < order.size(); ++i) {

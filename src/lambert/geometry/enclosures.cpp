@@ -1,0 +1,104 @@
+#include "lambert/geometry/enclosures.h"
+
+#include <cmath>
+#include <numeric>
+#include <utility>
+
+#include "lambert/core/error.h"
+#include "lambert/core/parallel.h"
+#include "lambert/core/rng.h"
+#include "lambert/core/sampling.h"
+
+namespace lambert {
+namespace {
+
+// Union–find over patches, with path halving.
+struct DisjointSets {
+  std::vector<std::uint32_t> parent;
+  explicit DisjointSets(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
+  std::uint32_t root(std::uint32_t i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  }
+  void join(std::uint32_t a, std::uint32_t b) {
+    a = root(a), b = root(b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
+};
+
+// Whether a light of the scene reaches the front of x (normal n) unoccluded.
+bool seesALight(const Scene& scene, const RayCaster& caster, const Vec3& x, const Vec3& n, double epsilon) {
+  const Vec3 origin = x + n * epsilon;
+  for (const Light& light : scene.lights) {
+    if (light.kind == LightKind::Directional) {
+      const Vec3 toward = -normalize(light.direction);
+      if (dot(toward, n) > 0 && !caster.occluded(Ray{origin, toward, 0, INFINITY})) return true;
+    } else if (light.kind != LightKind::Sky) {  // a sky's light comes through rays that escape
+      const Vec3 d = light.position - origin;
+      if (dot(d, n) > 0 && !caster.occluded(Ray{origin, d, 0, 1 - 1e-6})) return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> enclosedPatches(const Mesh& mesh, const RayCaster& caster, const Scene& scene, int raysPerPatch) {
+  const std::size_t n = mesh.numPatches();
+  std::vector<std::uint8_t> enclosed(n, 0);
+  bool anyTwinned = false;
+  for (const Patch& p : mesh.patches) anyTwinned |= p.twinned;
+  if (!anyTwinned) return enclosed;
+  const double epsilon = rayEpsilon(mesh);
+  // A ray that escapes meets light only where the sky or the sun is there to give it: without
+  // either, the outside of a closed two-sided room is as dark as the inside of a sphere in it.
+  bool lightOutside = false;
+  for (const Light& light : scene.lights) lightOutside |= light.kind == LightKind::Sky || light.kind == LightKind::Directional;
+  // Per patch: what its rays met (the twinned fronts that join it to their patches) and whether
+  // any reached light.
+  std::vector<std::vector<std::uint32_t>> met(n);
+  std::vector<std::uint8_t> lit(n, 0);
+  parallelFor(0, n, [&](std::size_t i) {
+    const Patch& patch = mesh.patches[i];
+    if (!patch.twinned) return;
+    if (scene.surfaces[patch.surface].emittedRadiance.maxComponent() > 0) {
+      lit[i] = 1;
+      return;
+    }
+    const PatchCorners corners = mesh.corners(i);
+    Pcg32 rng(0x5eed5eed, i);
+    const std::uint32_t su = rng.nextUint(), sv = rng.nextUint(), du = rng.nextUint(), dv = rng.nextUint();
+    for (int k = 0; k < raysPerPatch && !lit[i]; ++k) {
+      auto [u, v] = scrambledZeroTwo(static_cast<std::uint32_t>(k), su, sv);
+      const Vec3 x = sampleConvexPolygon(corners, u, v);
+      const Vec3 d = cosineDirection(patch.normal, scrambledZeroTwo(static_cast<std::uint32_t>(k), du, dv));
+      const std::optional<RayHit> hit = caster.intersect(Ray{x + patch.normal * epsilon, d, 0, INFINITY});
+      if (!hit) {
+        lit[i] = lightOutside;
+      } else if (hit->frontFace) {
+        const Patch& other = mesh.patches[hit->patch];
+        if (!other.twinned || scene.surfaces[other.surface].emittedRadiance.maxComponent() > 0) lit[i] = 1;
+        else met[i].push_back(hit->patch);
+      }
+      // A one-sided face's back is black and opaque: nothing comes through it.
+    }
+  }, 16);
+  DisjointSets sets(n);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::uint32_t j : met[i]) sets.join(static_cast<std::uint32_t>(i), j);
+  std::vector<std::uint8_t> setLit(n, 0);
+  for (std::size_t i = 0; i < n; ++i)
+    if (lit[i]) setLit[sets.root(static_cast<std::uint32_t>(i))] = 1;
+  // The lights, asked of each set not yet lit, one patch at a time until one sees a light.
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!mesh.patches[i].twinned) continue;
+    const std::uint32_t r = sets.root(static_cast<std::uint32_t>(i));
+    if (setLit[r]) continue;
+    if (seesALight(scene, caster, mesh.patches[i].centroid, mesh.patches[i].normal, epsilon)) setLit[r] = 1;
+  }
+  for (std::size_t i = 0; i < n; ++i)
+    enclosed[i] = mesh.patches[i].twinned && !setLit[sets.root(static_cast<std::uint32_t>(i))];
+  return enclosed;
+}
+
+}  // namespace lambert
