@@ -245,7 +245,9 @@ Image ReferenceRenderer::render(int width, int height) const {
         // The camera culls back faces as the rasterizer does (render/rasterizer.h): a primary
         // ray passes through the backs of one-sided faces. Every later ray meets them as they
         // are, black and opaque.
-        std::optional<RayHit> hit = caster_->intersect(Ray{camera.eye, d, 0, INFINITY});
+        // It starts at the near plane, where the rasterizer clips (render/camera.h).
+        const double near = camera.nearDistance / std::fmax(dot(d, camera.forward), 1e-6);
+        std::optional<RayHit> hit = caster_->intersect(Ray{camera.eye, d, near, INFINITY});
         for (int passed = 0; hit && !hit->frontFace && passed < kMaxCulledBacks; ++passed)
           hit = caster_->intersect(Ray{camera.eye, d, hit->t + epsilon_, INFINITY});
         if (!hit || !hit->frontFace) continue;

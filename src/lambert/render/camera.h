@@ -25,8 +25,11 @@ struct PinholeCamera {
   int width = 0, height = 0;    // pixels
   double focalPixels = 0;       // distance to the image plane, in pixels
   double tanHalfFovX = 0, tanHalfFovY = 0;
-  // Points closer than this are not projected; the rasterizer clips here. Relative to the
-  // eye-target distance, so it suits scenes in any unit.
+  // Points closer than this (along the view axis) are not projected; the rasterizer clips here
+  // and the path tracer's camera rays start here. A hundredth of the eye–target distance, as
+  // RenderPark clips for a camera inside the scene: its scripts stand cameras a few centimetres
+  // outside a room's wall (the hospital's, 4.5 cm behind its corridor wall's outer face, which
+  // faces the camera), and RenderPark's picture shows the room through it.
   double nearDistance = 0;
 
   Vec3 toView(const Vec3& world) const {

@@ -186,6 +186,22 @@ TEST(RenderTest, UniformQuadFillingTheViewIsBOverPiEverywhere) {
   }
 }
 
+// RenderPark's own scripts stand cameras a few centimetres outside a room's wall, looking in (its
+// hospital's eye is 4.5 cm in front of the corridor wall's outer face, which faces it). The near
+// plane is a hundredth of the eye–target distance, as RenderPark clips: the wall there is not
+// drawn, and the room beyond shows; with it drawn the picture was black.
+TEST(RenderTest, AWallInsideTheNearPlaneDoesNotHideTheRoom) {
+  MeshBuilder b;
+  b.quad({-100, -100, 0}, {100, -100, 0}, {100, 100, 0}, {-100, 100, 0}, 0);  // the wall's outer face, toward the eye
+  b.quad({-100, -100, -5}, {100, -100, -5}, {100, 100, -5}, {-100, 100, -5}, 1);  // the room's far wall
+  const Camera camera{{0, 0, 0.045}, {0, 0, -10}, {0, 1, 0}, 40};
+  EXPECT_GT(PinholeCamera(camera, 32, 32).nearDistance, 0.045);
+  const Rgb lit{1, 1, 1};
+  const Image image = renderRadiance(camera, b.mesh, {Rgb{}, Rgb{}, lit, lit}, RenderOptions{32, 32, Shading::Flat, 1});
+  for (int y = 0; y < 32; ++y)
+    for (int x = 0; x < 32; ++x) ASSERT_NEAR(image.at(x, y).r, 1 / kPi, 1e-9) << "pixel " << x << "," << y;
+}
+
 // Maps pixel coordinates of a size×size image to the z = 0 plane seen by a lookingDownZ(10, …)
 // camera, so tests can put vertices exactly on sample centres.
 auto pixelToPlane(const Camera& camera, int size) {

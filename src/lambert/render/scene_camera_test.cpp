@@ -294,6 +294,7 @@ TEST(SceneCameraTest, CullsTheBackOfAOneSidedFaceButDrawsATwoSidedTwin) {
     EXPECT_NEAR(image.at(1, 16).r, 3.0, 1e-12);  // beside the quad: the wall
     // The reference's camera rays pass the same backs (its picture is compared with this one).
     // (Nothing lights the twin's side, so it reflects nothing.)
+    scene.camera = camera;  // the tracer draws from the scene's camera
     const ReferenceRenderer reference(scene, mesh, ReferenceOptions{.samplesPerPixel = 4, .maxBounces = 1, .showProgress = false});
     const Image traced = reference.render(32, 32);
     EXPECT_NEAR(traced.at(16, 16).r, twoSided ? 1.0 : 3.0, 1e-9);
