@@ -59,6 +59,7 @@ bench: build
 	  else echo null > out/bench/distributed.json; fi
 	@$(BUILD_DIR)/bin/office_bench > out/bench/office.json
 	@python3 bench/accuracy_bench.py --lambert $(LAMBERT) --vertex-reference $(BUILD_DIR)/bin/vertex_reference \
+	  --lightmap-texels $(BUILD_DIR)/bin/lightmap_texels \
 	  --corpus real-scenes --markdown out/bench/accuracy.md > out/bench/accuracy.json
 	@printf '{"pipeline": ' && cat out/bench/pipeline.json && printf ', "dynamic": ' && cat out/bench/dynamic.json && \
 	  printf ', "load": ' && cat out/bench/load.json && printf ', "hierarchical": ' && cat out/bench/hierarchical.json && \

@@ -10,6 +10,9 @@ runs what a user runs and compares, at the same points:
              outgoing radiance L at up to --points points of the solution's own vertices, picked
              evenly through the file;
   lux        `lambert solve --points … --export-points` at the same points: the meter's E in lux;
+  lightmap   texels of the lightmaps `lambert solve --lightmaps` bakes (bench/lightmap_texels: the
+             same bake at a 256-texel atlas), up to --points of them, at the points they were baked
+             at: E in lux;
 
 against bench/vertex_reference (the project's path tracer, reference/reference.h) at those very
 points, traced twice with independent seeds. The reference is the mean of the two; its noise is
@@ -29,7 +32,7 @@ points' mean reference.
 Prints one JSON document; --markdown FILE also writes the table docs/accuracy.md holds.
 
     bench/accuracy_bench.py --lambert build/bin/lambert --vertex-reference build/bin/vertex_reference \
-        [--corpus real-scenes] [--scenes blender-room,rpk-office2] [--points 600]
+        --lightmap-texels build/bin/lightmap_texels [--corpus real-scenes] [--scenes blender-room,rpk-office2] [--points 600]
 """
 import argparse
 import csv
@@ -120,16 +123,22 @@ def run(command, **kwargs):
     return result, time.monotonic() - started
 
 
-def trace(args, scene, points_file, work, irradiance):
+def sides_of(entry):
+    """lambert's --sides value among the entry's options ("file" where it gives none)."""
+    options = entry["options"]
+    return options[options.index("--sides") + 1] if "--sides" in options else "file"
+
+
+def trace(args, scene, entry, points_file, work, irradiance):
     """The reference at the points, seeds 1 and 2, samples quadrupled until its noise is ≤ 1%.
     Returns (per-point luminance of the mean of both, noise, samples)."""
     samples = args.samples
     while True:
         halves = []
         for seed in (1, 2):
-            out = os.path.join(work, f"ref-{'E' if irradiance else 'L'}-{seed}.csv")
-            command = [args.vertex_reference, "--scene", scene, "--vertices", points_file, "--samples", str(samples),
-                       "--seed", str(seed), "-o", out] + (["--irradiance"] if irradiance else [])
+            out = os.path.join(work, f"ref-{os.path.basename(points_file)}-{'E' if irradiance else 'L'}-{seed}.csv")
+            command = [args.vertex_reference, "--scene", scene, "--sides", sides_of(entry), "--vertices", points_file,
+                       "--samples", str(samples), "--seed", str(seed), "-o", out] + (["--irradiance"] if irradiance else [])
             run(command)
             halves.append([luminance(*row[6:9]) for row in read_vertex_file(out)[1]])
         a, b = halves
@@ -207,8 +216,16 @@ def measure_scene(args, entry, path):
         points_file = os.path.join(work, "points.csv")
         write_vertex_file(points_file, header, picked)
         lux = meter(args, path, entry, extension, picked, work, "meter")
-        reference_l, noise_l, samples_l = trace(args, path, points_file, work, irradiance=False)
-        reference_e, noise_e, samples_e = trace(args, path, points_file, work, irradiance=True)
+        reference_l, noise_l, samples_l = trace(args, path, entry, points_file, work, irradiance=False)
+        reference_e, noise_e, samples_e = trace(args, path, entry, points_file, work, irradiance=True)
+        # The lightmap: texels of the default method's bake, with their points, against the tracer there.
+        texels_file = os.path.join(work, "texels.csv")
+        run([args.lightmap_texels, "--scene", path, "--sides", sides_of(entry), "--texels", str(args.points), "-o", texels_file])
+        texel_rows = read_vertex_file(texels_file)[1]
+        texel_lux = [LUMENS_PER_WATT * luminance(*row[6:9]) for row in texel_rows]
+        texel_reference_e, noise_t, samples_t = trace(args, path, entry, texels_file, work, irradiance=True)
+        texel_reference_lux = [LUMENS_PER_WATT * e for e in texel_reference_e]
+        texel_groups = classify(args, path, entry, extension, texel_rows, texel_reference_e, work)
         reference_lux = [LUMENS_PER_WATT * e for e in reference_e]
         vertex_l = [luminance(*row[6:9]) for row in picked]
         groups = classify(args, path, entry, extension, picked, reference_e, work)
@@ -219,43 +236,54 @@ def measure_scene(args, entry, path):
                 writer.writerow(["x", "y", "z", "nx", "ny", "nz", "L_vertex", "L_reference", "lux_meter", "lux_reference", "group"])
                 for row, v, r, m, e, g in zip(picked, vertex_l, reference_l, lux, reference_lux, groups):
                     writer.writerow([f"{c:.6g}" for c in row[:6]] + [f"{v:.6g}", f"{r:.6g}", f"{m:.6g}", f"{e:.6g}", g])
+            with open(os.path.join(args.keep, entry["id"] + "-texels.csv"), "w", newline="") as f:
+                writer = csv.writer(f)
+                writer.writerow(["x", "y", "z", "nx", "ny", "nz", "lux_texel", "lux_reference", "group"])
+                for row, v, r, g in zip(texel_rows, texel_lux, texel_reference_lux, texel_groups):
+                    writer.writerow([f"{c:.6g}" for c in row[:6]] + [f"{v:.6g}", f"{r:.6g}", g])
         report = {"id": entry["id"], "file": os.path.relpath(path, ROOT) if path.startswith(ROOT) else os.path.basename(path),
                   "options": entry["options"], "vertices": len(rows), "points": len(picked),
                   "solve_seconds": solve_seconds, "leaves": stats.get("patches"),
                   "reference": {"radiance_noise": noise_l, "radiance_samples": samples_l,
-                                "irradiance_noise": noise_e, "irradiance_samples": samples_e},
+                                "irradiance_noise": noise_e, "irradiance_samples": samples_e,
+                                "texel_noise": noise_t, "texel_samples": samples_t},
+                  "texels": len(texel_rows), "texel_groups": {g: texel_groups.count(g) for g in sorted(set(texel_groups))},
                   "groups": {g: groups.count(g) for g in sorted(set(groups))}}
         report["leak"] = {}
-        for name, values, references in (("vertices", vertex_l, reference_l), ("lux", lux, reference_lux)):
-            open_refs = [r for r, g in zip(references, groups) if g == "open"]
-            enclosed = [v for v, g in zip(values, groups) if g == "enclosed"]
+        for name, values, references, point_groups in (("vertices", vertex_l, reference_l, groups), ("lux", lux, reference_lux, groups),
+                                                       ("lightmap", texel_lux, texel_reference_lux, texel_groups)):
+            open_refs = [r for r, g in zip(references, point_groups) if g == "open"]
+            enclosed = [v for v, g in zip(values, point_groups) if g == "enclosed"]
             open_mean = sum(open_refs) / len(open_refs) if open_refs else 0
             report["leak"][name] = sum(enclosed) / len(enclosed) / open_mean if enclosed and open_mean > 0 else None
             report[name] = {}
-            for group in sorted(set(groups)):
-                pairs = [(v, r) for v, r, g in zip(values, references, groups) if g == group]
+            for group in sorted(set(point_groups)):
+                pairs = [(v, r) for v, r, g in zip(values, references, point_groups) if g == group]
                 report[name][group] = errors([p[0] for p in pairs], [p[1] for p in pairs])
         return report
 
 
 def markdown(reports):
-    lines = ["| scene | points open / at discontinuities / enclosed | reference noise | vertex rel. RMSE | vertex bias | "
-             "lux rel. RMSE | lux bias | at discontinuities: vertex, lux rel. RMSE | enclosed: vertex, lux leak | solve |",
-             "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    """The table of docs/accuracy.md: per scene, the open points' relative RMSE and bias of each output."""
+    lines = ["| scene | points: open / discontinuity / enclosed | tracer noise | vertices: RMSE, bias | lux: RMSE, bias | "
+             "lightmap texels: RMSE, bias | at discontinuities: vertices, lux, texels | enclosed leak: vertices, lux, texels | solve |",
+             "|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
     pct = lambda x: "—" if x is None else f"{100 * x:+.1f}%"
     mag = lambda x: "—" if x is None else f"{100 * x:.1f}%"
     for r in reports:
         if "error" in r:
-            lines.append(f"| {r['id']} | {r['error']} | | | | | | | | |")
+            lines.append(f"| {r['id']} | {r['error']} | | | | | | | |")
             continue
-        v, l = r["vertices"].get("open", {}), r["lux"].get("open", {})
-        vd, ld = r["vertices"].get("discontinuity", {}), r["lux"].get("discontinuity", {})
         g = r["groups"]
-        lines.append(f"| {r['id']} | {g.get('open', 0)} / {g.get('discontinuity', 0)} / {g.get('enclosed', 0)} | "
-                     f"{mag(max(r['reference']['radiance_noise'], r['reference']['irradiance_noise']))} | "
-                     f"{mag(v.get('relative_rmse'))} | {pct(v.get('bias'))} | {mag(l.get('relative_rmse'))} | {pct(l.get('bias'))} | "
-                     f"{mag(vd.get('relative_rmse'))}, {mag(ld.get('relative_rmse'))} | "
-                     f"{mag(r['leak']['vertices'])}, {mag(r['leak']['lux'])} | {r['solve_seconds']:.2f} s |")
+        noise = max(r["reference"][k] for k in ("radiance_noise", "irradiance_noise", "texel_noise"))
+        cells = []
+        for output in ("vertices", "lux", "lightmap"):
+            o = r[output].get("open", {})
+            cells.append(f"{mag(o.get('relative_rmse'))}, {pct(o.get('bias'))}")
+        at = ", ".join(mag(r[o].get("discontinuity", {}).get("relative_rmse")) for o in ("vertices", "lux", "lightmap"))
+        leak = ", ".join(mag(r["leak"][o]) for o in ("vertices", "lux", "lightmap"))
+        lines.append(f"| {r['id']} | {g.get('open', 0)} / {g.get('discontinuity', 0)} / {g.get('enclosed', 0)} | {mag(noise)} | "
+                     f"{' | '.join(cells)} | {at} | {leak} | {r['solve_seconds']:.2f} s |")
     return "\n".join(lines) + "\n"
 
 
@@ -263,6 +291,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--lambert", default=os.path.join(ROOT, "build/bin/lambert"))
     parser.add_argument("--vertex-reference", default=os.path.join(ROOT, "build/bin/vertex_reference"))
+    parser.add_argument("--lightmap-texels", default=os.path.join(ROOT, "build/bin/lightmap_texels"))
     parser.add_argument("--corpus", default=os.path.join(ROOT, "real-scenes"))
     parser.add_argument("--scenes", default="", help="comma-separated ids (default: all)")
     parser.add_argument("--points", type=int, default=600, help="points per scene (from the solution's vertices)")

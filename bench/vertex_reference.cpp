@@ -2,7 +2,7 @@
 // --export-vertices`) or another renderer's (RenderPark's, converted by bench/default_method_bench.py),
 // so that every solution is measured against the same estimator at its own points.
 //
-//   vertex_reference --scene cornell --vertices IN.csv --samples 32768 --seed 1 -o OUT.csv [--irradiance]
+//   vertex_reference --scene cornell --vertices IN.csv --samples 32768 --seed 1 -o OUT.csv [--irradiance] [--sides one]
 //
 // --irradiance writes the irradiance E (W/m², what a light meter lying on the surface reads) instead
 // of the outgoing radiance: bench/accuracy_bench.py holds lambert's meter (`--points`) against it.
@@ -77,18 +77,24 @@ int main(int argc, char** argv) {
   int samples = 32768;
   std::uint64_t seed = 1;
   bool irradiance = false;
+  std::string sides = "file";
   CLI::App app{"vertex_reference: the path-traced outgoing radiance at the vertices of a vertex file"};
   app.add_option("--scene", sceneName, "Built-in scene name or scene file")->capture_default_str();
   app.add_option("--vertices", input, "Vertex file (.csv or .ply, lambert's vertex format) whose points are traced")->required();
   app.add_option("--samples", samples, "Hemisphere samples per vertex")->check(CLI::Range(1, 1 << 24))->capture_default_str();
   app.add_option("--seed", seed, "Random seed (another seed gives an independent estimate)")->capture_default_str();
+  app.add_option("--sides", sides, "file: each material's sides as the file says; one, two: every material so (lambert's --sides)")
+      ->check(CLI::IsMember({"file", "one", "two"}))
+      ->capture_default_str();
   app.add_flag("--irradiance", irradiance,
                "Write the irradiance E in W/m2 (what a light meter on the surface reads; lux = 683 x its luminance) "
                "in the radiance columns instead of the outgoing radiance L");
   app.add_option("-o,--output", output, "Vertex file to write (.csv or .ply)")->required();
   bench::parseOrExit(app, argc, argv);
 
-  Result<Scene> scene = loadScene(sceneName);
+  LoadOptions load;
+  if (sides != "file") load.twoSided = sides == "two";
+  Result<Scene> scene = loadScene(sceneName, load);
   if (!scene) {
     std::fprintf(stderr, "vertex_reference: %s\n", scene.error().message.c_str());
     return 2;
