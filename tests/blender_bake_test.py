@@ -53,13 +53,16 @@ def material(name, color, emission=None):
     return m
 
 
-def box(name, size, location, mat, cuts=0, rotation_z=0.0):
-    """A box of unit size scaled by its object transform (so the world transform matters)."""
+def box(name, size, location, mat, cuts=0, rotation_z=0.0, inward=False):
+    """A box of unit size scaled by its object transform (so the world transform matters); inward:
+    its normals flipped, as a room is modelled (Mesh > Normals > Flip)."""
     mesh = bpy.data.meshes.new(name)
     bm = bmesh.new()
     bmesh.ops.create_cube(bm, size=1.0)
     if cuts:
         bmesh.ops.subdivide_edges(bm, edges=bm.edges[:], cuts=cuts, use_grid_fill=True)
+    if inward:
+        bmesh.ops.reverse_faces(bm, faces=bm.faces[:])
     bm.to_mesh(mesh)
     bm.free()
     obj = bpy.data.objects.new(name, mesh)
@@ -75,7 +78,7 @@ def build_scene(broken=False):
     for collection in (bpy.data.objects, bpy.data.meshes, bpy.data.materials, bpy.data.lights, bpy.data.cameras):
         for item in list(collection):
             collection.remove(item)
-    room = box('room', (4, 4, 2.5), (0, 0, 1.25), material('wall', (0.7, 0.7, 0.7)), cuts=5)
+    room = box('room', (4, 4, 2.5), (0, 0, 1.25), material('wall', (0.7, 0.7, 0.7)), cuts=5, inward=True)
     # The room's floor has vertices every 2/3 m: one at (2/3, 0) deep under the block, one at
     # (−2/3, −2/3) right under the lamp. (The block's bottom corners are off the floor's: where
     # two faces coincide, which one a corner's light comes from is undecided.)
@@ -189,14 +192,9 @@ def compare_with_cli(bake_dir, cli_options, objects):
         check(None not in front, f'{obj.name}: a corner has no CLI vertex within 1e-5 m')
         if None in front:
             continue
-        # Each face shows its brighter side (Blender's faces are two-sided: lambert lights both).
-        expected, opposite = [], []
-        for polygon in sorted(set(c[0] for c in corners)):
-            mine = [i for i, c in enumerate(corners) if c[0] == polygon]
-            front_is_brighter = sum(luminance(front[i]) for i in mine) >= sum(luminance(back[i]) for i in mine)
-            for i in mine:
-                expected.append(front[i] if front_is_brighter else back[i])
-                opposite.append(back[i] if front_is_brighter else front[i])
+        # Each face shows the side its normal points to (Blender's faces are two-sided: lambert
+        # lights both); the room's normals point in, the block's out.
+        expected, opposite = front, back
         for i, (polygon, p, n, baked) in enumerate(corners):
             if expected[i] is None:
                 continue

@@ -62,10 +62,6 @@ class VertexMatcher:
         return max(near, key=lambda hit: self.normals[hit[1]].dot(normal) - 1e-3 * hit[2])[1]
 
 
-def luminance(rgb):
-    return 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]
-
-
 def write_vertex_colors(objects, csv_path):
     """Sets a float colour attribute "lambert" (face-corner domain, linear radiance W/(m²·sr))
     on each object's mesh, made active so that the viewport's Attribute colour shows it."""
@@ -86,12 +82,11 @@ def write_vertex_colors(objects, csv_path):
             normal = (normal_matrix @ polygon.normal).normalized()
             points = [world @ mesh.vertices[mesh.loops[i].vertex_index].co for i in polygon.loop_indices]
             # A two-sided face (Blender's default) has light on both sides in lambert, one colour
-            # per corner here: the face's brighter side, the one facing the light (a room modelled
-            # as a box with outward normals shows its lit inside).
+            # per corner here: the side the face's normal points to, as Cycles shades a face seen
+            # from that side (a room is modelled with its normals pointing in: Mesh > Normals >
+            # Flip). Each face on its brighter side instead mixed sides from face to face.
             front = [radiance[matcher.match(p, normal)] for p in points]
-            back = [radiance[matcher.match(p, -normal)] for p in points]
-            side = front if sum(map(luminance, front)) >= sum(map(luminance, back)) else back
-            for loop_index, (r, g, b) in zip(polygon.loop_indices, side):
+            for loop_index, (r, g, b) in zip(polygon.loop_indices, front):
                 colors[4 * loop_index:4 * loop_index + 4] = (r, g, b, 1.0)
                 corners += 1
         attribute.data.foreach_set('color', colors)
@@ -176,38 +171,28 @@ def lightmap_atlases(glb_path):
     return [f'{stem}-lightmap-{k}.exr' for k in indices]
 
 
-def combined_lightmap(glb_path):
-    """One irradiance image (E, W/m², linear float) laid out on the "lambert_lightmap" UVs.
+def front_lightmap(glb_path):
+    """The irradiance image (E, W/m², linear float) of the faces' fronts, laid out on the
+    "lambert_lightmap" UVs.
 
     The UVs are the add-on's own (lambert keeps given lightmap coordinates), so every atlas has the
-    same layout; lambert puts the two sides of a two-sided face (Blender's default) in separate
-    atlases, as they share their UVs. A face shows one side here: per texel the brighter (the side
-    facing the light: a box room modelled with outward normals shows its lit inside)."""
+    same layout; lambert puts the fronts first and the backs of two-sided faces (Blender's default),
+    which share their UVs, in the next atlas. A face shows the side its normal points to, as the
+    vertex colours do."""
     import numpy
-    best, best_luminance, size = None, None, None
-    for path in lightmap_atlases(glb_path):
-        image = bpy.data.images.load(path, check_existing=False)
-        try:
-            if size is None:
-                size = tuple(image.size)
-            elif tuple(image.size) != size:
-                raise ValueError(f'{path}: {tuple(image.size)} texels, the first atlas has {size}')
-            pixels = numpy.empty(size[0] * size[1] * 4, dtype=numpy.float32)
-            image.pixels.foreach_get(pixels)
-        finally:
-            bpy.data.images.remove(image)
-        pixels = pixels.reshape(-1, 4)
-        lum = pixels[:, :3] @ numpy.array([0.2126, 0.7152, 0.0722], dtype=numpy.float32)
-        if best is None:
-            best, best_luminance = pixels, lum
-        else:
-            brighter = lum > best_luminance
-            best[brighter] = pixels[brighter]
-            best_luminance = numpy.maximum(lum, best_luminance)
-    best[:, 3] = 1.0
+    path = lightmap_atlases(glb_path)[0]
+    image = bpy.data.images.load(path, check_existing=False)
+    try:
+        size = tuple(image.size)
+        pixels = numpy.empty(size[0] * size[1] * 4, dtype=numpy.float32)
+        image.pixels.foreach_get(pixels)
+    finally:
+        bpy.data.images.remove(image)
+    pixels = pixels.reshape(-1, 4)
+    pixels[:, 3] = 1.0
     image = bpy.data.images.new('lambert lightmap', size[0], size[1], alpha=False, float_buffer=True)
     image.colorspace_settings.name = 'Linear'
-    image.pixels.foreach_set(best.ravel())
+    image.pixels.foreach_set(pixels.ravel())
     image.pack()  # the scratch folder goes; the .blend keeps the lightmap
     return image
 
@@ -218,7 +203,7 @@ def wire_lightmaps(objects, glb_path):
     so Material Preview and Rendered modes show the baked light. The nodes are named
     "lambert lightmap …" and replaced on a re-bake; emitters keep their own emission."""
     previous = bpy.data.images.get('lambert lightmap')
-    image = combined_lightmap(glb_path)
+    image = front_lightmap(glb_path)
     if previous is not None:
         bpy.data.images.remove(previous)
         image.name = 'lambert lightmap'
