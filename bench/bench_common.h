@@ -18,6 +18,7 @@
 #include <CLI/CLI.hpp>
 
 #include "lambert/core/error.h"
+#include "lambert/load/scene_file.h"
 
 namespace lambert::bench {
 
@@ -124,6 +125,19 @@ T orExit(Result<T> result, const char* benchmark) {
     std::exit(1);
   }
   return std::move(*result);
+}
+
+// lambert's --sides on a bench tool that reads a scene as the CLI does: "file" (each material as
+// the file says), "one" or "two" (every material so).
+inline void addSidesOption(CLI::App& app, std::string& sides) {
+  app.add_option("--sides", sides, "file: each material's sides as the file says; one, two: every material so (lambert's --sides)")
+      ->check(CLI::IsMember({"file", "one", "two"}))
+      ->capture_default_str();
+}
+inline Result<Scene> loadSceneWithSides(const std::string& nameOrPath, const std::string& sides) {
+  LoadOptions load;
+  if (sides != "file") load.twoSided = sides == "two";
+  return loadScene(nameOrPath, load);
 }
 
 }  // namespace lambert::bench

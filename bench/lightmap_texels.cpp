@@ -25,7 +25,7 @@ int main(int argc, char** argv) {
   int atlasSize = 256;
   CLI::App app{"lightmap_texels: lightmap texels of the default method's solve, with their points, as a vertex file of irradiance"};
   app.add_option("--scene", sceneName, "Scene file or built-in scene")->required();
-  app.add_option("--sides", sides, "file, one or two (lambert's --sides)")->check(CLI::IsMember({"file", "one", "two"}))->capture_default_str();
+  bench::addSidesOption(app, sides);
   app.add_option("--texels", wanted, "Covered texels to write, evenly through the atlases")->check(CLI::Range(1, 1 << 24))->capture_default_str();
   app.add_option("--lightmap-size", atlasSize, "Texels per side of the atlas (lambert's --lightmap-size; 1024 there): the texel "
                  "size follows, and a texel's value does not depend on it")
@@ -34,9 +34,7 @@ int main(int argc, char** argv) {
   app.add_option("-o,--output", output, "Vertex file to write (.csv or .ply)")->required();
   bench::parseOrExit(app, argc, argv);
 
-  LoadOptions load;
-  if (sides != "file") load.twoSided = sides == "two";
-  Result<Scene> scene = loadScene(sceneName, load);
+  Result<Scene> scene = bench::loadSceneWithSides(sceneName, sides);
   if (!scene) {
     std::fprintf(stderr, "lightmap_texels: %s\n", scene.error().message.c_str());
     return 2;

@@ -83,18 +83,14 @@ int main(int argc, char** argv) {
   app.add_option("--vertices", input, "Vertex file (.csv or .ply, lambert's vertex format) whose points are traced")->required();
   app.add_option("--samples", samples, "Hemisphere samples per vertex")->check(CLI::Range(1, 1 << 24))->capture_default_str();
   app.add_option("--seed", seed, "Random seed (another seed gives an independent estimate)")->capture_default_str();
-  app.add_option("--sides", sides, "file: each material's sides as the file says; one, two: every material so (lambert's --sides)")
-      ->check(CLI::IsMember({"file", "one", "two"}))
-      ->capture_default_str();
+  bench::addSidesOption(app, sides);
   app.add_flag("--irradiance", irradiance,
                "Write the irradiance E in W/m2 (what a light meter on the surface reads; lux = 683 x its luminance) "
                "in the radiance columns instead of the outgoing radiance L");
   app.add_option("-o,--output", output, "Vertex file to write (.csv or .ply)")->required();
   bench::parseOrExit(app, argc, argv);
 
-  LoadOptions load;
-  if (sides != "file") load.twoSided = sides == "two";
-  Result<Scene> scene = loadScene(sceneName, load);
+  Result<Scene> scene = bench::loadSceneWithSides(sceneName, sides);
   if (!scene) {
     std::fprintf(stderr, "vertex_reference: %s\n", scene.error().message.c_str());
     return 2;

@@ -177,6 +177,15 @@ def add_box(gltf, name, lo, hi, material, inward=False):
     gltf.mesh(name, *quads_mesh(box_quads(lo, hi, inward)), material)
 
 
+def add_room(gltf, lo, hi, wall, floor, extra_walls=(), open_sides=()):
+    """A room as Blender users model it: a box with its normals flipped in, its floor a mesh of its
+    own (another material); `open_sides` are box_quads indices left out (a wall with a window,
+    given in `extra_walls`)."""
+    room = box_quads(lo, hi, inward=True)
+    gltf.mesh("Room", *quads_mesh([q for k, q in enumerate(room) if k != 2 and k not in open_sides] + list(extra_walls)), wall)
+    gltf.mesh("Floor", *quads_mesh([room[2]]), floor)
+
+
 def add_uv_sphere(gltf, name, centre, radius, material, segments=24, rings=12):
     """Blender's UV sphere: smooth-shaded, `segments` around, `rings` from pole to pole, the poles
     one vertex each."""
@@ -215,9 +224,7 @@ def blender_room():
     floor = g.material("floor", (0.5, 0.45, 0.4))
     table = g.material("table", (0.6, 0.1, 0.08))
     sphere = g.material("sphere", (0.7, 0.7, 0.7))
-    room = box_quads((-3, 0, -2.5), (3, 3, 2.5), inward=True)
-    g.mesh("Room", *quads_mesh([q for k, q in enumerate(room) if k != 2]), wall)
-    g.mesh("Floor", *quads_mesh([room[2]]), floor)
+    add_room(g, (-3, 0, -2.5), (3, 3, 2.5), wall, floor)
     add_box(g, "TableTop", (-0.8, 0.72, -0.45), (0.8, 0.77, 0.45), table)
     for k, (x, z) in enumerate([(-0.75, -0.4), (0.7, -0.4), (-0.75, 0.35), (0.7, 0.35)]):
         add_box(g, f"Leg{k}", (x, 0, z), (x + 0.05, 0.72, z + 0.05), table)
@@ -234,9 +241,7 @@ def blender_panel():
     cabinet = g.material("cabinet", (0.3, 0.5, 0.7))
     sphere = g.material("sphere", (0.8, 0.6, 0.2))
     lamp = g.material("lamp", (0.8, 0.8, 0.8), emission=(1.0, 0.95, 0.9), strength=10.0)
-    room = box_quads((-2.5, 0, -2), (2.5, 3, 2), inward=True)
-    g.mesh("Room", *quads_mesh([q for k, q in enumerate(room) if k != 2]), wall)
-    g.mesh("Floor", *quads_mesh([room[2]]), floor)
+    add_room(g, (-2.5, 0, -2), (2.5, 3, 2), wall, floor)
     # The panel: a plane facing down, 10 cm under the ceiling (both its faces emit in Blender).
     g.mesh("Panel", *quads_mesh([[(-0.6, 2.9, -0.3), (0.6, 2.9, -0.3), (0.6, 2.9, 0.3), (-0.6, 2.9, 0.3)]]), lamp)
     add_box(g, "Cabinet", (-2.0, 0, -2.0), (-0.8, 1.8, -1.5), cabinet)
@@ -251,7 +256,6 @@ def blender_window():
     floor = g.material("floor", (0.45, 0.35, 0.25))
     bed = g.material("bed", (0.7, 0.7, 0.75))
     # The room with a 1.6 × 1.2 m hole in its +x wall (sill 0.9 m, z from −0.8 to 0.8).
-    room = box_quads((-2.5, 0, -2), (2.5, 3, 2), inward=True)
     x = 2.5
     window_wall = [
         [(x, 0, -2), (x, 0, 2), (x, 0.9, 2), (x, 0.9, -2)],
@@ -260,8 +264,7 @@ def blender_window():
         [(x, 0.9, 0.8), (x, 0.9, 2), (x, 2.1, 2), (x, 2.1, 0.8)],
     ]
     window_wall = [list(reversed(q)) for q in window_wall]  # facing −x, into the room
-    g.mesh("Room", *quads_mesh([q for k, q in enumerate(room) if k not in (1, 2)] + window_wall), wall)
-    g.mesh("Floor", *quads_mesh([room[2]]), floor)
+    add_room(g, (-2.5, 0, -2), (2.5, 3, 2), wall, floor, extra_walls=window_wall, open_sides=(1,))
     add_box(g, "Bed", (-2.5, 0, -2.0), (-0.5, 0.5, -0.6), bed)
     g.sun("Sun", 3.0, (1.0, 1.0, 0.95), (-0.75, -0.55, 0.2))
     g.camera((-2.2, 1.6, 1.7), (1.5, 0.7, -0.8))

@@ -1,30 +1,16 @@
 #include "lambert/geometry/enclosures.h"
 
 #include <cmath>
-#include <numeric>
 #include <utility>
 
 #include "lambert/core/error.h"
 #include "lambert/core/parallel.h"
 #include "lambert/core/rng.h"
 #include "lambert/core/sampling.h"
+#include "lambert/core/union_find.h"
 
 namespace lambert {
 namespace {
-
-// Union–find over patches, with path halving.
-struct DisjointSets {
-  std::vector<std::uint32_t> parent;
-  explicit DisjointSets(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-  std::uint32_t root(std::uint32_t i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
-    return i;
-  }
-  void join(std::uint32_t a, std::uint32_t b) {
-    a = root(a), b = root(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
-};
 
 // Whether a light of the scene reaches the front of x (normal n) unoccluded.
 bool seesALight(const Scene& scene, const RayCaster& caster, const Vec3& x, const Vec3& n, double epsilon) {
@@ -83,21 +69,21 @@ std::vector<std::uint8_t> enclosedPatches(const Mesh& mesh, const RayCaster& cas
       // A one-sided face's back is black and opaque: nothing comes through it.
     }
   }, 16);
-  DisjointSets sets(n);
+  UnionFind sets(n);
   for (std::size_t i = 0; i < n; ++i)
-    for (std::uint32_t j : met[i]) sets.join(static_cast<std::uint32_t>(i), j);
+    for (std::uint32_t j : met[i]) sets.unite(static_cast<std::uint32_t>(i), j);
   std::vector<std::uint8_t> setLit(n, 0);
   for (std::size_t i = 0; i < n; ++i)
-    if (lit[i]) setLit[sets.root(static_cast<std::uint32_t>(i))] = 1;
+    if (lit[i]) setLit[sets.find(static_cast<std::uint32_t>(i))] = 1;
   // The lights, asked of each set not yet lit, one patch at a time until one sees a light.
   for (std::size_t i = 0; i < n; ++i) {
     if (!mesh.patches[i].twinned) continue;
-    const std::uint32_t r = sets.root(static_cast<std::uint32_t>(i));
+    const std::uint32_t r = sets.find(static_cast<std::uint32_t>(i));
     if (setLit[r]) continue;
     if (seesALight(scene, caster, mesh.patches[i].centroid, mesh.patches[i].normal, epsilon)) setLit[r] = 1;
   }
   for (std::size_t i = 0; i < n; ++i)
-    enclosed[i] = mesh.patches[i].twinned && !setLit[sets.root(static_cast<std::uint32_t>(i))];
+    enclosed[i] = mesh.patches[i].twinned && !setLit[sets.find(static_cast<std::uint32_t>(i))];
   return enclosed;
 }
 

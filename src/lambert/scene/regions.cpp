@@ -7,6 +7,7 @@
 #include <numeric>
 #include <set>
 
+#include "lambert/core/union_find.h"
 #include "lambert/core/vec2.h"
 #include "lambert/core/warning.h"
 
@@ -14,20 +15,6 @@ namespace lambert {
 namespace {
 
 bool isFinite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
-struct UnionFind {
-  std::vector<std::uint32_t> parent;
-  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-  std::uint32_t find(std::uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  void unite(std::uint32_t a, std::uint32_t b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);  // the lowest piece names the region
-  }
-};
 
 }  // namespace
 
