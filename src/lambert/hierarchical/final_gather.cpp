@@ -55,6 +55,11 @@ struct LeafRange {
   std::vector<Rgb> lowest, highest;
   std::vector<std::uint32_t> clusterSlot;    // per node: its index in axisPower, or kNoNode
   std::vector<std::array<Rgb, 6>> axisPower;  // per cluster
+  // Per cluster: where its light comes from, the centroid of its leaves weighted by their power
+  // (the box's centre where it sends none). A cluster of floor pieces and the luminaires over them
+  // sends its light from the luminaires: from its box's centre, half way down, the floor's far
+  // vertices saw it at half the elevation and got half its light.
+  std::vector<Vec3> lightCentre;
 
   // What cluster s sends toward the unit direction u, per steradian × π: Σ |u_axis| × the power
   // toward u's side of that axis (B̄ × the area shown, for a cluster of uniform radiosity).
@@ -79,32 +84,43 @@ LeafRange leafRange(const ElementHierarchy& hierarchy, const Mesh& leaves, const
     lowest[i] = lo;
     highest[i] = hi;
   }
-  LeafRange range{std::move(lowest), std::move(highest), std::vector<std::uint32_t>(numNodes, kNoNode), {}};
+  LeafRange range{std::move(lowest), std::move(highest), std::vector<std::uint32_t>(numNodes, kNoNode), {}, {}};
   for (std::uint32_t i = 0; i < numNodes; ++i)
     if (hierarchy.node(i).isCluster()) {
       range.clusterSlot[i] = static_cast<std::uint32_t>(range.axisPower.size());
       range.axisPower.emplace_back();
     }
+  std::vector<Vec3> weighted(range.axisPower.size());
+  std::vector<double> weight(range.axisPower.size(), 0.0);
   for (const std::uint32_t l : hierarchy.leafNodes()) {
     const HierarchyNode& leaf = hierarchy.node(l);
     std::uint32_t cluster = leaf.parent;
     while (cluster != kNoNode && !hierarchy.node(cluster).isCluster()) cluster = hierarchy.node(cluster).parent;
     if (cluster == kNoNode) continue;
+    const std::uint32_t slot = range.clusterSlot[cluster];
     const Rgb power = mean[l] * (leaf.area * leaves.patches[leaf.leaf].openFraction);
-    std::array<Rgb, 6>& p = range.axisPower[range.clusterSlot[cluster]];
+    std::array<Rgb, 6>& p = range.axisPower[slot];
     const Vec3& n = leaf.normal;
     p[n.x > 0 ? 0 : 1] += power * std::fabs(n.x);
     p[n.y > 0 ? 2 : 3] += power * std::fabs(n.y);
     p[n.z > 0 ? 4 : 5] += power * std::fabs(n.z);
+    const double w = power.r + power.g + power.b;
+    weighted[slot] += leaf.centre * w;
+    weight[slot] += w;
   }
-  // Clusters have smaller indices than the clusters under them: children's powers are whole first.
+  // Clusters have smaller indices than the clusters under them: children's sums are whole first.
   for (std::size_t i = numNodes; i-- > 1;) {
     const HierarchyNode& node = hierarchy.node(static_cast<std::uint32_t>(i));
     if (!node.isCluster() || node.parent == kNoNode) continue;
-    std::array<Rgb, 6>& up = range.axisPower[range.clusterSlot[node.parent]];
-    const std::array<Rgb, 6>& own = range.axisPower[range.clusterSlot[i]];
-    for (int k = 0; k < 6; ++k) up[k] += own[k];
+    const std::uint32_t up = range.clusterSlot[node.parent], own = range.clusterSlot[i];
+    for (int k = 0; k < 6; ++k) range.axisPower[up][k] += range.axisPower[own][k];
+    weighted[up] += weighted[own];
+    weight[up] += weight[own];
   }
+  range.lightCentre.resize(range.axisPower.size());
+  for (std::uint32_t i = 0; i < numNodes; ++i)
+    if (const std::uint32_t slot = range.clusterSlot[i]; slot != kNoNode)
+      range.lightCentre[slot] = weight[slot] > 0 ? weighted[slot] / weight[slot] : hierarchy.node(i).centre;
   return range;
 }
 
@@ -297,8 +313,10 @@ class FinalGather::SiteGather {
             continue;
           }
           ++tally_[0];
-          const double distance = length(source.centre - site_.point);
-          const Vec3 w = (source.centre - site_.point) / distance;
+          const Vec3 centre = range_.lightCentre[range_.clusterSlot[s]];
+          const double distance = length(centre - site_.point);
+          if (!(distance > 0)) continue;
+          const Vec3 w = (centre - site_.point) / distance;
           const double kernel = std::fmax(0.0, dot(site_.normal, w)) / (kPi * distance * distance);
           const Rgb shown = range_.shownToward(s, -w);
           if (kernel > 0 && source.projectedArea(-w) > 0) {
