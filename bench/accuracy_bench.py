@@ -17,7 +17,7 @@ runs what a user runs and compares, at the same points:
 against bench/vertex_reference (the project's path tracer, reference/reference.h) at those very
 points, traced twice with independent seeds. The reference is the mean of the two; its noise is
 half the RMS of their difference over the mean reference (the standard error of the mean), and the
-samples per point are quadrupled until it is at most 1% (it is reported per scene).
+samples per point are quadrupled until it is at most 1% or --max-samples (it is reported per scene).
 
 Points are reported in three groups, none dropped (classify()): `open` (the main figures),
 `discontinuity` (the meter's reading changes by more than a third within 0.5% of the scene's diagonal
@@ -32,7 +32,7 @@ points' mean reference.
 Prints one JSON document; --markdown FILE also writes the table docs/accuracy.md holds.
 
     bench/accuracy_bench.py --lambert build/bin/lambert --vertex-reference build/bin/vertex_reference \
-        --lightmap-texels build/bin/lightmap_texels [--corpus real-scenes] [--scenes blender-room,rpk-office2] [--points 600]
+        --lightmap-texels build/bin/lightmap_texels [--corpus real-scenes] [--scenes blender-room,rpk-office2] [--points 300]
 """
 import argparse
 import csv
@@ -294,9 +294,9 @@ def main():
     parser.add_argument("--lightmap-texels", default=os.path.join(ROOT, "build/bin/lightmap_texels"))
     parser.add_argument("--corpus", default=os.path.join(ROOT, "real-scenes"))
     parser.add_argument("--scenes", default="", help="comma-separated ids (default: all)")
-    parser.add_argument("--points", type=int, default=600, help="points per scene (from the solution's vertices)")
+    parser.add_argument("--points", type=int, default=300, help="points per scene (from the solution's vertices), and as many texels")
     parser.add_argument("--samples", type=int, default=4096, help="first reference samples per point and seed")
-    parser.add_argument("--max-samples", type=int, default=65536)
+    parser.add_argument("--max-samples", type=int, default=16384, help="the most reference samples per point and seed")
     parser.add_argument("--discontinuity-radius", type=float, default=0.005,
                         help="how far round a point the meter looks for a discontinuity, a fraction of the scene's diagonal")
     parser.add_argument("--markdown", help="also write the table here")
@@ -304,7 +304,19 @@ def main():
     args = parser.parse_args()
 
     wanted = set(filter(None, args.scenes.split(",")))
-    generated = tempfile.mkdtemp(prefix="accuracy-scenes-")
+    with tempfile.TemporaryDirectory(prefix="accuracy-scenes-") as generated:
+        reports = measure_all(args, wanted, generated)
+    if args.markdown:
+        with open(args.markdown + ".tmp", "w") as f:
+            f.write(markdown(reports))
+        os.replace(args.markdown + ".tmp", args.markdown)
+    json.dump({"scenes": reports}, sys.stdout, indent=1)
+    print()
+    return 0
+
+
+def measure_all(args, wanted, generated):
+    """Every wanted scene's report (or why it was skipped), the Blender-style ones written to `generated`."""
     subprocess.run([sys.executable, os.path.join(ROOT, "bench/accuracy/blender_scenes.py"), "--out", generated],
                    check=True, capture_output=True)
     reports = []
@@ -323,13 +335,7 @@ def main():
         except RuntimeError as e:
             reports.append({"id": entry["id"], "error": str(e)})
             log(str(e))
-    if args.markdown:
-        with open(args.markdown + ".tmp", "w") as f:
-            f.write(markdown(reports))
-        os.replace(args.markdown + ".tmp", args.markdown)
-    json.dump({"scenes": reports}, sys.stdout, indent=1)
-    print()
-    return 0
+    return reports
 
 
 if __name__ == "__main__":
