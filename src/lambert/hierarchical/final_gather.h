@@ -23,7 +23,10 @@
 //                    on its rim may be in a penumbra they all missed, or lit where they were all
 //                    blocked; refinement keeps element links whose rays were all blocked, with
 //                    K = 0, for this);
-//   cluster source   P_s(−ω) max(0, n·ω) / (π d²) × the link's visibility; at points (not
+//   cluster source   I_s(−ω) max(0, n·ω) / (π d²) × the link's visibility, with ω and d toward
+//                    the power-weighted centroid of its leaves and I_s(−ω) = Σ_axis |ω_axis| × the
+//                    power its leaves send toward that side of the axis (B̄_s P_s(−ω) where its
+//                    radiosity is uniform: a luminaire shows the floor its emitting face); at points (not
 //                    vertices), where some of the link's rays were blocked, the share of rays
 //                    from the point to points on the faces inside s, picked by area, that get
 //                    through (a point beside an occluder sees past it where the receiver's
