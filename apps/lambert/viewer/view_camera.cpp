@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "lambert/render/camera.h"
+
 namespace lambert::viewer {
 
 void ViewCamera::turn(double yaw, double pitch) {
@@ -52,8 +54,7 @@ Eigen::Matrix4f ViewCamera::projection(double aspect, const Vec3& lo, const Vec3
     far = std::max(far, dot(p - camera.eye, forward()));
   }
   far = std::max(far * 1.01, 1e-6);
-  // The rendered picture's near plane (render/camera.h: a hundredth of the eye–target distance).
-  const double near = std::max(1e-2 * length(camera.target - camera.eye), far * 1e-5);
+  const double near = std::max(nearPlaneDistance(length(camera.target - camera.eye)), far * 1e-5);
   far = std::max(far, near * 2);
   const double f = 1 / std::tan(camera.verticalFovDegrees * kDegrees / 2);
   Eigen::Matrix4f m = Eigen::Matrix4f::Zero();

@@ -44,10 +44,11 @@ std::vector<std::uint8_t> enclosedPatches(const Mesh& mesh, const RayCaster& cas
   // any reached light.
   std::vector<std::vector<std::uint32_t>> met(n);
   std::vector<std::uint8_t> lit(n, 0);
+  const auto emits = [&](const Patch& p) { return scene.surfaces[p.surface].emittedRadiance.maxComponent() > 0; };
   parallelFor(0, n, [&](std::size_t i) {
     const Patch& patch = mesh.patches[i];
     if (!patch.twinned) return;
-    if (scene.surfaces[patch.surface].emittedRadiance.maxComponent() > 0) {
+    if (emits(patch)) {
       lit[i] = 1;
       return;
     }
@@ -63,7 +64,7 @@ std::vector<std::uint8_t> enclosedPatches(const Mesh& mesh, const RayCaster& cas
         lit[i] = lightOutside;
       } else if (hit->frontFace) {
         const Patch& other = mesh.patches[hit->patch];
-        if (!other.twinned || scene.surfaces[other.surface].emittedRadiance.maxComponent() > 0) lit[i] = 1;
+        if (!other.twinned || emits(other)) lit[i] = 1;
         else met[i].push_back(hit->patch);
       }
       // A one-sided face's back is black and opaque: nothing comes through it.

@@ -26,7 +26,7 @@ PinholeCamera::PinholeCamera(const Camera& camera, int width_, int height_)
   tanHalfFovY = std::tan(camera.verticalFovDegrees * kPi / 360.0);
   tanHalfFovX = tanHalfFovY * width / height;
   focalPixels = 0.5 * height / tanHalfFovY;
-  nearDistance = 1e-2 * (distance > 0 ? distance : 1.0);
+  nearDistance = nearPlaneDistance(distance);
 }
 
 std::optional<ScreenPoint> PinholeCamera::project(const Vec3& world) const {

@@ -14,6 +14,13 @@ struct ScreenPoint {
   double depth = 0;
 };
 
+// The near plane for a camera whose eye stands `eyeTargetDistance` from its target: a hundredth
+// of that, as RenderPark clips for a camera inside the scene. Its scripts stand cameras a few
+// centimetres outside a room's wall (the hospital's, 4.5 cm in front of the corridor wall's outer
+// face, which faces it), and RenderPark's picture shows the room through it. The rasterizer, the
+// path tracer's camera rays and the viewer all start here.
+inline double nearPlaneDistance(double eyeTargetDistance) { return 1e-2 * (eyeTargetDistance > 0 ? eyeTargetDistance : 1.0); }
+
 // View space: x to the right of the image, y up the image, z along the view direction (depth).
 // The basis is right-handed in world terms (right = forward × up), which is what puts the red wall
 // of the Cornell box (x ≈ 555) on the left of the published view from z = -800.
@@ -25,11 +32,7 @@ struct PinholeCamera {
   int width = 0, height = 0;    // pixels
   double focalPixels = 0;       // distance to the image plane, in pixels
   double tanHalfFovX = 0, tanHalfFovY = 0;
-  // Points closer than this (along the view axis) are not projected; the rasterizer clips here
-  // and the path tracer's camera rays start here. A hundredth of the eye–target distance, as
-  // RenderPark clips for a camera inside the scene: its scripts stand cameras a few centimetres
-  // outside a room's wall (the hospital's, 4.5 cm behind its corridor wall's outer face, which
-  // faces the camera), and RenderPark's picture shows the room through it.
+  // Points closer than this (along the view axis) are not projected: nearPlaneDistance.
   double nearDistance = 0;
 
   Vec3 toView(const Vec3& world) const {
