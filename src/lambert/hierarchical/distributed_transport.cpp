@@ -87,10 +87,10 @@ std::vector<Rgb> DistributedTransport::gatherOwn(const std::vector<Rgb>& radiosi
   const std::vector<Rgb> mean = exchangeMeans(radiosity);
   parallelFor(0, ownPath_.size(), [&](std::size_t k) { gathered[ownPath_[k]] = gatherNode(ownPath_[k], mean); }, 256);
   for (std::uint32_t i : ownPath_)
-    if (parent_[i] != kNoNode) gathered[i] += gathered[parent_[i]];
+    if (parent_[i] != kNoNode && leafOfNode_[i] == kNoNode) gathered[i] += gathered[parent_[i]] * pushWeight_[i];
   const std::span<const std::uint32_t> own = ownLeaves();
   std::vector<Rgb> irradiance(own.size());
-  for (std::size_t k = 0; k < own.size(); ++k) irradiance[k] = gathered[nodeOfLeaf_[own[k]]] * leafGain_[own[k]];
+  for (std::size_t k = 0; k < own.size(); ++k) irradiance[k] = leafIrradiance(own[k], gathered);
   return irradiance;
 }
 

@@ -55,6 +55,14 @@ class LinkEstimator {
     return radiosity_[c.source] * uncertainty * h_.node(c.receiver).area > threshold_;
   }
 
+  // What the BF oracle leaves out: a link hands its receiver the source's mean radiosity, but a
+  // receiver close to a source whose leaves differ (a ceiling lit bright only over a lamp panel
+  // hung under it) sees some of them far more than others. The transfer that may be wrong by
+  // it, (B_peak − B̄_s) · K · A_r, above the threshold: only splitting the source makes it smaller.
+  bool sourceVariesTooMuch(const Candidate& c) const {
+    return (peakRadiosity_[c.source] - radiosity_[c.source]) * c.formFactor * h_.node(c.receiver).area > threshold_;
+  }
+
   bool splittable(std::uint32_t node) const {
     const HierarchyNode& n = h_.node(node);
     return n.isCluster() || !n.isLeaf() || n.area * 0.25 >= minArea_;
@@ -71,6 +79,7 @@ class LinkEstimator {
   struct ClusterSample;
   struct FaceSample;
   bool boxesApart(const HierarchyNode& a, const HierarchyNode& b) const;
+  double leafRadiosityAt(std::uint32_t node, const Vec3& y) const;
   bool mayFace(const HierarchyNode& a, const HierarchyNode& b) const;
   bool cutsThrough(const HierarchyNode& e, const HierarchyNode& b) const;
   void trace(const Vec3& x, const Vec3& xNormal, std::uint8_t xCoverage, const Vec3& y, const Vec3& yNormal,
@@ -87,6 +96,7 @@ class LinkEstimator {
   double minArea_;
   double threshold_ = 0;
   std::vector<double> radiosity_;  // per node: area-weighted mean of the leaves' largest channel
+  std::vector<double> peakRadiosity_;  // per node: the largest of its leaves' largest channel
   // Per node: kOpen, kMayBeCovered (a leaf partly covered is, or was, under it) or kEnclosed (an
   // element inside a closed two-sided object, every point covered: geometry/enclosures.h).
   enum Coverage : std::uint8_t { kOpen = 0, kMayBeCovered = 1, kEnclosed = 2 };

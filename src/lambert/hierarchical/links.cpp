@@ -117,10 +117,12 @@ LinkEstimator::LinkEstimator(const ElementHierarchy& hierarchy, const RayCaster&
   for (std::size_t i = 0; i < nodes.size(); ++i)
     if (nodes[i].enclosed) partlyCovered_[i] = kEnclosed;
   radiosity_.assign(nodes.size(), 0.0);
+  peakRadiosity_.assign(nodes.size(), 0.0);
   double power = 0;
   for (std::size_t l = 0; l < leafRadiosity.size(); ++l) {
     std::uint32_t n = h_.leafNodes()[l];
     radiosity_[n] = leafRadiosity[l] * nodes[n].area;  // summed power first, divided below
+    peakRadiosity_[n] = leafRadiosity[l];
     power += leafRadiosity[l] * nodes[n].area;
   }
   // Pull: children have larger indices than their parents.
@@ -128,6 +130,7 @@ LinkEstimator::LinkEstimator(const ElementHierarchy& hierarchy, const RayCaster&
     const std::uint32_t parent = nodes[i].parent;
     if (parent == kNoNode) continue;
     radiosity_[parent] += radiosity_[i];
+    peakRadiosity_[parent] = std::fmax(peakRadiosity_[parent], peakRadiosity_[i]);
   }
   for (std::size_t i = 0; i < nodes.size(); ++i) radiosity_[i] = nodes[i].area > 0 ? radiosity_[i] / nodes[i].area : 0.0;
   threshold_ = options_.linkError * power;
@@ -137,6 +140,7 @@ void LinkEstimator::addChildren(std::uint32_t node) {
   for (std::uint32_t k : h_.children(node)) {
     LAMBERT_CHECK(k == radiosity_.size());
     radiosity_.push_back(radiosity_[node]);
+    peakRadiosity_.push_back(radiosity_[node]);  // a leaf's radiosity is one value
     partlyCovered_.push_back(partlyCovered_[node]);
   }
 }
@@ -218,12 +222,19 @@ std::uint8_t LinkEstimator::estimate(Candidate& c) const {
     // the pairs of points that face each other. Where the elements cross each other's planes
     // K already leaves out the part behind, and a ray to it would count it out twice.
     Visibility seen;
+    double shown = 0, reaching = 0;  // Σ B(y) over the facing pairs, and over the open ones
     for (int i = 0; i < n; ++i) {
       auto [u1, v1] = scrambledZeroTwo(static_cast<std::uint32_t>(i), su, sv);
       auto [u2, v2] = scrambledZeroTwo(static_cast<std::uint32_t>(i), tu, tv);
       const Vec3 x = sampleConvexPolygon(r.polygon(), u1, v1), y = sampleConvexPolygon(s.polygon(), u2, v2);
       if (!(pointToPointKernel(x, r.normal, y, s.normal) > 0)) continue;
+      const int facingBefore = seen.facing, openBefore = seen.open;
       trace(x, r.normal, partlyCovered_[c.receiver], y, s.normal, faceKey(s), seen);
+      if (seen.facing > facingBefore) {
+        const double b = leafRadiosityAt(c.source, y);
+        shown += b;
+        reaching += seen.open > openBefore ? b : 0.0;
+      }
     }
     const int open = seen.open, facing = seen.facing;
     if (facing == 0 && seen.covered == 0) {
@@ -231,7 +242,8 @@ std::uint8_t LinkEstimator::estimate(Candidate& c) const {
       return 0;
     }
     // Every point that faces s is covered: as if every ray were blocked (the rest of r may be open).
-    c.formFactor = facing > 0 ? static_cast<float>(k * open / facing) : 0.0f;
+    const double visible = shown > 0 ? reaching / shown : facing > 0 ? static_cast<double>(open) / facing : 0.0;
+    c.formFactor = static_cast<float>(k * visible);
     // Unoccluded, the error is the factor's spread over r; a shadow edge may cross r where
     // only some rays get through, and then the whole unoccluded factor is in doubt.
     c.uncertainty = static_cast<float>(open < facing || facing == 0 ? k : factor.spread);
@@ -303,6 +315,27 @@ std::uint8_t LinkEstimator::estimate(Candidate& c) const {
   c.formFactor = counted > 0 ? static_cast<float>(std::fmin(1.0, sum / counted)) : 0.0f;
   c.verdict = seen.open > 0 ? Verdict::Estimated : Verdict::Occluded;
   return seen.rays();
+}
+
+// The radiosity of the leaf under `node` (an element) that holds the point y of its plane: its
+// children split it into four, and y lies in one of them (the one it is least outside of).
+double LinkEstimator::leafRadiosityAt(std::uint32_t node, const Vec3& y) const {
+  while (!h_.node(node).isLeaf()) {
+    std::uint32_t best = node;
+    double bestMargin = -INFINITY;
+    for (std::uint32_t child : h_.children(node)) {
+      const HierarchyNode& e = h_.node(child);
+      double margin = INFINITY;
+      for (std::size_t k = 0; k < e.numCorners; ++k) {
+        const Vec3& a = e.corners[k];
+        const Vec3& b = e.corners[(k + 1) % e.numCorners];
+        margin = std::fmin(margin, dot(cross(b - a, y - a), e.normal) / std::fmax(length(b - a), 1e-300));
+      }
+      if (margin > bestMargin) bestMargin = margin, best = child;
+    }
+    node = best;
+  }
+  return radiosity_[node];
 }
 
 // Whether the two nodes' boxes are apart along some axis.

@@ -201,6 +201,11 @@ class Refiner {
                                                               : estimator_.judgedTransfer(c);
       refine = estimator_.tooCoarse(c, uncertainty);
     }
+    // An element link whose source's leaves differ more than its mean can stand for is split at
+    // the source (link_estimator.h, sourceVariesTooMuch), whatever the factor's error says.
+    const bool varies = c.verdict == Verdict::Estimated && !r.isCluster() && !s.isCluster() && estimator_.sourceVariesTooMuch(c);
+    const bool bySource = varies && s.area > r.area;
+    refine = refine || varies;
     // An element link whose rays were all blocked is kept with K = 0 where it is not split: it
     // moves nothing in the solve, but the final gather (hierarchical/final_gather.h) casts its own rays
     // to the source from each vertex, and a vertex at the receiver's rim may see part of it (the
@@ -226,7 +231,7 @@ class Refiner {
     }
     if (c.receiver == c.source) {
       expansions.push_back({c.receiver, c.source, Expansion::Pairs});
-    } else if (c.openSource && canS) {
+    } else if ((c.openSource || bySource) && canS) {
       expansions.push_back({c.receiver, c.source, Expansion::Source});
     } else if (canR && (!canS || r.area >= s.area || c.receiverSide || c.openReceiver)) {
       // The larger node, as HSA'91 splits, unless the error is the factor's spread over the

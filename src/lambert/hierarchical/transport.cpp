@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 
 #include "lambert/core/error.h"
 #include "lambert/core/parallel.h"
@@ -29,26 +30,6 @@ HierarchicalTransport::HierarchicalTransport(const ElementHierarchy& hierarchy, 
     area_[i] = nodes[i].area;
     leafOfNode_[i] = nodes[i].leaf;
   }
-  // Σ K over each node's links and its ancestors' (parents have smaller indices).
-  std::vector<double> rowSum(nodes.size(), 0.0);
-  for (std::size_t i = 0; i < nodes.size(); ++i) {
-    if (parent_[i] != kNoNode) rowSum[i] = rowSum[parent_[i]];
-    for (std::uint32_t k = links_->start[i]; k < links_->start[i + 1]; ++k) rowSum[i] += links_->formFactor[k];
-  }
-  leafGain_.resize(nodeOfLeaf_.size());
-  leafRowSum_.resize(nodeOfLeaf_.size());
-  leafScaled_.resize(nodeOfLeaf_.size());
-  for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l) {
-    const double sum = rowSum[nodeOfLeaf_[l]];
-    LAMBERT_CHECK(std::isfinite(sum) && sum >= 0);
-    largestRowSum_ = std::fmax(largestRowSum_, sum);
-    const double rho = leafAlbedo[l].maxComponent();
-    const bool scale = rho * sum > rowContractionBound(rho);
-    rowsScaled_ += scale;
-    leafRowSum_[l] = sum;
-    leafScaled_[l] = scale;
-    leafGain_[l] = leafOpenFraction[l] * (scale ? 1 / sum : 1.0);
-  }
   for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l) openArea_[nodeOfLeaf_[l]] = area_[nodeOfLeaf_[l]] * leafOpenFraction[l];
   for (std::size_t i = nodes.size(); i-- > 1;)
     if (parent_[i] != kNoNode) openArea_[parent_[i]] += openArea_[i];
@@ -56,6 +37,77 @@ HierarchicalTransport::HierarchicalTransport(const ElementHierarchy& hierarchy, 
   // count the covered parts out, so it shows its mean over all its area.
   for (std::size_t i = 0; i < nodes.size(); ++i)
     if (nodes[i].isCluster()) openArea_[i] = area_[i];
+  // Σ K of each node's own links.
+  std::vector<double> ownSum(nodes.size(), 0.0);
+  for (std::size_t i = 0; i < nodes.size(); ++i)
+    for (std::uint32_t k = links_->start[i]; k < links_->start[i + 1]; ++k) ownSum[i] += links_->formFactor[k];
+  // The push-down's weights (pushWeight_): per element, the share of its hemisphere its own links
+  // and those below it leave free, over its element parent's children's mean share.
+  pushWeight_.assign(nodes.size(), 1.0);
+  std::vector<double> free(nodes.size(), 0.0);  // open area × free share, summed over the leaves
+  for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l) {
+    double claimed = 0;
+    for (std::uint32_t i = nodeOfLeaf_[l]; i != kNoNode && !nodes[i].isCluster(); i = parent_[i]) {
+      claimed += ownSum[i];
+      free[i] += area_[nodeOfLeaf_[l]] * leafOpenFraction[l] * std::fmax(0.0, 1.0 - claimed);
+    }
+  }
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    const std::uint32_t p = parent_[i];
+    if (nodes[i].isCluster() || p == kNoNode || nodes[p].isCluster() || !(openArea_[i] > 0)) continue;
+    // Σ over p's children of their free areas: p's own leaves' free area with p's own links
+    // not yet counted, which is free[p] with ownSum[p] given back (per leaf, 1 − claimed ≥ 0).
+    double childrenFree = 0;
+    for (std::uint32_t c : hierarchy.children(p)) childrenFree += free[c];
+    if (childrenFree > 1e-9 * openArea_[p]) pushWeight_[i] = (free[i] / openArea_[i]) / (childrenFree / openArea_[p]);
+  }
+  // The pull's weights (pullWeight_), the same on the source side: per element, the share of the
+  // light its leaves send that the links from it and from the elements below it leave unsent,
+  // over its element parent's children's mean share.
+  std::vector<double> sent(nodes.size(), 0.0);  // Σ K · A_r over the links from each node, over its open area
+  for (std::size_t r = 0; r < nodes.size(); ++r)
+    for (std::uint32_t k = links_->start[r]; k < links_->start[r + 1]; ++k) sent[links_->source[k]] += links_->formFactor[k] * openArea_[r];
+  for (std::size_t i = 0; i < nodes.size(); ++i) sent[i] = openArea_[i] > 0 ? sent[i] / openArea_[i] : 0.0;
+  pullWeight_.assign(nodes.size(), 1.0);
+  std::vector<double> unsent(nodes.size(), 0.0);  // open area × unsent share, summed over the leaves
+  for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l) {
+    double claimed = 0;
+    for (std::uint32_t i = nodeOfLeaf_[l]; i != kNoNode && !nodes[i].isCluster(); i = parent_[i]) {
+      claimed += sent[i];
+      unsent[i] += area_[nodeOfLeaf_[l]] * leafOpenFraction[l] * std::fmax(0.0, 1.0 - claimed);
+    }
+  }
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    const std::uint32_t p = parent_[i];
+    if (nodes[i].isCluster() || p == kNoNode || nodes[p].isCluster() || !(openArea_[i] > 0)) continue;
+    double childrenUnsent = 0;
+    for (std::uint32_t c : hierarchy.children(p)) childrenUnsent += unsent[c];
+    if (childrenUnsent > 1e-9 * openArea_[p]) pullWeight_[i] = (unsent[i] / openArea_[i]) / (childrenUnsent / openArea_[p]);
+  }
+  if (std::getenv("NOPULLW")) pullWeight_.assign(nodes.size(), 1.0);
+  // Σ K over each node's links and its ancestors', as the push hands them down (parents have
+  // smaller indices).
+  std::vector<double> rowSum(nodes.size(), 0.0);
+  for (std::size_t i = 0; i < nodes.size(); ++i) rowSum[i] = ownSum[i] + (parent_[i] != kNoNode ? pushWeight_[i] * rowSum[parent_[i]] : 0.0);
+  leafOwnGain_.resize(nodeOfLeaf_.size());
+  leafAncestorGain_.resize(nodeOfLeaf_.size());
+  leafRowSum_.resize(nodeOfLeaf_.size());
+  leafScaled_.resize(nodeOfLeaf_.size());
+  for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l) {
+    const std::uint32_t node = nodeOfLeaf_[l];
+    const double sum = rowSum[node], own = ownSum[node], ancestors = sum - own;
+    LAMBERT_CHECK(std::isfinite(sum) && sum >= 0);
+    largestRowSum_ = std::fmax(largestRowSum_, sum);
+    const double rho = leafAlbedo[l].maxComponent();
+    const bool scale = rho * sum > rowContractionBound(rho);
+    rowsScaled_ += scale;
+    leafRowSum_[l] = sum;
+    leafScaled_[l] = scale;
+    const double ownKept = std::fmin(own, 1.0);
+    const double ancestorsKept = scale && ancestors > 0 ? std::fmax(0.0, 1.0 - ownKept) / ancestors : 1.0;
+    leafOwnGain_[l] = leafOpenFraction[l] * (scale && own > 1 ? 1 / own : 1.0);
+    leafAncestorGain_[l] = leafOpenFraction[l] * std::fmin(1.0, ancestorsKept) * pushWeight_[node];
+  }
   // Depth first from the root, children in the hierarchy's order.
   sweepOrder_.reserve(nodes.size());
   std::vector<SweepStep> stack{{0, 0}};
@@ -96,17 +148,34 @@ Rgb HierarchicalTransport::gatherNode(std::uint32_t node, const std::vector<Rgb>
   return {r, g, b};
 }
 
+Rgb HierarchicalTransport::leafIrradiance(std::size_t leaf, const std::vector<Rgb>& gathered) const {
+  const std::uint32_t node = nodeOfLeaf_[leaf], parent = parent_[node];
+  const Rgb ancestors = parent != kNoNode ? gathered[parent] * leafAncestorGain_[leaf] : Rgb{};
+  return gathered[node] * leafOwnGain_[leaf] + ancestors;
+}
+
+void HierarchicalTransport::pullWeighted(const std::vector<Rgb>& radiosity, std::vector<Rgb>& mean) const {
+  const std::size_t n = parent_.size();
+  mean.assign(n, Rgb{});
+  for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l) mean[nodeOfLeaf_[l]] = radiosity[l] * area_[nodeOfLeaf_[l]];
+  for (std::size_t i = n; i-- > 0;) {
+    const Rgb power = mean[i];
+    if (parent_[i] != kNoNode) mean[parent_[i]] += power * pullWeight_[i];
+    mean[i] = openArea_[i] > 0 ? power / openArea_[i] : Rgb{};
+  }
+}
+
 void HierarchicalTransport::gather(const std::vector<Rgb>& radiosity, std::vector<Rgb>& irradiance) const {
   LAMBERT_CHECK(radiosity.size() == size());
   irradiance.resize(size());
   const std::size_t n = parent_.size();
   std::vector<Rgb> mean, gathered(n);
-  pull(radiosity, mean);
+  pullWeighted(radiosity, mean);
   parallelFor(0, n, [&](std::size_t i) { gathered[i] = gatherNode(static_cast<std::uint32_t>(i), mean); }, 256);
   // Push: parents come first, so each node adds what every ancestor gathered.
   for (std::size_t i = 1; i < n; ++i)
-    if (parent_[i] != kNoNode) gathered[i] += gathered[parent_[i]];
-  for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l) irradiance[l] = gathered[nodeOfLeaf_[l]] * leafGain_[l];
+    if (parent_[i] != kNoNode && leafOfNode_[i] == kNoNode) gathered[i] += gathered[parent_[i]] * pushWeight_[i];
+  for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l) irradiance[l] = leafIrradiance(l, gathered);
 }
 
 SweepChange HierarchicalTransport::sweep(const std::vector<Rgb>& emitted, const std::vector<Rgb>& albedo,
@@ -125,7 +194,7 @@ SweepChange HierarchicalTransport::sweep(const std::vector<Rgb>& emitted, const 
   }
   const std::size_t n = parent_.size();
   std::vector<Rgb> mean;
-  pull(radiosity, mean);
+  pullWeighted(radiosity, mean);
   // Along the path from the root to the node being swept, per depth: the node, what it and its
   // ancestors gathered, and the power its leaves changed that its mean does not hold yet (W).
   std::vector<std::uint32_t> nodeAt(sweepDepth_);
@@ -133,10 +202,12 @@ SweepChange HierarchicalTransport::sweep(const std::vector<Rgb>& emitted, const 
   for (std::size_t k = 0; k < n; ++k) {
     const auto [i, depth] = sweepOrder_[k];
     nodeAt[depth] = i;
-    pushedAt[depth] = depth > 0 ? gatherNode(i, mean) + pushedAt[depth - 1] : gatherNode(i, mean);
+    const Rgb own = gatherNode(i, mean);
+    pushedAt[depth] = depth > 0 ? own + pushedAt[depth - 1] * pushWeight_[i] : own;
     unpulledAt[depth] = Rgb{};
     if (const std::uint32_t l = leafOfNode_[i]; l != kNoNode) {
-      const Rgb updated = emitted[l] + albedo[l] * pushedAt[depth] * leafGain_[l];
+      const Rgb gathered = own * leafOwnGain_[l] + (depth > 0 ? pushedAt[depth - 1] * leafAncestorGain_[l] : Rgb{});
+      const Rgb updated = emitted[l] + albedo[l] * gathered;
       change.change = std::fmax(change.change, largestChange(updated, radiosity[l]));
       change.magnitude = std::fmax(change.magnitude, updated.maxComponent());
       unpulledAt[depth] = (updated - radiosity[l]) * area_[i];
@@ -148,7 +219,7 @@ SweepChange HierarchicalTransport::sweep(const std::vector<Rgb>& emitted, const 
     for (std::uint32_t d = depth + 1; d-- > next;) {
       const std::uint32_t a = nodeAt[d];
       if (openArea_[a] > 0) mean[a] += unpulledAt[d] / openArea_[a];
-      if (d > 0) unpulledAt[d - 1] += unpulledAt[d];
+      if (d > 0) unpulledAt[d - 1] += unpulledAt[d] * pullWeight_[a];
     }
   }
   return change;

@@ -63,16 +63,28 @@ class HierarchicalTransport : public Transport {
   // The bound. Where the K of the links at a leaf and at its ancestors sum to S with ρS above
   // rowContractionBound(ρ) (ρ: the leaf albedo's largest channel; 0.95, or (1 + ρ)/2 for ρ above
   // 0.9), the estimate is far above the truth (at most 1: a receiver gathers at most its whole
-  // hemisphere) and what the leaf gathers is scaled by 1/S; below, S is left as measured. Every
-  // leaf then has ρ·S ≤ max(0.95, (1 + ρ_max)/2) < 1, every pulled mean is at most its leaves' largest value, and so one sweep
-  // shrinks the largest open radiosity's distance to the solution by that factor: B = E + ρKB is
-  // a contraction and no sweep can diverge (docs/hierarchical.md, "The bound"). Rows above 1 by
-  // less are estimation noise around a true sum of at most 1 (different quadrature points and
-  // rays at each level; a receiving cluster handing every face the mean of what its faces
-  // gather), balanced by rows below 1: scaling them too let the closed Cornell box lose 5.8% of
-  // its power and made the clustered box 11% dark.
-  // leafGain_ = f · (scaled ? 1/S : 1).
-  std::vector<double> leafGain_;
+  // hemisphere) and the leaf gathers exactly its hemisphere, its own links first: they are kept
+  // whole (scaled to 1 if they alone sum above it) and what its ancestors hand down fills the
+  // rest, 1 − S_own. An ancestor's K is a mean over a larger receiver, and the leaf may be where
+  // that mean is wrong: a ceiling leaf over a lamp panel hung 10 cm under it sees the panel
+  // through its own links (K ≈ 0.94) and, through the whole ceiling element's, the room as the
+  // open part of that element sees it (K ≈ 0.6). Scaling both by 1/S took 40% of the panel's
+  // light from the ceiling over it (docs/hierarchical.md, "Narrow cavities"). Below the bound, S
+  // is left as measured. Every leaf then has ρ·S ≤ max(0.95, (1 + ρ_max)/2) < 1, every pulled
+  // mean is at most its leaves' largest value, and so one sweep shrinks the largest open
+  // radiosity's distance to the solution by that factor: B = E + ρKB is a contraction and no
+  // sweep can diverge (docs/hierarchical.md, "The bound"). Rows above 1 by less are estimation
+  // noise around a true sum of at most 1 (different quadrature points and rays at each level; a
+  // receiving cluster handing every face the mean of what its faces gather), balanced by rows
+  // below 1: scaling them too let the closed Cornell box lose 5.8% of its power and made the
+  // clustered box 11% dark.
+  // What a leaf gathers is own · leafOwnGain_ + ancestors · leafAncestorGain_ (f folded in).
+  Rgb leafIrradiance(std::size_t leaf, const std::vector<Rgb>& gathered) const;
+  std::vector<double> pushWeight_;
+  std::vector<double> pullWeight_;
+  void pullWeighted(const std::vector<Rgb>& radiosity, std::vector<Rgb>& mean) const;
+  std::vector<double> leafOwnGain_;
+  std::vector<double> leafAncestorGain_;
   std::vector<double> leafRowSum_;       // S per leaf
   std::vector<std::uint8_t> leafScaled_;  // whether the bound scaled it
   double largestRowSum_ = 0;
