@@ -8,7 +8,10 @@
 #include <vector>
 
 #include "lambert/formfactor/kernels.h"
+#include "lambert/design/illuminance.h"
 #include "lambert/io/vertices.h"
+#include "lambert/mesh/mesh.h"
+#include "lambert/reference/reference.h"
 #include "tests/support/engines.h"
 #include "tests/support/scenes.h"
 
@@ -266,6 +269,69 @@ TEST(RealGeometryTest, FarLuminaireClustersShowTheFloorTheirEmittingFacesOnly) {
   ASSERT_GE(floorVertices, (n + 1) * (n + 1));
   const double relativeRmse = std::sqrt(squared / floorVertices) / (expectedSum / floorVertices);
   EXPECT_LT(relativeRmse, 0.05) << "the floor's vertices against the strips' exact light";
+}
+
+// A lamp panel hung 10 cm under the ceiling of a closed 5 × 3 × 4 m room (Blender's emissive plane:
+// both faces emit), the meter (SolutionView::pointIrradiance) against the path tracer at points in
+// the cavity and in the room. Between the panel's top and the ceiling the light bounces twice
+// (E ≈ 2 F L_e π there). Three mechanisms made the cavity 29% dark over the panel and its top 38%:
+// the bound scaled a ceiling leaf's own link to the panel (K ≈ 0.94) with the room its ancestors
+// see through the open part of theirs (K ≈ 0.6); the panel's top linked to whole ceiling
+// elements whose mean radiosity is mostly the dim ceiling around the cavity (a link hands its
+// receiver the source's mean: sources are now split where their leaves differ, link_estimator.h);
+// and walls linked to ceiling elements half behind the panel saw their mean, the bright half
+// included (element links now weigh their rays by the source leaves' radiosity, links.cpp).
+TEST(RealGeometryTest, ALampPanelHungUnderACeilingLightsItsCavityAndTheRoom) {
+  Scene scene = testing::sceneOf({}, Rgb::gray(0.75));
+  scene.materials.push_back({"floor", Rgb::gray(0.4), false});
+  scene.materials.push_back({"panel", Rgb::gray(0.8), true});
+  const double x0 = -2.5, x1 = 2.5, y1 = 3, z0 = -2, z1 = 2, panelY = 2.9;
+  scene.surfaces = {{"ceiling", {{x0, y1, z0}, {x1, y1, z0}, {x1, y1, z1}, {x0, y1, z1}}, 0, {}},
+                    {"floor", {{x0, 0, z0}, {x0, 0, z1}, {x1, 0, z1}, {x1, 0, z0}}, 1, {}},
+                    {"west", {{x0, 0, z0}, {x0, y1, z0}, {x0, y1, z1}, {x0, 0, z1}}, 0, {}},
+                    {"east", {{x1, 0, z0}, {x1, 0, z1}, {x1, y1, z1}, {x1, y1, z0}}, 0, {}},
+                    {"north", {{x0, 0, z0}, {x1, 0, z0}, {x1, y1, z0}, {x0, y1, z0}}, 0, {}},
+                    {"south", {{x0, 0, z1}, {x0, y1, z1}, {x1, y1, z1}, {x1, 0, z1}}, 0, {}},
+                    {"panel", {{-0.6, panelY, -0.3}, {0.6, panelY, -0.3}, {0.6, panelY, 0.3}, {-0.6, panelY, 0.3}}, 2, Rgb::gray(10)}};
+  addTwins(scene);
+  for (std::size_t s = 0; s < 6; ++s) ASSERT_GT(dot(surfaceNormal(scene.surfaces[s]), Vec3{0, 1.5, 0} - scene.surfaces[s].vertices[0]), 0) << s;  // inward
+  ASSERT_LT(surfaceNormal(scene.surfaces[6]).y, -0.99);  // the panel faces down, its twin (7) up
+  ASSERT_EQ(scene.surfaces.size(), 8u);
+  auto engine = testing::solved(scene);
+  ASSERT_TRUE(engine);
+  struct Probe {
+    const char* what;
+    SurfacePoint at;
+    double meterTolerance, gatherTolerance;  // 0: the point gather is not held there
+  };
+  const std::vector<Probe> probes = {{"ceiling over the panel", {{0, y1, 0}, {0, -1, 0}, 0}, 0.08, 0.12},
+                                     {"ceiling over the panel's edge", {{0.55, y1, 0.25}, {0, -1, 0}, 0}, 0.05, 0.05},
+                                     {"panel's top", {{0, panelY, 0}, {0, 1, 0}, 7}, 0.13, 0.13},
+                                     {"ceiling beside the panel", {{0.8, y1, 0}, {0, -1, 0}, 0}, 0.05, 0.1},
+                                     {"floor under the panel", {{0, 0, 0}, {0, 1, 0}, 1}, 0.05, 0},
+                                     {"floor", {{1.5, 0, 1}, {0, 1, 0}, 1}, 0.05, 0},
+                                     {"wall", {{x0, 1.5, 0}, {1, 0, 0}, 2}, 0.05, 0},
+                                     {"wall at the cavity's height", {{x0, panelY, 0}, {1, 0, 0}, 2}, 0.05, 0.08}};
+  std::vector<SurfacePoint> points;
+  std::vector<CalculationPoint> meterPoints;
+  for (const Probe& p : probes) {
+    points.push_back(p.at);
+    meterPoints.push_back({p.at.point, p.at.normal});
+  }
+  const Result<std::vector<PointIrradiance>> metered = IlluminanceMeter(engine->solution()).measure(meterPoints);
+  ASSERT_TRUE(metered.ok()) << metered.error().message;
+  const Result<std::vector<Rgb>> gathered = engine->solution().pointIrradiance(points);
+  ASSERT_TRUE(gathered.ok()) << gathered.error().message;
+  const ReferenceRenderer tracer(scene, subdivideScene(scene, 10.0), testing::quietReferenceOptions(16384));
+  for (std::size_t i = 0; i < probes.size(); ++i) {
+    const SurfacePoint& p = probes[i].at;
+    const double traced = tracer.irradianceAt(p.point, p.normal, p.surface, i).g;
+    const double meter = (*metered)[i].total().g, gather = (*gathered)[i].g;
+    std::printf("%-30s traced %8.3f  meter %8.3f (%+5.1f%%)  point gather %8.3f (%+5.1f%%)\n", probes[i].what, traced, meter,
+                100 * (meter / traced - 1), gather, 100 * (gather / traced - 1));
+    EXPECT_LT(std::fabs(meter / traced - 1), probes[i].meterTolerance) << probes[i].what;
+    if (probes[i].gatherTolerance > 0) EXPECT_LT(std::fabs(gather / traced - 1), probes[i].gatherTolerance) << probes[i].what;
+  }
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 #include "lambert/core/error.h"
@@ -37,6 +38,32 @@ DistributedTransport::DistributedTransport(const ElementHierarchy& hierarchy, st
   for (std::size_t i = 0; i < n; ++i)
     if (onPath[i]) ownPath_.push_back(static_cast<std::uint32_t>(i));
   planExchange();
+  // The push's and the pull's weights need every link of the hierarchy: each rank hands the others
+  // its links into the nodes it alone holds, and the lowest rank under a shared node those into
+  // that node, so that each link comes once; sorted by receiver (each receiver's links from one
+  // rank, in that rank's order), they sum as one process sums its own.
+  std::vector<int> lowestRank(n, std::numeric_limits<int>::max());
+  for (std::uint32_t l = 0; l < nodeOfLeaf_.size(); ++l)
+    for (std::uint32_t i = nodeOfLeaf_[l]; i != kNoNode; i = parent_[i]) lowestRank[i] = std::min(lowestRank[i], rankOfLeaf(l));
+  struct LinkRecord {
+    std::uint32_t receiver, source;
+    float formFactor;
+  };
+  static_assert(sizeof(LinkRecord) == 12);
+  std::vector<LinkRecord> mine;
+  const int me = communicator_->rank();
+  for (std::uint32_t r = 0; r < n; ++r) {
+    if ((nodeOwner_[r] == kSharedNode ? lowestRank[r] : nodeOwner_[r]) != me) continue;
+    for (std::uint32_t k = links_->start[r]; k < links_->start[r + 1]; ++k) mine.push_back({r, links_->source[k], links_->formFactor[k]});
+  }
+  std::vector<LinkRecord> every = communicator_->allGatherVariable<LinkRecord>(mine);
+  std::stable_sort(every.begin(), every.end(), [](const LinkRecord& a, const LinkRecord& b) { return a.receiver < b.receiver; });
+  std::vector<double> gathers(n, 0.0), sends(n, 0.0);
+  for (const LinkRecord& link : every) {
+    gathers[link.receiver] += link.formFactor;
+    sends[link.source] += link.formFactor * openArea_[link.receiver];
+  }
+  weigh(hierarchy, gathers, sends, leafOpenFraction, leafAlbedo);
   // The row sums and their bound over this rank's leaves only: the others' links are not here.
   largestRowSum_ = 0;
   rowsScaled_ = 0;
@@ -146,7 +173,7 @@ std::vector<Rgb> DistributedTransport::exchangeMeans(const std::vector<Rgb>& rad
   for (std::size_t k = ownNodes_.size(); k-- > 0;) {
     const std::uint32_t i = ownNodes_[k];
     if (const std::uint32_t l = leafOfNode_[i]; l != kNoNode) power[i] = radiosity[l] * area_[i];
-    if (const std::uint32_t p = parent_[i]; p != kNoNode && nodeOwner_[p] == me) power[p] += power[i];
+    if (const std::uint32_t p = parent_[i]; p != kNoNode && nodeOwner_[p] == me) power[p] += power[i] * pullWeight_[i];
   }
   std::vector<Rgb> sent(sentNodes_.size()), all(receivedNodes_.size());
   for (std::size_t k = 0; k < sentNodes_.size(); ++k) sent[k] = power[sentNodes_[k]];
@@ -155,7 +182,7 @@ std::vector<Rgb> DistributedTransport::exchangeMeans(const std::vector<Rgb>& rad
   sweepCommunicationSeconds_ += exchange.seconds();
   for (std::size_t k = 0; k < receivedNodes_.size(); ++k) power[receivedNodes_[k]] = all[k];
   for (std::size_t k = combined_.size(); k-- > 0;)
-    if (const std::uint32_t p = parent_[combined_[k]]; p != kNoNode) power[p] += power[combined_[k]];
+    if (const std::uint32_t p = parent_[combined_[k]]; p != kNoNode) power[p] += power[combined_[k]] * pullWeight_[combined_[k]];
   std::vector<Rgb>& mean = power;
   for (std::size_t i = 0; i < n; ++i) mean[i] = openArea_[i] > 0 ? power[i] / openArea_[i] : Rgb{};
   return mean;

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 
 #include "lambert/core/error.h"
 #include "lambert/core/parallel.h"
@@ -37,77 +36,14 @@ HierarchicalTransport::HierarchicalTransport(const ElementHierarchy& hierarchy, 
   // count the covered parts out, so it shows its mean over all its area.
   for (std::size_t i = 0; i < nodes.size(); ++i)
     if (nodes[i].isCluster()) openArea_[i] = area_[i];
-  // Σ K of each node's own links.
-  std::vector<double> ownSum(nodes.size(), 0.0);
-  for (std::size_t i = 0; i < nodes.size(); ++i)
-    for (std::uint32_t k = links_->start[i]; k < links_->start[i + 1]; ++k) ownSum[i] += links_->formFactor[k];
-  // The push-down's weights (pushWeight_): per element, the share of its hemisphere its own links
-  // and those below it leave free, over its element parent's children's mean share.
-  pushWeight_.assign(nodes.size(), 1.0);
-  std::vector<double> free(nodes.size(), 0.0);  // open area × free share, summed over the leaves
-  for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l) {
-    double claimed = 0;
-    for (std::uint32_t i = nodeOfLeaf_[l]; i != kNoNode && !nodes[i].isCluster(); i = parent_[i]) {
-      claimed += ownSum[i];
-      free[i] += area_[nodeOfLeaf_[l]] * leafOpenFraction[l] * std::fmax(0.0, 1.0 - claimed);
-    }
-  }
-  for (std::size_t i = 0; i < nodes.size(); ++i) {
-    const std::uint32_t p = parent_[i];
-    if (nodes[i].isCluster() || p == kNoNode || nodes[p].isCluster() || !(openArea_[i] > 0)) continue;
-    // Σ over p's children of their free areas: p's own leaves' free area with p's own links
-    // not yet counted, which is free[p] with ownSum[p] given back (per leaf, 1 − claimed ≥ 0).
-    double childrenFree = 0;
-    for (std::uint32_t c : hierarchy.children(p)) childrenFree += free[c];
-    if (childrenFree > 1e-9 * openArea_[p]) pushWeight_[i] = (free[i] / openArea_[i]) / (childrenFree / openArea_[p]);
-  }
-  // The pull's weights (pullWeight_), the same on the source side: per element, the share of the
-  // light its leaves send that the links from it and from the elements below it leave unsent,
-  // over its element parent's children's mean share.
-  std::vector<double> sent(nodes.size(), 0.0);  // Σ K · A_r over the links from each node, over its open area
+  // Σ K of each node's own links, and Σ K · A_r over the links from each node.
+  std::vector<double> gathers(nodes.size(), 0.0), sends(nodes.size(), 0.0);
   for (std::size_t r = 0; r < nodes.size(); ++r)
-    for (std::uint32_t k = links_->start[r]; k < links_->start[r + 1]; ++k) sent[links_->source[k]] += links_->formFactor[k] * openArea_[r];
-  for (std::size_t i = 0; i < nodes.size(); ++i) sent[i] = openArea_[i] > 0 ? sent[i] / openArea_[i] : 0.0;
-  pullWeight_.assign(nodes.size(), 1.0);
-  std::vector<double> unsent(nodes.size(), 0.0);  // open area × unsent share, summed over the leaves
-  for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l) {
-    double claimed = 0;
-    for (std::uint32_t i = nodeOfLeaf_[l]; i != kNoNode && !nodes[i].isCluster(); i = parent_[i]) {
-      claimed += sent[i];
-      unsent[i] += area_[nodeOfLeaf_[l]] * leafOpenFraction[l] * std::fmax(0.0, 1.0 - claimed);
+    for (std::uint32_t k = links_->start[r]; k < links_->start[r + 1]; ++k) {
+      gathers[r] += links_->formFactor[k];
+      sends[links_->source[k]] += links_->formFactor[k] * openArea_[r];
     }
-  }
-  for (std::size_t i = 0; i < nodes.size(); ++i) {
-    const std::uint32_t p = parent_[i];
-    if (nodes[i].isCluster() || p == kNoNode || nodes[p].isCluster() || !(openArea_[i] > 0)) continue;
-    double childrenUnsent = 0;
-    for (std::uint32_t c : hierarchy.children(p)) childrenUnsent += unsent[c];
-    if (childrenUnsent > 1e-9 * openArea_[p]) pullWeight_[i] = (unsent[i] / openArea_[i]) / (childrenUnsent / openArea_[p]);
-  }
-  if (std::getenv("NOPULLW")) pullWeight_.assign(nodes.size(), 1.0);
-  // Σ K over each node's links and its ancestors', as the push hands them down (parents have
-  // smaller indices).
-  std::vector<double> rowSum(nodes.size(), 0.0);
-  for (std::size_t i = 0; i < nodes.size(); ++i) rowSum[i] = ownSum[i] + (parent_[i] != kNoNode ? pushWeight_[i] * rowSum[parent_[i]] : 0.0);
-  leafOwnGain_.resize(nodeOfLeaf_.size());
-  leafAncestorGain_.resize(nodeOfLeaf_.size());
-  leafRowSum_.resize(nodeOfLeaf_.size());
-  leafScaled_.resize(nodeOfLeaf_.size());
-  for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l) {
-    const std::uint32_t node = nodeOfLeaf_[l];
-    const double sum = rowSum[node], own = ownSum[node], ancestors = sum - own;
-    LAMBERT_CHECK(std::isfinite(sum) && sum >= 0);
-    largestRowSum_ = std::fmax(largestRowSum_, sum);
-    const double rho = leafAlbedo[l].maxComponent();
-    const bool scale = rho * sum > rowContractionBound(rho);
-    rowsScaled_ += scale;
-    leafRowSum_[l] = sum;
-    leafScaled_[l] = scale;
-    const double ownKept = std::fmin(own, 1.0);
-    const double ancestorsKept = scale && ancestors > 0 ? std::fmax(0.0, 1.0 - ownKept) / ancestors : 1.0;
-    leafOwnGain_[l] = leafOpenFraction[l] * (scale && own > 1 ? 1 / own : 1.0);
-    leafAncestorGain_[l] = leafOpenFraction[l] * std::fmin(1.0, ancestorsKept) * pushWeight_[node];
-  }
+  weigh(hierarchy, gathers, sends, leafOpenFraction, leafAlbedo);
   // Depth first from the root, children in the hierarchy's order.
   sweepOrder_.reserve(nodes.size());
   std::vector<SweepStep> stack{{0, 0}};
@@ -120,6 +56,69 @@ HierarchicalTransport::HierarchicalTransport(const ElementHierarchy& hierarchy, 
     for (std::size_t c = children.size(); c-- > 0;) stack.push_back({children[c], step.depth + 1});
   }
   LAMBERT_CHECK(sweepOrder_.size() == nodes.size());
+}
+
+std::vector<double> HierarchicalTransport::unclaimedWeights(const ElementHierarchy& hierarchy, std::span<const double> claimedShare,
+                                                           std::span<const double> leafOpenFraction) const {
+  const auto& nodes = hierarchy.nodes();
+  // Per element, its open area × the share left unclaimed, summed over its leaves: 1 − Σ claimedShare
+  // over the path from the leaf up to the element (never below 0).
+  std::vector<double> unclaimed(nodes.size(), 0.0);
+  for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l) {
+    double claimed = 0;
+    for (std::uint32_t i = nodeOfLeaf_[l]; i != kNoNode && !nodes[i].isCluster(); i = parent_[i]) {
+      claimed += claimedShare[i];
+      unclaimed[i] += area_[nodeOfLeaf_[l]] * leafOpenFraction[l] * std::fmax(0.0, 1.0 - claimed);
+    }
+  }
+  // Each element child of an element: its unclaimed share over its siblings' mean, so that the
+  // weights, by open area, sum to the parent's open area. Where every child is claimed whole, 1.
+  std::vector<double> weight(nodes.size(), 1.0);
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    const std::uint32_t p = parent_[i];
+    if (nodes[i].isCluster() || p == kNoNode || nodes[p].isCluster() || !(openArea_[i] > 0)) continue;
+    double siblings = 0;
+    for (std::uint32_t c : hierarchy.children(p)) siblings += unclaimed[c];
+    if (siblings > 1e-9 * openArea_[p]) weight[i] = (unclaimed[i] / openArea_[i]) / (siblings / openArea_[p]);
+  }
+  return weight;
+}
+
+void HierarchicalTransport::weigh(const ElementHierarchy& hierarchy, std::span<const double> gathers, std::span<const double> sends,
+                                  std::span<const double> leafOpenFraction, std::span<const Rgb> leafAlbedo) {
+  const auto& nodes = hierarchy.nodes();
+  largestRowSum_ = 0;
+  rowsScaled_ = 0;
+  // The push-down's weights: the share of each element's hemisphere its own links and those
+  // below it leave free. The pull's: the share of each element's light the links from it and from
+  // the elements below it leave unsent.
+  pushWeight_ = unclaimedWeights(hierarchy, gathers, leafOpenFraction);
+  std::vector<double> sent(nodes.size(), 0.0);
+  for (std::size_t i = 0; i < nodes.size(); ++i) sent[i] = openArea_[i] > 0 ? sends[i] / openArea_[i] : 0.0;
+  pullWeight_ = unclaimedWeights(hierarchy, sent, leafOpenFraction);
+  // Σ K over each node's links and its ancestors', as the push hands them down (parents have
+  // smaller indices).
+  std::vector<double> rowSum(nodes.size(), 0.0);
+  for (std::size_t i = 0; i < nodes.size(); ++i) rowSum[i] = gathers[i] + (parent_[i] != kNoNode ? pushWeight_[i] * rowSum[parent_[i]] : 0.0);
+  leafOwnGain_.resize(nodeOfLeaf_.size());
+  leafAncestorGain_.resize(nodeOfLeaf_.size());
+  leafRowSum_.resize(nodeOfLeaf_.size());
+  leafScaled_.resize(nodeOfLeaf_.size());
+  for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l) {
+    const std::uint32_t node = nodeOfLeaf_[l];
+    const double sum = rowSum[node], own = gathers[node], ancestors = sum - own;
+    LAMBERT_CHECK(std::isfinite(sum) && sum >= 0);
+    largestRowSum_ = std::fmax(largestRowSum_, sum);
+    const double rho = leafAlbedo[l].maxComponent();
+    const bool scale = rho * sum > rowContractionBound(rho);
+    rowsScaled_ += scale;
+    leafRowSum_[l] = sum;
+    leafScaled_[l] = scale;
+    const double ownKept = std::fmin(own, 1.0);
+    const double ancestorsKept = scale && ancestors > 0 ? std::fmax(0.0, 1.0 - ownKept) / ancestors : 1.0;
+    leafOwnGain_[l] = leafOpenFraction[l] * (scale && own > 1 ? 1 / own : 1.0);
+    leafAncestorGain_[l] = leafOpenFraction[l] * std::fmin(1.0, ancestorsKept) * pushWeight_[node];
+  }
 }
 
 void HierarchicalTransport::pull(const std::vector<Rgb>& radiosity, std::vector<Rgb>& mean) const {
