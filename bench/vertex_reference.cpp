@@ -20,6 +20,10 @@
 // index), whatever the thread count. OUT has IN's positions and normals with the reference's
 // radiance, written atomically (writeVertices), so `lambert compare --radiosity-vertices IN
 // --reference-vertices OUT` pairs them vertex by vertex.
+//
+// --coincident FILE writes, one per line, the indices of the vertices that lie as near on two
+// surfaces of different materials (a board on a wall, drawn in its plane): which of the two a
+// renderer shows there is arbitrary, and the outgoing radiance of each is its own albedo's.
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -29,6 +33,7 @@
 #include <CLI/CLI.hpp>
 
 #include "bench_common.h"
+#include "lambert/core/atomic_file.h"
 #include "lambert/core/parallel.h"
 #include "lambert/core/timer.h"
 #include "lambert/geometry/coverage.h"
@@ -77,7 +82,7 @@ int main(int argc, char** argv) {
   int samples = 32768;
   std::uint64_t seed = 1;
   bool irradiance = false;
-  std::string sides = "file";
+  std::string sides = "file", coincidentOut;
   CLI::App app{"vertex_reference: the path-traced outgoing radiance at the vertices of a vertex file"};
   app.add_option("--scene", sceneName, "Built-in scene name or scene file")->capture_default_str();
   app.add_option("--vertices", input, "Vertex file (.csv or .ply, lambert's vertex format) whose points are traced")->required();
@@ -88,6 +93,8 @@ int main(int argc, char** argv) {
                "Write the irradiance E in W/m2 (what a light meter on the surface reads; lux = 683 x its luminance) "
                "in the radiance columns instead of the outgoing radiance L");
   app.add_option("-o,--output", output, "Vertex file to write (.csv or .ply)")->required();
+  app.add_option("--coincident", coincidentOut,
+                 "Also write the indices of the vertices lying as near on surfaces of different materials (one a line)");
   bench::parseOrExit(app, argc, argv);
 
   Result<Scene> scene = bench::loadSceneWithSides(sceneName, sides);
@@ -115,6 +122,7 @@ int main(int argc, char** argv) {
   const double tolerance = 2e-3 * diagonal, nudge = 1e-4 * diagonal;
   std::vector<std::size_t> triangleOf(vertices->size());
   std::vector<Vec3> points(vertices->size());
+  std::vector<char> coincident(vertices->size(), 0);
   for (std::size_t v = 0; v < vertices->size(); ++v) {
     const VertexSample& vertex = (*vertices)[v];
     double best = INFINITY;
@@ -130,6 +138,16 @@ int main(int argc, char** argv) {
                    input.c_str(), v, v + 1, vertex.position.x, vertex.position.y, vertex.position.z, sceneName.c_str(), best,
                    tolerance);
       return 2;
+    }
+    // Another surface as near, of another material: a board drawn in its wall's plane.
+    const Surface& mine = scene->surfaces[triangles[triangleOf[v]].surface];
+    for (std::size_t t = 0; t < triangles.size() && !coincident[v]; ++t) {
+      if (dot(triangles[t].normal, vertex.normal) < 0.5) continue;
+      const Surface& other = scene->surfaces[triangles[t].surface];
+      const Material& a = scene->materials[static_cast<std::size_t>(mine.material)];
+      const Material& b = scene->materials[static_cast<std::size_t>(other.material)];
+      if (a.albedo == b.albedo && a.texture == b.texture && mine.emittedRadiance == other.emittedRadiance) continue;
+      coincident[v] = length(closestPoint(vertex.position, triangles[t]) - vertex.position) <= best + 1e-6 * diagonal;
     }
     const Vec3 inward = triangles[triangleOf[v]].centroid - points[v];
     if (length(inward) > nudge) points[v] = points[v] + normalize(inward) * nudge;
@@ -179,6 +197,16 @@ int main(int argc, char** argv) {
     const Vec3 n = normalize((*vertices)[v].normal);
     result[v].radiance = irradiance ? tracer.irradianceAt(points[v], n, t.surface, v) : tracer.outgoingRadiance(points[v], n, t.surface, v);
   });
+  if (!coincidentOut.empty()) {
+    std::string lines;
+    for (std::size_t v = 0; v < coincident.size(); ++v)
+      if (coincident[v]) lines += std::to_string(v) + "\n";
+    const auto* bytes = reinterpret_cast<const std::uint8_t*>(lines.data());
+    if (Status written = writeFileAtomically(coincidentOut, std::span<const std::uint8_t>(bytes, lines.size())); !written) {
+      std::fprintf(stderr, "vertex_reference: %s\n", written.error().message.c_str());
+      return 1;
+    }
+  }
   if (Status written = writeVertices(output, result); !written) {
     std::fprintf(stderr, "vertex_reference: %s\n", written.error().message.c_str());
     return 1;

@@ -201,8 +201,9 @@ class Refiner {
                                                               : estimator_.judgedTransfer(c);
       refine = estimator_.tooCoarse(c, uncertainty);
     }
-    // An element link whose source's leaves differ more than its mean can stand for is split at
-    // the source (link_estimator.h, sourceVariesTooMuch), whatever the factor's error says.
+    // An element link whose source's leaves differ more than its mean can stand for is refined
+    // (link_estimator.h, sourceVariesTooMuch): at the source where that is the larger, since only
+    // that makes the error smaller; else as the factor's error says.
     const bool varies = c.verdict == Verdict::Estimated && !r.isCluster() && !s.isCluster() && estimator_.sourceVariesTooMuch(c);
     const bool bySource = varies && s.area > r.area;
     refine = refine || varies;
