@@ -23,10 +23,11 @@ Points are reported in three groups, none dropped (classify()): `open` (the main
 `discontinuity` (the meter's reading changes by more than a third within 0.5% of the scene's diagonal
 along the surface: a shadow or sun edge, an emitter's rim, an edge shared with another surface, where
 an interpolated vertex value cannot equal a point value) and `enclosed` (the path tracer finds no light
-at all: inside a closed object, under a block). A vertex that lies on two surfaces of different
-materials at once (a board drawn in its wall's plane: vertex_reference --coincident) is held apart
-from the vertex figures as `coincident`: which surface a renderer shows there is arbitrary, and
-each has its own albedo (its lux is compared as usual). Figures per group: relative RMSE (RMSE over the mean
+at all: inside a closed object, under a block). A vertex whose albedo is not one value (on a
+textured face, whose texture the tracer averages over the face and a solution over each element;
+on faces of different albedo at once, a board drawn in its wall's plane: vertex_reference --mixed)
+is held apart from the vertex figures as `mixed`: its outgoing radiance is a blend; its lux, which
+the albedo does not enter, is compared as usual. Figures per group: relative RMSE (RMSE over the mean
 reference, as `lambert compare` reports it), bias (mean over mean reference − 1), and the RMS of
 per-point relative errors over points whose reference is at least 10% of the mean. In the enclosed
 group, where the reference is zero, the figure is the leak: lambert's mean value there over the open
@@ -132,10 +133,10 @@ def sides_of(entry):
     return options[options.index("--sides") + 1] if "--sides" in options else "file"
 
 
-def trace(args, scene, entry, points_file, work, irradiance, coincident=None):
+def trace(args, scene, entry, points_file, work, irradiance, mixed=None):
     """The reference at the points, seeds 1 and 2, samples quadrupled until its noise is ≤ 1%.
-    Returns (per-point luminance of the mean of both, noise, samples). coincident, a list, receives
-    the indices of the points that lie on two surfaces of different materials at once."""
+    Returns (per-point luminance of the mean of both, noise, samples). mixed, a list, receives the
+    indices of the points that lie on faces of different albedo at once (vertex_reference --mixed)."""
     samples = args.samples
     while True:
         halves = []
@@ -143,12 +144,12 @@ def trace(args, scene, entry, points_file, work, irradiance, coincident=None):
             out = os.path.join(work, f"ref-{os.path.basename(points_file)}-{'E' if irradiance else 'L'}-{seed}.csv")
             command = [args.vertex_reference, "--scene", scene, "--sides", sides_of(entry), "--vertices", points_file,
                        "--samples", str(samples), "--seed", str(seed), "-o", out] + (["--irradiance"] if irradiance else [])
-            if coincident is not None and seed == 1:
-                command += ["--coincident", out + ".coincident"]
+            if mixed is not None and seed == 1:
+                command += ["--mixed", out + ".mixed"]
             run(command)
-            if coincident is not None and seed == 1:
-                with open(out + ".coincident") as f:
-                    coincident[:] = [int(line) for line in f if line.strip()]
+            if mixed is not None and seed == 1:
+                with open(out + ".mixed") as f:
+                    mixed[:] = [int(line) for line in f if line.strip()]
             halves.append([luminance(*row[6:9]) for row in read_vertex_file(out)[1]])
         a, b = halves
         mean = [(x + y) / 2 for x, y in zip(a, b)]
@@ -225,12 +226,13 @@ def measure_scene(args, entry, path):
         points_file = os.path.join(work, "points.csv")
         write_vertex_file(points_file, header, picked)
         lux = meter(args, path, entry, extension, picked, work, "meter")
-        coincident = []
-        reference_l, noise_l, samples_l = trace(args, path, entry, points_file, work, irradiance=False, coincident=coincident)
+        mixed = []
+        reference_l, noise_l, samples_l = trace(args, path, entry, points_file, work, irradiance=False, mixed=mixed)
         reference_e, noise_e, samples_e = trace(args, path, entry, points_file, work, irradiance=True)
         # The lightmap: texels of the default method's bake, with their points, against the tracer there.
         texels_file = os.path.join(work, "texels.csv")
-        run([args.lightmap_texels, "--scene", path, "--sides", sides_of(entry), "--texels", str(args.points), "-o", texels_file])
+        quality = ["--link-error", repr(args.link_error)] if args.link_error is not None else []
+        run([args.lightmap_texels, "--scene", path, "--sides", sides_of(entry), "--texels", str(args.points), *quality, "-o", texels_file])
         texel_rows = read_vertex_file(texels_file)[1]
         texel_lux = [LUMENS_PER_WATT * luminance(*row[6:9]) for row in texel_rows]
         texel_reference_e, noise_t, samples_t = trace(args, path, entry, texels_file, work, irradiance=True)
@@ -239,9 +241,9 @@ def measure_scene(args, entry, path):
         reference_lux = [LUMENS_PER_WATT * e for e in reference_e]
         vertex_l = [luminance(*row[6:9]) for row in picked]
         groups = classify(args, path, entry, extension, picked, reference_e, work)
-        # A vertex on two surfaces of different materials (a board drawn in its wall's plane) shows
-        # whichever a renderer draws: its outgoing radiance is held apart, its irradiance is not.
-        vertex_groups = ["coincident" if i in set(coincident) else g for i, g in enumerate(groups)]
+        # A vertex whose albedo is not one value (a textured face, a board drawn in its wall's plane)
+        # shows a blend: its outgoing radiance is held apart, its irradiance is not.
+        vertex_groups = ["mixed" if i in set(mixed) else g for i, g in enumerate(groups)]
         if args.keep:
             os.makedirs(args.keep, exist_ok=True)
             with open(os.path.join(args.keep, entry["id"] + "-points.csv"), "w", newline="") as f:
@@ -261,7 +263,7 @@ def measure_scene(args, entry, path):
                                 "irradiance_noise": noise_e, "irradiance_samples": samples_e,
                                 "texel_noise": noise_t, "texel_samples": samples_t},
                   "texels": len(texel_rows), "texel_groups": {g: texel_groups.count(g) for g in sorted(set(texel_groups))},
-                  "groups": {g: groups.count(g) for g in sorted(set(groups))}, "coincident_vertices": len(coincident)}
+                  "groups": {g: groups.count(g) for g in sorted(set(groups))}, "mixed_vertices": len(mixed)}
         report["leak"] = {}
         for name, values, references, point_groups in (("vertices", vertex_l, reference_l, vertex_groups), ("lux", lux, reference_lux, groups),
                                                        ("lightmap", texel_lux, texel_reference_lux, texel_groups)):
@@ -278,7 +280,7 @@ def measure_scene(args, entry, path):
 
 def markdown(reports):
     """The table of docs/accuracy.md: per scene, the open points' relative RMSE and bias of each output."""
-    lines = ["| scene | points: open / discontinuity / enclosed (coincident) | tracer noise | vertices: RMSE, bias | lux: RMSE, bias | "
+    lines = ["| scene | points: open / discontinuity / enclosed (mixed albedo) | tracer noise | vertices: RMSE, bias | lux: RMSE, bias | "
              "lightmap texels: RMSE, bias | at discontinuities: vertices, lux, texels | enclosed leak: vertices, lux, texels | solve |",
              "|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
     pct = lambda x: "—" if x is None else f"{100 * x:+.1f}%"
@@ -295,7 +297,7 @@ def markdown(reports):
             cells.append(f"{mag(o.get('relative_rmse'))}, {pct(o.get('bias'))}")
         at = ", ".join(mag(r[o].get("discontinuity", {}).get("relative_rmse")) for o in ("vertices", "lux", "lightmap"))
         leak = ", ".join(mag(r["leak"][o]) for o in ("vertices", "lux", "lightmap"))
-        lines.append(f"| {r['id']} | {g.get('open', 0)} / {g.get('discontinuity', 0)} / {g.get('enclosed', 0)} ({r['coincident_vertices']}) | {mag(noise)} | "
+        lines.append(f"| {r['id']} | {g.get('open', 0)} / {g.get('discontinuity', 0)} / {g.get('enclosed', 0)} ({r['mixed_vertices']}) | {mag(noise)} | "
                      f"{' | '.join(cells)} | {at} | {leak} | {r['solve_seconds']:.2f} s |")
     return "\n".join(lines) + "\n"
 
@@ -310,6 +312,8 @@ def main():
     parser.add_argument("--points", type=int, default=300, help="points per scene (from the solution's vertices), and as many texels")
     parser.add_argument("--samples", type=int, default=4096, help="first reference samples per point and seed")
     parser.add_argument("--max-samples", type=int, default=16384, help="the most reference samples per point and seed")
+    parser.add_argument("--link-error", type=float, default=None,
+                        help="lambert's --link-error for every run of the default method (the quality setting: 2e-5)")
     parser.add_argument("--discontinuity-radius", type=float, default=0.005,
                         help="how far round a point the meter looks for a discontinuity, a fraction of the scene's diagonal")
     parser.add_argument("--markdown", help="also write the table here")
@@ -343,6 +347,8 @@ def measure_all(args, wanted, generated):
             log(reports[-1]["error"])
             continue
         log(f"{entry['id']}: {path}")
+        if args.link_error is not None:
+            entry = dict(entry, options=entry["options"] + ["--link-error", repr(args.link_error)])
         try:
             reports.append(measure_scene(args, entry, path))
         except RuntimeError as e:

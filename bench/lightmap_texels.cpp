@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   std::string sceneName, output, sides = "file";
   std::size_t wanted = 600;
   int atlasSize = 256;
+  double linkError = RadiosityOptions{}.hierarchical.links.linkError;
   CLI::App app{"lightmap_texels: lightmap texels of the default method's solve, with their points, as a vertex file of irradiance"};
   app.add_option("--scene", sceneName, "Scene file or built-in scene")->required();
   bench::addSidesOption(app, sides);
@@ -31,6 +32,7 @@ int main(int argc, char** argv) {
                  "size follows, and a texel's value does not depend on it")
       ->check(CLI::Range(16, 16384))
       ->capture_default_str();
+  app.add_option("--link-error", linkError, "The hierarchy's link error (lambert's --link-error)")->check(CLI::Range(1e-12, 1.0))->capture_default_str();
   app.add_option("-o,--output", output, "Vertex file to write (.csv or .ply)")->required();
   bench::parseOrExit(app, argc, argv);
 
@@ -41,6 +43,7 @@ int main(int argc, char** argv) {
   }
   RadiosityOptions options;
   options.formFactors.showProgress = false;
+  options.hierarchical.links.linkError = linkError;
   Result<std::unique_ptr<Radiosity>> engine = Radiosity::create(*scene, options);
   if (!engine) {
     std::fprintf(stderr, "lightmap_texels: %s\n", engine.error().message.c_str());

@@ -21,9 +21,10 @@
 // radiance, written atomically (writeVertices), so `lambert compare --radiosity-vertices IN
 // --reference-vertices OUT` pairs them vertex by vertex.
 //
-// --coincident FILE writes, one per line, the indices of the vertices that lie as near on two
-// surfaces of different materials (a board on a wall, drawn in its plane): which of the two a
-// renderer shows there is arbitrary, and the outgoing radiance of each is its own albedo's.
+// --mixed FILE writes, one per line, the indices of the vertices whose albedo is not one value:
+// on a textured face (the tracer takes the texture's mean over the face, a solution its mean over
+// each element), or as near on faces of different albedo or emission (a board drawn in its wall's
+// plane): a vertex value there is a blend (or the face a renderer happens to show).
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -39,6 +40,7 @@
 #include "lambert/geometry/coverage.h"
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/io/vertices.h"
+#include "lambert/light/emission.h"
 #include "lambert/mesh/mesh.h"
 #include "lambert/reference/reference.h"
 #include "lambert/load/scene_file.h"
@@ -51,7 +53,7 @@ namespace {
 // 3 mm) are measured against the triangles the tracer itself intersects.
 struct Triangle {
   Vec3 a, b, c, normal, centroid;
-  std::uint32_t surface = 0;
+  std::uint32_t surface = 0, patch = 0;
 };
 
 // The point of triangle abc nearest p (Ericson, Real-Time Collision Detection, 5.1.5).
@@ -82,7 +84,7 @@ int main(int argc, char** argv) {
   int samples = 32768;
   std::uint64_t seed = 1;
   bool irradiance = false;
-  std::string sides = "file", coincidentOut;
+  std::string sides = "file", mixedOut;
   CLI::App app{"vertex_reference: the path-traced outgoing radiance at the vertices of a vertex file"};
   app.add_option("--scene", sceneName, "Built-in scene name or scene file")->capture_default_str();
   app.add_option("--vertices", input, "Vertex file (.csv or .ply, lambert's vertex format) whose points are traced")->required();
@@ -93,8 +95,7 @@ int main(int argc, char** argv) {
                "Write the irradiance E in W/m2 (what a light meter on the surface reads; lux = 683 x its luminance) "
                "in the radiance columns instead of the outgoing radiance L");
   app.add_option("-o,--output", output, "Vertex file to write (.csv or .ply)")->required();
-  app.add_option("--coincident", coincidentOut,
-                 "Also write the indices of the vertices lying as near on surfaces of different materials (one a line)");
+  app.add_option("--mixed", mixedOut, "Also write the indices of the vertices lying as near on faces of different albedo (one a line)");
   bench::parseOrExit(app, argc, argv);
 
   Result<Scene> scene = bench::loadSceneWithSides(sceneName, sides);
@@ -114,7 +115,8 @@ int main(int argc, char** argv) {
   for (std::size_t p = 0; p < geometry.numPatches(); ++p) {
     const PatchCorners c = geometry.corners(p);
     for (std::size_t k = 1; k + 1 < c.size(); ++k)
-      triangles.push_back({c[0], c[k], c[k + 1], geometry.patches[p].normal, (c[0] + c[k] + c[k + 1]) / 3.0, geometry.patches[p].surface});
+      triangles.push_back({c[0], c[k], c[k + 1], geometry.patches[p].normal, (c[0] + c[k] + c[k + 1]) / 3.0, geometry.patches[p].surface,
+                           static_cast<std::uint32_t>(p)});
   }
 
   // Each vertex's point on the nearest triangle that faces its normal, or a refusal naming the
@@ -122,7 +124,8 @@ int main(int argc, char** argv) {
   const double tolerance = 2e-3 * diagonal, nudge = 1e-4 * diagonal;
   std::vector<std::size_t> triangleOf(vertices->size());
   std::vector<Vec3> points(vertices->size());
-  std::vector<char> coincident(vertices->size(), 0);
+  std::vector<char> mixed(vertices->size(), 0);
+  const std::vector<Rgb> albedo = patchAlbedo(*scene, geometry), emitted = emittedRadiosity(*scene, geometry);
   for (std::size_t v = 0; v < vertices->size(); ++v) {
     const VertexSample& vertex = (*vertices)[v];
     double best = INFINITY;
@@ -139,15 +142,16 @@ int main(int argc, char** argv) {
                    tolerance);
       return 2;
     }
-    // Another surface as near, of another material: a board drawn in its wall's plane.
-    const Surface& mine = scene->surfaces[triangles[triangleOf[v]].surface];
-    for (std::size_t t = 0; t < triangles.size() && !coincident[v]; ++t) {
-      if (dot(triangles[t].normal, vertex.normal) < 0.5) continue;
-      const Surface& other = scene->surfaces[triangles[t].surface];
-      const Material& a = scene->materials[static_cast<std::size_t>(mine.material)];
-      const Material& b = scene->materials[static_cast<std::size_t>(other.material)];
-      if (a.albedo == b.albedo && a.texture == b.texture && mine.emittedRadiance == other.emittedRadiance) continue;
-      coincident[v] = length(closestPoint(vertex.position, triangles[t]) - vertex.position) <= best + 1e-6 * diagonal;
+    // Another face as near, of another albedo or emission: a checker's next square, a board drawn
+    // in its wall's plane.
+    const std::uint32_t mine = triangles[triangleOf[v]].patch;
+    // A textured face's albedo varies within it, and the tracer takes its mean over the face.
+    const Surface& surface = scene->surfaces[triangles[triangleOf[v]].surface];
+    mixed[v] = scene->materials[static_cast<std::size_t>(surface.material)].texture != nullptr;
+    for (std::size_t t = 0; t < triangles.size() && !mixed[v]; ++t) {
+      const std::uint32_t other = triangles[t].patch;
+      if (dot(triangles[t].normal, vertex.normal) < 0.5 || (albedo[other] == albedo[mine] && emitted[other] == emitted[mine])) continue;
+      mixed[v] = length(closestPoint(vertex.position, triangles[t]) - vertex.position) <= best + 1e-6 * diagonal;
     }
     const Vec3 inward = triangles[triangleOf[v]].centroid - points[v];
     if (length(inward) > nudge) points[v] = points[v] + normalize(inward) * nudge;
@@ -197,12 +201,12 @@ int main(int argc, char** argv) {
     const Vec3 n = normalize((*vertices)[v].normal);
     result[v].radiance = irradiance ? tracer.irradianceAt(points[v], n, t.surface, v) : tracer.outgoingRadiance(points[v], n, t.surface, v);
   });
-  if (!coincidentOut.empty()) {
+  if (!mixedOut.empty()) {
     std::string lines;
-    for (std::size_t v = 0; v < coincident.size(); ++v)
-      if (coincident[v]) lines += std::to_string(v) + "\n";
+    for (std::size_t v = 0; v < mixed.size(); ++v)
+      if (mixed[v]) lines += std::to_string(v) + "\n";
     const auto* bytes = reinterpret_cast<const std::uint8_t*>(lines.data());
-    if (Status written = writeFileAtomically(coincidentOut, std::span<const std::uint8_t>(bytes, lines.size())); !written) {
+    if (Status written = writeFileAtomically(mixedOut, std::span<const std::uint8_t>(bytes, lines.size())); !written) {
       std::fprintf(stderr, "vertex_reference: %s\n", written.error().message.c_str());
       return 1;
     }
