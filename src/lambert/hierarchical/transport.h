@@ -80,6 +80,11 @@ class HierarchicalTransport : public Transport {
   // clustered box 11% dark.
   // What a leaf gathers is own · leafOwnGain_ + ancestors · leafAncestorGain_ (f folded in).
   Rgb leafIrradiance(std::size_t leaf, const std::vector<Rgb>& gathered) const;
+  // The weighted push and pull (docs/hierarchical.md, "Weighted push and pull"): per element, its
+  // share of what its parent gathers (pushWeight_) and the weight its light has in its parent's
+  // mean (pullWeight_); each averages to 1 over the siblings by open area, so a pulled mean is
+  // still a convex combination of its children's. pullWeighted is the sweeps' pull; pull(), the
+  // plain means, is what the outputs' final gathers read.
   std::vector<double> pushWeight_;
   std::vector<double> pullWeight_;
   void pullWeighted(const std::vector<Rgb>& radiosity, std::vector<Rgb>& mean) const;
