@@ -89,9 +89,10 @@ class HierarchicalTransport : public Transport {
   std::vector<double> pullWeight_;
   void pullWeighted(const std::vector<Rgb>& radiosity, std::vector<Rgb>& mean) const;
   // Per node, the weight that hands an element's share to its element children by what the
-  // links at and below each leave unclaimed of it (claimedShare per node; the others 1).
+  // links at and below each leave unclaimed of it (claimedShare per node; the others 1), or, where
+  // whereOverflowing, by how much of what the links above claim fits in that.
   std::vector<double> unclaimedWeights(const ElementHierarchy& hierarchy, std::span<const double> claimedShare,
-                                       std::span<const double> leafOpenFraction) const;
+                                       std::span<const double> leafOpenFraction, bool whereOverflowing) const;
   // The push's and the pull's weights and the leaves' gains, from each node's Σ K over its links
   // (gathers) and Σ K · A_r over the links from it (sends), the whole hierarchy's.
   void weigh(const ElementHierarchy& hierarchy, std::span<const double> gathers, std::span<const double> sends,
