@@ -222,7 +222,9 @@ std::uint8_t LinkEstimator::estimate(Candidate& c) const {
     // the pairs of points that face each other. Where the elements cross each other's planes
     // K already leaves out the part behind, and a ray to it would count it out twice.
     Visibility seen;
-    double shown = 0, reaching = 0;  // Σ B(y) over the facing pairs, and over the open ones
+    // Σ B(y) over the facing pairs, and over the open ones, where the source's leaves differ.
+    const bool weighed = peakRadiosity_[c.source] > radiosity_[c.source] * (1 + 1e-12);
+    double shown = 0, reaching = 0;
     for (int i = 0; i < n; ++i) {
       auto [u1, v1] = scrambledZeroTwo(static_cast<std::uint32_t>(i), su, sv);
       auto [u2, v2] = scrambledZeroTwo(static_cast<std::uint32_t>(i), tu, tv);
@@ -230,7 +232,7 @@ std::uint8_t LinkEstimator::estimate(Candidate& c) const {
       if (!(pointToPointKernel(x, r.normal, y, s.normal) > 0)) continue;
       const int facingBefore = seen.facing, openBefore = seen.open;
       trace(x, r.normal, partlyCovered_[c.receiver], y, s.normal, faceKey(s), seen);
-      if (seen.facing > facingBefore) {
+      if (weighed && seen.facing > facingBefore) {
         const double b = leafRadiosityAt(c.source, y);
         shown += b;
         reaching += seen.open > openBefore ? b : 0.0;

@@ -132,14 +132,18 @@ void HierarchicalTransport::weigh(const ElementHierarchy& hierarchy, std::span<c
 }
 
 void HierarchicalTransport::pull(const std::vector<Rgb>& radiosity, std::vector<Rgb>& mean) const {
+  pullWeighted(radiosity, mean, {});
+}
+
+void HierarchicalTransport::pullWeighted(const std::vector<Rgb>& radiosity, std::vector<Rgb>& mean, std::span<const double> weight) const {
   const std::size_t n = parent_.size();
   mean.assign(n, Rgb{});  // power first, W per scene unit² of radiosity
   for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l) mean[nodeOfLeaf_[l]] = radiosity[l] * area_[nodeOfLeaf_[l]];
   // Children have larger indices than their parents: going down the indices, each node's power is
-  // whole when it is reached, handed to its parent and turned into its mean.
+  // whole when it is reached, handed to its parent (by its weight, if any) and turned into its mean.
   for (std::size_t i = n; i-- > 0;) {
     const Rgb power = mean[i];
-    if (parent_[i] != kNoNode) mean[parent_[i]] += power;
+    if (parent_[i] != kNoNode) mean[parent_[i]] += weight.empty() ? power : power * weight[i];
     mean[i] = openArea_[i] > 0 ? power / openArea_[i] : Rgb{};
   }
 }
@@ -163,23 +167,12 @@ Rgb HierarchicalTransport::leafIrradiance(std::size_t leaf, const std::vector<Rg
   return gathered[node] * leafOwnGain_[leaf] + ancestors;
 }
 
-void HierarchicalTransport::pullWeighted(const std::vector<Rgb>& radiosity, std::vector<Rgb>& mean) const {
-  const std::size_t n = parent_.size();
-  mean.assign(n, Rgb{});
-  for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l) mean[nodeOfLeaf_[l]] = radiosity[l] * area_[nodeOfLeaf_[l]];
-  for (std::size_t i = n; i-- > 0;) {
-    const Rgb power = mean[i];
-    if (parent_[i] != kNoNode) mean[parent_[i]] += power * pullWeight_[i];
-    mean[i] = openArea_[i] > 0 ? power / openArea_[i] : Rgb{};
-  }
-}
-
 void HierarchicalTransport::gather(const std::vector<Rgb>& radiosity, std::vector<Rgb>& irradiance) const {
   LAMBERT_CHECK(radiosity.size() == size());
   irradiance.resize(size());
   const std::size_t n = parent_.size();
   std::vector<Rgb> mean, gathered(n);
-  pullWeighted(radiosity, mean);
+  pullWeighted(radiosity, mean, pullWeight_);
   parallelFor(0, n, [&](std::size_t i) { gathered[i] = gatherNode(static_cast<std::uint32_t>(i), mean); }, 256);
   // Push: parents come first, so each node adds what every ancestor gathered.
   for (std::size_t i = 1; i < n; ++i)
@@ -203,7 +196,7 @@ SweepChange HierarchicalTransport::sweep(const std::vector<Rgb>& emitted, const 
   }
   const std::size_t n = parent_.size();
   std::vector<Rgb> mean;
-  pullWeighted(radiosity, mean);
+  pullWeighted(radiosity, mean, pullWeight_);
   // Along the path from the root to the node being swept, per depth: the node, what it and its
   // ancestors gathered, and the power its leaves changed that its mean does not hold yet (W).
   std::vector<std::uint32_t> nodeAt(sweepDepth_);

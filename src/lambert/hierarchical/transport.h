@@ -83,11 +83,11 @@ class HierarchicalTransport : public Transport {
   // The weighted push and pull (docs/hierarchical.md, "Weighted push and pull"): per element, its
   // share of what its parent gathers (pushWeight_) and the weight its light has in its parent's
   // mean (pullWeight_); each averages to 1 over the siblings by open area, so a pulled mean is
-  // still a convex combination of its children's. pullWeighted is the sweeps' pull; pull(), the
-  // plain means, is what the outputs' final gathers read.
+  // still a convex combination of its children's. The sweeps pull with pullWeight_; pull(), the
+  // plain means (no weights), is what the outputs' final gathers read.
   std::vector<double> pushWeight_;
   std::vector<double> pullWeight_;
-  void pullWeighted(const std::vector<Rgb>& radiosity, std::vector<Rgb>& mean) const;
+  void pullWeighted(const std::vector<Rgb>& radiosity, std::vector<Rgb>& mean, std::span<const double> weight) const;
   // Per node, the weight that hands an element's share to its element children by what the
   // links at and below each leave unclaimed of it (claimedShare per node; the others 1), or, where
   // whereOverflowing, by how much of what the links above claim fits in that.
