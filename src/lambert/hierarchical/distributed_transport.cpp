@@ -37,6 +37,8 @@ DistributedTransport::DistributedTransport(const ElementHierarchy& hierarchy, st
   ownPath_.clear();
   for (std::size_t i = 0; i < n; ++i)
     if (onPath[i]) ownPath_.push_back(static_cast<std::uint32_t>(i));
+  for (const SweepStep& step : sweepOrder_)
+    if (onPath[step.node]) ownSweepOrder_.push_back(step);
   planExchange();
   // The push's and the pull's weights need every link of the hierarchy: each rank hands the others
   // its links into the nodes it alone holds, and the lowest rank under a shared node those into
@@ -48,22 +50,29 @@ DistributedTransport::DistributedTransport(const ElementHierarchy& hierarchy, st
   struct LinkRecord {
     std::uint32_t receiver, source;
     float formFactor;
+    std::array<std::uint8_t, 6> facing;
+    std::uint8_t unused[2];
   };
-  static_assert(sizeof(LinkRecord) == 12);
+  static_assert(sizeof(LinkRecord) == 20);
   std::vector<LinkRecord> mine;
   const int me = communicator_->rank();
   for (std::uint32_t r = 0; r < n; ++r) {
     if ((nodeOwner_[r] == kSharedNode ? lowestRank[r] : nodeOwner_[r]) != me) continue;
-    for (std::uint32_t k = links_->start[r]; k < links_->start[r + 1]; ++k) mine.push_back({r, links_->source[k], links_->formFactor[k]});
+    for (std::uint32_t k = links_->start[r]; k < links_->start[r + 1]; ++k) mine.push_back({r, links_->source[k], links_->formFactor[k], links_->facing[k], {0, 0}});
   }
   std::vector<LinkRecord> every = communicator_->allGatherVariable<LinkRecord>(mine);
   std::stable_sort(every.begin(), every.end(), [](const LinkRecord& a, const LinkRecord& b) { return a.receiver < b.receiver; });
   std::vector<double> gathers(n, 0.0), sends(n, 0.0);
+  std::vector<std::array<double, kBins>> clusterGathers(n, std::array<double, kBins>{});
   for (const LinkRecord& link : every) {
     gathers[link.receiver] += link.formFactor;
     sends[link.source] += link.formFactor * openArea_[link.receiver];
+    if (isCluster_[link.receiver]) {
+      const std::array<double, kBins> share = binShares(link.facing);
+      for (int b = 0; b < kBins; ++b) clusterGathers[link.receiver][b] += link.formFactor * share[b];
+    }
   }
-  weigh(hierarchy, gathers, sends, leafOpenFraction, leafAlbedo);
+  weigh(hierarchy, gathers, clusterGathers, sends, leafOpenFraction, leafAlbedo);
   // The row sums and their bound over this rank's leaves only: the others' links are not here.
   largestRowSum_ = 0;
   rowsScaled_ = 0;
@@ -110,14 +119,15 @@ void DistributedTransport::completeSweeps(std::vector<Rgb>& radiosity) const {
 std::vector<Rgb> DistributedTransport::gatherOwn(const std::vector<Rgb>& radiosity) const {
   // Gather and push along this rank's paths only, as gather() does over every node.
   const std::size_t n = parent_.size();
-  std::vector<Rgb> gathered(n);
+  std::vector<Rgb> gathered(n), leafGathered(size());
   const std::vector<Rgb> mean = exchangeMeans(radiosity);
-  parallelFor(0, ownPath_.size(), [&](std::size_t k) { gathered[ownPath_[k]] = gatherNode(ownPath_[k], mean); }, 256);
-  for (std::uint32_t i : ownPath_)
-    if (parent_[i] != kNoNode && leafOfNode_[i] == kNoNode) gathered[i] += gathered[parent_[i]] * pushWeight_[i];
+  parallelFor(0, ownPath_.size(), [&](std::size_t k) {
+    if (!isCluster_[ownPath_[k]]) gathered[ownPath_[k]] = gatherNode(ownPath_[k], mean);
+  }, 256);
+  pushAlong(ownSweepOrder_, mean, gathered, leafGathered);
   const std::span<const std::uint32_t> own = ownLeaves();
   std::vector<Rgb> irradiance(own.size());
-  for (std::size_t k = 0; k < own.size(); ++k) irradiance[k] = leafIrradiance(own[k], gathered);
+  for (std::size_t k = 0; k < own.size(); ++k) irradiance[k] = leafGathered[own[k]];
   return irradiance;
 }
 

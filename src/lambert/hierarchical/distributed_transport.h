@@ -65,6 +65,7 @@ class DistributedTransport final : public HierarchicalTransport {
   std::vector<std::size_t> firstLeaf_;
   std::vector<int> leavesPerRank_;
   std::vector<std::uint32_t> ownPath_;
+  std::vector<SweepStep> ownSweepOrder_;  // ownPath_ depth first, as sweepOrder_ orders it
   // The exchange of what crosses the cut: each node's rank (the constructor's nodeRank); this
   // rank's nodes (increasing); the shared nodes and every rank's subtrees' tops (increasing); the nodes whose power this rank sends each sweep (its tops, and its nodes other
   // ranks' links read), and every rank's such nodes in rank order with how many each sends.

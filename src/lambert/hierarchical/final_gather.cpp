@@ -55,11 +55,32 @@ struct LeafRange {
   std::vector<Rgb> lowest, highest;
   std::vector<std::uint32_t> clusterSlot;    // per node: its index in axisPower, or kNoNode
   std::vector<std::array<Rgb, 6>> axisPower;  // per cluster
-  // Per cluster: where its light comes from, the centroid of its leaves weighted by their power
-  // (the box's centre where it sends none). A cluster of floor pieces and the luminaires over them
-  // sends its light from the luminaires: from its box's centre, half way down, the floor's far
-  // vertices saw it at half the elevation and got half its light.
-  std::vector<Vec3> lightCentre;
+  // Per cluster and axis direction: where the light it sends that way comes from, the centroid
+  // of its leaves weighted by the power they send that way (the box's centre where they send
+  // none). A cluster of floor pieces and the luminaires over them sends its light down from the
+  // luminaires: from its box's centre, half way down, the floor's far vertices saw it at half the
+  // elevation and got half its light. And it sends its light up from the floor and the tables'
+  // tops, not from the luminaires' strips (which face down): with one centroid for every
+  // direction, at the strips, the ceiling 20 cm over them saw the tables' light level with it
+  // and lost a fifth to a third of it.
+  std::vector<std::array<Vec3, 6>> lightCentre;
+
+  // Where cluster s's light toward u (any length) comes from: the centroids of the sides u faces,
+  // weighted by |u_axis| × the power sent that way.
+  Vec3 lightCentreToward(std::uint32_t s, const Vec3& u, const Vec3& boxCentre) const {
+    const std::uint32_t slot = clusterSlot[s];
+    const std::array<Rgb, 6>& p = axisPower[slot];
+    const double components[3] = {u.x, u.y, u.z};
+    Vec3 sum;
+    double total = 0;
+    for (int a = 0; a < 3; ++a) {
+      const int side = 2 * a + (components[a] > 0 ? 0 : 1);
+      const double w = std::fabs(components[a]) * (p[side].r + p[side].g + p[side].b);
+      sum += lightCentre[slot][side] * w;
+      total += w;
+    }
+    return total > 0 ? sum / total : boxCentre;
+  }
 
   // What cluster s sends toward the unit direction u, per steradian × π: Σ |u_axis| × the power
   // toward u's side of that axis (B̄ × the area shown, for a cluster of uniform radiosity).
@@ -90,8 +111,8 @@ LeafRange leafRange(const ElementHierarchy& hierarchy, const Mesh& leaves, const
       range.clusterSlot[i] = static_cast<std::uint32_t>(range.axisPower.size());
       range.axisPower.emplace_back();
     }
-  std::vector<Vec3> weighted(range.axisPower.size());
-  std::vector<double> weight(range.axisPower.size(), 0.0);
+  std::vector<std::array<Vec3, 6>> weighted(range.axisPower.size());
+  std::vector<std::array<double, 6>> weight(range.axisPower.size(), std::array<double, 6>{});
   for (const std::uint32_t l : hierarchy.leafNodes()) {
     const HierarchyNode& leaf = hierarchy.node(l);
     std::uint32_t cluster = leaf.parent;
@@ -100,27 +121,31 @@ LeafRange leafRange(const ElementHierarchy& hierarchy, const Mesh& leaves, const
     const std::uint32_t slot = range.clusterSlot[cluster];
     const Rgb power = mean[l] * (leaf.area * leaves.patches[leaf.leaf].openFraction);
     std::array<Rgb, 6>& p = range.axisPower[slot];
-    const Vec3& n = leaf.normal;
-    p[n.x > 0 ? 0 : 1] += power * std::fabs(n.x);
-    p[n.y > 0 ? 2 : 3] += power * std::fabs(n.y);
-    p[n.z > 0 ? 4 : 5] += power * std::fabs(n.z);
+    const double components[3] = {leaf.normal.x, leaf.normal.y, leaf.normal.z};
     const double w = power.r + power.g + power.b;
-    weighted[slot] += leaf.centre * w;
-    weight[slot] += w;
+    for (int a = 0; a < 3; ++a) {
+      const int side = 2 * a + (components[a] > 0 ? 0 : 1);
+      p[side] += power * std::fabs(components[a]);
+      weighted[slot][side] += leaf.centre * (w * std::fabs(components[a]));
+      weight[slot][side] += w * std::fabs(components[a]);
+    }
   }
   // Clusters have smaller indices than the clusters under them: children's sums are whole first.
   for (std::size_t i = numNodes; i-- > 1;) {
     const HierarchyNode& node = hierarchy.node(static_cast<std::uint32_t>(i));
     if (!node.isCluster() || node.parent == kNoNode) continue;
     const std::uint32_t up = range.clusterSlot[node.parent], own = range.clusterSlot[i];
-    for (int k = 0; k < 6; ++k) range.axisPower[up][k] += range.axisPower[own][k];
-    weighted[up] += weighted[own];
-    weight[up] += weight[own];
+    for (int k = 0; k < 6; ++k) {
+      range.axisPower[up][k] += range.axisPower[own][k];
+      weighted[up][k] += weighted[own][k];
+      weight[up][k] += weight[own][k];
+    }
   }
   range.lightCentre.resize(range.axisPower.size());
   for (std::uint32_t i = 0; i < numNodes; ++i)
     if (const std::uint32_t slot = range.clusterSlot[i]; slot != kNoNode)
-      range.lightCentre[slot] = weight[slot] > 0 ? weighted[slot] / weight[slot] : hierarchy.node(i).centre;
+      for (int k = 0; k < 6; ++k)
+        range.lightCentre[slot][k] = weight[slot][k] > 0 ? weighted[slot][k] / weight[slot][k] : hierarchy.node(i).centre;
   return range;
 }
 
@@ -313,7 +338,9 @@ class FinalGather::SiteGather {
             continue;
           }
           ++tally_[0];
-          const Vec3 centre = range_.lightCentre[range_.clusterSlot[s]];
+          // From where the light toward the site comes from (the sides the site's direction from
+          // the box's centre faces).
+          const Vec3 centre = range_.lightCentreToward(s, site_.point - source.centre, source.centre);
           const double distance = length(centre - site_.point);
           if (!(distance > 0)) continue;
           const Vec3 w = (centre - site_.point) / distance;

@@ -2,7 +2,7 @@
 // core/cache_file.h's; all fields are little-endian.
 //
 //   offset  size      field
-//   0       32        header: magic "LMBRTHL\0", u32 format version (1), u32 0, u64 key
+//   0       32        header: magic "LMBRTHL\0", u32 format version (2), u32 0, u64 key
 //                     (linkCacheKey), u64 P: the payload's size in bytes
 //   32      P         payload:
 //                       64 bytes  u64 nodes N, splits S, links L, leaves V, initial links,
@@ -13,6 +13,8 @@
 //                       4·L       float32 K (Links::formFactor)
 //                       4·L       float32 ΔK (Links::uncertainty)
 //                       L         u8 0 or 1 (Links::receiverSide)
+//                       6·L       u8 × 6: the shares of each link's light by the way the receiving
+//                                 cluster's faces face, in 255ths (Links::facing)
 //                       0–7       zero bytes, to a multiple of 8
 //                       24·V      float64 r, g, b of each leaf's warm start, leaves in node order
 //                       8·V       float64 each leaf's open fraction, in [0, 1]
@@ -42,7 +44,7 @@ namespace {
 
 using cachefile::KeyHasher;
 
-constexpr cachefile::Format kFormat{{'L', 'M', 'B', 'R', 'T', 'H', 'L', '\0'}, 1, "hierarchical link cache file"};
+constexpr cachefile::Format kFormat{{'L', 'M', 'B', 'R', 'T', 'H', 'L', '\0'}, 2, "hierarchical link cache file"};
 constexpr std::size_t kPreambleBytes = 64;
 
 static_assert(sizeof(Vec3) == 3 * sizeof(double) && sizeof(Rgb) == 3 * sizeof(double) && sizeof(Uv) == 2 * sizeof(double),
@@ -117,7 +119,7 @@ void hashLight(KeyHasher& h, const Light& light) {
 
 // Overflow-safe payload arithmetic: every count is checked against what the file can hold.
 struct Layout {
-  std::uint64_t splits = 0, starts = 0, links = 0, side = 0, padded = 0, warm = 0, open = 0, total = 0;
+  std::uint64_t splits = 0, starts = 0, links = 0, side = 0, facing = 0, padded = 0, warm = 0, open = 0, total = 0;
 };
 
 // Offsets of each block for the counts, or false when they would not fit in the address space.
@@ -128,7 +130,8 @@ bool layout(std::uint64_t nodes, std::uint64_t splits, std::uint64_t links, std:
   out.starts = out.splits + 4 * splits;
   out.links = out.starts + 4 * (nodes + 1);
   out.side = out.links + 12 * links;
-  out.padded = out.side + links;
+  out.facing = out.side + links;
+  out.padded = out.facing + 6 * links;
   out.warm = (out.padded + 7) / 8 * 8;
   out.open = out.warm + 24 * leaves;
   out.total = out.open + 8 * leaves;
@@ -248,7 +251,7 @@ Result<std::uint64_t> saveRefinement(const std::string& path, std::uint64_t key,
   const Links& links = *r.links;
   const std::uint64_t numLinks = links.size();
   LAMBERT_CHECK(links.start.size() == r.numNodes + 1 && links.formFactor.size() == numLinks &&
-                links.uncertainty.size() == numLinks && links.receiverSide.size() == numLinks &&
+                links.uncertainty.size() == numLinks && links.receiverSide.size() == numLinks && links.facing.size() == numLinks &&
                 r.openFraction.size() == r.warmStart.size());
   Layout at;
   if (!layout(r.numNodes, r.splits.size(), numLinks, r.warmStart.size(), at))
@@ -264,6 +267,7 @@ Result<std::uint64_t> saveRefinement(const std::string& path, std::uint64_t key,
   q = copyIn(q, links.formFactor);
   copyIn(q, links.uncertainty);
   copyIn(p + at.side, links.receiverSide);
+  copyIn(p + at.facing, links.facing);
   copyIn(p + at.warm, r.warmStart);
   copyIn(p + at.open, r.openFraction);
   if (Status written = cachefile::writeFile(path, kFormat, key, at.total, std::span<const unsigned char>(p, at.total)); !written)
@@ -296,6 +300,7 @@ Result<CachedRefinement> loadRefinement(const std::string& path, std::uint64_t k
   copyOut(loaded->formFactor, p + at.links + 4 * numLinks, numLinks);
   copyOut(loaded->uncertainty, p + at.links + 8 * numLinks, numLinks);
   copyOut(loaded->receiverSide, p + at.side, numLinks);
+  copyOut(loaded->facing, p + at.facing, numLinks);
   copyOut(r.warmStart, p + at.warm, numLeaves);
   copyOut(r.openFraction, p + at.open, numLeaves);
   r.links = loaded;
@@ -309,7 +314,8 @@ Result<CachedRefinement> loadRefinement(const std::string& path, std::uint64_t k
     if (end < begin) return Error{path + ": the links of node " + std::to_string(node) + " end before they start"};
     for (std::uint32_t k = begin; k < end; ++k)
       if (links.source[k] >= r.numNodes || (k > begin && links.source[k] <= links.source[k - 1]) ||
-          !std::isfinite(links.formFactor[k]) || !std::isfinite(links.uncertainty[k]) || links.receiverSide[k] > 1)
+          !std::isfinite(links.formFactor[k]) || !std::isfinite(links.uncertainty[k]) || links.receiverSide[k] > 1 ||
+          std::accumulate(links.facing[k].begin(), links.facing[k].end(), 0) > 255)
         return Error{path + ": link " + std::to_string(k) + " (to node " + std::to_string(node) + ") is not a valid link"};
   }
   for (const Rgb& b : r.warmStart)

@@ -34,6 +34,7 @@ struct Candidate {
   Verdict verdict = Verdict::Estimated;
   bool estimated = false;      // already estimated (a previous link judged again)
   float judgedTransfer = -1;   // cluster links: the oracle's transfer (judgedTransfer()); < 0 until computed
+  std::array<std::uint8_t, 6> facing{};  // into a cluster: Links::facing
 };
 
 class LinkEstimator {

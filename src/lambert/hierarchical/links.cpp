@@ -84,6 +84,13 @@ double centreTransfer(const HierarchyNode& r, const HierarchyNode& s) {
   return std::fmin(1.0, s.projectedArea(-w) * r.projectedArea(w) / (kPi * distanceSquared * r.area));
 }
 
+// Shares of a total in 255ths, rounded down (each is at most 1/255 short of its value).
+std::array<std::uint8_t, 6> quantizedShares(const std::array<double, 6>& parts, double total) {
+  std::array<std::uint8_t, 6> q{};
+  for (int b = 0; b < 6; ++b) q[b] = static_cast<std::uint8_t>(std::clamp(std::floor(255 * parts[b] / total), 0.0, 255.0));
+  return q;
+}
+
 // A face as casterFace holds it: surface << 32 | face.
 std::uint64_t faceKey(const HierarchyNode& e) { return static_cast<std::uint64_t>(e.surface) << 32 | e.face; }
 
@@ -91,7 +98,8 @@ std::uint64_t faceKey(const HierarchyNode& e) { return static_cast<std::uint64_t
 
 std::size_t Links::bytes() const {
   return start.capacity() * sizeof(std::uint32_t) + source.capacity() * sizeof(std::uint32_t) +
-         (formFactor.capacity() + uncertainty.capacity()) * sizeof(float) + receiverSide.capacity() * sizeof(std::uint8_t);
+         (formFactor.capacity() + uncertainty.capacity()) * sizeof(float) + receiverSide.capacity() * sizeof(std::uint8_t) +
+         facing.capacity() * sizeof(facing[0]);
 }
 
 // Cluster pairs this many times their spheres' reach apart are judged by the direction between
@@ -163,6 +171,7 @@ struct LinkEstimator::ClusterSample {
   double sum = 0, unoccluded = 0;
   Visibility seen;
   int nonFacing = 0;
+  std::array<double, 6> facing{};  // sum split by the receiving faces' normals (Links::facing)
 };
 
 // A face sampleFace chose, and its weight.
@@ -315,6 +324,7 @@ std::uint8_t LinkEstimator::estimate(Candidate& c) const {
   const double k = counted > 0 ? std::fmin(1.0, unoccluded / counted) : 0.0;
   c.uncertainty = static_cast<float>(k);  // unoccluded K: the final gather reads K / this as the visibility
   c.formFactor = counted > 0 ? static_cast<float>(std::fmin(1.0, sum / counted)) : 0.0f;
+  if (r.isCluster() && sum > 0) c.facing = quantizedShares(sample.facing, sum);
   c.verdict = seen.open > 0 ? Verdict::Estimated : Verdict::Occluded;
   return seen.rays();
 }
@@ -416,6 +426,7 @@ LinkEstimator::ClusterSample LinkEstimator::sampleCluster(const Candidate& c, co
   double sum = 0, unoccluded = 0;
   Visibility seen;
   int nonFacing = 0;
+  std::array<double, 6> facing{};
   for (int i = 0; i < n; ++i) {
     auto [u1, v1] = scrambledZeroTwo(static_cast<std::uint32_t>(i), scramble[0], scramble[1]);
     auto [u2, v2] = scrambledZeroTwo(static_cast<std::uint32_t>(i), scramble[2], scramble[3]);
@@ -450,8 +461,14 @@ LinkEstimator::ClusterSample LinkEstimator::sampleCluster(const Candidate& c, co
     }
     sum += open ? contribution : 0.0;
     unoccluded += contribution;
+    if (open) {
+      const double n[3] = {std::fabs(g.normal.x), std::fabs(g.normal.y), std::fabs(g.normal.z)};
+      const double norm = n[0] + n[1] + n[2];
+      const double components[3] = {g.normal.x, g.normal.y, g.normal.z};
+      for (int a = 0; a < 3; ++a) facing[2 * a + (components[a] > 0 ? 0 : 1)] += contribution * n[a] / norm;
+    }
   }
-  return {sum, unoccluded, seen, nonFacing};
+  return {sum, unoccluded, seen, nonFacing, facing};
 }
 
 // The transfer a cluster link is judged by: the larger of the point-to-point transfer between

@@ -27,6 +27,7 @@
 // of the receiver's open part. A ray is open where the first face it meets, run to just behind
 // the source point, is the source's own face: of faces lying on one another (a two-sided face's
 // back twin under a drawer front, a binder cover's lining), each point shows one.
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -43,6 +44,12 @@ struct Links {
   std::vector<float> formFactor;      // K_rs, with visibility (0: an element pair whose rays were all blocked)
   std::vector<float> uncertainty;     // ΔK: what the oracle multiplies by B_s A_r (hierarchical/refiner.h); for a cluster link, its unoccluded K
   std::vector<std::uint8_t> receiverSide;  // ΔK is K's spread over the receiver (every ray got through): refining splits the receiver
+  // Into a cluster: how the light K brings divides over the cluster's faces by the way they face,
+  // in 255ths over the six axis directions (+x, −x, +y, −y, +z, −z; a face's share split by its
+  // normal's components), from the link's own sample pairs; all 0 where unknown (an element
+  // receiver, no open pair). The push hands each bin to the faces that face its way
+  // (hierarchical/transport.h, "directional push").
+  std::vector<std::array<std::uint8_t, 6>> facing;
 
   std::size_t size() const { return source.size(); }
   std::size_t bytes() const;

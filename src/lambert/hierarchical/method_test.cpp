@@ -342,6 +342,7 @@ TEST(HierarchicalTest, FinalGatherOpensLongThinSourcesOnlyWhereTheyVary) {
       links.formFactor.push_back(0.1f);
       links.uncertainty.push_back(0.1f);
       links.receiverSide.push_back(0);
+      links.facing.push_back({});
     }
   }
   // Leaf radiosities, then every node's area-weighted mean (what HierarchicalTransport::pull gives).
@@ -893,6 +894,7 @@ TEST(HierarchicalTest, TheBoundMakesEverySweepAContraction) {
       links->formFactor.push_back(1.5f);
       links->uncertainty.push_back(0);
       links->receiverSide.push_back(0);
+      links->facing.push_back({});
       ++links->start[r + 1];
     }
   }

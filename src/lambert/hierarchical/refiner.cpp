@@ -67,6 +67,7 @@ class Refiner {
       for (std::uint32_t r = 0; r + 1 < previous->start.size(); ++r)
         for (std::uint32_t k = previous->start[r]; k < previous->start[r + 1]; ++k) {
           Candidate c{r, previous->source[k], previous->formFactor[k], previous->uncertainty[k], previous->receiverSide[k] != 0};
+          c.facing = previous->facing[k];
           c.estimated = true;
           // A link kept with every ray blocked is judged as it was: split only while it could carry
           // too much unoccluded light.
@@ -115,6 +116,7 @@ class Refiner {
     links.formFactor.resize(kept.size());
     links.uncertainty.resize(kept.size());
     links.receiverSide.resize(kept.size());
+    links.facing.resize(kept.size());
     {
       std::vector<std::uint32_t> next(links.start.begin(), links.start.end() - 1);
       for (const Candidate& c : kept) {
@@ -123,6 +125,7 @@ class Refiner {
         links.formFactor[k] = c.formFactor;
         links.uncertainty[k] = c.uncertainty;
         links.receiverSide[k] = c.receiverSide;
+        links.facing[k] = c.facing;
       }
     }
     kept = {};
@@ -130,6 +133,7 @@ class Refiner {
       std::uint32_t source;
       float formFactor, uncertainty;
       std::uint8_t receiverSide;
+      std::array<std::uint8_t, 6> facing;
     };
     std::vector<Row> row;
     for (std::size_t r = 0; r + 1 < links.start.size(); ++r) {
@@ -137,7 +141,7 @@ class Refiner {
       if (std::is_sorted(links.source.begin() + begin, links.source.begin() + end)) continue;
       row.clear();
       for (std::uint32_t k = begin; k < end; ++k)
-        row.push_back({links.source[k], links.formFactor[k], links.uncertainty[k], links.receiverSide[k]});
+        row.push_back({links.source[k], links.formFactor[k], links.uncertainty[k], links.receiverSide[k], links.facing[k]});
       std::sort(row.begin(), row.end(), [](const Row& a, const Row& b) { return a.source < b.source; });
       for (std::uint32_t k = begin; k < end; ++k) {
         const Row& link = row[k - begin];
@@ -145,6 +149,7 @@ class Refiner {
         links.formFactor[k] = link.formFactor;
         links.uncertainty[k] = link.uncertainty;
         links.receiverSide[k] = link.receiverSide;
+        links.facing[k] = link.facing;
       }
     }
     return links;

@@ -1,6 +1,7 @@
 #include "lambert/hierarchical/transport.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 #include "lambert/core/error.h"
@@ -36,37 +37,148 @@ HierarchicalTransport::HierarchicalTransport(const ElementHierarchy& hierarchy, 
   // count the covered parts out, so it shows its mean over all its area.
   for (std::size_t i = 0; i < nodes.size(); ++i)
     if (nodes[i].isCluster()) openArea_[i] = area_[i];
-  // Σ K of each node's own links, and Σ K · A_r over the links from each node.
+  // Depth first from the root, children in the hierarchy's order.
+  sweepOrder_.reserve(nodes.size());
+  std::vector<SweepStep> stack{{0, 0, 0}};
+  while (!stack.empty()) {
+    SweepStep step = stack.back();
+    stack.pop_back();
+    step.step = static_cast<std::uint32_t>(sweepOrder_.size());
+    sweepOrder_.push_back(step);
+    sweepDepth_ = std::max<std::size_t>(sweepDepth_, step.depth + 1);
+    const std::span<const std::uint32_t> children = hierarchy.children(step.node);
+    for (std::size_t c = children.size(); c-- > 0;) stack.push_back({children[c], step.depth + 1, 0});
+  }
+  LAMBERT_CHECK(sweepOrder_.size() == nodes.size());
+  shareBins(hierarchy, leafOpenFraction);
+  // Σ K of each node's own links (a cluster's also in its bins), and Σ K · A_r over the links from each node.
   std::vector<double> gathers(nodes.size(), 0.0), sends(nodes.size(), 0.0);
+  std::vector<std::array<double, kBins>> clusterGathers(nodes.size(), std::array<double, kBins>{});
   for (std::size_t r = 0; r < nodes.size(); ++r)
     for (std::uint32_t k = links_->start[r]; k < links_->start[r + 1]; ++k) {
       gathers[r] += links_->formFactor[k];
       sends[links_->source[k]] += links_->formFactor[k] * openArea_[r];
+      if (isCluster_[r]) {
+        const std::array<double, kBins> share = binShares(links_->facing[k]);
+        for (int b = 0; b < kBins; ++b) clusterGathers[r][b] += links_->formFactor[k] * share[b];
+      }
     }
-  weigh(hierarchy, gathers, sends, leafOpenFraction, leafAlbedo);
-  // Depth first from the root, children in the hierarchy's order.
-  sweepOrder_.reserve(nodes.size());
-  std::vector<SweepStep> stack{{0, 0}};
-  while (!stack.empty()) {
-    const SweepStep step = stack.back();
-    stack.pop_back();
-    sweepOrder_.push_back(step);
-    sweepDepth_ = std::max<std::size_t>(sweepDepth_, step.depth + 1);
-    const std::span<const std::uint32_t> children = hierarchy.children(step.node);
-    for (std::size_t c = children.size(); c-- > 0;) stack.push_back({children[c], step.depth + 1});
+  weigh(hierarchy, gathers, clusterGathers, sends, leafOpenFraction, leafAlbedo);
+}
+
+std::array<double, HierarchicalTransport::kBins> HierarchicalTransport::binShares(const std::array<std::uint8_t, 6>& facing) {
+  std::array<double, kBins> share{};
+  const int total = facing[0] + facing[1] + facing[2] + facing[3] + facing[4] + facing[5];
+  if (total == 0) {
+    share[6] = 1;
+    return share;
   }
-  LAMBERT_CHECK(sweepOrder_.size() == nodes.size());
+  for (int b = 0; b < 6; ++b) share[b] = facing[b] / static_cast<double>(total);
+  return share;
+}
+
+void HierarchicalTransport::shareBins(const ElementHierarchy& hierarchy, std::span<const double> leafOpenFraction) {
+  const auto& nodes = hierarchy.nodes();
+  const std::size_t n = nodes.size();
+  LAMBERT_CHECK(links_->facing.size() == links_->size());
+  isCluster_.resize(n);
+  for (std::size_t r = 0; r < n; ++r) isCluster_[r] = nodes[r].isCluster();
+  clusterLinkStart_.assign(n, 0);
+  std::uint32_t clusterLinks = 0;
+  for (std::size_t r = 0; r < n; ++r) {
+    clusterLinkStart_[r] = clusterLinks;
+    if (isCluster_[r]) clusterLinks += links_->start[r + 1] - links_->start[r];
+  }
+  clusterLinkWeights_.resize(clusterLinks);
+  for (std::size_t r = 0; r < n; ++r) {
+    if (!isCluster_[r]) continue;
+    for (std::uint32_t k = links_->start[r]; k < links_->start[r + 1]; ++k) {
+      const std::array<double, kBins> share = binShares(links_->facing[k]);
+      ClusterLinkWeights& w = clusterLinkWeights_[clusterLinkStart_[r] + (k - links_->start[r])];
+      w.mask = 0;
+      for (int b = 0; b < kBins; ++b) {
+        w.weight[b] = static_cast<float>(links_->formFactor[k] * share[b]);
+        if (w.weight[b] != 0) w.mask |= static_cast<std::uint8_t>(1u << b);
+      }
+    }
+  }
+  // Per node, the open area of the leaves under it (what a link's K is the irradiance of: covered
+  // and enclosed points are left out of its rays) and that area projected on each axis side.
+  std::vector<double> open(n, 0.0);
+  std::vector<std::array<double, 6>> openAxis(n, std::array<double, 6>{});
+  for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l) {
+    const HierarchyNode& leaf = nodes[nodeOfLeaf_[l]];
+    const double a = leaf.area * leafOpenFraction[l];
+    open[nodeOfLeaf_[l]] = a;
+    const double components[3] = {leaf.normal.x, leaf.normal.y, leaf.normal.z};
+    for (int k = 0; k < 3; ++k) openAxis[nodeOfLeaf_[l]][2 * k + (components[k] > 0 ? 0 : 1)] = a * std::fabs(components[k]);
+  }
+  for (std::size_t i = n; i-- > 1;)  // children have larger indices than their parents
+    if (const std::uint32_t p = parent_[i]; p != kNoNode) {
+      open[p] += open[i];
+      for (int b = 0; b < 6; ++b) openAxis[p][b] += openAxis[i][b];
+    }
+  // Each child of a cluster: its open projected area on each axis side over its siblings', times
+  // the parent's open area over its own (1 on a side none of the siblings shows: the bin is then
+  // handed out by area, as the undirected push did).
+  // Held in the sweep's order, which reads them one after another.
+  std::vector<std::uint32_t> stepOfNode(n);
+  for (const SweepStep& step : sweepOrder_) stepOfNode[step.node] = step.step;
+  foldWeight_.assign(n, std::array<float, kBins>{1, 1, 1, 1, 1, 1, 1});
+  for (std::size_t p = 0; p < n; ++p) {
+    if (!isCluster_[p]) continue;
+    std::array<double, 6> siblings{};
+    for (std::uint32_t c : hierarchy.children(static_cast<std::uint32_t>(p)))
+      for (int b = 0; b < 6; ++b) siblings[b] += openAxis[c][b];
+    for (std::uint32_t c : hierarchy.children(static_cast<std::uint32_t>(p)))
+      for (int b = 0; b < 6; ++b)
+        if (siblings[b] > 1e-9 * open[p] && open[c] > 0)
+          foldWeight_[stepOfNode[c]][b] = static_cast<float>(openAxis[c][b] / siblings[b] * open[p] / open[c]);
+  }
+  foldMask_.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    foldMask_[k] = 0;
+    for (int b = 0; b < kBins; ++b)
+      if (foldWeight_[k][b] != 0) foldMask_[k] |= static_cast<std::uint8_t>(1u << b);
+  }
+}
+
+std::vector<double> HierarchicalTransport::handedFromAbove(std::span<const double> own, std::span<const std::array<double, kBins>> ownBins,
+                                                          bool weighted) const {
+  const std::size_t n = parent_.size();
+  std::vector<double> arriving(n, 0.0), total(n, 0.0);
+  std::vector<std::array<double, kBins>> bins(n, std::array<double, kBins>{});
+  // Parents come before their children.
+  for (const auto& [i, depth, step] : sweepOrder_) {
+    const std::uint32_t p = parent_[i];
+    if (p != kNoNode) {
+      if (isCluster_[p]) {
+        double folded = 0;
+        for (int b = 0; b < kBins; ++b) {
+          const double handed = bins[p][b] * foldWeight_[step][b];
+          folded += handed;
+          if (isCluster_[i]) bins[i][b] = handed;
+        }
+        arriving[i] = folded;
+      } else {
+        arriving[i] = total[p];
+      }
+    }
+    if (isCluster_[i])
+      for (int b = 0; b < kBins; ++b) bins[i][b] += ownBins[i][b];
+    else
+      total[i] = own[i] + (weighted ? pushWeight_[i] : 1.0) * arriving[i];
+  }
+  return arriving;
 }
 
 std::vector<double> HierarchicalTransport::unclaimedWeights(const ElementHierarchy& hierarchy, std::span<const double> claimedShare,
-                                                           std::span<const double> leafOpenFraction, bool whereOverflowing) const {
+                                                           std::span<const double> leafOpenFraction, std::span<const double> above) const {
   const auto& nodes = hierarchy.nodes();
   // Per element, its open area × the share left unclaimed, summed over its leaves: 1 − Σ claimedShare
-  // over the path from the leaf up to the element (never below 0). whereOverflowing: the share of
-  // what the ancestors claim (Σ claimedShare above the element) that fits in that, 1 where all does.
-  std::vector<double> above(nodes.size(), 0.0);
-  for (std::size_t i = 0; i < nodes.size(); ++i)
-    if (parent_[i] != kNoNode) above[i] = above[parent_[i]] + claimedShare[parent_[i]];
+  // over the path from the leaf up to the element (never below 0). With `above`: the share of what
+  // the ancestors claim that fits in that, 1 where all does.
+  const bool whereOverflowing = !above.empty();
   std::vector<double> unclaimed(nodes.size(), 0.0);
   for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l) {
     double claimed = 0;
@@ -90,7 +202,8 @@ std::vector<double> HierarchicalTransport::unclaimedWeights(const ElementHierarc
   return weight;
 }
 
-void HierarchicalTransport::weigh(const ElementHierarchy& hierarchy, std::span<const double> gathers, std::span<const double> sends,
+void HierarchicalTransport::weigh(const ElementHierarchy& hierarchy, std::span<const double> gathers,
+                                  std::span<const std::array<double, kBins>> clusterGathers, std::span<const double> sends,
                                   std::span<const double> leafOpenFraction, std::span<const Rgb> leafAlbedo) {
   const auto& nodes = hierarchy.nodes();
   largestRowSum_ = 0;
@@ -102,14 +215,14 @@ void HierarchicalTransport::weigh(const ElementHierarchy& hierarchy, std::span<c
   // less of the lamp, whose side claims half its hemisphere elsewhere). The pull's: the share of
   // each element's light the links from it and from the elements below it leave unsent (only
   // where it overflows, the column sums of CIE 171 §5.8's cube lost 0.9–2.4%).
-  pushWeight_ = unclaimedWeights(hierarchy, gathers, leafOpenFraction, true);
+  pushWeight_ = unclaimedWeights(hierarchy, gathers, leafOpenFraction, handedFromAbove(gathers, clusterGathers, false));
   std::vector<double> sent(nodes.size(), 0.0);
   for (std::size_t i = 0; i < nodes.size(); ++i) sent[i] = openArea_[i] > 0 ? sends[i] / openArea_[i] : 0.0;
-  pullWeight_ = unclaimedWeights(hierarchy, sent, leafOpenFraction, false);
-  // Σ K over each node's links and its ancestors', as the push hands them down (parents have
-  // smaller indices).
+  pullWeight_ = unclaimedWeights(hierarchy, sent, leafOpenFraction, {});
+  // Σ K over each node's links and its ancestors', as the push hands them down.
+  const std::vector<double> arriving = handedFromAbove(gathers, clusterGathers, true);
   std::vector<double> rowSum(nodes.size(), 0.0);
-  for (std::size_t i = 0; i < nodes.size(); ++i) rowSum[i] = gathers[i] + (parent_[i] != kNoNode ? pushWeight_[i] * rowSum[parent_[i]] : 0.0);
+  for (std::size_t i = 0; i < nodes.size(); ++i) rowSum[i] = gathers[i] + pushWeight_[i] * arriving[i];
   leafOwnGain_.resize(nodeOfLeaf_.size());
   leafAncestorGain_.resize(nodeOfLeaf_.size());
   leafRowSum_.resize(nodeOfLeaf_.size());
@@ -161,10 +274,71 @@ Rgb HierarchicalTransport::gatherNode(std::uint32_t node, const std::vector<Rgb>
   return {r, g, b};
 }
 
-Rgb HierarchicalTransport::leafIrradiance(std::size_t leaf, const std::vector<Rgb>& gathered) const {
-  const std::uint32_t node = nodeOfLeaf_[leaf], parent = parent_[node];
-  const Rgb ancestors = parent != kNoNode ? gathered[parent] * leafAncestorGain_[leaf] : Rgb{};
-  return gathered[node] * leafOwnGain_[leaf] + ancestors;
+std::uint8_t HierarchicalTransport::gatherBins(std::uint32_t cluster, const std::vector<Rgb>& mean, Bins& bins) const {
+  const Links& links = *links_;
+  std::uint8_t filled = 0;
+  const ClusterLinkWeights* w = clusterLinkWeights_.data() + clusterLinkStart_[cluster];
+  for (std::uint32_t k = links.start[cluster]; k < links.start[cluster + 1]; ++k, ++w) {
+    const Rgb& source = mean[links.source[k]];
+    for (unsigned m = w->mask; m; m &= m - 1) {
+      const int b = std::countr_zero(m);
+      if (!(filled & (1u << b))) {
+        bins[b] = Rgb{};
+        filled |= static_cast<std::uint8_t>(1u << b);
+      }
+      bins[b] += source * static_cast<double>(w->weight[b]);
+    }
+  }
+  return filled;
+}
+
+void HierarchicalTransport::handDown(const SweepStep& at, const Handed* parent, const std::vector<Rgb>& mean, const Rgb* own,
+                                     Handed& state, Rgb* leafGathered) const {
+  const std::uint32_t i = at.node;
+  // What reaches i from its ancestors, before its own links and pushWeight_.
+  Rgb arriving;
+  const bool fromCluster = parent && isCluster_[parent_[i]];
+  if (parent && !fromCluster) arriving = parent->total;
+  if (isCluster_[i]) {
+    state.binMask = gatherBins(i, mean, state.bins);
+    if (fromCluster) {
+      const std::array<float, kBins>& fold = foldWeight_[at.step];
+      for (unsigned m = parent->binMask & foldMask_[at.step]; m; m &= m - 1) {
+        const int b = std::countr_zero(m);
+        const Rgb handed = parent->bins[b] * static_cast<double>(fold[b]);
+        if (state.binMask & (1u << b)) {
+          state.bins[b] += handed;
+        } else {
+          state.bins[b] = handed;
+          state.binMask |= static_cast<std::uint8_t>(1u << b);
+        }
+      }
+    }
+    return;
+  }
+  if (fromCluster) {
+    const std::array<float, kBins>& fold = foldWeight_[at.step];
+    for (unsigned m = parent->binMask & foldMask_[at.step]; m; m &= m - 1) {
+      const int b = std::countr_zero(m);
+      arriving += parent->bins[b] * static_cast<double>(fold[b]);
+    }
+  }
+  const Rgb mine = own ? *own : gatherNode(i, mean);
+  if (const std::uint32_t l = leafOfNode_[i]; l != kNoNode) {
+    if (leafGathered) *leafGathered = mine * leafOwnGain_[l] + arriving * leafAncestorGain_[l];
+    return;
+  }
+  state.total = mine + arriving * pushWeight_[i];
+}
+
+void HierarchicalTransport::pushAlong(std::span<const SweepStep> order, const std::vector<Rgb>& mean, const std::vector<Rgb>& ownGathered,
+                                      std::vector<Rgb>& leafGathered) const {
+  std::vector<Handed> path(sweepDepth_);
+  for (const SweepStep& at : order) {
+    Rgb gathered;
+    handDown(at, at.depth > 0 ? &path[at.depth - 1] : nullptr, mean, isCluster_[at.node] ? nullptr : &ownGathered[at.node], path[at.depth], &gathered);
+    if (const std::uint32_t l = leafOfNode_[at.node]; l != kNoNode) leafGathered[l] = gathered;
+  }
 }
 
 void HierarchicalTransport::gather(const std::vector<Rgb>& radiosity, std::vector<Rgb>& irradiance) const {
@@ -173,11 +347,9 @@ void HierarchicalTransport::gather(const std::vector<Rgb>& radiosity, std::vecto
   const std::size_t n = parent_.size();
   std::vector<Rgb> mean, gathered(n);
   pullWeighted(radiosity, mean, pullWeight_);
-  parallelFor(0, n, [&](std::size_t i) { gathered[i] = gatherNode(static_cast<std::uint32_t>(i), mean); }, 256);
-  // Push: parents come first, so each node adds what every ancestor gathered.
-  for (std::size_t i = 1; i < n; ++i)
-    if (parent_[i] != kNoNode && leafOfNode_[i] == kNoNode) gathered[i] += gathered[parent_[i]] * pushWeight_[i];
-  for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l) irradiance[l] = leafIrradiance(l, gathered);
+  // The elements' own links in parallel; the clusters' as the push passes them.
+  parallelFor(0, n, [&](std::size_t i) { if (!isCluster_[i]) gathered[i] = gatherNode(static_cast<std::uint32_t>(i), mean); }, 256);
+  pushAlong(sweepOrder_, mean, gathered, irradiance);
 }
 
 SweepChange HierarchicalTransport::sweep(const std::vector<Rgb>& emitted, const std::vector<Rgb>& albedo,
@@ -200,15 +372,15 @@ SweepChange HierarchicalTransport::sweep(const std::vector<Rgb>& emitted, const 
   // Along the path from the root to the node being swept, per depth: the node, what it and its
   // ancestors gathered, and the power its leaves changed that its mean does not hold yet (W).
   std::vector<std::uint32_t> nodeAt(sweepDepth_);
-  std::vector<Rgb> pushedAt(sweepDepth_), unpulledAt(sweepDepth_);
+  std::vector<Handed> pushedAt(sweepDepth_);
+  std::vector<Rgb> unpulledAt(sweepDepth_);
   for (std::size_t k = 0; k < n; ++k) {
-    const auto [i, depth] = sweepOrder_[k];
+    const auto [i, depth, step] = sweepOrder_[k];
     nodeAt[depth] = i;
-    const Rgb own = gatherNode(i, mean);
-    pushedAt[depth] = depth > 0 ? own + pushedAt[depth - 1] * pushWeight_[i] : own;
+    Rgb gathered;
+    handDown(sweepOrder_[k], depth > 0 ? &pushedAt[depth - 1] : nullptr, mean, nullptr, pushedAt[depth], &gathered);
     unpulledAt[depth] = Rgb{};
     if (const std::uint32_t l = leafOfNode_[i]; l != kNoNode) {
-      const Rgb gathered = own * leafOwnGain_[l] + (depth > 0 ? pushedAt[depth - 1] * leafAncestorGain_[l] : Rgb{});
       const Rgb updated = emitted[l] + albedo[l] * gathered;
       change.change = std::fmax(change.change, largestChange(updated, radiosity[l]));
       change.magnitude = std::fmax(change.magnitude, updated.maxComponent());

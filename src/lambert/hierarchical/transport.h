@@ -4,6 +4,7 @@
 // links, push what each node gathered down to the leaves under it. One gather costs
 // O(nodes + links), against O(n²) for the dense matrix. hierarchical/refiner.h makes the links;
 // hierarchical/distributed_transport.h spreads the sweeps over ranks.
+#include <array>
 #include <memory>
 #include <span>
 #include <vector>
@@ -79,7 +80,58 @@ class HierarchicalTransport : public Transport {
   // below 1: scaling them too let the closed Cornell box lose 5.8% of its power and made the
   // clustered box 11% dark.
   // What a leaf gathers is own · leafOwnGain_ + ancestors · leafAncestorGain_ (f folded in).
-  Rgb leafIrradiance(std::size_t leaf, const std::vector<Rgb>& gathered) const;
+  // The directional push of a receiving cluster (Sillion 1995's non-isotropic clusters, on the
+  // receiving side): a link K·B̄_s into a cluster is the mean irradiance over all the cluster's
+  // faces, those facing the source and those facing away. Handing every face that mean gave a
+  // desk's top half of the luminaires' light and its underside the other half (RenderPark's
+  // classroom: desk tops 30% dark in the solve, the room's reflected light 11% short). A cluster
+  // holds what its links gather in bins, one per axis direction: each link puts its light into
+  // them as its own sample pairs found it falling on the cluster's faces (Links::facing); a
+  // link whose pairs found nothing open goes into a seventh bin, handed out by area alike. A
+  // child takes of each axis bin its own open projected area's share of its siblings', over its
+  // open area (foldWeight_; K is the irradiance of the receiver's open part, links.h): a face
+  // takes what fell on faces facing its way, a cluster keeps the bins for its children, and a
+  // child as oriented as its parent takes the parent's mean as before. Every bin's power is
+  // handed out whole: Σ_c fold · A_open,c = A_open,p. By all area, an enclosed inner twin
+  // (geometry/enclosures.h) counted in the parent's area but not among the faces facing the
+  // light's way, and a two-sided box's bottom got 3% too much.
+  // The nodes depth first from the root (Gauss–Seidel's order), each with its depth (the root's 0)
+  // and its place in that order (what per-step arrays are indexed by).
+  struct SweepStep {
+    std::uint32_t node, depth, step;
+  };
+  static constexpr int kBins = 7;
+  using Bins = std::array<Rgb, kBins>;
+  // What a node on the path from the root holds while the push passes it: an element, what it
+  // and its ancestors gathered (as a scalar); a cluster, the same in bins.
+  struct Handed {
+    Rgb total;
+    Bins bins;
+    std::uint8_t binMask = 0;  // the bins that hold light (the others are not read)
+  };
+  // Node at.node's state from its own links (own: an element's gatherNode, or nullptr to compute it) and
+  // what its parent's state hands down; for a leaf, also what it gathers in all (its own links by
+  // leafOwnGain_, the rest by leafAncestorGain_).
+  void handDown(const SweepStep& at, const Handed* parent, const std::vector<Rgb>& mean, const Rgb* own, Handed& state,
+                Rgb* leafGathered) const;
+  // A cluster's own links into its bins (clearing them first); returns the bins it filled.
+  std::uint8_t gatherBins(std::uint32_t cluster, const std::vector<Rgb>& mean, Bins& bins) const;
+  std::vector<std::array<float, kBins>> foldWeight_;  // per sweep step, for a node under a cluster: its factor on each bin of the parent's
+  std::vector<std::uint8_t> foldMask_;  // per sweep step: the bins whose factor is not 0 (a face's: those it faces)
+  // Per link into a cluster, its K in each bin (K × its share there) and which bins those are:
+  // read by every sweep, so worked out once. At clusterLinkStart_[r] + (k − links.start[r]).
+  struct ClusterLinkWeights {
+    std::array<float, kBins> weight;
+    std::uint8_t mask;
+  };
+  std::vector<ClusterLinkWeights> clusterLinkWeights_;
+  std::vector<std::uint32_t> clusterLinkStart_;  // per node
+  std::vector<std::uint8_t> isCluster_;
+  // Which nodes are clusters, and each cluster child's foldWeight_, from the hierarchy and the
+  // leaves' open fractions.
+  void shareBins(const ElementHierarchy& hierarchy, std::span<const double> leafOpenFraction);
+  // A link's Links::facing as shares of its K over the bins (the seventh where it is unknown).
+  static std::array<double, kBins> binShares(const std::array<std::uint8_t, 6>& facing);
   // The weighted push and pull (docs/hierarchical.md, "Weighted push and pull"): per element, its
   // share of what its parent gathers (pushWeight_) and the weight its light has in its parent's
   // mean (pullWeight_); each averages to 1 over the siblings by open area, so a pulled mean is
@@ -90,13 +142,20 @@ class HierarchicalTransport : public Transport {
   void pullWeighted(const std::vector<Rgb>& radiosity, std::vector<Rgb>& mean, std::span<const double> weight) const;
   // Per node, the weight that hands an element's share to its element children by what the
   // links at and below each leave unclaimed of it (claimedShare per node; the others 1), or, where
-  // whereOverflowing, by how much of what the links above claim fits in that.
+  // `above` is given, by how much of what the links above claim fits in that.
+  // above: per node, what its ancestors claim (handedFromAbove of claimedShare).
   std::vector<double> unclaimedWeights(const ElementHierarchy& hierarchy, std::span<const double> claimedShare,
-                                       std::span<const double> leafOpenFraction, bool whereOverflowing) const;
+                                       std::span<const double> leafOpenFraction, std::span<const double> above) const;
   // The push's and the pull's weights and the leaves' gains, from each node's Σ K over its links
   // (gathers) and Σ K · A_r over the links from it (sends), the whole hierarchy's.
-  void weigh(const ElementHierarchy& hierarchy, std::span<const double> gathers, std::span<const double> sends,
-             std::span<const double> leafOpenFraction, std::span<const Rgb> leafAlbedo);
+  // clusterGathers: per node, a cluster's Σ K split into its bins (binShares), what the push hands
+  // down of it.
+  void weigh(const ElementHierarchy& hierarchy, std::span<const double> gathers, std::span<const std::array<double, kBins>> clusterGathers,
+             std::span<const double> sends, std::span<const double> leafOpenFraction, std::span<const Rgb> leafAlbedo);
+  // Per node, what reaches it of its ancestors' values (per node of `own`, clusters' in bins), before its own
+  // and before pushWeight_, as the push hands them down: a scalar per node.
+  std::vector<double> handedFromAbove(std::span<const double> own, std::span<const std::array<double, kBins>> ownBins,
+                                      bool weighted) const;
   std::vector<double> leafOwnGain_;
   std::vector<double> leafAncestorGain_;
   std::vector<double> leafRowSum_;       // S per leaf
@@ -107,13 +166,13 @@ class HierarchicalTransport : public Transport {
   std::vector<std::uint32_t> nodeOfLeaf_;
   std::shared_ptr<const Links> links_;
 
- private:
-  // The nodes depth first from the root (Gauss–Seidel's order), each with its depth (the root's 0).
-  struct SweepStep {
-    std::uint32_t node, depth;
-  };
   std::vector<SweepStep> sweepOrder_;
   std::size_t sweepDepth_ = 0;  // the deepest node's depth + 1
+  // The push over `order` (depth first, every node's ancestors before it): each leaf's gathered
+  // irradiance into leafGathered (indexed by leaf), from each element's own gather (ownGathered, per
+  // node) and the clusters' bins gathered on the way.
+  void pushAlong(std::span<const SweepStep> order, const std::vector<Rgb>& mean, const std::vector<Rgb>& ownGathered,
+                 std::vector<Rgb>& leafGathered) const;
 };
 
 }  // namespace lambert
