@@ -80,6 +80,13 @@ class HierarchicalTransport : public Transport {
   // below 1: scaling them too let the closed Cornell box lose 5.8% of its power and made the
   // clustered box 11% dark.
   // What a leaf gathers is own · leafOwnGain_ + ancestors · leafAncestorGain_ (f folded in).
+
+  // The nodes depth first from the root (Gauss–Seidel's order), each with its depth (the root's 0)
+  // and its place in that order (what per-step arrays are indexed by).
+  struct SweepStep {
+    std::uint32_t node, depth, step;
+  };
+
   // The directional push of a receiving cluster (Sillion 1995's non-isotropic clusters, on the
   // receiving side): a link K·B̄_s into a cluster is the mean irradiance over all the cluster's
   // faces, those facing the source and those facing away. Handing every face that mean gave a
@@ -95,11 +102,6 @@ class HierarchicalTransport : public Transport {
   // handed out whole: Σ_c fold · A_open,c = A_open,p. By all area, an enclosed inner twin
   // (geometry/enclosures.h) counted in the parent's area but not among the faces facing the
   // light's way, and a two-sided box's bottom got 3% too much.
-  // The nodes depth first from the root (Gauss–Seidel's order), each with its depth (the root's 0)
-  // and its place in that order (what per-step arrays are indexed by).
-  struct SweepStep {
-    std::uint32_t node, depth, step;
-  };
   static constexpr int kBins = 7;
   using Bins = std::array<Rgb, kBins>;
   // What a node on the path from the root holds while the push passes it: an element, what it
