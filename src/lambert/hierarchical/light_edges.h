@@ -1,8 +1,9 @@
 #pragma once
 // The first refinement pass's splits at light edges (hierarchical/method.h, step 1).
 // Splits leaves, breadth first, while the direct light of some light varies across one by more
-// than the threshold allows (ρ · (E_max − E_min) · A over its centre and corners, drawn a tenth
-// of the way in): a spot's cone edge or a shadow edge crosses it.
+// than the threshold allows (ρ · (E_max − E_min) · A over its centre, its corners drawn a
+// hundredth of the way in and its edges' midpoints a tenth): a spot's cone edge or a shadow edge
+// crosses it.
 // Cost: per wave, each leaf's bound on every light, and the shadow rays of the lights whose
 // unoccluded light could split it (few: most are far, or outside their cones). Its own file: an
 // algorithm of its own, before the links' refinement (hierarchical/refiner.h).
