@@ -160,7 +160,7 @@ void ElementHierarchy::buildClusters(const std::vector<FaceRoot>& all, std::span
     for (const FaceKey& f : faces) {
       area += f.area;
       const double components[3] = {f.normal.x, f.normal.y, f.normal.z};
-      for (int a = 0; a < 3; ++a) axisArea[2 * a + (components[a] > 0 ? 0 : 1)] += f.area * std::fabs(components[a]);
+      for (int a = 0; a < 3; ++a) axisArea[axisSide(a, components[a])] += f.area * std::fabs(components[a]);
       lo = {f.lo.x < lo.x ? f.lo.x : lo.x, f.lo.y < lo.y ? f.lo.y : lo.y, f.lo.z < lo.z ? f.lo.z : lo.z};
       hi = {f.hi.x > hi.x ? f.hi.x : hi.x, f.hi.y > hi.y ? f.hi.y : hi.y, f.hi.z > hi.z ? f.hi.z : hi.z};
     }

@@ -39,6 +39,11 @@ struct ClusterBounds {
   std::array<float, 3> halfExtent;
 };
 
+// Where a per-side quantity of axis `axis` (0: x, 1: y, 2: z) goes for a vector whose component
+// along it is `component`, in axisArea's order (+x, −x, +y, −y, +z, −z); every per-side array of
+// the hierarchy (the links' facing shares, the push's bins, the gather's power per side) uses it.
+inline int axisSide(int axis, double component) { return 2 * axis + (component > 0 ? 0 : 1); }
+
 // 192 bytes: an element's corners and a cluster's bounds share their space, and the fields are
 // ordered without padding (the hierarchy of a 10⁶-face scene holds about 1.8 × 10⁶ nodes).
 struct HierarchyNode {

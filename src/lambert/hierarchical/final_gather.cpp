@@ -74,7 +74,7 @@ struct LeafRange {
     Vec3 sum;
     double total = 0;
     for (int a = 0; a < 3; ++a) {
-      const int side = 2 * a + (components[a] > 0 ? 0 : 1);
+      const int side = axisSide(a, components[a]);
       const double w = std::fabs(components[a]) * (p[side].r + p[side].g + p[side].b);
       sum += lightCentre[slot][side] * w;
       total += w;
@@ -124,7 +124,7 @@ LeafRange leafRange(const ElementHierarchy& hierarchy, const Mesh& leaves, const
     const double components[3] = {leaf.normal.x, leaf.normal.y, leaf.normal.z};
     const double w = power.r + power.g + power.b;
     for (int a = 0; a < 3; ++a) {
-      const int side = 2 * a + (components[a] > 0 ? 0 : 1);
+      const int side = axisSide(a, components[a]);
       p[side] += power * std::fabs(components[a]);
       weighted[slot][side] += leaf.centre * (w * std::fabs(components[a]));
       weight[slot][side] += w * std::fabs(components[a]);

@@ -465,7 +465,7 @@ LinkEstimator::ClusterSample LinkEstimator::sampleCluster(const Candidate& c, co
       const double n[3] = {std::fabs(g.normal.x), std::fabs(g.normal.y), std::fabs(g.normal.z)};
       const double norm = n[0] + n[1] + n[2];
       const double components[3] = {g.normal.x, g.normal.y, g.normal.z};
-      for (int a = 0; a < 3; ++a) facing[2 * a + (components[a] > 0 ? 0 : 1)] += contribution * n[a] / norm;
+      for (int a = 0; a < 3; ++a) facing[axisSide(a, components[a])] += contribution * n[a] / norm;
     }
   }
   return {sum, unoccluded, seen, nonFacing, facing};

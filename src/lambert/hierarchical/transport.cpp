@@ -111,7 +111,7 @@ void HierarchicalTransport::shareBins(const ElementHierarchy& hierarchy, std::sp
     const double a = leaf.area * leafOpenFraction[l];
     open[nodeOfLeaf_[l]] = a;
     const double components[3] = {leaf.normal.x, leaf.normal.y, leaf.normal.z};
-    for (int k = 0; k < 3; ++k) openAxis[nodeOfLeaf_[l]][2 * k + (components[k] > 0 ? 0 : 1)] = a * std::fabs(components[k]);
+    for (int k = 0; k < 3; ++k) openAxis[nodeOfLeaf_[l]][axisSide(k, components[k])] = a * std::fabs(components[k]);
   }
   for (std::size_t i = n; i-- > 1;)  // children have larger indices than their parents
     if (const std::uint32_t p = parent_[i]; p != kNoNode) {
