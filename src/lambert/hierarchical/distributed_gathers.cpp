@@ -132,7 +132,7 @@ std::vector<Rgb> HierarchyRanks::gatherAcrossRanks(const FinalGather& whole, con
 
 std::vector<Rgb> HierarchyRanks::gatherAtVertices(const FinalGather& whole, const std::vector<Rgb>& mean, const std::vector<Rgb>& direct,
                                                   const std::vector<Rgb>& emitted, const std::vector<Rgb>& albedo,
-                                                  FinalGatherCounts& counts, NearFieldWeights& near, int* nearIterations) const {
+                                                  FinalGatherCounts& counts, NearFieldWeights& near, NearFieldCoupling* coupling) const {
   const std::uint64_t digest = gatherInputDigest(mean, 0, {&direct, &emitted, &albedo});
   if (lastAtVertices_.digest == digest && !lastAtVertices_.gathered.empty()) {
     const std::lock_guard<std::mutex> lock(lastAtVerticesMutex_);
@@ -145,7 +145,7 @@ std::vector<Rgb> HierarchyRanks::gatherAtVertices(const FinalGather& whole, cons
   askRanks({Ask::Vertices, 0, digest}, {});
   const Answering answering(*this);
   std::vector<Rgb> gathered =
-      FinalGather::coupleNearField(gatherAcrossRanks(whole, mean, counts, near), near, emitted, albedo, direct, nearIterations);
+      FinalGather::coupleNearField(gatherAcrossRanks(whole, mean, counts, near), near, emitted, albedo, direct, coupling);
   const std::lock_guard<std::mutex> lock(lastAtVerticesMutex_);
   lastAtVertices_ = {digest, gathered};
   return gathered;

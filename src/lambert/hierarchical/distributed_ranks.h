@@ -74,7 +74,7 @@ class HierarchyRanks {
   // input (node means, and the vertices' direct light, emission and albedo).
   std::vector<Rgb> gatherAtVertices(const FinalGather& whole, const std::vector<Rgb>& mean, const std::vector<Rgb>& direct,
                                     const std::vector<Rgb>& emitted, const std::vector<Rgb>& albedo, FinalGatherCounts& counts,
-                                    NearFieldWeights& near, int* nearIterations) const;
+                                    NearFieldWeights& near, NearFieldCoupling* coupling) const;
   // The light at the sites of `whole` (PointGatherRequest::Light), each gathered by the rank of its
   // leaf and handed to every rank; cornerRadiosity: the vertices' radiosity the close sources'
   // corners read (asked for within the gather).

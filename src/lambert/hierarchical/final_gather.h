@@ -68,6 +68,16 @@ struct GatherVisibility {
   const double* find(std::uint32_t vertex, std::uint32_t link, std::uint32_t flaggedSource) const;
 };
 
+// What FinalGather::coupleNearField did: its Jacobi steps, whether they converged (if not, the
+// uncoupled gather was returned) and the rows its contraction bound scaled.
+inline constexpr int kNearFieldMaxIterations = 1000;
+inline constexpr double kNearFieldTolerance = 1e-6;
+struct NearFieldCoupling {
+  int iterations = 0;
+  bool converged = true;
+  std::size_t rowsScaled = 0;
+};
+
 // What one final gather did, summed over the vertices (and the most at any one vertex).
 struct FinalGatherCounts {
   std::uint64_t vertices = 0;         // vertices gathered (those with a leaf)
@@ -111,19 +121,21 @@ class FinalGather {
   std::vector<Rgb> irradiance(const std::vector<Rgb>& nodeMeanRadiosity, FinalGatherCounts* counts = nullptr,
                               const GatherVisibility* known = nullptr, GatherVisibility* record = nullptr,
                               NearFieldWeights* near = nullptr, GatherWeights* weights = nullptr) const;
-  // The irradiance at every vertex with each close leaf source's light taken from its corners'
-  // radiosities, B_u = emitted_u + ρ_u (E_u + direct_u) (per vertex, W/m²), solved by Jacobi
-  // iteration from `gathered` (the gather's result with B̄_s) until no radiosity changes by more
-  // than 10⁻⁶ of the largest; each step contracts by at most max ρ × Σ weights < 1. Returns the
-  // irradiance from the surfaces (direct light from the lights not included); iterations, if
-  // given, receives the steps taken.
   // The irradiance at sites whose close sources' corners have known radiosities (a lightmap's
   // texels, the vertices solved): gathered − meanPart + Σ weight × cornerRadiosity[corner].
   static std::vector<Rgb> withCorners(const std::vector<Rgb>& gathered, const NearFieldWeights& near,
                                       const std::vector<Rgb>& cornerRadiosity);
+  // The irradiance at every vertex with each close leaf source's light taken from its corners'
+  // radiosities, B_u = emitted_u + ρ_u (E_u + direct_u) (per vertex, W/m²), solved by Jacobi
+  // iteration from `gathered` (the gather's result with B̄_s) until no radiosity changes by more
+  // than kNearFieldTolerance of the largest. Rows whose ρ Σ w exceed the solve's contraction
+  // bound are scaled to it, so that every step contracts; should the iteration still not
+  // converge within kNearFieldMaxIterations, `gathered` itself is returned (each close source at
+  // its mean) and report says so. Returns the irradiance from the surfaces (direct light from
+  // the lights not included); report, if given, receives what the coupling did.
   static std::vector<Rgb> coupleNearField(const std::vector<Rgb>& gathered, const NearFieldWeights& near,
                                           std::span<const Rgb> emitted, std::span<const Rgb> albedo,
-                                          std::span<const Rgb> direct, int* iterations = nullptr);
+                                          std::span<const Rgb> direct, NearFieldCoupling* report = nullptr);
 
   const std::vector<VertexSite>& sites() const { return sites_; }
   // The leaf each vertex gathers through (its patch index in the leaf mesh); kNoNode if none.

@@ -85,7 +85,7 @@ class HierarchicalMethod final : public Method {
   // from the gather's irradiance file where it holds this input's, else computed.
   std::vector<Rgb> gatherAtVertices(const FinalGather& gather, const std::vector<Rgb>& mean, const std::vector<Rgb>& direct,
                                     const std::vector<Rgb>& emitted, const std::vector<Rgb>& albedo, FinalGatherCounts& counts,
-                                    NearFieldWeights& near, int& nearIterations) const;
+                                    NearFieldWeights& near, NearFieldCoupling& coupling) const;
   // The radiosity at every vertex (vertexSolution's), whose values the close sources' corner
   // weights read.
   std::vector<Rgb> vertexRadiosity(const ElementSolution& solution) const;
@@ -121,7 +121,7 @@ class HierarchicalMethod final : public Method {
   mutable std::mutex gatherMutex_;
   mutable FinalGatherCounts gatherCounts_;
   mutable std::size_t nearFieldWeights_ = 0;
-  mutable int nearFieldIterations_ = 0;
+  mutable NearFieldCoupling nearFieldCoupling_;
   mutable double gatherSeconds_ = 0;
   // vertexValues' interpolation over the leaf mesh, made once per leaf mesh (lightmap updates
   // call it every frame): leafMeshGeneration_ counts the leaf meshes (and their open fractions).

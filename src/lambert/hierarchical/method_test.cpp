@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <ostream>
 #include <string>
 
@@ -599,15 +600,55 @@ TEST(HierarchicalTest, CoupledNearFieldCornersSolveTheirLinearSystem) {
   const std::vector<Rgb> gathered = {Rgb::gray(1.0), Rgb::gray(0.6)};
   const std::vector<Rgb> emitted = {Rgb::gray(0.0), Rgb::gray(0.05)}, albedo = {Rgb::gray(0.8), Rgb::gray(0.5)};
   const std::vector<Rgb> direct = {Rgb::gray(0.3), Rgb::gray(0.0)};
-  int iterations = 0;
-  const std::vector<Rgb> e = FinalGather::coupleNearField(gathered, near, emitted, albedo, direct, &iterations);
+  NearFieldCoupling coupling;
+  const std::vector<Rgb> e = FinalGather::coupleNearField(gathered, near, emitted, albedo, direct, &coupling);
   // B0 = ρ0 (f0 + d0 + w01 B1), B1 = e1 + ρ1 (f1 + d1 + w10 B0), f = gathered − meanPart.
   const double f0 = 0.8, f1 = 0.5, a0 = 0.8 * (f0 + 0.3), a1 = 0.05 + 0.5 * f1, c0 = 0.8 * 0.45, c1 = 0.5 * 0.3;
   const double b0 = (a0 + c0 * a1) / (1 - c0 * c1), b1 = a1 + c1 * b0;
   EXPECT_NEAR(e[0].g, f0 + 0.45 * b1, 1e-6);
   EXPECT_NEAR(e[1].g, f1 + 0.3 * b0, 1e-6);
-  EXPECT_GT(iterations, 1);
-  EXPECT_LT(iterations, 30);
+  EXPECT_GT(coupling.iterations, 1);
+  EXPECT_LT(coupling.iterations, 30);
+  EXPECT_TRUE(coupling.converged);
+  EXPECT_EQ(coupling.rowsScaled, 0u);
+}
+
+// Close sources seen through one another (stacked or interpenetrating faces: each vertex here
+// sees the next one's corner through three coincident sources, Σ w = 3 × 0.6) make a system
+// whose loop gains ρ Σ w = 1.62 a step: iterated as it stands it grew to 10¹⁸ at the step cap
+// and was published. Bounded, each row's ρ Σ w is at most (1 + ρ)/2 = 0.95, so no radiosity can
+// exceed B₀ / (1 − 0.95), B₀ the largest uncoupled one, and the coupling converges.
+TEST(HierarchicalTest, ANearFieldThatDoesNotContractIsBoundedAndConverges) {
+  constexpr int kVertices = 3, kStacked = 3;
+  NearFieldWeights near;
+  near.start.push_back(0);
+  for (std::uint32_t v = 0; v < kVertices; ++v) {
+    for (int k = 0; k < kStacked; ++k) {
+      near.corner.push_back((v + 1) % kVertices);
+      near.weight.push_back(0.6f);
+    }
+    near.start.push_back(static_cast<std::uint32_t>(near.corner.size()));
+  }
+  near.meanPart.assign(kVertices, Rgb::gray(0.5));
+  const std::vector<Rgb> gathered(kVertices, Rgb::gray(1.0)), emitted(kVertices, Rgb{}), albedo(kVertices, Rgb::gray(0.9));
+  const std::vector<Rgb> direct = {Rgb::gray(2.0), Rgb{}, Rgb{}};
+  NearFieldCoupling coupling;
+  const std::vector<Rgb> e = FinalGather::coupleNearField(gathered, near, emitted, albedo, direct, &coupling);
+  EXPECT_TRUE(coupling.converged);
+  EXPECT_LT(coupling.iterations, kNearFieldMaxIterations);
+  EXPECT_EQ(coupling.rowsScaled, static_cast<std::size_t>(kVertices));
+  // B ≤ B₀ / (1 − c), c = 0.95 and B₀ = 0.9 × (1 + 2); E = far + Σ w B ≤ 0.5 + (c / ρ) × that.
+  const double c = 0.95, largestRadiosity = 0.9 * 3.0 / (1 - c), largestIrradiance = 0.5 + c / 0.9 * largestRadiosity;
+  for (const Rgb& x : e) {
+    EXPECT_TRUE(std::isfinite(x.g));
+    EXPECT_LE(x.g, largestIrradiance);
+    EXPECT_GT(x.g, 0.5);  // the coupled light is still there
+  }
+  // Weights no bound can tame (not finite): the uncoupled gather, and the report says so.
+  near.weight[0] = std::numeric_limits<float>::infinity();
+  const std::vector<Rgb> fallback = FinalGather::coupleNearField(gathered, near, emitted, albedo, direct, &coupling);
+  EXPECT_FALSE(coupling.converged);
+  for (int v = 0; v < kVertices; ++v) EXPECT_EQ(fallback[v].g, gathered[v].g);
 }
 
 TEST(HierarchicalTest, TheMethodConvergesToTheExactSolutionWithAndWithoutClusters) {

@@ -5,10 +5,12 @@
 #include "lambert/hierarchical/final_gather.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "lambert/core/error.h"
 #include "lambert/core/parallel.h"
 #include "lambert/hierarchical/final_gather_outputs.h"
+#include "lambert/solve/row_contraction.h"
 
 namespace lambert {
 
@@ -26,42 +28,63 @@ std::vector<Rgb> FinalGather::withCorners(const std::vector<Rgb>& gathered, cons
 
 std::vector<Rgb> FinalGather::coupleNearField(const std::vector<Rgb>& gathered, const NearFieldWeights& near,
                                               std::span<const Rgb> emitted, std::span<const Rgb> albedo, std::span<const Rgb> direct,
-                                              int* iterations) {
+                                              NearFieldCoupling* report) {
   const std::size_t n = gathered.size();
   LAMBERT_CHECK(near.start.size() == n + 1 && near.meanPart.size() == n && emitted.size() == n && albedo.size() == n &&
                 direct.size() == n);
-  constexpr int kMaxIterations = 100;
-  constexpr double kTolerance = 1e-6;
+  NearFieldCoupling done;
+  // Each row's ρ Σ w bounded as the solve bounds its rows (solve/row_contraction.h): Σ w is the
+  // close sources' share of the vertex's hemisphere, at most 1 where they do not overlap, but
+  // sources seen through one another (faces interpenetrating, coincident or stacked, as game
+  // maps and converted scenes have them) can sum to more, and a loop of such rows above 1 grew
+  // without bound: 10⁸ W/(m²·sr) at the 100-step cap on a sun- and sky-lit interior, published
+  // as converged. Bounded, every step is a contraction in the largest row and Jacobi converges.
+  std::vector<float> rowScale(n, 1.0f);
+  parallelFor(0, n, [&](std::size_t v) {
+    double sum = 0;
+    for (std::uint32_t k = near.start[v]; k < near.start[v + 1]; ++k) sum += near.weight[k];
+    const double rho = albedo[v].maxComponent(), bound = rowContractionBound(rho);
+    if (rho * sum > bound) rowScale[v] = static_cast<float>(bound / (rho * sum));
+  }, 1024);
+  for (float s : rowScale) done.rowsScaled += s < 1.0f;
   std::vector<Rgb> far(n), radiosity(n), next(n);
   parallelFor(0, n, [&](std::size_t v) {
     far[v] = gathered[v] - near.meanPart[v];
     radiosity[v] = emitted[v] + albedo[v] * (gathered[v] + direct[v]);
   }, 1024);
   const auto irradianceAt = [&](std::size_t v, const std::vector<Rgb>& b) {
-    Rgb e = far[v];
-    for (std::uint32_t k = near.start[v]; k < near.start[v + 1]; ++k) e += b[near.corner[k]] * near.weight[k];
-    return e;
+    Rgb corners;
+    for (std::uint32_t k = near.start[v]; k < near.start[v + 1]; ++k) corners += b[near.corner[k]] * near.weight[k];
+    return far[v] + corners * rowScale[v];
   };
-  int steps = 0;
   if (near.size() > 0) {
     double largest = 0;
     for (const Rgb& b : radiosity) largest = std::fmax(largest, b.maxComponent());
-    for (; steps < kMaxIterations; ++steps) {
+    done.converged = false;
+    for (; done.iterations < kNearFieldMaxIterations; ++done.iterations) {
       std::vector<double> change(n, 0.0);
       parallelFor(0, n, [&](std::size_t v) {
         next[v] = near.start[v] == near.start[v + 1] ? radiosity[v] : emitted[v] + albedo[v] * (irradianceAt(v, radiosity) + direct[v]);
-        change[v] = (next[v] - radiosity[v]).maxComponent();
-        change[v] = std::fmax(change[v], (radiosity[v] - next[v]).maxComponent());
+        change[v] = std::fmax((next[v] - radiosity[v]).maxComponent(), (radiosity[v] - next[v]).maxComponent());
+        if (!std::isfinite(change[v])) change[v] = INFINITY;
       }, 1024);
       radiosity.swap(next);
-      if (!(*std::max_element(change.begin(), change.end()) > kTolerance * largest)) {
-        ++steps;
+      const double largestChange = *std::max_element(change.begin(), change.end());
+      if (!std::isfinite(largestChange)) break;
+      if (!(largestChange > kNearFieldTolerance * largest)) {
+        ++done.iterations;
+        done.converged = true;
         break;
       }
     }
   }
-  if (iterations) *iterations = steps;
-  return withCorners(gathered, near, radiosity);
+  if (report) *report = done;
+  // Not converged (weights no bound can tame: not finite), the uncoupled gather, each close
+  // source at its mean, rather than values still on their way.
+  if (!done.converged) return gathered;
+  std::vector<Rgb> out(n);
+  parallelFor(0, n, [&](std::size_t v) { out[v] = nonNegative(irradianceAt(v, radiosity)); }, 1024);
+  return out;
 }
 
 }  // namespace lambert

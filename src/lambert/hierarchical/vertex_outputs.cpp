@@ -8,6 +8,7 @@
 #include <mutex>
 
 #include "lambert/core/parallel.h"
+#include "lambert/core/warning.h"
 #include "lambert/method/point_gather.h"
 #include "lambert/geometry/coverage.h"
 #include "lambert/light/many_lights.h"
@@ -51,10 +52,13 @@ std::vector<std::vector<Rgb>> HierarchicalMethod::vertexSolution(const ElementSo
     direct[v] = lighting.irradiance(sites[v].point, sites[v].normal, *caster_, epsilon_);
   }, 64);
   NearFieldWeights near;
-  int nearIterations = 0;
+  NearFieldCoupling coupling;
   const std::vector<Rgb> gathered =
-      ranks_.acrossRanks() ? ranks_.gatherAtVertices(gather, mean, direct, emitted, albedo, counts, near, &nearIterations)
-                           : gatherAtVertices(gather, mean, direct, emitted, albedo, counts, near, nearIterations);
+      ranks_.acrossRanks() ? ranks_.gatherAtVertices(gather, mean, direct, emitted, albedo, counts, near, &coupling)
+                           : gatherAtVertices(gather, mean, direct, emitted, albedo, counts, near, coupling);
+  if (!coupling.converged)
+    warning("the final gather's close sources did not converge in " + std::to_string(coupling.iterations) +
+            " steps: their leaves' means are shown instead of their corners' values");
   // A T-junction's value is interpolated along the edge it lies on (as constrainHangingVertices
   // does), so that both sides of the edge show the same values, except where an end of that edge
   // is covered (under a block standing on the floor): what is gathered there is not light the
@@ -82,7 +86,7 @@ std::vector<std::vector<Rgb>> HierarchicalMethod::vertexSolution(const ElementSo
   const std::lock_guard<std::mutex> lock(gatherMutex_);
   gatherCounts_ = counts;
   nearFieldWeights_ = near.size();
-  nearFieldIterations_ = nearIterations;
+  nearFieldCoupling_ = coupling;
   gatherSeconds_ = gatherTimer.seconds();
   return out;
 }
@@ -90,7 +94,7 @@ std::vector<std::vector<Rgb>> HierarchicalMethod::vertexSolution(const ElementSo
 std::vector<Rgb> HierarchicalMethod::gatherAtVertices(const FinalGather& gather, const std::vector<Rgb>& mean,
                                                       const std::vector<Rgb>& direct, const std::vector<Rgb>& emitted,
                                                       const std::vector<Rgb>& albedo, FinalGatherCounts& counts,
-                                                      NearFieldWeights& near, int& nearIterations) const {
+                                                      NearFieldWeights& near, NearFieldCoupling& coupling) const {
   // The visibility and irradiance files (link_cache.h) hold values over the links their key
   // made: the last pass's.
   const bool cached = !linkCache_.path.empty() && passesDone_ == options_.refinePasses;
@@ -110,7 +114,7 @@ std::vector<Rgb> HierarchicalMethod::gatherAtVertices(const FinalGather& gather,
   GatherVisibility recorded;
   std::vector<Rgb> gathered = FinalGather::coupleNearField(
       gather.irradiance(mean, &counts, cache.known.get(), cache.recordPath.empty() ? nullptr : &recorded, &near), near, emitted,
-      albedo, direct, &nearIterations);
+      albedo, direct, &coupling);
   if (!cache.recordPath.empty()) gatherCache_.saveVisibility(linkCache_, cache.recordPath, recorded);
   if (!cache.irradiancePath.empty()) {
     // Under the visibility values the next process reads: those just recorded, when the file
