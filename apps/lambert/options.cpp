@@ -302,10 +302,8 @@ Result<Scene> sceneFor(const MeshCommandOptions& o) {
   Result<Scene> scene = loadScene(o.scene, load);
   if (!scene) return scene.error();
   // Not an error (a scene may be lit later, in the viewer), but a black image surprises.
-  const bool emits = std::any_of(scene->surfaces.begin(), scene->surfaces.end(),
-                                 [](const Surface& s) { return s.emittedRadiance.maxComponent() > 0; });
-  if (scene->lights.empty() && !emits)
-    warning(o.scene + ": no light and no emitting surface: the solution is black (add a light, or a material that emits)");
+  if (scene->lights.empty() && !anyEmits(*scene))
+    warning(o.scene + ": no light and no emitting surface: the solution is black, and nothing is solved (add a light, or a material that emits)");
   return std::move(*scene);
 }
 

@@ -245,11 +245,12 @@ Result<SolveReport> Radiosity::Impl::solve(const SolveBudget& budget) {
     return Error{"a distributed solve stops when it converges or after a number of sweeps, not after a time: "
                  "every rank must sweep alike"};
   SolveReport report;
-  // Adaptive meshing refines every solve; the hierarchy refines in the first one only, then
-  // later solves (lights moved) re-solve over the same links.
-  const int passes = options_.meshing == MeshStrategy::Adaptive                  ? options_.adaptive.passesPerSolve
-                     : options_.meshing == MeshStrategy::Hierarchical && solves_ == 0 ? options_.hierarchical.refinePasses
-                                                                                   : 1;
+  // Adaptive meshing refines every solve; the hierarchy refines until its passes are done (in
+  // the first solve, or the first with any light: HierarchicalMethod::refine), then later solves
+  // (lights moved) re-solve over the same links, refine() answering false.
+  const int passes = options_.meshing == MeshStrategy::Adaptive       ? options_.adaptive.passesPerSolve
+                     : options_.meshing == MeshStrategy::Hierarchical ? options_.hierarchical.refinePasses
+                                                                      : 1;
   meshing_->startSolve(budget);
   for (int pass = 0; pass < passes; ++pass) {
     Result<bool> refined = meshing_->refine(lights_, radiosity_, report);

@@ -78,6 +78,10 @@ double surfaceArea(const Surface& surface) {
   return area;
 }
 
+bool anyEmits(const Scene& scene) {
+  return std::any_of(scene.surfaces.begin(), scene.surfaces.end(), [](const Surface& s) { return s.emittedRadiance.maxComponent() > 0; });
+}
+
 Bounds sceneBounds(const Scene& scene) {
   Bounds b{{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
   for (const Surface& s : scene.surfaces)

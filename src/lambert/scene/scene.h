@@ -199,6 +199,9 @@ double surfaceArea(const Surface& surface);
 // "<name> (back)", appended to scene.surfaces. Every loader calls this last.
 void addTwins(Scene& scene);
 
+// Whether any surface emits (its material's emitted radiance above zero in some channel).
+bool anyEmits(const Scene& scene);
+
 // The axis-aligned bounding box of every surface vertex, scene units.
 struct Bounds {
   Vec3 lo, hi;
