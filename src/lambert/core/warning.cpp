@@ -43,11 +43,13 @@ WarningCapture::WarningCapture(Forward forward) {
   std::lock_guard<std::mutex> lock(sinkMutex());
   previous_ = std::move(currentSink());
   currentSink() = [this, forward](const std::string& message) {
+    bool first = false;
     {
       std::lock_guard<std::mutex> own(mutex_);
       messages_.push_back(message);
+      first = forward == Forward::onceEach && forwarded_.insert(message).second;
     }
-    if (forward == Forward::yes) send(previous_, message);
+    if (forward == Forward::yes || first) send(previous_, message);
   };
 }
 

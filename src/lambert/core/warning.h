@@ -4,6 +4,7 @@
 // wherever a program that embeds lambert sends them instead.
 #include <functional>
 #include <mutex>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -22,7 +23,9 @@ WarningSink setWarningSink(WarningSink sink);
 // the CLI keeps them for its --json output while a person still sees them as they come.
 class WarningCapture {
  public:
-  enum class Forward { no, yes };
+  // no: kept only; yes: each also reaches the previous sink; onceEach: each distinct message
+  // reaches it once (loads that read one file through several others: two OBJs sharing an MTL).
+  enum class Forward { no, yes, onceEach };
   explicit WarningCapture(Forward forward = Forward::no);
   ~WarningCapture();
   WarningCapture(const WarningCapture&) = delete;
@@ -35,6 +38,7 @@ class WarningCapture {
  private:
   mutable std::mutex mutex_;
   std::vector<std::string> messages_;
+  std::set<std::string> forwarded_;
   WarningSink previous_;
 };
 

@@ -9,9 +9,10 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <iterator>
+#include <map>
 #include <span>
+#include <sstream>
 #include <string_view>
 
 #include "lambert/core/atomic_file.h"
@@ -94,6 +95,39 @@ std::filesystem::path materialFolder(const std::string& path) {
   return objFolder;
 }
 
+// Where each material's Kd is written (MTL path:line), for warnings that name the place the
+// value came from: OBJs that share one MTL then report its problems alike (and a scene file that
+// loads several reports each once). Materials not found in a library keep the OBJ's path.
+std::map<std::string, std::string> kdPlaces(const std::string& objPath, const std::filesystem::path& folder) {
+  std::map<std::string, std::string> places;
+  std::ifstream obj(objPath, std::ios::binary);
+  std::string line;
+  while (std::getline(obj, line)) {
+    std::istringstream words(line);
+    std::string keyword, library;
+    words >> keyword;
+    if (keyword != "mtllib") continue;
+    while (words >> library) {
+      const std::string mtl = (folder / library).string();
+      std::ifstream in(mtl, std::ios::binary);
+      std::string material, text;
+      for (int number = 1; std::getline(in, text); ++number) {
+        std::istringstream mtlWords(text);
+        std::string key;
+        mtlWords >> key;
+        if (key == "newmtl") {
+          std::getline(mtlWords >> std::ws, material);
+          while (!material.empty() && (material.back() == '\r' || material.back() == ' ')) material.pop_back();
+          places.try_emplace(material, mtl + ":" + std::to_string(number));
+        } else if (key == "Kd" && !material.empty()) {
+          places[material] = mtl + ":" + std::to_string(number);
+        }
+      }
+    }
+  }
+  return places;
+}
+
 }  // namespace
 
 Result<Scene> readObj(const std::string& path, const ObjOptions& options) {
@@ -112,6 +146,7 @@ Result<Scene> readObj(const std::string& path, const ObjOptions& options) {
   scene.name = std::filesystem::path(path).stem().string();
   scene.metresPerUnit = options.metresPerUnit;
   std::vector<Rgb> emission;
+  const std::map<std::string, std::string> kdPlace = kdPlaces(path, config.mtl_search_path);
   for (const tinyobj::material_t& m : reader.GetMaterials()) {
     Rgb albedo{m.diffuse[0], m.diffuse[1], m.diffuse[2]};
     Rgb emitted{m.emission[0], m.emission[1], m.emission[2]};
@@ -137,7 +172,8 @@ Result<Scene> readObj(const std::string& path, const ObjOptions& options) {
       else
         warning(path + ": material '" + m.name + "': map_Ke: " + texture.error().message + "; the material emits its Ke alone");
     }
-    const std::string where = path + ": material '" + m.name + "': Kd";
+    const auto place = kdPlace.find(m.name);
+    const std::string where = (place != kdPlace.end() ? place->second : path) + ": material '" + m.name + "': Kd";
     material.albedo = material.texture ? boundedAlbedo(albedo, *material.texture, where) : boundedAlbedo(albedo, where);
     scene.materials.push_back(std::move(material));
     emission.push_back(emitted);

@@ -574,7 +574,11 @@ Scene readScene(const Json& document, const std::string& path) {
 
   std::optional<Camera> meshCamera;
   const Json& meshes = r.array("meshes");
-  for (std::size_t m = 0; m < meshes.size(); ++m) addMesh(scene, meshes[m], "/meshes/" + std::to_string(m), path, meshCamera);
+  {
+    // Meshes that share a file (two OBJs and their one MTL) would report its problems once each.
+    const WarningCapture once(WarningCapture::Forward::onceEach);
+    for (std::size_t m = 0; m < meshes.size(); ++m) addMesh(scene, meshes[m], "/meshes/" + std::to_string(m), path, meshCamera);
+  }
   if (scene.surfaces.empty()) throw FieldError{"/surfaces", "the scene has no surfaces (give \"surfaces\" or \"meshes\")"};
   scene.camera = r.has("camera") ? readCamera(r.require("camera"), "/camera") : meshCamera ? *meshCamera : cameraViewingScene(scene);
   scene.cameraGiven = r.has("camera") || meshCamera.has_value();

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "lambert/core/warning.h"
 #include "lambert/engine/radiosity.h"
 #include "lambert/scene/builtin.h"
 #include "tests/support/emissive_strip.h"
@@ -130,6 +131,24 @@ TEST(SceneFileTest, MeshesArePlacedInTheScenesUnits) {
     ASSERT_FALSE(bad.ok()) << meshes;
     EXPECT_TRUE(testing::contains(bad.error().message, message)) << bad.error().message;
   }
+}
+
+// Two OBJs that share one MTL, placed by one scene file: the MTL's problem is its own, named by
+// its file and line, and reported once (it was once per OBJ, each naming the OBJ).
+TEST(SceneFileTest, TwoMeshesSharingAMaterialLibraryReportItsProblemOnce) {
+  const std::filesystem::path dir = testing::scratchDirectory("scene-file", "shared-mtl");
+  std::ofstream(dir / "shared.mtl") << "# one library\nnewmtl white\nKd 1 1 1\n";
+  for (const char* name : {"a.obj", "b.obj"}) std::ofstream(dir / name) << "mtllib shared.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl white\nf 1 2 3\n";
+  std::ofstream(dir / "scene.json") << R"({"meshes": [{"path": "a.obj"}, {"path": "b.obj", "transform": {"translate": [2, 0, 0]}}]})";
+  std::vector<std::string> reported;
+  const WarningSink previous = setWarningSink([&](const std::string& m) { reported.push_back(m); });
+  Result<Scene> scene = loadScene((dir / "scene.json").string());
+  setWarningSink(previous);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  EXPECT_EQ(scene->surfaces.size(), 2u);
+  ASSERT_EQ(reported.size(), 1u) << (reported.empty() ? "" : reported.back());
+  EXPECT_TRUE(testing::contains(reported[0], (dir / "shared.mtl").string() + ":3: material 'white': Kd: albedo of 1 or more lowered"))
+      << reported[0];
 }
 
 TEST(SceneFileTest, UnitsDefaultsAndNames) {
