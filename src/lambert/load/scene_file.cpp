@@ -447,7 +447,10 @@ void addMesh(Scene& scene, const Json& value, const std::string& pointer, const 
     light.direction = normalize(t.direction(light.direction));
     scene.lights.push_back(light);
   }
-  if (!camera && gltf) {  // only glTF has a camera: the others' default is not one to keep
+  // Only a glTF can have a camera, and only one it gives is kept: without it, the scene file has
+  // none either, and is drawn from the default view the bare file gets (its placeholder camera,
+  // outside the scene, showed a room from beyond its wall).
+  if (!camera && gltf && mesh->cameraGiven) {
     Camera c = mesh->camera;
     c.eye = t.point(c.eye * toSceneUnits);
     c.target = t.point(c.target * toSceneUnits);

@@ -7,6 +7,7 @@
 
 #include "lambert/core/warning.h"
 #include "lambert/engine/radiosity.h"
+#include "lambert/render/scene_camera.h"
 #include "lambert/scene/builtin.h"
 #include "tests/support/emissive_strip.h"
 #include "tests/support/files.h"
@@ -149,6 +150,38 @@ TEST(SceneFileTest, TwoMeshesSharingAMaterialLibraryReportItsProblemOnce) {
   ASSERT_EQ(reported.size(), 1u) << (reported.empty() ? "" : reported.back());
   EXPECT_TRUE(testing::contains(reported[0], (dir / "shared.mtl").string() + ":3: material 'white': Kd: albedo of 1 or more lowered"))
       << reported[0];
+}
+
+// A glTF with no camera, placed by a scene file with none: the scene gives no camera, and is
+// drawn from the view the bare file gets (inside the closed room), not from the loader's
+// placeholder outside it.
+TEST(SceneFileTest, AGltfWithoutACameraPlacedByASceneFileGetsTheBareFilesView) {
+  const std::filesystem::path dir = testing::scratchDirectory("scene-file", "gltf-no-camera");
+  // A closed 4 × 3 × 5 m box, two-sided, as 12 triangles.
+  const float corner[8][3] = {{0, 0, 0}, {4, 0, 0}, {4, 3, 0}, {0, 3, 0}, {0, 0, 5}, {4, 0, 5}, {4, 3, 5}, {0, 3, 5}};
+  const std::uint16_t faces[6][4] = {{0, 1, 2, 3}, {5, 4, 7, 6}, {4, 0, 3, 7}, {1, 5, 6, 2}, {4, 5, 1, 0}, {3, 2, 6, 7}};
+  std::vector<char> bin(reinterpret_cast<const char*>(corner), reinterpret_cast<const char*>(corner) + sizeof corner);
+  for (const auto& f : faces)
+    for (std::uint16_t i : {f[0], f[1], f[2], f[0], f[2], f[3]}) bin.insert(bin.end(), reinterpret_cast<const char*>(&i), reinterpret_cast<const char*>(&i) + 2);
+  testing::writeBytes(dir / "box.bin", bin);
+  std::ofstream(dir / "box.gltf") << R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+    "nodes": [{"mesh": 0}], "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 0}]}],
+    "materials": [{"doubleSided": true}],
+    "buffers": [{"byteLength": 168, "uri": "box.bin"}],
+    "bufferViews": [{"buffer": 0, "byteLength": 96}, {"buffer": 0, "byteOffset": 96, "byteLength": 72}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 8, "type": "VEC3", "min": [0,0,0], "max": [4,3,5]},
+                  {"bufferView": 1, "componentType": 5123, "count": 36, "type": "SCALAR"}]})";
+  std::ofstream(dir / "scene.json") << R"({"meshes": [{"path": "box.gltf"}]})";
+  Result<Scene> bare = loadScene((dir / "box.gltf").string()), placed = loadScene((dir / "scene.json").string());
+  ASSERT_TRUE(bare.ok()) << bare.error().message;
+  ASSERT_TRUE(placed.ok()) << placed.error().message;
+  EXPECT_FALSE(placed->cameraGiven);
+  const Result<ChosenCamera> bareView = sceneCamera(*bare, {}), placedView = sceneCamera(*placed, {});
+  ASSERT_TRUE(bareView.ok() && placedView.ok());
+  EXPECT_EQ(bareView->source, CameraSource::Inside);
+  EXPECT_EQ(placedView->source, CameraSource::Inside);
+  EXPECT_LT(length(placedView->camera.eye - bareView->camera.eye), 1e-9);
+  EXPECT_LT(length(placedView->camera.target - bareView->camera.target), 1e-9);
 }
 
 TEST(SceneFileTest, UnitsDefaultsAndNames) {
