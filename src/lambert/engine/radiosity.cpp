@@ -74,7 +74,8 @@ std::vector<std::vector<Rgb>> Method::vertexSolution(const ElementSolution& solu
   for (VertexQuantity quantity : quantities) {
     std::vector<Rgb> perElement = solution.radiosity;
     for (std::size_t i = 0; i < perElement.size(); ++i) {
-      if (quantity == VertexQuantity::IndirectRadiosity) perElement[i] -= solution.injected[i];
+      if (quantity == VertexQuantity::IndirectRadiosity)
+        perElement[i] -= solution.skyInjected.empty() ? solution.injected[i] : solution.injected[i] - solution.skyInjected[i];
       if (quantity != VertexQuantity::Irradiance) continue;
       for (int c = 0; c < 3; ++c) {
         const double rho = solution.albedo[i][c];
@@ -97,7 +98,7 @@ struct Radiosity::Impl {
   Stats stats() const;
   // The solution per element, as the method reads it.
   ElementSolution elementSolution() const {
-    return {radiosity_, injected_, surfaceEmitted_, problem_->albedo, lights_, scene_.metresPerUnit};
+    return {radiosity_, injected_, injection_->skyTotal(), surfaceEmitted_, problem_->albedo, lights_, scene_.metresPerUnit};
   }
 
   Scene scene_;
@@ -408,8 +409,15 @@ const std::vector<Rgb>& SolutionView::vertexMeshAlbedo() const { return Solution
 std::vector<Rgb> SolutionView::indirectRadiosity() const {
   std::vector<Rgb> indirect = radiosity();
   const std::vector<Rgb>& direct = injected();
-  for (std::size_t i = 0; i < indirect.size(); ++i) indirect[i] -= direct[i];
+  const std::vector<Rgb>& sky = SolutionInternals::of(*this).injection_->skyTotal();
+  for (std::size_t i = 0; i < indirect.size(); ++i) indirect[i] -= sky.empty() ? direct[i] : direct[i] - sky[i];
   return indirect;
+}
+
+bool SolutionView::skyKnownApart() const {
+  const auto& e = SolutionInternals::of(*this);
+  const bool sky = std::any_of(e.lights_.begin(), e.lights_.end(), [](const Light& l) { return l.kind == LightKind::Sky; });
+  return !sky || !e.injection_->skyTotal().empty();
 }
 
 Rgb SolutionView::ambientRadiosity() const {

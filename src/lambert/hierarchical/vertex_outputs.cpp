@@ -43,13 +43,18 @@ std::vector<std::vector<Rgb>> HierarchicalMethod::vertexSolution(const ElementSo
   const std::vector<std::uint32_t>& leaf = gather.gatheringLeaf();
   // The lights' direct irradiance at the vertices: every quantity needs it, through the close
   // sources' corner radiosities if not directly.
-  std::vector<Rgb> direct(sites.size()), emitted(sites.size()), albedo(sites.size());
-  const DirectLighting lighting(solution.lights, solution.metresPerUnit, shadowTolerance_);
+  // A sky's apart: IndirectRadiosity keeps it (hybrid images draw every other light per pixel).
+  std::vector<Light> skies, pixelLights;
+  for (const Light& light : solution.lights) (light.kind == LightKind::Sky ? skies : pixelLights).push_back(light);
+  std::vector<Rgb> direct(sites.size()), skyDirect(sites.size()), emitted(sites.size()), albedo(sites.size());
+  const DirectLighting pixelLighting(pixelLights, solution.metresPerUnit, shadowTolerance_),
+      skyLighting(skies, solution.metresPerUnit, shadowTolerance_);
   parallelFor(0, direct.size(), [&](std::size_t v) {
     if (leaf[v] == kNoNode) return;
     emitted[v] = solution.emitted[leaf[v]];
     albedo[v] = solution.albedo[leaf[v]];
-    direct[v] = lighting.irradiance(sites[v].point, sites[v].normal, *caster_, epsilon_);
+    skyDirect[v] = skies.empty() ? Rgb{} : skyLighting.irradiance(sites[v].point, sites[v].normal, *caster_, epsilon_);
+    direct[v] = skyDirect[v] + (pixelLights.empty() ? Rgb{} : pixelLighting.irradiance(sites[v].point, sites[v].normal, *caster_, epsilon_));
   }, 64);
   NearFieldWeights near;
   NearFieldCoupling coupling;
@@ -75,7 +80,7 @@ std::vector<std::vector<Rgb>> HierarchicalMethod::vertexSolution(const ElementSo
     std::vector<Rgb> values(gathered.size());
     for (std::size_t v = 0; v < values.size(); ++v) {
       if (leaf[v] == kNoNode) continue;
-      const Rgb received = quantity == VertexQuantity::IndirectRadiosity ? gathered[v] : gathered[v] + direct[v];
+      const Rgb received = quantity == VertexQuantity::IndirectRadiosity ? gathered[v] + skyDirect[v] : gathered[v] + direct[v];
       values[v] = quantity == VertexQuantity::Irradiance ? received : emitted[v] + albedo[v] * received;
     }
     // Made on a coarser edge first (a smaller vertex index), so an end that hangs itself is final.

@@ -59,12 +59,17 @@ DirectLightInjection::Update DirectLightInjection::update(const Mesh& mesh, cons
   if (update.allPatches) update.changedPatches.clear();
   // Each patch summed in the lights' order from zero, wherever it is summed.
   auto sum = [&](std::size_t i) {
-    Rgb t;
-    for (const std::vector<Rgb>& injected : perLight_) t += injected[i];
+    Rgb t, sky;
+    for (std::size_t l = 0; l < perLight_.size(); ++l) {
+      t += perLight_[l][i];
+      if (lights_[l]->kind == LightKind::Sky) sky += perLight_[l][i];
+    }
     total_[i] = t;
+    skyTotal_[i] = sky;
   };
   if (update.allPatches) {
     total_.assign(n, Rgb{});
+    skyTotal_.assign(n, Rgb{});
     for (std::size_t i = 0; i < n; ++i) sum(i);
   } else {
     for (std::uint32_t i : update.changedPatches) sum(i);
@@ -89,6 +94,7 @@ DirectLightInjection::Update DirectLightInjection::updateTogether(const Mesh& me
   traced_.assign(lights.size(), {});
   for (std::size_t l = 0; l < lights.size(); ++l) lights_[l] = lights[l];
   together_ = true;
+  skyTotal_.clear();
   std::vector<char> reached(n, 0);
   for (const Light& light : lights) {
     if (light.kind != LightKind::Spot) {

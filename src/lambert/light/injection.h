@@ -48,6 +48,10 @@ class DirectLightInjection {
 
   // Σ_l ρ_i E_l,i per patch of the mesh last updated for, W/m² (zeros without lights).
   const std::vector<Rgb>& total() const { return total_; }
+  // The part of total() the skies bring (LightKind::Sky), which a hybrid image keeps in the
+  // solution while it draws every other light per pixel; empty where the lights were traced
+  // together (more than kPerLightInjectionLights under a shadow tolerance: no part is known).
+  const std::vector<Rgb>& skyTotal() const { return skyTotal_; }
   const DirectLightOptions& options() const { return options_; }
   // Points, lights reaching them and shadow rays of the many-light traces (more than
   // kPerLightInjectionLights lights under a shadow tolerance), summed over every update.
@@ -60,7 +64,7 @@ class DirectLightInjection {
   // Per light, the patches it lights (a non-zero injection), in increasing order; it is zero on
   // every other.
   std::vector<std::vector<std::uint32_t>> traced_;
-  std::vector<Rgb> total_;
+  std::vector<Rgb> total_, skyTotal_;
   // Of the mesh last updated for, made at its first update.
   std::unique_ptr<PatchSphereTree> tree_;
   std::optional<double> epsilon_;

@@ -31,7 +31,8 @@ struct SurfacePoint {
 // What the solution gives at each vertex of SolutionView::vertexMesh(), W/m².
 enum class VertexQuantity {
   Radiosity,          // B
-  IndirectRadiosity,  // B less the lights' direct light ρ·E_direct (hybrid images add it per pixel)
+  IndirectRadiosity,  // B less the direct light ρ·E_direct of every light but a sky (hybrid images
+                      // add it per pixel; a sky's, 4096 directions an estimate, stays in B)
   Irradiance,         // E = (B − emission)/ρ: the light a surface receives (where it is interpolated from
                       // the elements, 0 where ρ is 0)
 };
@@ -48,9 +49,12 @@ class SolutionView {
   const std::vector<Rgb>& injected() const;
   const std::vector<Rgb>& emitted() const;
   const std::vector<Rgb>& albedo() const;
-  // B less the injected direct light: what to interpolate when direct light is drawn per pixel
-  // (the hybrid image).
+  // B less the injected direct light of every light but a sky: what to interpolate when those
+  // are drawn per pixel (the hybrid image; a sky's direct light stays in it).
   std::vector<Rgb> indirectRadiosity() const;
+  // Whether indirectRadiosity() could keep the skies' direct light apart from the other lights':
+  // true without a sky; false where many lights were injected together (light/injection.h).
+  bool skyKnownApart() const;
   // Mid-solve, progressive refinement's ambient term (Cohen, Chen, Wallace & Greenberg 1988;
   // the ambient term): the unshot power spread evenly over the scene and reflected to convergence, in
   // W/m². Displaying B_i + ρ_i·ambient shows a shooting solve at its final brightness from the

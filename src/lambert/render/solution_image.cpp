@@ -1,7 +1,9 @@
 #include "lambert/render/solution_image.h"
 
 #include <algorithm>
+#include <mutex>
 
+#include "lambert/core/warning.h"
 #include "lambert/light/lights.h"
 
 namespace lambert {
@@ -13,9 +15,11 @@ RenderOptions withDirectLight(RenderOptions options, const SolutionView& solutio
                               const std::vector<Rgb>& albedo) {
   const double epsilon = rayEpsilon(mesh);
   const double metresPerUnit = solution.scene().metresPerUnit;
-  const std::vector<Light>& lights = solution.lights();
+  std::vector<Light> lights;
+  for (const Light& light : solution.lights())
+    if (light.kind != LightKind::Sky) lights.push_back(light);
   const RayCaster& caster = solution.caster();
-  options.directRadiance = [&mesh, &caster, &albedo, &lights, epsilon, metresPerUnit](const Vec3& position, std::uint32_t patch) {
+  options.directRadiance = [&mesh, &caster, &albedo, lights = std::move(lights), epsilon, metresPerUnit](const Vec3& position, std::uint32_t patch) {
     return reflectedDirectRadiance(lights, position, mesh.patches[patch].normal, albedo[patch], caster, epsilon, metresPerUnit);
   };
   return options;
@@ -25,15 +29,25 @@ RenderOptions withDirectLight(RenderOptions options, const SolutionView& solutio
 
 bool drawsLightsPerPixel(const SolutionView& solution, const SolutionImageOptions& options) {
   // A sky's direct light costs Light::skyDirections rays per estimate (4096 by default): per pixel
-  // that is hours, so a scene with a sky is drawn from its radiosity solution, which holds the
-  // sky's direct light per patch like every other light's.
+  // that is hours, so a sky stays in the solution (VertexQuantity::IndirectRadiosity keeps it)
+  // while the sun, points, spots and luminaires are drawn per pixel over it, with their edges.
+  // Only where the injection could not keep the skies' part apart (many lights traced together)
+  // is everything drawn from the solution.
   const auto& lights = solution.lights();
   const bool sky = std::any_of(lights.begin(), lights.end(), [](const Light& l) { return l.kind == LightKind::Sky; });
-  return options.lighting == Lighting::Hybrid && !lights.empty() && !sky;
+  const bool pixelLight = std::any_of(lights.begin(), lights.end(), [](const Light& l) { return l.kind != LightKind::Sky; });
+  return options.lighting == Lighting::Hybrid && pixelLight && (!sky || solution.skyKnownApart());
 }
 
 Image renderSolution(const SolutionView& solution, const SolutionImageOptions& options) {
   const bool hybrid = drawsLightsPerPixel(solution, options);
+  if (options.lighting == Lighting::Hybrid && !hybrid && !solution.skyKnownApart()) {
+    static std::once_flag once;
+    std::call_once(once, [] {
+      warning("hybrid lighting: a sky among more lights than are traced one by one: the picture is drawn from the solution alone "
+              "(sun and lights without their per-pixel edges)");
+    });
+  }
   const Camera& camera = options.camera ? *options.camera : solution.scene().camera;
   RenderOptions render;
   render.width = options.width;

@@ -31,8 +31,9 @@ struct SolutionImageOptions {
 // Radiance L in W/(m²·sr) per pixel.
 Image renderSolution(const SolutionView& solution, const SolutionImageOptions& options);
 
-// Whether renderSolution draws the lights per pixel: hybrid lighting of a solution with lights,
-// none of them a sky (a sky is drawn from the solution: see solution_image.cpp).
+// Whether renderSolution draws lights per pixel: hybrid lighting of a solution with a light that
+// is not a sky (every one but the skies is drawn per pixel; a sky from the solution: see
+// solution_image.cpp), unless the skies' part could not be kept apart.
 bool drawsLightsPerPixel(const SolutionView& solution, const SolutionImageOptions& options);
 
 }  // namespace lambert
