@@ -326,7 +326,7 @@ class FinalGather::SiteGather {
             // blocked (links.h keeps such element links for this: a vertex at the receiver's rim
             // may see the source through a gap, and a Cornell floor vertex beside the tall
             // block's foot lost the lamp, −46%). Where they all got through, below.
-            Term term = evaluate(k, s, (!allVisible && !clusterReceiver) || (clusterReceiver && measured < 1 && variesBehind(s)));
+            Term term = evaluate(k, s, (!allVisible && !clusterReceiver) || (clusterReceiver && variesBehind(s)));
             term.resolvable = allVisible && !clusterReceiver;
             if (term.factor > 0) {
               sum_ += mean_[s] * (term.factor * term.seen);
@@ -410,13 +410,14 @@ class FinalGather::SiteGather {
     }
   }
 
-  // A source whose leaves differ by more than kVariesBehind times its mean: where a link into a
-  // cluster says part of it is hidden (its rays measured over the cluster's faces disagree), the
-  // hidden part may be the bright one. A ceiling element around a lamp hung 1 cm under it is
-  // bright only over the lamp, which hides just that part from a sphere below: at its mean,
-  // with the link's visibility, the sphere's top vertices took 1.4 times the path tracer's
-  // light (and flat shading, the leaves, 0.8 times). Such a source's visibility is resolved at
-  // the vertex and it is opened, each part with its own rays, however far it is.
+  // A source whose leaves differ by more than kVariesBehind times its mean, reached through a link
+  // into a cluster: that link's few rays, over the cluster's faces, say little of which part a
+  // vertex sees, and the hidden part may be the bright one. A ceiling element around a lamp hung
+  // 1 cm under it is bright only over the lamp, which hides just that part from a sphere below:
+  // at its mean, with the link's visibility, the sphere's top vertices took up to 1.5 times the
+  // path tracer's light (flat shading, the leaves, 0.8 times). Such a source's visibility is
+  // resolved at the vertex and, where its rays disagree, it is opened, each part with its own
+  // rays, however far it is.
   bool variesBehind(std::uint32_t s) const {
     return !g_.hierarchy_.node(s).isLeaf() && range_.highest[s].maxComponent() > kVariesBehind * mean_[s].maxComponent();
   }
