@@ -448,8 +448,8 @@ void addMesh(Scene& scene, const Json& value, const std::string& pointer, const 
     scene.lights.push_back(light);
   }
   // Only a glTF can have a camera, and only one it gives is kept: without it, the scene file has
-  // none either, and is drawn from the default view the bare file gets (its placeholder camera,
-  // outside the scene, showed a room from beyond its wall).
+  // none either, and is drawn from the default view the bare file gets (the loader's stand-in,
+  // cameraViewingScene's view from outside, showed a room from beyond its wall).
   if (!camera && gltf && mesh->cameraGiven) {
     Camera c = mesh->camera;
     c.eye = t.point(c.eye * toSceneUnits);

@@ -154,7 +154,7 @@ TEST(SceneFileTest, TwoMeshesSharingAMaterialLibraryReportItsProblemOnce) {
 
 // A glTF with no camera, placed by a scene file with none: the scene gives no camera, and is
 // drawn from the view the bare file gets (inside the closed room), not from the loader's
-// placeholder outside it.
+// stand-in view from outside it (cameraViewingScene).
 TEST(SceneFileTest, AGltfWithoutACameraPlacedByASceneFileGetsTheBareFilesView) {
   const std::filesystem::path dir = testing::scratchDirectory("scene-file", "gltf-no-camera");
   // A closed 4 × 3 × 5 m box, two-sided, as 12 triangles.
