@@ -68,14 +68,19 @@ Result<std::vector<Rgb>> Method::nodeMeanRadiosity(const ElementSolution&) const
   return Error{"node mean radiosities are the hierarchical method's: solve with --method hierarchical (the default)"};
 }
 
+std::vector<Rgb> indirectRadiosity(const ElementSolution& solution) {
+  std::vector<Rgb> indirect = solution.radiosity;
+  for (std::size_t i = 0; i < indirect.size(); ++i)
+    indirect[i] -= solution.skyInjected.empty() ? solution.injected[i] : solution.injected[i] - solution.skyInjected[i];
+  return indirect;
+}
+
 std::vector<std::vector<Rgb>> Method::vertexSolution(const ElementSolution& solution,
                                                       std::span<const VertexQuantity> quantities) const {
   std::vector<std::vector<Rgb>> out;
   for (VertexQuantity quantity : quantities) {
-    std::vector<Rgb> perElement = solution.radiosity;
+    std::vector<Rgb> perElement = quantity == VertexQuantity::IndirectRadiosity ? indirectRadiosity(solution) : solution.radiosity;
     for (std::size_t i = 0; i < perElement.size(); ++i) {
-      if (quantity == VertexQuantity::IndirectRadiosity)
-        perElement[i] -= solution.skyInjected.empty() ? solution.injected[i] : solution.injected[i] - solution.skyInjected[i];
       if (quantity != VertexQuantity::Irradiance) continue;
       for (int c = 0; c < 3; ++c) {
         const double rho = solution.albedo[i][c];
@@ -406,13 +411,7 @@ const RayCaster& SolutionView::caster() const { return SolutionInternals::of(*th
 const Mesh& SolutionView::vertexMesh() const { return SolutionInternals::of(*this).meshing_->vertexMesh(); }
 const std::vector<Rgb>& SolutionView::vertexMeshAlbedo() const { return SolutionInternals::of(*this).vertexMeshAlbedo_; }
 
-std::vector<Rgb> SolutionView::indirectRadiosity() const {
-  std::vector<Rgb> indirect = radiosity();
-  const std::vector<Rgb>& direct = injected();
-  const std::vector<Rgb>& sky = SolutionInternals::of(*this).injection_->skyTotal();
-  for (std::size_t i = 0; i < indirect.size(); ++i) indirect[i] -= sky.empty() ? direct[i] : direct[i] - sky[i];
-  return indirect;
-}
+std::vector<Rgb> SolutionView::indirectRadiosity() const { return lambert::indirectRadiosity(SolutionInternals::of(*this).elementSolution()); }
 
 bool SolutionView::skyKnownApart() const {
   const auto& e = SolutionInternals::of(*this);

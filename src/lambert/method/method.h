@@ -42,6 +42,9 @@ struct ElementSolution {
   double metresPerUnit;
 };
 
+// B less the direct light a hybrid image draws per pixel (every light's but a sky's), per element.
+std::vector<Rgb> indirectRadiosity(const ElementSolution& solution);
+
 class Method {
  public:
   virtual ~Method() = default;

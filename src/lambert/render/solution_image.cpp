@@ -34,9 +34,8 @@ bool drawsLightsPerPixel(const SolutionView& solution, const SolutionImageOption
   // Only where the injection could not keep the skies' part apart (many lights traced together)
   // is everything drawn from the solution.
   const auto& lights = solution.lights();
-  const bool sky = std::any_of(lights.begin(), lights.end(), [](const Light& l) { return l.kind == LightKind::Sky; });
   const bool pixelLight = std::any_of(lights.begin(), lights.end(), [](const Light& l) { return l.kind != LightKind::Sky; });
-  return options.lighting == Lighting::Hybrid && pixelLight && (!sky || solution.skyKnownApart());
+  return options.lighting == Lighting::Hybrid && pixelLight && solution.skyKnownApart();
 }
 
 Image renderSolution(const SolutionView& solution, const SolutionImageOptions& options) {
