@@ -189,8 +189,7 @@ Rgb unshadowedIrradiance(const Light& light, const Vec3& x, const Vec3& n, doubl
   if (light.kind == LightKind::Sky) {
     // The same directions as irradiance() below, all visible: never less than the shadowed value.
     if (!light.sky) return {};
-    const double lux = skyIlluminance(*light.sky, n, light.skyDirections, [](const Vec3&) { return true; });
-    return Rgb::gray(lux / kLumensPerWatt);
+    return Rgb::gray(unobstructedSkyIlluminance(*light.sky, n, light.skyDirections) / kLumensPerWatt);
   }
   if (light.kind == LightKind::Luminaire) {
     const LuminaireFrame frame = luminaireFrame(light);

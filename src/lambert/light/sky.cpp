@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "lambert/core/rng.h"
 #include "lambert/core/sampling.h"
@@ -169,6 +170,64 @@ Vec3 skySquareToDirection(const Vec3& n, const Vec3& tangent, const Vec3& bitang
   const auto [x, y] = concentricDisk(u, v);
   const double z = std::sqrt(std::fmax(0.0, 1 - x * x - y * y));
   return tangent * x + bitangent * y + n * z;
+}
+
+SkyHemisphere::SkyHemisphere(const SkyModel& sky, const Vec3& n, int gridSide) : sky_(sky), n_(n), m_(gridSide) {
+  orthonormalBasis(n_, t_, b_);
+  const std::size_t cells = static_cast<std::size_t>(m_) * m_;
+  first_.resize(cells);
+  for (int j = 0; j < m_; ++j)
+    for (int i = 0; i < m_; ++i) {
+      const std::size_t k = static_cast<std::size_t>(j) * m_ + i;
+      double du, dv;
+      skyJitter(k, du, dv);
+      first_[k].direction = skySquareToDirection(n_, t_, b_, (i + du) / m_, (j + dv) / m_);
+      first_[k].luminance = sky_.luminance(first_[k].direction);
+    }
+  edgeDone_.assign(cells, 0);
+}
+
+const SkyHemisphere::Sample* SkyHemisphere::edgeSamples(std::size_t k) {
+  constexpr int r = kSkyEdgeRefinement;
+  if (edge_.empty()) edge_.resize(first_.size() * r * r);
+  Sample* samples = &edge_[k * r * r];
+  if (edgeDone_[k]) return samples;
+  const int i = static_cast<int>(k % m_), j = static_cast<int>(k / m_);
+  const std::size_t cells = static_cast<std::size_t>(m_) * m_;
+  for (int q = 0; q < r * r; ++q) {
+    double du, dv;
+    skyJitter((k + 1) * (r * r) + q + cells, du, dv);
+    const double u = (i + (q % r + du) / r) / m_, v = (j + (q / r + dv) / r) / m_;
+    samples[q].direction = skySquareToDirection(n_, t_, b_, u, v);
+    samples[q].luminance = sky_.luminance(samples[q].direction);
+  }
+  edgeDone_[k] = 1;
+  return samples;
+}
+
+double SkyHemisphere::unobstructedIlluminance() {
+  if (unobstructed_ < 0) unobstructed_ = skyIlluminance(*this, [](const Vec3&) { return true; });
+  return unobstructed_;
+}
+
+SkyHemisphere& skyHemisphere(const SkyModel& sky, const Vec3& n, int gridSide) {
+  // A few normals per thread: a room's walls, or the two sides a light edge compares.
+  constexpr std::size_t kKept = 8;
+  thread_local std::vector<std::unique_ptr<SkyHemisphere>> kept;
+  thread_local std::size_t next = 0;
+  constexpr double kGrid = 0x1p30;
+  const Vec3 rounded = normalize(Vec3{std::round(n.x * kGrid), std::round(n.y * kGrid), std::round(n.z * kGrid)});
+  for (auto& h : kept)
+    if (h->matches(sky, rounded, gridSide)) return *h;
+  auto fresh = std::make_unique<SkyHemisphere>(sky, rounded, gridSide);
+  if (kept.size() < kKept) {
+    kept.push_back(std::move(fresh));
+    return *kept.back();
+  }
+  kept[next] = std::move(fresh);
+  SkyHemisphere& h = *kept[next];
+  next = (next + 1) % kKept;
+  return h;
 }
 
 }  // namespace lambert

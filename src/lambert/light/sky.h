@@ -111,22 +111,58 @@ Vec3 skySquareToDirection(const Vec3& n, const Vec3& tangent, const Vec3& bitang
 // The fixed jitter in [0, 1)² of sample `index` of a cell: a hash, the same at every point.
 void skyJitter(std::uint64_t index, double& du, double& dv);
 
+// skyIlluminance's directions about one normal and the sky's luminance along each. They depend on
+// the normal alone, not on the point, so all the points of a wall share one set: computing the map
+// and the sky's formula (an acos and two exps a direction) once per normal instead of once per ray
+// leaves the estimate the cost of its rays. The cells' first samples are computed at construction,
+// an edge cell's sub-grid the first time a point asks for it. Not thread-safe: skyHemisphere gives
+// each thread its own.
+class SkyHemisphere {
+ public:
+  SkyHemisphere(const SkyModel& sky, const Vec3& n, int gridSide);
+  bool matches(const SkyModel& sky, const Vec3& n, int gridSide) const { return m_ == gridSide && n_ == n && sky_ == sky; }
+  int gridSide() const { return m_; }
+  // Cell k = j·m + i's first sample.
+  const Vec3& direction(std::size_t k) const { return first_[k].direction; }
+  double luminance(std::size_t k) const { return first_[k].luminance; }
+  // Sub-sample q ∈ [0, r²) of cell k's kSkyEdgeRefinement² sub-grid.
+  const Vec3& edgeDirection(std::size_t k, int q) { return edgeSamples(k)[q].direction; }
+  double edgeLuminance(std::size_t k, int q) { return edgeSamples(k)[q].luminance; }
+  // skyIlluminance with nothing in the way, in lux: computed once.
+  double unobstructedIlluminance();
+
+ private:
+  struct Sample {
+    Vec3 direction;
+    double luminance = 0;
+  };
+  const Sample* edgeSamples(std::size_t k);
+
+  SkyModel sky_;
+  Vec3 n_, t_, b_;
+  int m_ = 0;
+  std::vector<Sample> first_;            // one per cell
+  std::vector<Sample> edge_;             // r² per cell, filled on demand
+  std::vector<unsigned char> edgeDone_;  // per cell
+  double unobstructed_ = -1;             // < 0 until asked
+};
+
+// This thread's hemisphere for (sky, n, grid side), from a small per-thread cache (a wall's patches
+// come one after another, so the last few normals are the ones asked again). n is first rounded to
+// 2⁻³⁰ per component and renormalised: a wall's patches' normals, each from its own corners, differ
+// in their last bits, and a pure rounding keeps the result the same whichever thread asks first.
+SkyHemisphere& skyHemisphere(const SkyModel& sky, const Vec3& n, int gridSide);
+
+// skyIlluminance over a hemisphere's directions.
 template <class Visible>
-double skyIlluminance(const SkyModel& sky, const Vec3& n, int directions, Visible&& visible) {
-  const int m = skyGridSide(directions);
-  Vec3 t, b;
-  orthonormalBasis(n, t, b);
+double skyIlluminance(SkyHemisphere& hemisphere, Visible&& visible) {
+  const int m = hemisphere.gridSide();
   thread_local std::vector<double> luminance;  // L·V of each cell's first sample
   luminance.assign(static_cast<std::size_t>(m) * m, 0.0);
-  for (int j = 0; j < m; ++j)
-    for (int i = 0; i < m; ++i) {
-      const std::size_t k = static_cast<std::size_t>(j) * m + i;
-      double du, dv;
-      skyJitter(k, du, dv);
-      const Vec3 w = skySquareToDirection(n, t, b, (i + du) / m, (j + dv) / m);
-      const double l = sky.luminance(w);
-      if (l > 0 && visible(w)) luminance[k] = l;
-    }
+  for (std::size_t k = 0; k < luminance.size(); ++k) {
+    const double l = hemisphere.luminance(k);
+    if (l > 0 && visible(hemisphere.direction(k))) luminance[k] = l;
+  }
   double sum = 0;
   constexpr int r = kSkyEdgeRefinement;
   for (int j = 0; j < m; ++j)
@@ -144,16 +180,22 @@ double skyIlluminance(const SkyModel& sky, const Vec3& n, int directions, Visibl
       }
       double cell = 0;
       for (int q = 0; q < r * r; ++q) {
-        double du, dv;
-        skyJitter((k + 1) * (r * r) + q + static_cast<std::size_t>(m) * m, du, dv);
-        const double u = (i + (q % r + du) / r) / m, v = (j + (q / r + dv) / r) / m;
-        const Vec3 w = skySquareToDirection(n, t, b, u, v);
-        const double l = sky.luminance(w);
-        if (l > 0 && visible(w)) cell += l;
+        const double l = hemisphere.edgeLuminance(k, q);
+        if (l > 0 && visible(hemisphere.edgeDirection(k, q))) cell += l;
       }
       sum += cell / (r * r);
     }
   return sum * kPi / (static_cast<double>(m) * m);
+}
+
+template <class Visible>
+double skyIlluminance(const SkyModel& sky, const Vec3& n, int directions, Visible&& visible) {
+  return skyIlluminance(skyHemisphere(sky, n, skyGridSide(directions)), visible);
+}
+
+// skyIlluminance with nothing in the way (an upper bound of every shadowed estimate at n).
+inline double unobstructedSkyIlluminance(const SkyModel& sky, const Vec3& n, int directions) {
+  return skyHemisphere(sky, n, skyGridSide(directions)).unobstructedIlluminance();
 }
 
 // Daylight factor in percent: interior illuminance over the unobstructed horizontal illuminance of
