@@ -221,8 +221,13 @@ Rgb irradiance(const Light& light, const Vec3& x, const Vec3& n, const RayCaster
     // ∫ L(ω) V(x, ω) max(0, n·ω) dω: a ray to infinity per direction above the horizon.
     if (!light.sky) return {};
     const Vec3 origin = x + n * epsilon;
-    const double lux = skyIlluminance(*light.sky, n, light.skyDirections,
-                                      [&](const Vec3& w) { return !caster.occluded(Ray{origin, w, 0, INFINITY}); });
+    thread_local std::vector<Ray> rays;
+    const double lux = skyIlluminance(*light.sky, n, light.skyDirections, [&](std::span<const Vec3> directions, std::span<bool> seen) {
+      rays.clear();
+      for (const Vec3& w : directions) rays.push_back(Ray{origin, w, 0, INFINITY});
+      caster.occluded(rays, seen);
+      for (bool& s : seen) s = !s;
+    });
     return Rgb::gray(lux / kLumensPerWatt);
   }
   if (light.kind == LightKind::Luminaire && light.luminaireModel == LuminaireModel::Opening) {

@@ -206,7 +206,7 @@ const SkyHemisphere::Sample* SkyHemisphere::edgeSamples(std::size_t k) {
 }
 
 double SkyHemisphere::unobstructedIlluminance() {
-  if (unobstructed_ < 0) unobstructed_ = skyIlluminance(*this, [](const Vec3&) { return true; });
+  if (unobstructed_ < 0) unobstructed_ = skyIlluminance(*this, [](std::span<const Vec3>, std::span<bool> out) { std::fill(out.begin(), out.end(), true); });
   return unobstructed_;
 }
 

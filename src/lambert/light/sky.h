@@ -9,6 +9,8 @@
 // Frame: lambert is y-up, so the zenith is +y. North is a horizontal scene direction (default −z,
 // so east = north × up = +x); azimuths run from north clockwise seen from above (east 90°).
 #include <cstdint>
+#include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -95,8 +97,8 @@ class SkyModel {
 // and a smooth function of the point, never noise from point to point). A cell whose lit state
 // (L > 0 and visible) differs from one of its four neighbours' holds an edge (a window's frame, the
 // horizon; beyond the square's rim counts as dark) and is resampled on a kSkyEdgeRefinement² sub-grid: a sharp edge's error falls from
-// about a cell per edge cell to a sub-cell. `visible(ω)` says whether the point sees the sky along
-// ω; it is asked only where L(ω) > 0 (above the horizon). An opening smaller than about a cell
+// about a cell per edge cell to a sub-cell. `visible(directions, out)` sets out[i] where the point
+// sees the sky along directions[i]; it is asked only where L(ω) > 0 (above the horizon). An opening smaller than about a cell
 // (≈ 2.8° across at 4096 directions) can fall between the first samples and be missed.
 template <class Visible>
 double skyIlluminance(const SkyModel& sky, const Vec3& n, int directions, Visible&& visible);
@@ -153,39 +155,62 @@ class SkyHemisphere {
 // in their last bits, and a pure rounding keeps the result the same whichever thread asks first.
 SkyHemisphere& skyHemisphere(const SkyModel& sky, const Vec3& n, int gridSide);
 
-// skyIlluminance over a hemisphere's directions.
+// skyIlluminance over a hemisphere's directions. The first samples go to `visible` as one batch and
+// the edge cells' sub-samples as a second, so that a ray tracer can trace them as streams.
 template <class Visible>
 double skyIlluminance(SkyHemisphere& hemisphere, Visible&& visible) {
   const int m = hemisphere.gridSide();
-  thread_local std::vector<double> luminance;  // L·V of each cell's first sample
-  luminance.assign(static_cast<std::size_t>(m) * m, 0.0);
-  for (std::size_t k = 0; k < luminance.size(); ++k) {
-    const double l = hemisphere.luminance(k);
-    if (l > 0 && visible(hemisphere.direction(k))) luminance[k] = l;
-  }
-  double sum = 0;
+  const std::size_t cells = static_cast<std::size_t>(m) * m;
   constexpr int r = kSkyEdgeRefinement;
+  thread_local std::vector<double> luminance;  // L·V of each cell's first sample
+  thread_local std::vector<Vec3> asked;        // directions of one batch
+  thread_local std::vector<std::size_t> askedIndex;
+  thread_local std::unique_ptr<bool[]> seen;
+  thread_local std::size_t seenCapacity = 0;
+  auto ask = [&]() {
+    if (seenCapacity < asked.size()) {
+      seenCapacity = asked.size();
+      seen = std::make_unique<bool[]>(seenCapacity);
+    }
+    visible(std::span<const Vec3>(asked), std::span<bool>(seen.get(), asked.size()));
+  };
+  luminance.assign(cells, 0.0);
+  asked.clear();
+  askedIndex.clear();
+  for (std::size_t k = 0; k < cells; ++k)
+    if (hemisphere.luminance(k) > 0) {
+      asked.push_back(hemisphere.direction(k));
+      askedIndex.push_back(k);
+    }
+  ask();
+  for (std::size_t a = 0; a < asked.size(); ++a)
+    if (seen[a]) luminance[askedIndex[a]] = hemisphere.luminance(askedIndex[a]);
+  // Beyond the square's edge (the hemisphere's rim, n·ω = 0) counts as dark: a lit cell on the rim
+  // may hold an edge too close to the rim for its sample to see (a window's sill seen at a grazing
+  // angle), and would otherwise count whole.
+  auto litAt = [&](int i, int j) { return i >= 0 && i < m && j >= 0 && j < m && luminance[static_cast<std::size_t>(j) * m + i] > 0; };
+  double sum = 0;
+  asked.clear();
+  askedIndex.clear();
   for (int j = 0; j < m; ++j)
     for (int i = 0; i < m; ++i) {
       const std::size_t k = static_cast<std::size_t>(j) * m + i;
       const bool lit = luminance[k] > 0;
-      // Beyond the square's edge (the hemisphere's rim, n·ω = 0) counts as dark: a lit cell on the
-      // rim may hold an edge too close to the rim for its sample to see (a window's sill seen at
-      // a grazing angle), and would otherwise count whole.
-      auto litAt = [&](int ii, int jj) { return ii >= 0 && ii < m && jj >= 0 && jj < m && luminance[static_cast<std::size_t>(jj) * m + ii] > 0; };
       const bool edge = litAt(i - 1, j) != lit || litAt(i + 1, j) != lit || litAt(i, j - 1) != lit || litAt(i, j + 1) != lit;
       if (!edge) {
         sum += luminance[k];
         continue;
       }
-      double cell = 0;
-      for (int q = 0; q < r * r; ++q) {
-        const double l = hemisphere.edgeLuminance(k, q);
-        if (l > 0 && visible(hemisphere.edgeDirection(k, q))) cell += l;
-      }
-      sum += cell / (r * r);
+      for (int q = 0; q < r * r; ++q)
+        if (hemisphere.edgeLuminance(k, q) > 0) {
+          asked.push_back(hemisphere.edgeDirection(k, q));
+          askedIndex.push_back(k * (r * r) + q);
+        }
     }
-  return sum * kPi / (static_cast<double>(m) * m);
+  ask();
+  for (std::size_t a = 0; a < asked.size(); ++a)
+    if (seen[a]) sum += hemisphere.edgeLuminance(askedIndex[a] / (r * r), static_cast<int>(askedIndex[a] % (r * r))) / (r * r);
+  return sum * kPi / static_cast<double>(cells);
 }
 
 template <class Visible>
