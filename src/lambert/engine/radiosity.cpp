@@ -413,12 +413,6 @@ const std::vector<Rgb>& SolutionView::vertexMeshAlbedo() const { return Solution
 
 std::vector<Rgb> SolutionView::indirectRadiosity() const { return lambert::indirectRadiosity(SolutionInternals::of(*this).elementSolution()); }
 
-bool SolutionView::skyKnownApart() const {
-  const auto& e = SolutionInternals::of(*this);
-  const bool sky = std::any_of(e.lights_.begin(), e.lights_.end(), [](const Light& l) { return l.kind == LightKind::Sky; });
-  return !sky || !e.injection_->skyTotal().empty();
-}
-
 Rgb SolutionView::ambientRadiosity() const {
   const auto& e = SolutionInternals::of(*this);
   const ProgressiveShooter* shooter = e.shooter_.get();

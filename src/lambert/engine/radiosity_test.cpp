@@ -394,7 +394,6 @@ TEST(RadiosityTest, HybridImagesDrawTheSunPerPixelOverTheSkysSolution) {
   std::unique_ptr<Radiosity> engine = testing::solved(*scene);
   ASSERT_TRUE(engine);
   const SolutionView view = engine->solution();
-  ASSERT_TRUE(view.skyKnownApart());
   for (Shading shading : {Shading::Gouraud, Shading::Flat}) {
     SolutionImageOptions hybrid;
     hybrid.width = 96;

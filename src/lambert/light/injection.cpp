@@ -82,7 +82,8 @@ DirectLightInjection::Update DirectLightInjection::update(const Mesh& mesh, cons
 // point rather than leaves × lights. The estimate at a point is not a sum of per-light parts
 // (the untested lights are weighted by the tested ones' visibility), so nothing is kept per light:
 // any change traces every light again. Only the patches some light may reach are traced (the
-// union of PatchSphereTree's candidates; every patch when one light is not a spot).
+// union of PatchSphereTree's candidates; every patch when one light is not a spot). Skies are
+// traced apart (below).
 DirectLightInjection::Update DirectLightInjection::updateTogether(const Mesh& mesh, const RayCaster& caster, const std::vector<Rgb>& albedo,
                                                                   const std::vector<Light>& lights, double metresPerUnit, bool startAfresh) {
   const std::size_t n = mesh.numPatches();
@@ -94,9 +95,23 @@ DirectLightInjection::Update DirectLightInjection::updateTogether(const Mesh& me
   traced_.assign(lights.size(), {});
   for (std::size_t l = 0; l < lights.size(); ++l) lights_[l] = lights[l];
   together_ = true;
-  skyTotal_.clear();
-  std::vector<char> reached(n, 0);
+  // A sky is traced on its own: its estimate is many rays over the whole hemisphere, which Ward's
+  // testing of point-like lights cannot thin, and kept apart, its part stays known (skyTotal).
+  std::vector<Light> others;
+  std::vector<Rgb> skyIrradiance(n);
+  std::vector<std::uint32_t> allPatches(n);
+  for (std::uint32_t i = 0; i < n; ++i) allPatches[i] = i;
   for (const Light& light : lights) {
+    if (light.kind != LightKind::Sky) {
+      others.push_back(light);
+      continue;
+    }
+    std::vector<Rgb> e(n);
+    patchIrradiance(mesh, caster, light, metresPerUnit, options_, *epsilon_, allPatches, e);
+    for (std::size_t i = 0; i < n; ++i) skyIrradiance[i] += e[i];
+  }
+  std::vector<char> reached(n, 0);
+  for (const Light& light : others) {
     if (light.kind != LightKind::Spot) {
       std::fill(reached.begin(), reached.end(), 1);
       break;
@@ -107,12 +122,18 @@ DirectLightInjection::Update DirectLightInjection::updateTogether(const Mesh& me
   for (std::uint32_t i = 0; i < n; ++i)
     if (reached[i]) patches.push_back(i);
   std::vector<Rgb> irradiance(n);
-  const DirectLighting lighting(lights, metresPerUnit, options_.shadowTolerance);
-  DirectLightingCounts counts;
-  patchIrradiance(mesh, caster, lighting, options_, *epsilon_, patches, irradiance, &counts);
+  if (!others.empty()) {
+    const DirectLighting lighting(others, metresPerUnit, options_.shadowTolerance);
+    DirectLightingCounts counts;
+    patchIrradiance(mesh, caster, lighting, options_, *epsilon_, patches, irradiance, &counts);
+    counts_.add(counts);
+  }
   total_.assign(n, Rgb{});
-  for (std::uint32_t i : patches) total_[i] = albedo[i] * irradiance[i];
-  counts_.add(counts);
+  skyTotal_.assign(n, Rgb{});
+  for (std::size_t i = 0; i < n; ++i) {
+    skyTotal_[i] = albedo[i] * skyIrradiance[i];
+    total_[i] = albedo[i] * (irradiance[i] + skyIrradiance[i]);
+  }
   update.lightsTraced = static_cast<int>(lights.size());
   update.changed = true;
   update.allPatches = true;

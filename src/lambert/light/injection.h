@@ -12,7 +12,7 @@
 // More than kPerLightInjectionLights lights under a shadow tolerance (DirectLightOptions) are
 // traced together instead, each point's shadow rays chosen by Ward's adaptive testing
 // (many_lights.h): no per-light arrays (200 lights × 10⁵ patches would be 0.5 GB of them), and
-// any change traces them all again.
+// any change traces them all again. Skies are traced on their own in either case.
 #include <memory>
 #include <optional>
 #include <vector>
@@ -49,8 +49,8 @@ class DirectLightInjection {
   // Σ_l ρ_i E_l,i per patch of the mesh last updated for, W/m² (zeros without lights).
   const std::vector<Rgb>& total() const { return total_; }
   // The part of total() the skies bring (LightKind::Sky), which a hybrid image keeps in the
-  // solution while it draws every other light per pixel; empty where the lights were traced
-  // together (more than kPerLightInjectionLights under a shadow tolerance: no part is known).
+  // solution while it draws every other light per pixel. Skies are traced apart from the other
+  // lights even where those are traced together, so it is always known.
   const std::vector<Rgb>& skyTotal() const { return skyTotal_; }
   const DirectLightOptions& options() const { return options_; }
   // Points, lights reaching them and shadow rays of the many-light traces (more than

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "lambert/light/emission.h"
+#include "lambert/light/sky.h"
 #include "lambert/scene/builtin.h"
 
 namespace lambert {
@@ -129,6 +130,49 @@ TEST(InjectionTest, LightsAddedAfterAnUnlitUpdateAreTracedInFull) {
     litPatches += expected[i].maxComponent() > 0;
   }
   EXPECT_GT(litPatches, 10u);
+}
+
+// More lights than are traced one by one (a sky through the Cornell box's open front and nine
+// points, traced together under Ward's testing): the sky is traced on its own, so its part of the
+// injection stays known for a hybrid image (skyTotal) and holds the very bits the sky alone
+// injects; the rest is what the points inject, within the testing's tolerance. Before, the sky
+// went through the joint testing at every point and its part was lost (skyTotal empty).
+TEST(InjectionTest, ASkyAmongManyLightsKeepsItsPartKnown) {
+  const Scene scene = cornellBox();
+  const Mesh mesh = subdivideScene(scene, 80);
+  auto caster = makeEmbreeRayCaster(mesh);
+  const std::vector<Rgb> albedo = patchAlbedo(scene, mesh);
+  const DirectLightOptions options{4, 3};
+  Light sky;
+  sky.kind = LightKind::Sky;
+  sky.sky = std::make_shared<const SkyModel>(SkyModel::traditionalOvercast(3000));
+  sky.skyDirections = 256;
+  std::vector<Light> points;
+  for (int k = 0; k < 9; ++k) {
+    Light point;
+    point.kind = LightKind::Point;
+    point.position = {60.0 + 50 * k, 500, 280};
+    point.intensity = Rgb::gray(0.1);
+    points.push_back(point);
+  }
+  std::vector<Light> lights{sky};
+  lights.insert(lights.end(), points.begin(), points.end());
+  ASSERT_GT(lights.size(), kPerLightInjectionLights);
+  DirectLightInjection injection(options);
+  injection.update(mesh, *caster, albedo, lights, scene.metresPerUnit);
+  const std::vector<Rgb> skyAlone = tracedOnEveryPatch(mesh, *caster, albedo, {sky}, scene.metresPerUnit, options);
+  const std::vector<Rgb> pointsAlone = tracedOnEveryPatch(mesh, *caster, albedo, points, scene.metresPerUnit, options);
+  ASSERT_EQ(injection.skyTotal().size(), mesh.numPatches());
+  double skySum = 0, pointsSum = 0, restSum = 0;
+  for (std::size_t i = 0; i < mesh.numPatches(); ++i) {
+    ASSERT_EQ(injection.skyTotal()[i], skyAlone[i]) << "patch " << i;
+    skySum += skyAlone[i].g;
+    pointsSum += pointsAlone[i].g;
+    restSum += (injection.total()[i] - injection.skyTotal()[i]).g;
+  }
+  ASSERT_GT(skySum, 0.1 * pointsSum);  // both matter
+  ASSERT_GT(pointsSum, 0.1 * skySum);
+  EXPECT_NEAR(restSum / pointsSum, 1, options.shadowTolerance);
 }
 
 // The tree's candidates for a spot hold every patch its cone's points reach (the spot evaluated

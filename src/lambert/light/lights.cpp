@@ -74,12 +74,15 @@ Rgb meanPatchIrradiance(const Mesh& mesh, std::size_t i, const RayCaster& caster
   const Patch& patch = mesh.patches[i];
   const PatchCorners corners = mesh.corners(i);
   if (!mayReceive(light, cone, patch, corners)) return {};
+  // A sky's light varies smoothly over a patch (the hierarchy splits elements where it does not, at
+  // light edges): the centroid, the midpoint rule, exact where the light changes linearly, gives a
+  // patch's mean better than a few scattered points, at one estimate's cost (Light::skyDirections
+  // rays). Floor patches lit through a window: 3.7% off at worst with four scattered points, 1% at
+  // the centroid (SkyComponentTest.APatchsSkyIsItsPointsMean).
+  if (light.kind == LightKind::Sky) return irradiance(light, patch.centroid, patch.normal, caster, epsilon, metresPerUnit);
   Pcg32 rng(options.seed, i);
   const std::uint32_t su = rng.nextUint(), sv = rng.nextUint();
-  // A sky's estimate at a point already averages thousands of directions and varies smoothly
-  // over a patch (the refinement splits patches at its edges): a few points per patch do, each
-  // costing Light::skyDirections rays.
-  const int samples = std::max(light.kind == LightKind::Sky ? std::min(options.samplesPerPatch, kSkyPointsPerPatch) : options.samplesPerPatch, 1);
+  const int samples = std::max(options.samplesPerPatch, 1);
   Rgb sum;
   for (int k = 0; k < samples; ++k) {
     auto [u, v] = scrambledZeroTwo(static_cast<std::uint32_t>(k), su, sv);

@@ -48,10 +48,6 @@ Rgb unshadowedIrradiance(const Light& light, const Vec3& x, const Vec3& n, doubl
 Rgb irradiance(const Light& light, const Vec3& x, const Vec3& n, const RayCaster& caster, double epsilon,
                double metresPerUnit);
 
-// The most points per patch a sky light's mean irradiance is taken over (each costs
-// Light::skyDirections rays; see lights.cpp).
-inline constexpr int kSkyPointsPerPatch = 4;
-
 struct DirectLightOptions {
   int samplesPerPatch = 16;  // points per patch the irradiance is averaged over
   std::uint64_t seed = 1;

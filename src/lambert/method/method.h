@@ -35,7 +35,7 @@ enum class PointGatherRequest;
 struct ElementSolution {
   const std::vector<Rgb>& radiosity;  // B
   const std::vector<Rgb>& injected;   // the lights' ρ·E_direct
-  const std::vector<Rgb>& skyInjected;  // the skies' part of it (empty: not known apart)
+  const std::vector<Rgb>& skyInjected;  // the skies' part of it (empty before the first injection)
   const std::vector<Rgb>& emitted;    // the surfaces' own emission
   const std::vector<Rgb>& albedo;     // ρ
   const std::vector<Light>& lights;

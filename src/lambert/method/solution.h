@@ -52,9 +52,6 @@ class SolutionView {
   // B less the injected direct light of every light but a sky: what to interpolate when those
   // are drawn per pixel (the hybrid image; a sky's direct light stays in it).
   std::vector<Rgb> indirectRadiosity() const;
-  // Whether indirectRadiosity() could keep the skies' direct light apart from the other lights':
-  // true without a sky; false where many lights were injected together (light/injection.h).
-  bool skyKnownApart() const;
   // Mid-solve, progressive refinement's ambient term (Cohen, Chen, Wallace & Greenberg 1988;
   // the ambient term): the unshot power spread evenly over the scene and reflected to convergence, in
   // W/m². Displaying B_i + ρ_i·ambient shows a shooting solve at its final brightness from the

@@ -1,9 +1,7 @@
 #include "lambert/render/solution_image.h"
 
 #include <algorithm>
-#include <mutex>
 
-#include "lambert/core/warning.h"
 #include "lambert/light/lights.h"
 
 namespace lambert {
@@ -31,22 +29,13 @@ bool drawsLightsPerPixel(const SolutionView& solution, const SolutionImageOption
   // A sky's direct light costs Light::skyDirections rays per estimate (4096 by default): per pixel
   // that is hours, so a sky stays in the solution (VertexQuantity::IndirectRadiosity keeps it)
   // while the sun, points, spots and luminaires are drawn per pixel over it, with their edges.
-  // Only where the injection could not keep the skies' part apart (many lights traced together)
-  // is everything drawn from the solution.
   const auto& lights = solution.lights();
   const bool pixelLight = std::any_of(lights.begin(), lights.end(), [](const Light& l) { return l.kind != LightKind::Sky; });
-  return options.lighting == Lighting::Hybrid && pixelLight && solution.skyKnownApart();
+  return options.lighting == Lighting::Hybrid && pixelLight;
 }
 
 Image renderSolution(const SolutionView& solution, const SolutionImageOptions& options) {
   const bool hybrid = drawsLightsPerPixel(solution, options);
-  if (options.lighting == Lighting::Hybrid && !hybrid && !solution.skyKnownApart()) {
-    static std::once_flag once;
-    std::call_once(once, [] {
-      warning("hybrid lighting: a sky among more lights than are traced one by one: the picture is drawn from the solution alone "
-              "(sun and lights without their per-pixel edges)");
-    });
-  }
   const Camera& camera = options.camera ? *options.camera : solution.scene().camera;
   RenderOptions render;
   render.width = options.width;

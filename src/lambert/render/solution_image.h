@@ -33,7 +33,7 @@ Image renderSolution(const SolutionView& solution, const SolutionImageOptions& o
 
 // Whether renderSolution draws lights per pixel: hybrid lighting of a solution with a light that
 // is not a sky (every one but the skies is drawn per pixel; a sky from the solution: see
-// solution_image.cpp), unless the skies' part could not be kept apart.
+// solution_image.cpp).
 bool drawsLightsPerPixel(const SolutionView& solution, const SolutionImageOptions& options);
 
 }  // namespace lambert
