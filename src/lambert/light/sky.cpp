@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <memory>
+#include <mutex>
 
 #include "lambert/core/rng.h"
 #include "lambert/core/sampling.h"
@@ -172,37 +174,97 @@ Vec3 skySquareToDirection(const Vec3& n, const Vec3& tangent, const Vec3& bitang
   return tangent * x + bitangent * y + n * z;
 }
 
-SkyHemisphere::SkyHemisphere(const SkyModel& sky, const Vec3& n, int gridSide) : sky_(sky), n_(n), m_(gridSide) {
-  orthonormalBasis(n_, t_, b_);
-  const std::size_t cells = static_cast<std::size_t>(m_) * m_;
-  first_.resize(cells);
-  for (int j = 0; j < m_; ++j)
-    for (int i = 0; i < m_; ++i) {
-      const std::size_t k = static_cast<std::size_t>(j) * m_ + i;
-      double du, dv;
-      skyJitter(k, du, dv);
-      first_[k].direction = skySquareToDirection(n_, t_, b_, (i + du) / m_, (j + dv) / m_);
-      first_[k].luminance = sky_.luminance(first_[k].direction);
+SkyLuminanceTable::SkyLuminanceTable(const SkyModel& sky) : sky_(sky) {
+  constexpr int n = kSkyTableIntervals;
+  const double top = sky_.relativeFromCosines(1, 1), half = std::sqrt(0.5);
+  zenithward_.resize(n + 2);
+  sunward_.resize(n + 2);
+  awayward_.resize(n + 2);
+  for (int i = 0; i <= n + 1; ++i) {  // one past the end: the interpolation reads i + 1 at x = 1
+    const double x = std::min(1.0, static_cast<double>(i) / n), h = half * x;
+    zenithward_[i] = sky_.zenithLuminance() * sky_.relativeFromCosines(x, 1) / top;
+    sunward_[i] = sky_.relativeFromCosines(1, 1 - 2 * h * h);   // sin(χ/2) = h
+    awayward_[i] = sky_.relativeFromCosines(1, 2 * h * h - 1);  // cos(χ/2) = h
+  }
+}
+
+double SkyLuminanceTable::luminance(const Vec3& w) const {
+  if (w.y <= 0) return 0;
+  auto lerp = [](const std::vector<double>& table, double x) {
+    const double at = std::clamp(x, 0.0, 1.0) * kSkyTableIntervals;
+    const int i = static_cast<int>(at);
+    return table[i] + (table[i + 1] - table[i]) * (at - i);
+  };
+  const double cosChi = dot(w, sky_.sunDirection()), toHalf = std::sqrt(2.0);
+  const double indicatrix = cosChi >= 0 ? lerp(sunward_, std::sqrt(std::max(0.0, (1 - cosChi) / 2)) * toHalf)
+                                        : lerp(awayward_, std::sqrt(std::max(0.0, (1 + cosChi) / 2)) * toHalf);
+  return lerp(zenithward_, w.y) * indicatrix;
+}
+
+namespace {
+
+// skyIlluminance's sample directions about the z axis for one grid side: every cell's first
+// sample, then every cell's kSkyEdgeRefinement² sub-samples. Made once per grid side and shared.
+struct SkyLocalDirections {
+  std::vector<Vec3> first, edge;
+};
+
+const SkyLocalDirections& skyLocalDirections(int m) {
+  static std::mutex mutex;
+  static std::map<int, std::unique_ptr<const SkyLocalDirections>> made;
+  const std::lock_guard<std::mutex> lock(mutex);
+  auto& slot = made[m];
+  if (slot) return *slot;
+  auto table = std::make_unique<SkyLocalDirections>();
+  constexpr int r = kSkyEdgeRefinement;
+  const std::size_t cells = static_cast<std::size_t>(m) * m;
+  const Vec3 x{1, 0, 0}, y{0, 1, 0}, z{0, 0, 1};
+  table->first.resize(cells);
+  table->edge.resize(cells * r * r);
+  for (std::size_t k = 0; k < cells; ++k) {
+    const int i = static_cast<int>(k % m), j = static_cast<int>(k / m);
+    double du, dv;
+    skyJitter(k, du, dv);
+    table->first[k] = skySquareToDirection(z, x, y, (i + du) / m, (j + dv) / m);
+    for (int q = 0; q < r * r; ++q) {
+      skyJitter((k + 1) * (r * r) + q + cells, du, dv);
+      table->edge[k * r * r + q] = skySquareToDirection(z, x, y, (i + (q % r + du) / r) / m, (j + (q / r + dv) / r) / m);
     }
-  edgeDone_.assign(cells, 0);
+  }
+  slot = std::move(table);
+  return *slot;
+}
+
+}  // namespace
+
+SkyHemisphere::Sample SkyHemisphere::turned(const Vec3& local) const {
+  Sample sample;
+  sample.direction = t_ * local.x + b_ * local.y + n_ * local.z;
+  sample.luminance = sky_->luminance(sample.direction);
+  return sample;
+}
+
+void SkyHemisphere::reset(const SkyLuminanceTable& sky, const Vec3& n, int gridSide) {
+  sky_ = &sky;
+  n_ = n;
+  m_ = gridSide;
+  orthonormalBasis(n_, t_, b_);
+  const SkyLocalDirections& local = skyLocalDirections(m_);
+  first_.resize(local.first.size());
+  for (std::size_t k = 0; k < first_.size(); ++k) first_[k] = turned(local.first[k]);
+  edgeAt_.assign(first_.size(), -1);
+  edge_.clear();
+  unobstructed_ = -1;
 }
 
 const SkyHemisphere::Sample* SkyHemisphere::edgeSamples(std::size_t k) {
   constexpr int r = kSkyEdgeRefinement;
-  if (edge_.empty()) edge_.resize(first_.size() * r * r);
-  Sample* samples = &edge_[k * r * r];
-  if (edgeDone_[k]) return samples;
-  const int i = static_cast<int>(k % m_), j = static_cast<int>(k / m_);
-  const std::size_t cells = static_cast<std::size_t>(m_) * m_;
-  for (int q = 0; q < r * r; ++q) {
-    double du, dv;
-    skyJitter((k + 1) * (r * r) + q + cells, du, dv);
-    const double u = (i + (q % r + du) / r) / m_, v = (j + (q / r + dv) / r) / m_;
-    samples[q].direction = skySquareToDirection(n_, t_, b_, u, v);
-    samples[q].luminance = sky_.luminance(samples[q].direction);
+  if (edgeAt_[k] < 0) {
+    edgeAt_[k] = static_cast<std::int32_t>(edge_.size());
+    const Vec3* local = &skyLocalDirections(m_).edge[k * r * r];
+    for (int q = 0; q < r * r; ++q) edge_.push_back(turned(local[q]));
   }
-  edgeDone_[k] = 1;
-  return samples;
+  return &edge_[static_cast<std::size_t>(edgeAt_[k])];
 }
 
 double SkyHemisphere::unobstructedIlluminance() {
@@ -211,23 +273,31 @@ double SkyHemisphere::unobstructedIlluminance() {
 }
 
 SkyHemisphere& skyHemisphere(const SkyModel& sky, const Vec3& n, int gridSide) {
-  // A few normals per thread: a room's walls, or the two sides a light edge compares.
+  // A few normals per thread: a room's walls, or the two sides a light edge compares. Replaced
+  // hemispheres are reset in place, keeping their memory.
   constexpr std::size_t kKept = 8;
+  thread_local std::unique_ptr<SkyLuminanceTable> table;
   thread_local std::vector<std::unique_ptr<SkyHemisphere>> kept;
   thread_local std::size_t next = 0;
   constexpr double kGrid = 0x1p30;
   const Vec3 rounded = normalize(Vec3{std::round(n.x * kGrid), std::round(n.y * kGrid), std::round(n.z * kGrid)});
+  if (!table || !(table->sky() == sky)) {
+    table = std::make_unique<SkyLuminanceTable>(sky);
+    kept.clear();  // they point into the old table
+    next = 0;
+  }
   for (auto& h : kept)
     if (h->matches(sky, rounded, gridSide)) return *h;
-  auto fresh = std::make_unique<SkyHemisphere>(sky, rounded, gridSide);
+  SkyHemisphere* h = nullptr;
   if (kept.size() < kKept) {
-    kept.push_back(std::move(fresh));
-    return *kept.back();
+    kept.push_back(std::make_unique<SkyHemisphere>());
+    h = kept.back().get();
+  } else {
+    h = kept[next].get();
+    next = (next + 1) % kKept;
   }
-  kept[next] = std::move(fresh);
-  SkyHemisphere& h = *kept[next];
-  next = (next + 1) % kKept;
-  return h;
+  h->reset(*table, rounded, gridSide);
+  return *h;
 }
 
 }  // namespace lambert

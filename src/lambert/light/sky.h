@@ -72,11 +72,13 @@ class SkyModel {
   // Simpson (zenith, 256 intervals) × midpoint (azimuth, 512) rule, computed once at construction.
   double horizontalIlluminance() const { return horizontalIlluminance_; }
 
+  // L / Lz from cos Z and the cosine of the angle χ to the sun (the formula of relativeLuminance).
+  double relativeFromCosines(double cosZenith, double cosSunAngle) const;
+
   bool operator==(const SkyModel&) const = default;
 
  private:
   SkyModel() = default;
-  double relativeFromCosines(double cosZenith, double cosSunAngle) const;
   void finish();  // sun_, normaliser_, horizontalIlluminance_ from the rest
 
   int type_ = 0;
@@ -113,16 +115,38 @@ Vec3 skySquareToDirection(const Vec3& n, const Vec3& tangent, const Vec3& bitang
 // The fixed jitter in [0, 1)² of sample `index` of a cell: a hash, the same at every point.
 void skyJitter(std::uint64_t index, double& du, double& dv);
 
+// The sky's luminance from two tables, for the many directions an estimate asks for: the
+// standard's formula is a product of the gradation, a function of cos Z, and the indicatrix, a
+// function of the angle χ to the sun, each tabulated at kSkyTableIntervals intervals and
+// interpolated linearly (the indicatrix over sin(χ/2) toward the sun and cos(χ/2) away from it, in
+// which it is smooth at both ends): within 10⁻⁶ of SkyModel::luminance
+// (SkyTest.TheLuminanceTableFollowsTheFormula), without its acos and two exps.
+class SkyLuminanceTable {
+ public:
+  explicit SkyLuminanceTable(const SkyModel& sky);
+  const SkyModel& sky() const { return sky_; }
+  // cd/m² along a unit direction; 0 below the horizon.
+  double luminance(const Vec3& unitDirection) const;
+
+ private:
+  SkyModel sky_;
+  std::vector<double> zenithward_;  // Lz · relative(cos Z, 1) / relative(1, 1) at cos Z = i / N
+  std::vector<double> sunward_;     // relative(1, cos χ) at sin(χ/2) = √½ · i / N (χ ≤ 90°)
+  std::vector<double> awayward_;    // relative(1, cos χ) at cos(χ/2) = √½ · i / N (χ ≥ 90°)
+};
+inline constexpr int kSkyTableIntervals = 4096;
+
 // skyIlluminance's directions about one normal and the sky's luminance along each. They depend on
-// the normal alone, not on the point, so all the points of a wall share one set: computing the map
-// and the sky's formula (an acos and two exps a direction) once per normal instead of once per ray
-// leaves the estimate the cost of its rays. The cells' first samples are computed at construction,
-// an edge cell's sub-grid the first time a point asks for it. Not thread-safe: skyHemisphere gives
-// each thread its own.
+// the normal alone, not on the point, so all the points of a wall share one set: the directions
+// come from a table about the z axis made once per grid side (turned to the normal: three
+// multiply-adds each) and the luminances from SkyLuminanceTable, so that even a curved surface,
+// a new normal at every element, pays little beyond its rays. The cells' first samples are made
+// at reset, an edge cell's sub-grid the first time a point asks for it. Not thread-safe:
+// skyHemisphere gives each thread its own.
 class SkyHemisphere {
  public:
-  SkyHemisphere(const SkyModel& sky, const Vec3& n, int gridSide);
-  bool matches(const SkyModel& sky, const Vec3& n, int gridSide) const { return m_ == gridSide && n_ == n && sky_ == sky; }
+  void reset(const SkyLuminanceTable& sky, const Vec3& n, int gridSide);
+  bool matches(const SkyModel& sky, const Vec3& n, int gridSide) const { return m_ == gridSide && n_ == n && sky_ && sky_->sky() == sky; }
   int gridSide() const { return m_; }
   // Cell k = j·m + i's first sample.
   const Vec3& direction(std::size_t k) const { return first_[k].direction; }
@@ -138,15 +162,16 @@ class SkyHemisphere {
     Vec3 direction;
     double luminance = 0;
   };
+  Sample turned(const Vec3& local) const;
   const Sample* edgeSamples(std::size_t k);
 
-  SkyModel sky_;
+  const SkyLuminanceTable* sky_ = nullptr;
   Vec3 n_, t_, b_;
   int m_ = 0;
-  std::vector<Sample> first_;            // one per cell
-  std::vector<Sample> edge_;             // r² per cell, filled on demand
-  std::vector<unsigned char> edgeDone_;  // per cell
-  double unobstructed_ = -1;             // < 0 until asked
+  std::vector<Sample> first_;              // one per cell
+  std::vector<std::int32_t> edgeAt_;       // per cell: where its sub-samples start in edge_, or −1
+  std::vector<Sample> edge_;               // r² per cell asked for
+  double unobstructed_ = -1;               // < 0 until asked
 };
 
 // This thread's hemisphere for (sky, n, grid side), from a small per-thread cache (a wall's patches

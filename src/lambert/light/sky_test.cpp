@@ -110,6 +110,32 @@ TEST(SkyTest, ScalesToAHorizontalIlluminance) {
   EXPECT_NEAR(overcast.zenithLuminance(), 10000 * 9 / (7 * kPi), 1e-6);
 }
 
+// The estimator's luminance table against the standard's formula: every type, the sun high, low
+// and below the horizon, at directions spread over the sky (a Fibonacci lattice, 20,000 of them)
+// and at the sun and opposite it, where the indicatrix peaks and where its table ends.
+TEST(SkyTest, TheLuminanceTableFollowsTheFormula) {
+  for (int type = 1; type <= 15; ++type)
+    for (double elevation : {75.0, 20.0, 2.0, -5.0}) {
+      Result<SkyModel> sky = SkyModel::cieStandard(type, 150, elevation, 7000);
+      ASSERT_TRUE(sky);
+      const SkyLuminanceTable table(*sky);
+      std::vector<Vec3> directions{sky->sunDirection(), -sky->sunDirection(), {0, 1, 0}};
+      constexpr int kDirections = 20000;
+      for (int i = 0; i < kDirections; ++i) {
+        const double y = (i + 0.5) / kDirections, r = std::sqrt(1 - y * y), phi = i * kPi * (3 - std::sqrt(5.0));
+        directions.push_back({r * std::cos(phi), y, r * std::sin(phi)});
+      }
+      double worst = 0;
+      for (const Vec3& w : directions) {
+        const double exact = sky->luminance(w);
+        if (exact > 0) worst = std::fmax(worst, std::fabs(table.luminance(w) / exact - 1));
+      }
+      EXPECT_LT(worst, 1e-6) << "type " << type << " sun at " << elevation << "°";
+    }
+  const SkyModel overcast = SkyModel::traditionalOvercast(5000);
+  EXPECT_NEAR(SkyLuminanceTable(overcast).luminance(normalize(Vec3{1, 1, 0})), overcast.luminance({1, 1, 0}), 1e-9 * 5000);
+}
+
 // The sky's unobstructed illuminance by the light's own estimator (the stratified directions,
 // nothing in the way) against quadrature in the test: horizontal and vertical planes facing the
 // four compass points. A vertical plane sees the half of its hemisphere above the horizon: in
