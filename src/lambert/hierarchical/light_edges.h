@@ -24,6 +24,13 @@ struct LightEdgeSplits {
   std::uint64_t rays = 0;     // shadow rays
 };
 
+// The lights with each sky asked at a sixteenth of its directions, kSkyGuideDirections at least:
+// for the estimates that guide refinement (where a sky's light varies over a leaf, the first
+// pass's radiosity), which need its shape, not the precision of the light it injects
+// (light/injection.h asks it at every direction).
+std::vector<Light> withGuideSkies(const std::vector<Light>& lights);
+inline constexpr int kSkyGuideDirections = 256;
+
 // Splits the hierarchy's leaves (leafMesh: its leaf mesh, for the leaves' albedo) at the lights'
 // edges, down to the minimum element area the link options give; numbers the new leaves before
 // returning. threshold: W, what ρ · (E_max − E_min) · A may reach (the link error's share of the

@@ -149,14 +149,20 @@ Result<bool> HierarchicalMethod::refine(const std::vector<Light>& lights, std::v
     std::vector<Rgb> albedo = patchAlbedo(scene_, leaves_.mesh);
     double power = 0;
     std::vector<Rgb> direct(leaves_.mesh.numPatches());
-    const DirectLighting lighting(lights, scene_.metresPerUnit, shadowTolerance_);
+    // The scene's power sets the light edges' threshold: a sky at its guide directions (a
+    // sixteenth) does for it. On a sky-lit helmet (35k elements, a normal each) this estimate at
+    // every direction took 6.5 s of a 31 s solve.
+    const DirectLighting guide(withGuideSkies(lights), scene_.metresPerUnit, shadowTolerance_);
     parallelFor(0, direct.size(), [&](std::size_t i) {
       const Patch& p = leaves_.mesh.patches[i];
-      direct[i] = albedo[i] * lighting.irradiance(p.centroid, p.normal, *caster_, epsilon_);
+      direct[i] = albedo[i] * guide.irradiance(p.centroid, p.normal, *caster_, epsilon_);
     }, 64);
     for (std::size_t i = 0; i < direct.size(); ++i) power += (emitted[i] + direct[i]).maxComponent() * leaves_.mesh.patches[i].area;
     if (options_.refineAtLights && !lights.empty()) refineAtLightEdges(lights, options_.links.linkError * power, report);
-    // Again on the leaves the lights made.
+    // Again on the leaves the lights made, each sky at every direction: the links are refined on
+    // these values, and a sky's guide directions here moved vertices of the overcast daylit office
+    // by up to 1.4%.
+    const DirectLighting lighting(lights, scene_.metresPerUnit, shadowTolerance_);
     emitted = emittedRadiosity(scene_, leaves_.mesh);
     albedo = patchAlbedo(scene_, leaves_.mesh);
     estimate.assign(leaves_.mesh.numPatches(), Rgb{});
