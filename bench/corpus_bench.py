@@ -221,9 +221,12 @@ def main():
         row["wall_seconds_median"] = statistics.median(walls)
         row["wall_seconds_runs"] = walls
         row["peak_rss_mib"] = max((r["rss"] for r in runs if r["rss"] is not None), default=None)
-        for key in ("faces", "elements", "links", "converged", "iterations", "residual", "emitted_watts", "exposure_stops"):
+        for key in ("faces", "elements", "links", "converged", "iterations", "residual", "emitted_watts", "exposure_stops",
+                    "inject_seconds", "light_edge_seconds"):
             if key in stats:
                 row[key] = stats[key]
+        if "inject_seconds" in stats:  # the lights' direct light (a sky's most of all): its share of the process
+            row["inject_share_of_wall"] = round(stats["inject_seconds"] / max(row["wall_seconds_median"], 1e-9), 3)
         row["warnings"] = len(stats.get("warnings", []))
         if last["rc"] == 0 and os.path.exists(image):
             picture = picture_statistics(image)
