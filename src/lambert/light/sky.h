@@ -97,9 +97,10 @@ class SkyModel {
 // E = (π / m²) Σ_cells (mean of L·V over the cell). Each cell is first sampled once, at a point
 // jittered within it by a fixed hash (the same set at every point: the estimate is deterministic
 // and a smooth function of the point, never noise from point to point). A cell whose lit state
-// (L > 0 and visible) differs from one of its four neighbours' holds an edge (a window's frame, the
-// horizon; beyond the square's rim counts as dark) and is resampled on a kSkyEdgeRefinement² sub-grid: a sharp edge's error falls from
-// about a cell per edge cell to a sub-cell. `visible(directions, out)` sets out[i] where the point
+// (L > 0 and visible) differs from one of its four neighbours' holds an edge (a window's frame)
+// and is resampled on a kSkyEdgeRefinement² sub-grid: a sharp edge's error falls from about a cell
+// per edge cell to a sub-cell. A lit cell beside the unknown (the square's rim, the horizon) is
+// probed on its sub-samples along that side first, and resampled only if one is dark. `visible(directions, out)` sets out[i] where the point
 // sees the sky along directions[i]; it is asked only where L(ω) > 0 (above the horizon). An opening smaller than about a cell
 // (≈ 2.8° across at 4096 directions) can fall between the first samples and be missed.
 template <class Visible>
@@ -180,8 +181,9 @@ class SkyHemisphere {
 // in their last bits, and a pure rounding keeps the result the same whichever thread asks first.
 SkyHemisphere& skyHemisphere(const SkyModel& sky, const Vec3& n, int gridSide);
 
-// skyIlluminance over a hemisphere's directions. The first samples go to `visible` as one batch and
-// the edge cells' sub-samples as a second, so that a ray tracer can trace them as streams.
+// skyIlluminance over a hemisphere's directions. The first samples go to `visible` as one batch, the
+// probes a second and the edge cells' sub-samples a third, so that a ray tracer can trace them as
+// streams.
 template <class Visible>
 double skyIlluminance(SkyHemisphere& hemisphere, Visible&& visible) {
   const int m = hemisphere.gridSide();
@@ -210,28 +212,84 @@ double skyIlluminance(SkyHemisphere& hemisphere, Visible&& visible) {
   ask();
   for (std::size_t a = 0; a < asked.size(); ++a)
     if (seen[a]) luminance[askedIndex[a]] = hemisphere.luminance(askedIndex[a]);
-  // Beyond the square's edge (the hemisphere's rim, n·ω = 0) counts as dark: a lit cell on the rim
-  // may hold an edge too close to the rim for its sample to see (a window's sill seen at a grazing
-  // angle), and would otherwise count whole.
-  auto litAt = [&](int i, int j) { return i >= 0 && i < m && j >= 0 && j < m && luminance[static_cast<std::size_t>(j) * m + i] > 0; };
+  // A lit cell beside the unknown (beyond the square's edge, the hemisphere's rim at n·ω = 0, or
+  // below the horizon) may hold an edge too close to that side for its sample to see: a window's
+  // sill seen at a grazing angle, a parapet on the horizon. It is probed along that side (its
+  // sub-samples nearest it): all lit, it counts whole (its sub-samples' luminance, which the
+  // horizon may cut); one dark, it is resampled like a cell on an edge between lit and dark.
+  // (Resampling every such cell, as before, cost the 56% of a sky-lit helmet's edge cells that
+  // only the rim or the horizon made; the probes cost a quarter of it.)
+  auto known = [&](int i, int j) { return i >= 0 && i < m && j >= 0 && j < m && hemisphere.luminance(static_cast<std::size_t>(j) * m + i) > 0; };
+  auto litAt = [&](int i, int j) { return known(i, j) && luminance[static_cast<std::size_t>(j) * m + i] > 0; };
+  constexpr int kSides[4][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}};
+  auto onSide = [](int q, int side) { return side == 0 ? q % r == 0 : side == 1 ? q % r == r - 1 : side == 2 ? q / r == 0 : q / r == r - 1; };
   double sum = 0;
-  asked.clear();
-  askedIndex.clear();
+  thread_local std::vector<std::size_t> resampled;              // cells resampled whole
+  thread_local std::vector<std::pair<std::size_t, int>> probed;  // cells probed, and their sides (bits)
+  resampled.clear();
+  probed.clear();
   for (int j = 0; j < m; ++j)
     for (int i = 0; i < m; ++i) {
       const std::size_t k = static_cast<std::size_t>(j) * m + i;
       const bool lit = luminance[k] > 0;
-      const bool edge = litAt(i - 1, j) != lit || litAt(i + 1, j) != lit || litAt(i, j - 1) != lit || litAt(i, j + 1) != lit;
-      if (!edge) {
+      // Most cells agree with their four neighbours (the unknown counted as dark): a lit cell
+      // beside lit ones, a dark cell beside dark or unknown ones.
+      if (litAt(i - 1, j) == lit && litAt(i + 1, j) == lit && litAt(i, j - 1) == lit && litAt(i, j + 1) == lit) {
         sum += luminance[k];
         continue;
       }
-      for (int q = 0; q < r * r; ++q)
-        if (hemisphere.edgeLuminance(k, q) > 0) {
-          asked.push_back(hemisphere.edgeDirection(k, q));
-          askedIndex.push_back(k * (r * r) + q);
-        }
+      bool edge = false;
+      int unknownSides = 0;
+      for (int side = 0; side < 4; ++side) {
+        const int ii = i + kSides[side][0], jj = j + kSides[side][1];
+        if (!known(ii, jj))
+          unknownSides |= 1 << side;
+        else
+          edge |= litAt(ii, jj) != lit;
+      }
+      // A cell whose own sample lies below the horizon is unknown too: lit beside it, resampled.
+      if (!known(i, j)) edge = litAt(i - 1, j) || litAt(i + 1, j) || litAt(i, j - 1) || litAt(i, j + 1);
+      if (edge) {
+        resampled.push_back(k);
+      } else if (lit && unknownSides) {
+        probed.push_back({k, unknownSides});
+      } else {
+        sum += luminance[k];
+      }
     }
+  asked.clear();
+  askedIndex.clear();
+  for (std::size_t c = 0; c < probed.size(); ++c)
+    for (int q = 0; q < r * r; ++q) {
+      bool probe = false;
+      for (int side = 0; side < 4; ++side) probe |= (probed[c].second >> side & 1) && onSide(q, side);
+      if (probe && hemisphere.edgeLuminance(probed[c].first, q) > 0) {
+        asked.push_back(hemisphere.edgeDirection(probed[c].first, q));
+        askedIndex.push_back(c);
+      }
+    }
+  ask();
+  thread_local std::vector<unsigned char> probeDark;
+  probeDark.assign(probed.size(), 0);
+  for (std::size_t a = 0; a < asked.size(); ++a)
+    if (!seen[a]) probeDark[askedIndex[a]] = 1;
+  for (std::size_t c = 0; c < probed.size(); ++c) {
+    if (probeDark[c]) {
+      resampled.push_back(probed[c].first);
+      continue;
+    }
+    double cell = 0;
+    for (int q = 0; q < r * r; ++q) cell += hemisphere.edgeLuminance(probed[c].first, q);
+    sum += cell / (r * r);
+  }
+  asked.clear();
+  askedIndex.clear();
+  for (std::size_t k : resampled)
+    for (int q = 0; q < r * r; ++q)
+      if (hemisphere.edgeLuminance(k, q) > 0) {
+        asked.push_back(hemisphere.edgeDirection(k, q));
+        askedIndex.push_back(k * (r * r) + q);
+      }
   ask();
   for (std::size_t a = 0; a < asked.size(); ++a)
     if (seen[a]) sum += hemisphere.edgeLuminance(askedIndex[a] / (r * r), static_cast<int>(askedIndex[a] % (r * r))) / (r * r);
