@@ -204,10 +204,31 @@ double SkyLuminanceTable::luminance(const Vec3& w) const {
 namespace {
 
 // skyIlluminance's sample directions about the z axis for one grid side: every cell's first
-// sample, then every cell's kSkyEdgeRefinement² sub-samples. Made once per grid side and shared.
+// sample, then every cell's kSkyEdgeRefinement² sub-samples. Made once per grid side and shared,
+// up to kTabulatedCells cells (kTabulatedEdgeCells for the sub-samples); a larger grid, which few
+// estimates use, has its directions computed as they are needed instead (2²⁴ directions'
+// sub-samples alone would take 6.4 GB).
+constexpr std::size_t kTabulatedCells = std::size_t{1} << 20;      // 24 MiB of directions
+constexpr std::size_t kTabulatedEdgeCells = std::size_t{1} << 14;  // 16,384 directions' sub-samples: 6 MiB
+
 struct SkyLocalDirections {
-  std::vector<Vec3> first, edge;
+  std::vector<Vec3> first, edge;  // empty where not tabulated
 };
+
+Vec3 localFirst(int m, std::size_t k) {
+  const int i = static_cast<int>(k % m), j = static_cast<int>(k / m);
+  double du, dv;
+  skyJitter(k, du, dv);
+  return skySquareToDirection({0, 0, 1}, {1, 0, 0}, {0, 1, 0}, (i + du) / m, (j + dv) / m);
+}
+
+Vec3 localEdge(int m, std::size_t k, int q) {
+  constexpr int r = kSkyEdgeRefinement;
+  const int i = static_cast<int>(k % m), j = static_cast<int>(k / m);
+  double du, dv;
+  skyJitter((k + 1) * (r * r) + q + static_cast<std::size_t>(m) * m, du, dv);
+  return skySquareToDirection({0, 0, 1}, {1, 0, 0}, {0, 1, 0}, (i + (q % r + du) / r) / m, (j + (q / r + dv) / r) / m);
+}
 
 const SkyLocalDirections& skyLocalDirections(int m) {
   static std::mutex mutex;
@@ -218,18 +239,14 @@ const SkyLocalDirections& skyLocalDirections(int m) {
   auto table = std::make_unique<SkyLocalDirections>();
   constexpr int r = kSkyEdgeRefinement;
   const std::size_t cells = static_cast<std::size_t>(m) * m;
-  const Vec3 x{1, 0, 0}, y{0, 1, 0}, z{0, 0, 1};
-  table->first.resize(cells);
-  table->edge.resize(cells * r * r);
-  for (std::size_t k = 0; k < cells; ++k) {
-    const int i = static_cast<int>(k % m), j = static_cast<int>(k / m);
-    double du, dv;
-    skyJitter(k, du, dv);
-    table->first[k] = skySquareToDirection(z, x, y, (i + du) / m, (j + dv) / m);
-    for (int q = 0; q < r * r; ++q) {
-      skyJitter((k + 1) * (r * r) + q + cells, du, dv);
-      table->edge[k * r * r + q] = skySquareToDirection(z, x, y, (i + (q % r + du) / r) / m, (j + (q / r + dv) / r) / m);
-    }
+  if (cells <= kTabulatedCells) {
+    table->first.resize(cells);
+    for (std::size_t k = 0; k < cells; ++k) table->first[k] = localFirst(m, k);
+  }
+  if (cells <= kTabulatedEdgeCells) {
+    table->edge.resize(cells * r * r);
+    for (std::size_t k = 0; k < cells; ++k)
+      for (int q = 0; q < r * r; ++q) table->edge[k * r * r + q] = localEdge(m, k, q);
   }
   slot = std::move(table);
   return *slot;
@@ -250,8 +267,8 @@ void SkyHemisphere::reset(const SkyLuminanceTable& sky, const Vec3& n, int gridS
   m_ = gridSide;
   orthonormalBasis(n_, t_, b_);
   const SkyLocalDirections& local = skyLocalDirections(m_);
-  first_.resize(local.first.size());
-  for (std::size_t k = 0; k < first_.size(); ++k) first_[k] = turned(local.first[k]);
+  first_.resize(static_cast<std::size_t>(m_) * m_);
+  for (std::size_t k = 0; k < first_.size(); ++k) first_[k] = turned(local.first.empty() ? localFirst(m_, k) : local.first[k]);
   edgeAt_.assign(first_.size(), -1);
   edge_.clear();
   unobstructed_ = -1;
@@ -261,8 +278,8 @@ const SkyHemisphere::Sample* SkyHemisphere::edgeSamples(std::size_t k) {
   constexpr int r = kSkyEdgeRefinement;
   if (edgeAt_[k] < 0) {
     edgeAt_[k] = static_cast<std::int32_t>(edge_.size());
-    const Vec3* local = &skyLocalDirections(m_).edge[k * r * r];
-    for (int q = 0; q < r * r; ++q) edge_.push_back(turned(local[q]));
+    const SkyLocalDirections& local = skyLocalDirections(m_);
+    for (int q = 0; q < r * r; ++q) edge_.push_back(turned(local.edge.empty() ? localEdge(m_, k, q) : local.edge[k * r * r + q]));
   }
   return &edge_[static_cast<std::size_t>(edgeAt_[k])];
 }
@@ -274,27 +291,36 @@ double SkyHemisphere::unobstructedIlluminance() {
 
 SkyHemisphere& skyHemisphere(const SkyModel& sky, const Vec3& n, int gridSide) {
   // A few normals per thread: a room's walls, or the two sides a light edge compares. Replaced
-  // hemispheres are reset in place, keeping their memory.
-  constexpr std::size_t kKept = 8;
+  // hemispheres are reset in place, keeping their memory. A grid above kKeptCells (2 MiB a
+  // hemisphere) has one hemisphere per thread, so that a large direction count costs one.
+  constexpr std::size_t kKept = 8, kKeptCells = std::size_t{1} << 16;
   thread_local std::unique_ptr<SkyLuminanceTable> table;
   thread_local std::vector<std::unique_ptr<SkyHemisphere>> kept;
+  thread_local std::unique_ptr<SkyHemisphere> large;
   thread_local std::size_t next = 0;
   constexpr double kGrid = 0x1p30;
   const Vec3 rounded = normalize(Vec3{std::round(n.x * kGrid), std::round(n.y * kGrid), std::round(n.z * kGrid)});
   if (!table || !(table->sky() == sky)) {
     table = std::make_unique<SkyLuminanceTable>(sky);
     kept.clear();  // they point into the old table
+    large.reset();
     next = 0;
   }
-  for (auto& h : kept)
-    if (h->matches(sky, rounded, gridSide)) return *h;
   SkyHemisphere* h = nullptr;
-  if (kept.size() < kKept) {
-    kept.push_back(std::make_unique<SkyHemisphere>());
-    h = kept.back().get();
+  if (static_cast<std::size_t>(gridSide) * gridSide > kKeptCells) {
+    if (!large) large = std::make_unique<SkyHemisphere>();
+    if (large->matches(sky, rounded, gridSide)) return *large;
+    h = large.get();
   } else {
-    h = kept[next].get();
-    next = (next + 1) % kKept;
+    for (auto& k : kept)
+      if (k->matches(sky, rounded, gridSide)) return *k;
+    if (kept.size() < kKept) {
+      kept.push_back(std::make_unique<SkyHemisphere>());
+      h = kept.back().get();
+    } else {
+      h = kept[next].get();
+      next = (next + 1) % kKept;
+    }
   }
   h->reset(*table, rounded, gridSide);
   return *h;
