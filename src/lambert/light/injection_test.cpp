@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "lambert/light/emission.h"
 #include "lambert/light/sky.h"
@@ -23,6 +24,15 @@ Light spotAt(Vec3 position, Vec3 direction, double coneDegrees) {
   return spot;
 }
 
+// The Cornell box meshed at one edge length, with its caster and the patches' albedo.
+struct CornellPatches {
+  Scene scene = cornellBox();
+  Mesh mesh;
+  std::unique_ptr<RayCaster> caster;
+  std::vector<Rgb> albedo;
+  explicit CornellPatches(double edge) : mesh(subdivideScene(scene, edge)), caster(makeEmbreeRayCaster(mesh)), albedo(patchAlbedo(scene, mesh)) {}
+};
+
 // What every light injects, each traced on every patch (patchIrradiance's full pass, no tree),
 // summed in the lights' order.
 std::vector<Rgb> tracedOnEveryPatch(const Mesh& mesh, const RayCaster& caster, const std::vector<Rgb>& albedo,
@@ -41,11 +51,12 @@ std::vector<Rgb> tracedOnEveryPatch(const Mesh& mesh, const RayCaster& caster, c
 // every frame, every patch holds the very bits of tracing every light on every patch, and every
 // patch whose total changed is among the patches the update names.
 TEST(InjectionTest, AnIncrementalUpdateGivesTheBitsOfAFullTraceEveryFrame) {
-  const Scene scene = cornellBox();
-  const Mesh mesh = subdivideScene(scene, 40);
+  const CornellPatches box(40);
+  const Scene& scene = box.scene;
+  const Mesh& mesh = box.mesh;
   ASSERT_GT(mesh.numPatches(), 1000u);
-  auto caster = makeEmbreeRayCaster(mesh);
-  const std::vector<Rgb> albedo = patchAlbedo(scene, mesh);
+  const RayCaster* caster = box.caster.get();
+  const std::vector<Rgb>& albedo = box.albedo;
   const DirectLightOptions options{4, 3};
   Light point;
   point.kind = LightKind::Point;
@@ -109,10 +120,11 @@ TEST(InjectionTest, AnIncrementalUpdateGivesTheBitsOfAFullTraceEveryFrame) {
 // made for it); lights given afterwards (an animation adding a spot) are traced as on a fresh
 // injection: the same bits as tracing them on every patch.
 TEST(InjectionTest, LightsAddedAfterAnUnlitUpdateAreTracedInFull) {
-  const Scene scene = cornellBox();
-  const Mesh mesh = subdivideScene(scene, 20);
-  auto caster = makeEmbreeRayCaster(mesh);
-  const std::vector<Rgb> albedo = patchAlbedo(scene, mesh);
+  const CornellPatches box(20);
+  const Scene& scene = box.scene;
+  const Mesh& mesh = box.mesh;
+  const RayCaster* caster = box.caster.get();
+  const std::vector<Rgb>& albedo = box.albedo;
   const DirectLightOptions options{4, 3};
   DirectLightInjection injection(options);
   const DirectLightInjection::Update unlit = injection.update(mesh, *caster, albedo, {}, scene.metresPerUnit);
@@ -138,10 +150,11 @@ TEST(InjectionTest, LightsAddedAfterAnUnlitUpdateAreTracedInFull) {
 // injects; the rest is what the points inject, within the testing's tolerance. Before, the sky
 // went through the joint testing at every point and its part was lost (skyTotal empty).
 TEST(InjectionTest, ASkyAmongManyLightsKeepsItsPartKnown) {
-  const Scene scene = cornellBox();
-  const Mesh mesh = subdivideScene(scene, 80);
-  auto caster = makeEmbreeRayCaster(mesh);
-  const std::vector<Rgb> albedo = patchAlbedo(scene, mesh);
+  const CornellPatches box(80);
+  const Scene& scene = box.scene;
+  const Mesh& mesh = box.mesh;
+  const RayCaster* caster = box.caster.get();
+  const std::vector<Rgb>& albedo = box.albedo;
   const DirectLightOptions options{4, 3};
   Light sky;
   sky.kind = LightKind::Sky;
