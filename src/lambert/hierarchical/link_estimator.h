@@ -102,6 +102,12 @@ class LinkEstimator {
   // element inside a closed two-sided object, every point covered: geometry/enclosures.h).
   enum Coverage : std::uint8_t { kOpen = 0, kMayBeCovered = 1, kEnclosed = 2 };
   std::vector<std::uint8_t> partlyCovered_;
+  // Per node: the area of its faces outside closed two-sided objects (its whole area but for the
+  // enclosed inner twins). A link into a cluster carries the irradiance of the cluster's open part
+  // (what the transport hands out over the open area): its receiving points are drawn from that
+  // area alone, and their sum is over it. Over the whole area, a closed two-sided sphere's inner
+  // twins took half of every cluster link's light (issue: spheres dark in the clustered solve).
+  std::vector<double> unenclosedArea_;
 };
 
 }  // namespace lambert

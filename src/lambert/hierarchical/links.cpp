@@ -124,6 +124,11 @@ LinkEstimator::LinkEstimator(const ElementHierarchy& hierarchy, const RayCaster&
     if (nodes[i].parent != kNoNode && partlyCovered_[i]) partlyCovered_[nodes[i].parent] = kMayBeCovered;
   for (std::size_t i = 0; i < nodes.size(); ++i)
     if (nodes[i].enclosed) partlyCovered_[i] = kEnclosed;
+  unenclosedArea_.assign(nodes.size(), 0.0);
+  for (std::size_t i = nodes.size(); i-- > 0;) {  // children first
+    if (!nodes[i].isCluster()) unenclosedArea_[i] = nodes[i].enclosed ? 0.0 : nodes[i].area;
+    if (nodes[i].parent != kNoNode && nodes[nodes[i].parent].isCluster()) unenclosedArea_[nodes[i].parent] += unenclosedArea_[i];
+  }
   radiosity_.assign(nodes.size(), 0.0);
   peakRadiosity_.assign(nodes.size(), 0.0);
   double power = 0;
@@ -150,6 +155,7 @@ void LinkEstimator::addChildren(std::uint32_t node) {
     radiosity_.push_back(radiosity_[node]);
     peakRadiosity_.push_back(radiosity_[node]);  // a leaf's radiosity is one value
     partlyCovered_.push_back(partlyCovered_[node]);
+    unenclosedArea_.push_back(h_.node(k).enclosed ? 0.0 : h_.node(k).area);
   }
 }
 
@@ -440,7 +446,7 @@ LinkEstimator::ClusterSample LinkEstimator::sampleCluster(const Candidate& c, co
       ++nonFacing;
       continue;
     }
-    const double contribution = factor * onReceiver.weight * onSource.weight * g.area / r.area;
+    const double contribution = factor * onReceiver.weight * onSource.weight * g.area / unenclosedArea_[c.receiver];
     bool open = true;
     if constexpr (withRays) {
       const Vec3 y = sampleConvexPolygon(f.polygon(), u2, v2);
@@ -522,6 +528,7 @@ LinkEstimator::FaceSample LinkEstimator::sampleFace(std::uint32_t node, const Ve
       const HierarchyNode& kid = h_.node(kids[k]);
       shown[k] = kid.projectedArea(toward) + 0.05 * kid.area;
       if (byRadiosity) shown[k] *= radiosity_[kids[k]];
+      if (!source) shown[k] *= unenclosedArea_[kids[k]] / kid.area;  // no light reaches an enclosed face: never a receiving point
       total += shown[k];
     }
     std::size_t chosen = 0;
