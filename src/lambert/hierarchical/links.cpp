@@ -428,7 +428,6 @@ void LinkEstimator::trace(const Vec3& x, const Vec3& xNormal, std::uint8_t xCove
 template <bool withRays>
 LinkEstimator::ClusterSample LinkEstimator::sampleCluster(const Candidate& c, const Vec3& w, int n,
                                                          const std::array<std::uint32_t, 4>& scramble) const {
-  const HierarchyNode& r = h_.node(c.receiver);
   double sum = 0, unoccluded = 0;
   Visibility seen;
   int nonFacing = 0;
