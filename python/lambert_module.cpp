@@ -239,6 +239,14 @@ class PyRadiosity {
     std::copy(indices.begin(), indices.end(), out.mutable_data());
     return out;
   }
+  py::array_t<std::uint32_t> triangleSurfaces() const {
+    const Mesh& mesh = engine_->solution().vertexMesh();
+    std::vector<std::uint32_t> surfaces;
+    for (const Patch& p : mesh.patches)
+      for (std::uint32_t k = 1; k + 1 < p.numCorners; ++k) surfaces.push_back(p.surface);
+    const auto count = static_cast<py::ssize_t>(surfaces.size());
+    return owned(std::move(surfaces), {count});
+  }
 
   py::dict stats() const {
     py::dict out;
@@ -460,6 +468,8 @@ PYBIND11_MODULE(lambert, m) {
            "Illuminance at points, as `lambert solve --points`: points an (n, 6) array of x, y, z, nx, ny, nz (scene frame "
            "and units); returns (n, 3) E_direct, E_indirect, E in lux (docs/photometry.md).")
       .def("triangles", &PyRadiosity::triangles, "(m, 3) uint32: the exported mesh's triangles, indices into vertex_positions().")
+      .def("triangle_surfaces", &PyRadiosity::triangleSurfaces,
+           "(m,) uint32: the scene surface each of triangles() lies on (as elements()['surface']).")
       .def("stats", &PyRadiosity::stats, "The figures `lambert solve --json` prints, as a dict.")
       .def("write_glb", &PyRadiosity::writeGlb, py::arg("path"), py::arg("bake") = "irradiance", py::arg("exposure") = 0.0,
            "Write the solved scene as binary glTF with the light in COLOR_0, as `lambert solve --export`.")

@@ -62,6 +62,20 @@ def test_vertex_values_in_a_furnace_and_arrays_own_their_data(tmp_path):
     assert not np.shares_memory(radiance, engine.vertex_radiance())
     triangles = engine.triangles()
     assert triangles.max() < len(engine.vertex_positions())
+    # Each triangle lies in the plane of an element of the surface triangle_surfaces() names (and
+    # in no plane of another surface's elements facing its way, for the box's walls).
+    surfaces = engine.triangle_surfaces()
+    assert surfaces.shape == (len(triangles),)
+    positions, elements = engine.vertex_positions(), engine.elements()
+    corners = positions[triangles]
+    normals = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    normals /= np.linalg.norm(normals, axis=1)[:, None]
+    centres = corners.mean(axis=1)
+    for t in range(0, len(triangles), 7):
+        own = elements["surface"] == surfaces[t]
+        in_plane = (np.abs(np.einsum("ij,ij->i", elements["normal"], elements["centroid"] - centres[t])) < 1e-6) & \
+                   (elements["normal"] @ normals[t] > 0.999)
+        assert in_plane[own].any(), f"triangle {t} does not lie on surface {surfaces[t]}"
 
 
 def test_settings_are_refused_with_the_clis_messages():

@@ -209,12 +209,51 @@ void ElementHierarchy::buildClusters(const std::vector<FaceRoot>& all, std::span
     buildClusters(all, parts[i], cluster, first + static_cast<std::uint32_t>(i), static_cast<std::uint8_t>(std::min(depth + 1, 255)));
 }
 
+ElementSplit elementSplit(const HierarchyNode& e) {
+  const std::array<Vec3, 4>& p = e.corners;
+  if (e.numCorners == 3) {
+    int longest = 0;
+    double longestSquared = 0;
+    for (int k = 0; k < 3; ++k)
+      if (const double l = lengthSquared(p[(k + 1) % 3] - p[k]); l > longestSquared) longestSquared = l, longest = k;
+    // Height over the longest edge h = 2A / L: a sliver where L > 4h, that is L² > 8A (a right
+    // isosceles triangle, half of a quad as exporters triangulate it, has L² = 4A).
+    return longestSquared > 8 * e.area ? ElementSplit{2, longest} : ElementSplit{4, 0};
+  }
+  const double along01 = length(p[1] - p[0]) + length(p[3] - p[2]), along12 = length(p[2] - p[1]) + length(p[0] - p[3]);
+  if (along01 > 2 * along12) return {2, 0};
+  if (along12 > 2 * along01) return {2, 1};
+  return {4, 0};
+}
+
+double extentArea(const HierarchyNode& e) {
+  if (e.isCluster()) return e.area;
+  double longestSquared = 0;
+  for (std::size_t k = 0; k < e.numCorners; ++k)
+    longestSquared = std::fmax(longestSquared, lengthSquared(e.corners[(k + 1) % e.numCorners] - e.corners[k]));
+  return std::fmax(e.area, 0.25 * longestSquared);
+}
+
 void ElementHierarchy::split(std::uint32_t element) {
   LAMBERT_CHECK(!nodes_[element].isCluster() && nodes_[element].isLeaf());
   const HierarchyNode parent = nodes_[element];
   const std::array<Vec3, 4>& p = parent.corners;
+  const ElementSplit how = elementSplit(parent);
   std::array<std::array<Vec3, 4>, 4> children;
-  if (parent.numCorners == 3) {
+  if (how.children == 2) {
+    const int k = how.edge;
+    if (parent.numCorners == 3) {
+      const Vec3 &a = p[k], &b = p[(k + 1) % 3], &c = p[(k + 2) % 3];
+      const Vec3 m = (a + b) * 0.5;
+      children[0] = {a, m, c, {}};
+      children[1] = {m, b, c, {}};
+    } else {
+      const Vec3 &a = p[k], &b = p[k + 1], &c = p[(k + 2) % 4], &d = p[(k + 3) % 4];
+      const Vec3 m = (a + b) * 0.5, n = (c + d) * 0.5;
+      children[0] = {a, m, n, d};
+      children[1] = {m, b, c, n};
+    }
+  } else if (parent.numCorners == 3) {
     Vec3 ab = (p[0] + p[1]) * 0.5, bc = (p[1] + p[2]) * 0.5, ca = (p[2] + p[0]) * 0.5;
     children = {{{p[0], ab, ca, {}}, {ab, p[1], bc, {}}, {ca, bc, p[2], {}}, {ab, bc, ca, {}}}};
   } else {
@@ -223,7 +262,8 @@ void ElementHierarchy::split(std::uint32_t element) {
     children = {{{p[0], m01, c, m30}, {m01, p[1], m12, c}, {c, m12, p[2], m23}, {m30, c, m23, p[3]}}};
   }
   const auto first = static_cast<std::uint32_t>(childList_.size());
-  for (const auto& corners : children) {
+  for (int k = 0; k < how.children; ++k) {
+    const std::array<Vec3, 4>& corners = children[static_cast<std::size_t>(k)];
     HierarchyNode child;
     child.corners = corners;
     child.numCorners = parent.numCorners;
@@ -238,7 +278,7 @@ void ElementHierarchy::split(std::uint32_t element) {
     childList_.push_back(addNode(child));
   }
   nodes_[element].firstChild = first;
-  nodes_[element].numChildren = 4;
+  nodes_[element].numChildren = static_cast<std::uint32_t>(how.children);
 }
 
 void ElementHierarchy::markEnclosedFaces(std::span<const std::uint8_t> perLeaf) {
@@ -313,7 +353,19 @@ ElementHierarchy::LeafMesh ElementHierarchy::leaves(const Scene& scene) const {
         continue;
       }
       std::span<const std::uint32_t> kids = children(visit.node);
-      if (n.numCorners == 3) {
+      if (kids.size() == 2) {  // a halved sliver (elementSplit): as split() made it
+        const int k = elementSplit(n).edge;
+        if (n.numCorners == 3) {
+          const std::uint32_t a = v[k], b = v[(k + 1) % 3], c = v[(k + 2) % 3], m = midpoint(a, b, n.surface);
+          stack.push_back({kids[0], {a, m, c, 0}});
+          stack.push_back({kids[1], {m, b, c, 0}});
+        } else {
+          const std::uint32_t a = v[k], b = v[k + 1], c = v[(k + 2) % 4], d = v[(k + 3) % 4];
+          const std::uint32_t m = midpoint(a, b, n.surface), o = midpoint(c, d, n.surface);
+          stack.push_back({kids[0], {a, m, o, d}});
+          stack.push_back({kids[1], {m, b, c, o}});
+        }
+      } else if (n.numCorners == 3) {
         std::uint32_t ab = midpoint(v[0], v[1], n.surface), bc = midpoint(v[1], v[2], n.surface), ca = midpoint(v[2], v[0], n.surface);
         stack.push_back({kids[0], {v[0], ab, ca, 0}});
         stack.push_back({kids[1], {ab, v[1], bc, 0}});

@@ -39,7 +39,7 @@ LightEdgeSplits splitAtLightEdges(ElementHierarchy& hierarchy, const Scene& scen
     std::vector<std::uint32_t> samples(frontier.size(), 0), rays(frontier.size(), 0);  // points × lights evaluated; shadow rays
     parallelFor(0, frontier.size(), [&](std::size_t i) {
       const HierarchyNode& e = hierarchy.node(frontier[i]);
-      if (e.area * 0.25 < minArea) return;
+      if (e.area * childAreaShare(e) < minArea) return;
       // The centre, the corners (a hundredth of the way in) and the edges' midpoints (a tenth):
       // a vertex on a larger leaf's edge takes the value interpolated along it (T-junction
       // continuity), so a light's edge that crosses a leaf between its samples leaves such a
@@ -62,7 +62,7 @@ LightEdgeSplits splitAtLightEdges(ElementHierarchy& hierarchy, const Scene& scen
       for (std::size_t l = 0; l < lights.size(); ++l) {
         // First the light's bound over the element's sphere (no evaluation at its points): most
         // of many lights are far, or hold the element outside their cones.
-        if (frontierAlbedo[i] * lighting.upperBound(l, e.centre, radius, e.normal).maxComponent() * e.area * (1 + 1e-9) <= threshold) continue;
+        if (frontierAlbedo[i] * lighting.upperBound(l, e.centre, radius, e.normal).maxComponent() * extentArea(e) * (1 + 1e-9) <= threshold) continue;
         const bool sky = lights[l].kind == LightKind::Sky;
         const Vec3* at = sky ? skyPoints : points;
         const std::size_t count = sky ? numSkyPoints : numPoints;
@@ -77,7 +77,7 @@ LightEdgeSplits splitAtLightEdges(ElementHierarchy& hierarchy, const Scene& scen
           unoccluded[k] = lighting.unoccluded(l, at[k], e.normal).maxComponent();
           largest = std::fmax(largest, unoccluded[k]);
         }
-        if (frontierAlbedo[i] * largest * e.area * (1 + 1e-9) <= threshold) continue;
+        if (frontierAlbedo[i] * largest * extentArea(e) * (1 + 1e-9) <= threshold) continue;
         double lo = INFINITY, hi = 0;
         for (std::size_t k = 0; k < count; ++k) {
           double value = 0;
@@ -88,7 +88,7 @@ LightEdgeSplits splitAtLightEdges(ElementHierarchy& hierarchy, const Scene& scen
           lo = std::fmin(lo, value);
           hi = std::fmax(hi, value);
         }
-        if (frontierAlbedo[i] * (hi - lo) * e.area > threshold) {
+        if (frontierAlbedo[i] * (hi - lo) * extentArea(e) > threshold) {
           split[i] = 1;
           return;
         }

@@ -66,7 +66,7 @@ class LinkEstimator {
 
   bool splittable(std::uint32_t node) const {
     const HierarchyNode& n = h_.node(node);
-    return n.isCluster() || !n.isLeaf() || n.area * 0.25 >= minArea_;
+    return n.isCluster() || !n.isLeaf() || n.area * childAreaShare(n) >= minArea_;
   }
 
   // Per node: the area-weighted mean of the leaves' largest channel; and the oracle's threshold.
