@@ -195,14 +195,18 @@ class PyRadiosity {
   py::dict elements() const {
     const Mesh& mesh = engine_->solution().mesh();
     std::vector<Vec3> centroids, normals;
-    std::vector<double> areas;
+    std::vector<double> areas, openFractions;
     std::vector<std::uint32_t> surfaces;
-    for (const Patch& p : mesh.patches) centroids.push_back(p.centroid), normals.push_back(p.normal), areas.push_back(p.area), surfaces.push_back(p.surface);
+    for (const Patch& p : mesh.patches) {
+      centroids.push_back(p.centroid), normals.push_back(p.normal), areas.push_back(p.area), surfaces.push_back(p.surface);
+      openFractions.push_back(p.openFraction);
+    }
     py::dict out;
     out["centroid"] = rows3(centroids);
     out["normal"] = rows3(normals);
     out["area"] = owned(std::move(areas), {static_cast<py::ssize_t>(mesh.numPatches())});
     out["surface"] = owned(std::move(surfaces), {static_cast<py::ssize_t>(mesh.numPatches())});
+    out["open_fraction"] = owned(std::move(openFractions), {static_cast<py::ssize_t>(mesh.numPatches())});
     return out;
   }
 
@@ -462,8 +466,8 @@ PYBIND11_MODULE(lambert, m) {
            "(n, 3) float64 per element of the solution's mesh: 'radiosity' B and 'injected' ρ·E_direct and 'emitted' (W/m²), "
            "or 'albedo' ρ.")
       .def("elements", &PyRadiosity::elements,
-           "The solution's elements: a dict of 'centroid' and 'normal' ((n, 3)), 'area' (scene units²) and 'surface' (the "
-           "scene surface each lies on).")
+           "The solution's elements: a dict of 'centroid' and 'normal' ((n, 3)), 'area' (scene units²), 'surface' (the "
+           "scene surface each lies on) and 'open_fraction' (the share not covered by other geometry; 0 inside a closed object).")
       .def("illuminance", &PyRadiosity::illuminance, py::arg("points"), py::arg("indirect_rays") = 256,
            "Illuminance at points, as `lambert solve --points`: points an (n, 6) array of x, y, z, nx, ny, nz (scene frame "
            "and units); returns (n, 3) E_direct, E_indirect, E in lux (docs/photometry.md).")

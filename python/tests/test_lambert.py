@@ -76,6 +76,16 @@ def test_vertex_values_in_a_furnace_and_arrays_own_their_data(tmp_path):
         in_plane = (np.abs(np.einsum("ij,ij->i", elements["normal"], elements["centroid"] - centres[t])) < 1e-6) & \
                    (elements["normal"] @ normals[t] > 0.999)
         assert in_plane[own].any(), f"triangle {t} does not lie on surface {surfaces[t]}"
+    # The floor runs under the two blocks: its covered area is their footprints, each as large as the
+    # block's top (both are boxes).
+    open_fraction, area, normal, centroid = elements["open_fraction"], elements["area"], elements["normal"], elements["centroid"]
+    up = normal[:, 1] > 0.999
+    floor_height = centroid[up, 1].min()
+    floor = up & (centroid[:, 1] < floor_height + 1e-9)
+    tops = up & (centroid[:, 1] > floor_height + 1e-3) & (centroid[:, 1] < centroid[:, 1].max() - 1e-3)
+    covered = ((1 - open_fraction) * area)[floor].sum()
+    assert covered == pytest.approx(area[tops].sum(), rel=0.1)
+    assert (open_fraction[~floor] == 1).all()
 
 
 def test_settings_are_refused_with_the_clis_messages():
