@@ -276,6 +276,11 @@ std::uint8_t LinkEstimator::estimate(Candidate& c) const {
   // anywhere) could link to it. Refinement then opened it down to every facet, each linked to
   // the floor's elements one by one (the MGF floor's finely divided cylinders made 47 M links).
   // The estimate below is exact on average at any distance, so the boxes need only be apart.
+  // A cluster whose every face lies inside closed objects receives nothing (geometry/enclosures.h).
+  if (r.isCluster() && !(unenclosedArea_[c.receiver] > 0)) {
+    c.verdict = Verdict::Empty;
+    return 0;
+  }
   const Vec3 d = s.centre - r.centre;
   if (!boxesApart(r, s) || cutsThrough(r, s) || cutsThrough(s, r)) {
     c.verdict = Verdict::Inadmissible;
@@ -538,7 +543,7 @@ LinkEstimator::FaceSample LinkEstimator::sampleFace(std::uint32_t node, const Ve
       const HierarchyNode& kid = h_.node(kids[k]);
       shown[k] = kid.projectedArea(toward) + 0.05 * kid.area;
       if (byRadiosity) shown[k] *= radiosity_[kids[k]];
-      if (!source) shown[k] *= unenclosedArea_[kids[k]] / kid.area;  // no light reaches an enclosed face: never a receiving point
+      if (!source) shown[k] *= kid.area > 0 ? unenclosedArea_[kids[k]] / kid.area : 0.0;  // no light reaches an enclosed face
       total += shown[k];
     }
     std::size_t chosen = 0;
