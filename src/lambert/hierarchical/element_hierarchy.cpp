@@ -49,6 +49,20 @@ std::uint64_t edgeKey(std::uint32_t a, std::uint32_t b) {
   return (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
 }
 
+// A halved sliver's two children (elementSplit) from its corners v, in the order and orientation
+// split() makes them; `midpoint(a, b)` makes the point (or vertex) half way along an edge. One
+// place for both the hierarchy's corners and the leaf mesh's vertices, which must agree.
+template <class Corner, class Midpoint>
+std::array<std::array<Corner, 4>, 2> halvedSliver(const std::array<Corner, 4>& v, std::size_t numCorners, int edge,
+                                                  Midpoint midpoint) {
+  const auto at = [&](int k) { return v[static_cast<std::size_t>(k) % numCorners]; };
+  const Corner a = at(edge), b = at(edge + 1), c = at(edge + 2);
+  const Corner m = midpoint(a, b);
+  if (numCorners == 3) return {{{a, m, c, Corner{}}, {m, b, c, Corner{}}}};
+  const Corner d = at(edge + 3), o = midpoint(c, d);
+  return {{{a, m, o, d}, {m, b, c, o}}};
+}
+
 }  // namespace
 
 struct ElementHierarchy::FaceRoot {
@@ -241,18 +255,9 @@ void ElementHierarchy::split(std::uint32_t element) {
   const ElementSplit how = elementSplit(parent);
   std::array<std::array<Vec3, 4>, 4> children;
   if (how.children == 2) {
-    const int k = how.edge;
-    if (parent.numCorners == 3) {
-      const Vec3 &a = p[k], &b = p[(k + 1) % 3], &c = p[(k + 2) % 3];
-      const Vec3 m = (a + b) * 0.5;
-      children[0] = {a, m, c, {}};
-      children[1] = {m, b, c, {}};
-    } else {
-      const Vec3 &a = p[k], &b = p[k + 1], &c = p[(k + 2) % 4], &d = p[(k + 3) % 4];
-      const Vec3 m = (a + b) * 0.5, n = (c + d) * 0.5;
-      children[0] = {a, m, n, d};
-      children[1] = {m, b, c, n};
-    }
+    const auto halves = halvedSliver(p, parent.numCorners, how.edge, [](const Vec3& a, const Vec3& b) { return (a + b) * 0.5; });
+    children[0] = halves[0];
+    children[1] = halves[1];
   } else if (parent.numCorners == 3) {
     Vec3 ab = (p[0] + p[1]) * 0.5, bc = (p[1] + p[2]) * 0.5, ca = (p[2] + p[0]) * 0.5;
     children = {{{p[0], ab, ca, {}}, {ab, p[1], bc, {}}, {ca, bc, p[2], {}}, {ab, bc, ca, {}}}};
@@ -354,17 +359,10 @@ ElementHierarchy::LeafMesh ElementHierarchy::leaves(const Scene& scene) const {
       }
       std::span<const std::uint32_t> kids = children(visit.node);
       if (kids.size() == 2) {  // a halved sliver (elementSplit): as split() made it
-        const int k = elementSplit(n).edge;
-        if (n.numCorners == 3) {
-          const std::uint32_t a = v[k], b = v[(k + 1) % 3], c = v[(k + 2) % 3], m = midpoint(a, b, n.surface);
-          stack.push_back({kids[0], {a, m, c, 0}});
-          stack.push_back({kids[1], {m, b, c, 0}});
-        } else {
-          const std::uint32_t a = v[k], b = v[k + 1], c = v[(k + 2) % 4], d = v[(k + 3) % 4];
-          const std::uint32_t m = midpoint(a, b, n.surface), o = midpoint(c, d, n.surface);
-          stack.push_back({kids[0], {a, m, o, d}});
-          stack.push_back({kids[1], {m, b, c, o}});
-        }
+        const auto halves = halvedSliver(v, n.numCorners, elementSplit(n).edge,
+                                         [&](std::uint32_t a, std::uint32_t b) { return midpoint(a, b, n.surface); });
+        stack.push_back({kids[0], halves[0]});
+        stack.push_back({kids[1], halves[1]});
       } else if (n.numCorners == 3) {
         std::uint32_t ab = midpoint(v[0], v[1], n.surface), bc = midpoint(v[1], v[2], n.surface), ca = midpoint(v[2], v[0], n.surface);
         stack.push_back({kids[0], {v[0], ab, ca, 0}});

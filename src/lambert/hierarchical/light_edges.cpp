@@ -59,10 +59,11 @@ LightEdgeSplits splitAtLightEdges(ElementHierarchy& hierarchy, const Scene& scen
       double radius = 0;
       for (std::size_t k = 0; k < e.numCorners; ++k) radius = std::fmax(radius, length(e.corners[k] - e.centre));
       radius *= 1 + 1e-9;
+      const double extent = extentArea(e);
       for (std::size_t l = 0; l < lights.size(); ++l) {
         // First the light's bound over the element's sphere (no evaluation at its points): most
         // of many lights are far, or hold the element outside their cones.
-        if (frontierAlbedo[i] * lighting.upperBound(l, e.centre, radius, e.normal).maxComponent() * extentArea(e) * (1 + 1e-9) <= threshold) continue;
+        if (frontierAlbedo[i] * lighting.upperBound(l, e.centre, radius, e.normal).maxComponent() * extent * (1 + 1e-9) <= threshold) continue;
         const bool sky = lights[l].kind == LightKind::Sky;
         const Vec3* at = sky ? skyPoints : points;
         const std::size_t count = sky ? numSkyPoints : numPoints;
@@ -77,7 +78,7 @@ LightEdgeSplits splitAtLightEdges(ElementHierarchy& hierarchy, const Scene& scen
           unoccluded[k] = lighting.unoccluded(l, at[k], e.normal).maxComponent();
           largest = std::fmax(largest, unoccluded[k]);
         }
-        if (frontierAlbedo[i] * largest * extentArea(e) * (1 + 1e-9) <= threshold) continue;
+        if (frontierAlbedo[i] * largest * extent * (1 + 1e-9) <= threshold) continue;
         double lo = INFINITY, hi = 0;
         for (std::size_t k = 0; k < count; ++k) {
           double value = 0;
@@ -88,7 +89,7 @@ LightEdgeSplits splitAtLightEdges(ElementHierarchy& hierarchy, const Scene& scen
           lo = std::fmin(lo, value);
           hi = std::fmax(hi, value);
         }
-        if (frontierAlbedo[i] * (hi - lo) * extentArea(e) > threshold) {
+        if (frontierAlbedo[i] * (hi - lo) * extent > threshold) {
           split[i] = 1;
           return;
         }

@@ -452,7 +452,7 @@ LinkEstimator::ClusterSample LinkEstimator::sampleCluster(const Candidate& c, co
     }
     const double contribution = factor * onReceiver.weight * onSource.weight * g.area / unenclosedArea_[c.receiver];
     bool open = true;
-    Vec3 toSource = f.centre - x;
+    Vec3 toSource;  // to the source point the ray goes to (the facing shares, read only with rays)
     if constexpr (withRays) {
       const Vec3 y = sampleConvexPolygon(f.polygon(), u2, v2);
       toSource = y - x;
@@ -473,7 +473,7 @@ LinkEstimator::ClusterSample LinkEstimator::sampleCluster(const Candidate& c, co
     }
     sum += open ? contribution : 0.0;
     unoccluded += contribution;
-    if (open) {
+    if (withRays && open) {
       // Into the bins of the normal's axis sides, each by n_a·w_a (w toward the source): the
       // terms of n·w where the face meets the light. A face's light from a source off its axes
       // goes where faces of its orientation take it again, and the bins hold where light comes
