@@ -7,8 +7,8 @@
 // arrives (by cos θ_x dω), is what a link's visibility must be. Points uniform in area weigh a
 // large source's far, often hidden, part as much as its near, visible one: a desk leg's side saw
 // the floor under its desk, all eight rays went to the far floor behind the other legs, and the
-// leg got none of the floor's light (a furnished closed room's reflected light came out 3% low,
-// RenderPark's classroom 5%). Uniform in solid angle, the weight left is cos θ_x, bounded.
+// leg got none of the floor's light (a furnished closed furnace's furniture came out 3.8% dark).
+// Uniform in solid angle, the weight left is cos θ_x, bounded.
 #include <algorithm>
 #include <array>
 #include <cmath>
