@@ -23,12 +23,13 @@ double pointToPolygonFormFactor(const Vec3& x, const Vec3& xNormal, std::span<co
                                 const Vec3& polygonNormal);
 
 // ∫ k(x, y) φ_c(y) dA_y over a planar convex polygon of 3 or 4 corners, for each corner c (the
-// rest 0), where k is the point-to-point kernel above and φ_c the corner's interpolation weight:
-// linear on a triangle, bilinear in the quad's own parameters. So Σ_c w_c B_c is the irradiance
-// at x from a polygon whose radiosity is interpolated from its corners' B_c, and Σ_c w_c is
-// pointToPolygonFormFactor. Evaluated over cells of the polygon's parameters, finer toward x
-// (x may lie next to the polygon, as a room's corner does), each cell's exact factor shared by
-// the corners' φ at its centre.
+// rest 0), where k is the point-to-point kernel above and φ_c the corner's interpolation weight,
+// linear over each fan triangle (0, k, k + 1) as a face is drawn. So Σ_c w_c B_c is the
+// irradiance at x from a polygon whose radiosity is interpolated from its corners' B_c, and
+// Σ_c w_c is pointToPolygonFormFactor. In closed form but for one 1-D integral (Gauss–Legendre):
+// per triangle its factor times φ_c at the kernel-weighted centroid, the first moment by
+// boundary integrals in the polygon's plane (Chen & Arvo 2000); x may lie next to the polygon,
+// as a room's corner does.
 std::array<double, 4> cornerFormFactors(const Vec3& x, const Vec3& xNormal, std::span<const Vec3> polygon,
                                         const Vec3& polygonNormal);
 

@@ -117,15 +117,17 @@ TEST(KernelTest, AdjacentPatchesStayFinite) {
 }
 
 // The corner weights against the kernel integrated directly: a midpoint rule over cells graded
-// toward the point, which sits 0.01 above the source's edge in the plane perpendicular to it (a
-// room's corner vertex). Each corner's weight within 0.3% of the whole factor (measured: 0.2% at
-// most, on the far corners, whose cells are the coarsest), their sum the polygon's factor.
+// toward the point's foot on the source's plane, with each corner's weight linear over the fan
+// triangles (0, 1, 2) and (0, 2, 3), as a face is drawn. Points: 0.01 above the source's edge in
+// the plane perpendicular to it (a room's corner vertex, the case the near field is for), 10⁻⁵
+// above it (a vertex site nudged off its face), over the source's middle tilted 30°, and off to
+// one side facing it obliquely. Each weight within 0.2% of the whole factor, their sum the
+// contour integral's factor to 10⁻⁹ (a different formula: the boundary integrals' check).
 TEST(KernelTest, CornerFormFactorsMatchTheKernelIntegratedAgainstEachCornersWeight) {
-  const Vec3 x{0.3, 0, 0.01}, xNormal{0, 1, 0}, sourceNormal{0, 0, 1};
-  // Cell boundaries on [lo, hi], 1e-4 wide at `focus` and growing 8% a cell away from it.
-  const auto graded = [](double lo, double hi, double focus) {
+  // Cell boundaries on [lo, hi], `finest` wide at `focus` and growing 8% a cell away from it.
+  const auto graded = [](double lo, double hi, double focus, double finest) {
     std::vector<double> side = {0};
-    for (double h = 1e-4; side.back() < 1; h *= 1.08) side.push_back(side.back() + h);
+    for (double h = finest; side.back() < 2; h *= 1.08) side.push_back(side.back() + h);
     std::vector<double> edges;
     for (auto it = side.rbegin(); it != side.rend(); ++it)
       if (focus - *it > lo) edges.push_back(focus - *it);
@@ -135,32 +137,51 @@ TEST(KernelTest, CornerFormFactorsMatchTheKernelIntegratedAgainstEachCornersWeig
     edges.push_back(hi);
     return edges;
   };
-  const std::vector<double> xs = graded(0, 1, 0.3), ys = graded(0, 1, 0);
-  for (const bool quad : {true, false}) {
-    const std::vector<Vec3> polygon = quad ? std::vector<Vec3>{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}
-                                           : std::vector<Vec3>{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
-    std::array<double, 4> direct{0, 0, 0, 0};
-    for (std::size_t i = 0; i + 1 < xs.size(); ++i)
-      for (std::size_t j = 0; j + 1 < ys.size(); ++j) {
-        const double u = (xs[i] + xs[i + 1]) / 2, v = (ys[j] + ys[j + 1]) / 2;
-        if (!quad && u + v > 1) continue;
-        const double k = pointToPointKernel(x, xNormal, {u, v, 0}, sourceNormal) * (xs[i + 1] - xs[i]) * (ys[j + 1] - ys[j]);
-        const std::array<double, 4> phi = quad ? std::array<double, 4>{(1 - u) * (1 - v), u * (1 - v), u * v, (1 - u) * v}
-                                               : std::array<double, 4>{1 - u - v, u, v, 0};
-        for (int c = 0; c < 4; ++c) direct[c] += k * phi[c];
+  const Vec3 sourceNormal{0, 0, 1};
+  const double s = std::sqrt(0.75);
+  const struct {
+    Vec3 x, normal;
+  } points[] = {{{0.3, 0, 0.01}, {0, 1, 0}}, {{0.3, 0, 1e-5}, {0, 1, 0}}, {{0.4, 0.6, 0.3}, {0.5, 0, -s}}, {{1.5, 0.2, 0.4}, {-s, 0, -0.5}}};
+  for (const auto& [x, xNormal] : points) {
+    const double finest = std::fmax(1e-6, 0.1 * x.z);
+    const std::vector<double> xs = graded(0, 1, std::clamp(x.x, 0.0, 1.0), finest), ys = graded(0, 1, std::clamp(x.y, 0.0, 1.0), finest);
+    for (const bool quad : {true, false}) {
+      const std::vector<Vec3> polygon = quad ? std::vector<Vec3>{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}
+                                             : std::vector<Vec3>{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+      std::array<double, 4> direct{0, 0, 0, 0};
+      for (std::size_t i = 0; i + 1 < xs.size(); ++i)
+        for (std::size_t j = 0; j + 1 < ys.size(); ++j) {
+          // A triangle's cell across its hypotenuse through a 32 × 32 grid of its own.
+          const bool straddles = !quad && xs[i] + ys[j] < 1 && xs[i + 1] + ys[j + 1] > 1;
+          const int split = straddles ? 32 : 1;
+          const double du = (xs[i + 1] - xs[i]) / split, dv = (ys[j + 1] - ys[j]) / split;
+          for (int a = 0; a < split; ++a)
+            for (int b = 0; b < split; ++b) {
+              const double u = xs[i] + (a + 0.5) * du, v = ys[j] + (b + 0.5) * dv;
+              if (!quad && u + v > 1) continue;
+              const double k = pointToPointKernel(x, xNormal, {u, v, 0}, sourceNormal) * du * dv;
+              // Barycentric in (0,0)-(1,0)-(1,1) below the quad's diagonal, (0,0)-(1,1)-(0,1) above it.
+              const std::array<double, 4> phi = !quad  ? std::array<double, 4>{1 - u - v, u, v, 0}
+                                                 : v <= u ? std::array<double, 4>{1 - u, u - v, v, 0}
+                                                          : std::array<double, 4>{1 - v, 0, u, v - u};
+              for (int c = 0; c < 4; ++c) direct[c] += k * phi[c];
+            }
+        }
+      const std::array<double, 4> w = cornerFormFactors(x, xNormal, polygon, sourceNormal);
+      const double factor = pointToPolygonFormFactor(x, xNormal, polygon, sourceNormal);
+      ASSERT_GT(factor, 0.01);
+      EXPECT_NEAR(w[0] + w[1] + w[2] + w[3], factor, 1e-9 * factor);
+      for (std::size_t c = 0; c < polygon.size(); ++c)
+        EXPECT_NEAR(w[c], direct[c], 2e-3 * factor) << (quad ? "quad" : "triangle") << " corner " << c << " at " << x.x << ',' << x.y << ',' << x.z;
+      if (!quad) {
+        EXPECT_EQ(w[3], 0.0);
       }
-    const std::array<double, 4> w = cornerFormFactors(x, xNormal, polygon, sourceNormal);
-    const double factor = pointToPolygonFormFactor(x, xNormal, polygon, sourceNormal);
-    EXPECT_NEAR(w[0] + w[1] + w[2] + w[3], factor, 1e-9 * factor);
-    // The point sees the near edge's strip at nearly half its hemisphere: corners 0 and 1 carry
-    // most of it, and they are what a uniform split by area (¼ each) would get wrong.
-    EXPECT_GT(w[0] + w[1], 0.8 * factor);
-    for (std::size_t c = 0; c < polygon.size(); ++c)
-      EXPECT_NEAR(w[c], direct[c], 3e-3 * factor) << (quad ? "quad" : "triangle") << " corner " << c;
-    if (!quad) {
-      EXPECT_EQ(w[3], 0.0);
     }
   }
+  // The point beside the near edge sees its strip at nearly half its hemisphere: corners 0 and 1
+  // carry most of it, and they are what a uniform split by area (¼ each) would get wrong.
+  const std::array<double, 4> w = cornerFormFactors(points[0].x, points[0].normal, std::vector<Vec3>{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, sourceNormal);
+  EXPECT_GT(w[0] + w[1], 0.8 * (w[0] + w[1] + w[2] + w[3]));
 }
 
 TEST(KernelTest, TriangleSamplingIsUniformAndInside) {
