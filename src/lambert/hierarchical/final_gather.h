@@ -68,8 +68,8 @@ struct GatherVisibility {
   const double* find(std::uint32_t vertex, std::uint32_t link, std::uint32_t flaggedSource) const;
 };
 
-// What FinalGather::coupleNearField did: its Jacobi steps, whether they converged (if not, the
-// uncoupled gather was returned) and the rows its contraction bound scaled.
+// What FinalGather::coupleNearField did: its BiCGSTAB iterations, whether they converged (if not,
+// the uncoupled gather was returned) and the rows its contraction bound scaled.
 inline constexpr int kNearFieldMaxIterations = 1000;
 inline constexpr double kNearFieldTolerance = 1e-6;
 struct NearFieldCoupling {
@@ -126,10 +126,10 @@ class FinalGather {
   static std::vector<Rgb> withCorners(const std::vector<Rgb>& gathered, const NearFieldWeights& near,
                                       const std::vector<Rgb>& cornerRadiosity);
   // The irradiance at every vertex with each close leaf source's light taken from its corners'
-  // radiosities, B_u = emitted_u + ρ_u (E_u + direct_u) (per vertex, W/m²), solved by Jacobi
-  // iteration from `gathered` (the gather's result with B̄_s) until no radiosity changes by more
-  // than kNearFieldTolerance of the largest. Rows whose ρ Σ w exceed the solve's contraction
-  // bound are scaled to it, so that every step contracts; should the iteration still not
+  // radiosities, B_u = emitted_u + ρ_u (E_u + direct_u) (per vertex, W/m²), solved by BiCGSTAB
+  // (Eigen, matrix-free) from `gathered` (the gather's result with B̄_s) until the residual is
+  // kNearFieldTolerance of the right-hand side's. Rows whose ρ Σ w exceed the solve's contraction
+  // bound are scaled to it, so that the system has one solution; should the solver still not
   // converge within kNearFieldMaxIterations, `gathered` itself is returned (each close source at
   // its mean) and report says so. Returns the irradiance from the surfaces (direct light from
   // the lights not included); report, if given, receives what the coupling did.

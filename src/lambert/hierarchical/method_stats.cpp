@@ -67,7 +67,7 @@ void HierarchicalMethod::addStats(Stats& stats) const {
     stats.add("gather_rays_max", "final gather: visibility rays at one vertex (most)", count(gatherCounts_.maxVisibilityRays));
     stats.add("gather_visibility_cached", "final gather: visibility values read from the cache", count(gatherCounts_.visibilityKnown));
     stats.add("gather_near_weights", "final gather: corner weights of sources seen from close by", count(nearFieldWeights_));
-    stats.add("gather_near_iterations", "final gather: Jacobi steps coupling those corners", count(nearFieldCoupling_.iterations));
+    stats.add("gather_near_iterations", "final gather: BiCGSTAB iterations coupling those corners", count(nearFieldCoupling_.iterations));
     stats.add("gather_near_converged", "final gather: whether those steps converged (else the leaves' means are shown)",
               std::string(nearFieldCoupling_.converged ? "yes" : "no"));
     stats.add("gather_near_rows_scaled", "final gather: vertices whose close sources' weights the contraction bound scaled",
