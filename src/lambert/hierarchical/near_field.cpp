@@ -1,11 +1,8 @@
 // The close sources' corners (hierarchical/final_gather.h): the irradiance at sites whose close
 // leaf sources take their light from their corners' radiosities, and the linear system that
-// couples those corners at the vertices (BiCGSTAB, matrix-free). Its own file: the near field's one step after the
-// gather, which vertex and point outputs alike take.
+// couples those corners at the vertices (solve/krylov.h). Its own file: the near field's one step
+// after the gather, which vertex and point outputs alike take.
 #include "lambert/hierarchical/final_gather.h"
-
-#include <Eigen/Core>
-#include <Eigen/IterativeLinearSolvers>
 
 #include <algorithm>
 #include <cmath>
@@ -13,78 +10,8 @@
 #include "lambert/core/error.h"
 #include "lambert/core/parallel.h"
 #include "lambert/hierarchical/final_gather_outputs.h"
+#include "lambert/solve/krylov.h"
 #include "lambert/solve/row_contraction.h"
-
-namespace lambert {
-namespace {
-
-// (I − D W) x over the three channels stacked (x[3v + c]): W the vertices' near-field weights on
-// their close sources' corners, D per row and channel ρ times the row's contraction scale.
-// Applied as Eigen's iterative solvers ask of a matrix-free operator.
-class NearFieldOperator;
-
-}  // namespace
-}  // namespace lambert
-
-namespace Eigen::internal {
-template <>
-struct traits<lambert::NearFieldOperator> : public traits<Eigen::SparseMatrix<double>> {};
-}  // namespace Eigen::internal
-
-namespace lambert {
-namespace {
-
-class NearFieldOperator : public Eigen::EigenBase<NearFieldOperator> {
- public:
-  using Scalar = double;
-  using RealScalar = double;
-  using StorageIndex = int;
-  enum { ColsAtCompileTime = Eigen::Dynamic, MaxColsAtCompileTime = Eigen::Dynamic, IsRowMajor = false };
-
-  NearFieldOperator(const NearFieldWeights& near, std::vector<double> scale) : near_(near), scale_(std::move(scale)) {}
-  Eigen::Index rows() const { return static_cast<Eigen::Index>(scale_.size()); }
-  Eigen::Index cols() const { return rows(); }
-  template <typename Rhs>
-  Eigen::Product<NearFieldOperator, Rhs, Eigen::AliasFreeProduct> operator*(const Eigen::MatrixBase<Rhs>& x) const {
-    return Eigen::Product<NearFieldOperator, Rhs, Eigen::AliasFreeProduct>(*this, x.derived());
-  }
-  // y += alpha (I − D W) x
-  void addProduct(double* y, const double* x, double alpha) const {
-    const std::size_t n = near_.start.size() - 1;
-    parallelFor(0, n, [&](std::size_t v) {
-      double sum[3] = {0, 0, 0};
-      for (std::uint32_t k = near_.start[v]; k < near_.start[v + 1]; ++k) {
-        const double* b = x + 3 * static_cast<std::size_t>(near_.corner[k]);
-        const double w = near_.weight[k];
-        sum[0] += w * b[0];
-        sum[1] += w * b[1];
-        sum[2] += w * b[2];
-      }
-      for (int c = 0; c < 3; ++c) y[3 * v + c] += alpha * (x[3 * v + c] - scale_[3 * v + c] * sum[c]);
-    }, 1024);
-  }
-
- private:
-  const NearFieldWeights& near_;
-  std::vector<double> scale_;
-};
-
-}  // namespace
-}  // namespace lambert
-
-namespace Eigen::internal {
-template <typename Rhs>
-struct generic_product_impl<lambert::NearFieldOperator, Rhs, SparseShape, DenseShape, GemvProduct>
-    : generic_product_impl_base<lambert::NearFieldOperator, Rhs, generic_product_impl<lambert::NearFieldOperator, Rhs>> {
-  template <typename Dest>
-  static void scaleAndAddTo(Dest& dst, const lambert::NearFieldOperator& lhs, const Rhs& rhs, const double& alpha) {
-    const Eigen::VectorXd x = rhs;  // contiguous
-    Eigen::VectorXd y = Eigen::VectorXd::Zero(dst.size());
-    lhs.addProduct(y.data(), x.data(), alpha);
-    dst += y;
-  }
-};
-}  // namespace Eigen::internal
 
 namespace lambert {
 
@@ -148,18 +75,24 @@ std::vector<Rgb> FinalGather::coupleNearField(const std::vector<Rgb>& gathered, 
     }
   }
   Eigen::VectorXd radiosity = start;
-  if (near.size() > 0 && rhs.allFinite() && start.allFinite()) {
-    const NearFieldOperator system(near, std::move(scale));
-    Eigen::BiCGSTAB<NearFieldOperator, Eigen::IdentityPreconditioner> solver;
-    solver.compute(system);
-    solver.setMaxIterations(kNearFieldMaxIterations);
-    // Relative to the right-hand side's norm: the largest radiosity's share, as the steps were.
-    solver.setTolerance(kNearFieldTolerance);
-    radiosity = solver.solveWithGuess(rhs, start);
-    done.iterations = static_cast<int>(solver.iterations());
-    done.converged = solver.info() == Eigen::Success && radiosity.allFinite();
-  } else if (near.size() > 0) {
-    done.converged = false;
+  if (near.size() > 0) {
+    // M x = D W x over the three channels stacked (x[3v + c]), D per row and channel ρ times the
+    // row's contraction scale.
+    const auto applyM = [&](const double* x, double* y) {
+      parallelFor(0, n, [&](std::size_t v) {
+        double sum[3] = {0, 0, 0};
+        for (std::uint32_t k = near.start[v]; k < near.start[v + 1]; ++k) {
+          const double* b = x + 3 * static_cast<std::size_t>(near.corner[k]);
+          const double w = near.weight[k];
+          for (int c = 0; c < 3; ++c) sum[c] += w * b[c];
+        }
+        for (int c = 0; c < 3; ++c) y[3 * v + c] = scale[3 * v + c] * sum[c];
+      }, 1024);
+    };
+    // The residual's norm within kNearFieldTolerance of the right-hand side's.
+    const KrylovReport krylov = solveIdentityMinus(applyM, rhs, radiosity, kNearFieldTolerance * rhs.norm(), kNearFieldMaxIterations);
+    done.iterations = krylov.iterations;
+    done.converged = krylov.converged;
   }
   if (report) *report = done;
   // Not converged (weights no bound can tame: not finite), the uncoupled gather, each close
