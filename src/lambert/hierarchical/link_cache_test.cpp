@@ -165,6 +165,36 @@ TEST(LinkCacheTest, GatherVisibilityIsReadBackAndGivesTheSameBits) {
   EXPECT_EQ(shifted.count("gather_irradiance_reads"), 0);
 }
 
+// Within one process, a vertex output asked again for the same solution (Python's
+// vertex_radiance then vertex_values, a picture then its glb) reuses the last gather: the same
+// bits, nothing gathered. After the lights move and the scene is solved again, the gather runs
+// anew and matches an engine that went the same way without asking for vertices in between.
+TEST(LinkCacheTest, ARepeatedVertexOutputReusesTheLastGather) {
+  RadiosityOptions off = options(scratch("gather-reuse") / "cache");
+  off.cacheDirectory.clear();
+  const GatheredRun run = gather(off);
+  EXPECT_EQ(run.count("gather_reused"), 0);
+  EXPECT_GT(run.number("gather_sources_per_vertex"), 0.0);
+  const std::vector<Rgb> irradiance = run.engine->solution().vertexValues(VertexQuantity::Irradiance);
+  EXPECT_EQ(run.engine->solution().vertexValues(VertexQuantity::Radiosity), run.vertices);
+  EXPECT_EQ(run.count("gather_reused"), 2);
+  EXPECT_EQ(run.number("gather_sources_per_vertex"), 0.0);  // nothing gathered
+  EXPECT_NE(irradiance, run.vertices);
+
+  std::vector<Light> lights = run.engine->lights();
+  lights.at(0).position += Vec3{30, 0, -20};
+  run.engine->setLights(lights);
+  ASSERT_TRUE(run.engine->solve().ok());
+  const std::vector<Rgb> moved = run.engine->solution().vertexValues(VertexQuantity::Radiosity);
+  EXPECT_EQ(run.count("gather_reused"), 2);
+  EXPECT_NE(moved, run.vertices);
+  auto fresh = std::move(*Radiosity::create(cornellBoxWithSpots(), off));
+  ASSERT_TRUE(fresh->solve().ok());
+  fresh->setLights(lights);
+  ASSERT_TRUE(fresh->solve().ok());
+  EXPECT_EQ(fresh->solution().vertexValues(VertexQuantity::Radiosity), moved);
+}
+
 // The gather's irradiance file answers a gather only for the input that made it: the same node
 // radiosity and the same visibility values. A second run of the same solve reads it and writes the
 // same vertex values as an uncached run; what it holds is what that run uses; a run whose

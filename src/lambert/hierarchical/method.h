@@ -123,6 +123,18 @@ class HierarchicalMethod final : public Method {
   mutable std::size_t nearFieldWeights_ = 0;
   mutable NearFieldCoupling nearFieldCoupling_;
   mutable double gatherSeconds_ = 0;
+  // The last vertex gather's coupled result and its input's digest (the node means, the vertices'
+  // direct light, emission and albedo, the leaf mesh and links it ran over): a later call with
+  // the same input in this process (Python's vertex_radiance then vertex_values, a picture then
+  // its glb) reuses it instead of gathering again.
+  struct LastVertexGather {
+    std::uint64_t inputDigest = 0;
+    const Links* links = nullptr;
+    int leafMeshGeneration = -1;
+    std::shared_ptr<const std::vector<Rgb>> gathered;
+  };
+  mutable LastVertexGather lastVertexGather_;
+  mutable std::uint64_t gatherReuses_ = 0;  // vertex outputs answered by it
   // vertexValues' interpolation over the leaf mesh, made once per leaf mesh (lightmap updates
   // call it every frame): leafMeshGeneration_ counts the leaf meshes (and their open fractions).
   int leafMeshGeneration_ = 0;

@@ -72,6 +72,7 @@ void HierarchicalMethod::addStats(Stats& stats) const {
               std::string(nearFieldCoupling_.converged ? "yes" : "no"));
     stats.add("gather_near_rows_scaled", "final gather: vertices whose close sources' weights the contraction bound scaled",
               count(nearFieldCoupling_.rowsScaled));
+    stats.add("gather_reused", "final gather: vertex outputs answered by this process's last gather (the same input)", count(gatherReuses_));
     stats.add("gather_seconds", "final gather time (last: sites, gather, direct light at the vertices)", gatherSeconds_, "s");
   }
 }

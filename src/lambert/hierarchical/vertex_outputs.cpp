@@ -58,9 +58,29 @@ std::vector<std::vector<Rgb>> HierarchicalMethod::vertexSolution(const ElementSo
   }, 64);
   NearFieldWeights near;
   NearFieldCoupling coupling;
-  const std::vector<Rgb> gathered =
-      ranks_.acrossRanks() ? ranks_.gatherAtVertices(gather, mean, direct, emitted, albedo, counts, near, &coupling)
-                           : gatherAtVertices(gather, mean, direct, emitted, albedo, counts, near, coupling);
+  // A distributed gather always runs: every rank takes part in its exchanges.
+  const std::uint64_t inputDigest = ranks_.acrossRanks() ? 0 : gatherInputDigest(mean, 0, {&direct, &emitted, &albedo});
+  std::shared_ptr<const std::vector<Rgb>> reused;
+  {
+    const std::lock_guard<std::mutex> lock(gatherMutex_);
+    const LastVertexGather& last = lastVertexGather_;
+    if (!ranks_.acrossRanks() && last.gathered && last.inputDigest == inputDigest && last.links == links_.get() &&
+        last.leafMeshGeneration == leafMeshGeneration_)
+      reused = last.gathered;
+  }
+  const bool gatheredBefore = reused != nullptr;
+  if (gatheredBefore) {
+    // Nothing gathered (as a result read from the irradiance file counts), the coupling shown.
+    for (std::uint32_t l : leaf) counts.vertices += l != kNoNode;
+    const std::lock_guard<std::mutex> lock(gatherMutex_);
+    coupling = nearFieldCoupling_;
+    ++gatherReuses_;
+  }
+  const std::vector<Rgb>& gathered =
+      reused ? *reused
+             : *(reused = std::make_shared<const std::vector<Rgb>>(
+                     ranks_.acrossRanks() ? ranks_.gatherAtVertices(gather, mean, direct, emitted, albedo, counts, near, &coupling)
+                                          : gatherAtVertices(gather, mean, direct, emitted, albedo, counts, near, coupling)));
   if (!coupling.converged)
     warning("the final gather's close sources did not converge in " + std::to_string(coupling.iterations) +
             " steps: their leaves' means are shown instead of their corners' values");
@@ -90,9 +110,10 @@ std::vector<std::vector<Rgb>> HierarchicalMethod::vertexSolution(const ElementSo
   }
   const std::lock_guard<std::mutex> lock(gatherMutex_);
   gatherCounts_ = counts;
-  nearFieldWeights_ = near.size();
+  if (!gatheredBefore) nearFieldWeights_ = near.size();
   nearFieldCoupling_ = coupling;
   gatherSeconds_ = gatherTimer.seconds();
+  if (!ranks_.acrossRanks()) lastVertexGather_ = {inputDigest, links_.get(), leafMeshGeneration_, reused};
   return out;
 }
 
