@@ -184,6 +184,46 @@ TEST(KernelTest, CornerFormFactorsMatchTheKernelIntegratedAgainstEachCornersWeig
   EXPECT_GT(w[0] + w[1], 0.8 * (w[0] + w[1] + w[2] + w[3]));
 }
 
+// The quadrature where it is used against the contour integral: random quads and triangles,
+// points in random directions at 10 to 1,000 times their bounding radius, random normals; each
+// within 0.13% (measured worst 0.13% for triangles at the 10× threshold). Closer, or straddling
+// the point's horizon, it is the contour integral itself.
+TEST(KernelTest, FarPolygonsByQuadrature) {
+  Pcg32 rng(7, 1);
+  const auto uniform = [&] { return 2 * rng.nextDouble() - 1; };
+  double worst = 0;
+  int used = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const bool quad = trial % 2 == 0;
+    const std::vector<Vec3> polygon = quad ? std::vector<Vec3>{{-0.5, -0.3, 0}, {0.5 + 0.2 * uniform(), -0.3, 0}, {0.5, 0.4 + 0.2 * uniform(), 0}, {-0.5 + 0.2 * uniform(), 0.4, 0}}
+                                           : std::vector<Vec3>{{-0.5, -0.3, 0}, {0.6 * uniform() + 0.5, -0.3, 0}, {0.3 * uniform(), 0.6, 0}};
+    Vec3 centre;
+    for (const Vec3& p : polygon) centre += p;
+    centre = centre / static_cast<double>(polygon.size());
+    double radius = 0;
+    for (const Vec3& p : polygon) radius = std::fmax(radius, length(p - centre));
+    const Vec3 direction = normalize(Vec3{uniform(), uniform(), std::fabs(uniform()) + 0.05});
+    const Vec3 x = centre + direction * (radius * std::pow(10.0, 1.0 + 2.0 * rng.nextDouble()));
+    const Vec3 n = normalize(Vec3{uniform(), uniform(), uniform()});
+    const double exact = pointToPolygonFormFactor(x, n, polygon, {0, 0, 1});
+    const double fast = pointToPolygonFormFactorFast(x, n, polygon, {0, 0, 1});
+    if (!(exact > 0)) {
+      EXPECT_EQ(fast, exact);
+      continue;
+    }
+    ++used;
+    worst = std::fmax(worst, std::fabs(fast - exact) / exact);
+  }
+  EXPECT_GT(used, 5000);
+  EXPECT_LT(worst, 1.4e-3);
+  EXPECT_GT(worst, 1e-6);  // the quadrature was used, not the contour integral everywhere
+  // Close by, or straddling the horizon: exact.
+  const std::vector<Vec3> square{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  EXPECT_EQ(pointToPolygonFormFactorFast({0.5, 0.5, 2}, {0, 0, -1}, square, {0, 0, 1}), pointToPolygonFormFactor({0.5, 0.5, 2}, {0, 0, -1}, square, {0, 0, 1}));
+  EXPECT_EQ(pointToPolygonFormFactorFast({0.5, 0.5, 20}, {1, 0, 0}, square, {0, 0, 1}),
+            pointToPolygonFormFactor({0.5, 0.5, 20}, {1, 0, 0}, square, {0, 0, 1}));
+}
+
 TEST(KernelTest, TriangleSamplingIsUniformAndInside) {
   std::array<Vec3, 3> tri{Vec3{0, 0, 0}, Vec3{2, 0, 0}, Vec3{0, 1, 0}};
   Pcg32 rng(3, 4);

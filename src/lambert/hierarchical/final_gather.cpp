@@ -294,7 +294,7 @@ class FinalGather::SiteGather {
   Term evaluate(std::uint32_t k, std::uint32_t s, bool resolvesVisibility) {
     const HierarchyNode& source = g_.hierarchy_.node(s);
     ++tally_[0];
-    Term term{k, s, resolvesVisibility, pointToPolygonFormFactor(site_.point, site_.normal, source.polygon(), source.normal), 0, false};
+    Term term{k, s, resolvesVisibility, pointToPolygonFormFactorFast(site_.point, site_.normal, source.polygon(), source.normal), 0, false};
     if (!(term.factor > 0)) return term;
     if (resolvesVisibility) {
       term.seen = seenFrom(k, s, false);

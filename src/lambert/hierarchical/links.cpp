@@ -50,12 +50,12 @@ ElementFactor meanFormFactor(const HierarchyNode& r, const HierarchyNode& s) {
   if (r.numCorners == 3) {
     for (int k = 0; k < 3; ++k) {
       const Vec3 x = p[k] * (2.0 / 3.0) + p[(k + 1) % 3] * (1.0 / 6.0) + p[(k + 2) % 3] * (1.0 / 6.0);
-      values[count++] = pointToPolygonFormFactor(x, r.normal, s.polygon(), s.normal);
+      values[count++] = pointToPolygonFormFactorFast(x, r.normal, s.polygon(), s.normal);
     }
   } else {
     constexpr double a = 0.5 - 0.28867513459481287, b = 0.5 + 0.28867513459481287;  // 1/2 ∓ 1/(2√3)
     for (double u : {a, b})
-      for (double v : {a, b}) values[count++] = pointToPolygonFormFactor(lerp(lerp(p[0], p[1], u), lerp(p[3], p[2], u), v), r.normal, s.polygon(), s.normal);
+      for (double v : {a, b}) values[count++] = pointToPolygonFormFactorFast(lerp(lerp(p[0], p[1], u), lerp(p[3], p[2], u), v), r.normal, s.polygon(), s.normal);
   }
   ElementFactor f;
   double lo = values[0], hi = values[0];
@@ -68,7 +68,7 @@ ElementFactor meanFormFactor(const HierarchyNode& r, const HierarchyNode& s) {
   // well inside, and a factor that falls off sharply at the element's rim (a wall's top row
   // below a ceiling light) would not show in them.
   for (std::size_t k = 0; k < r.numCorners; ++k) {
-    const double value = pointToPolygonFormFactor(lerp(p[k], r.centre, 0.01), r.normal, s.polygon(), s.normal);
+    const double value = pointToPolygonFormFactorFast(lerp(p[k], r.centre, 0.01), r.normal, s.polygon(), s.normal);
     lo = std::fmin(lo, value);
     hi = std::fmax(hi, value);
   }
@@ -456,7 +456,7 @@ LinkEstimator::ClusterSample LinkEstimator::sampleCluster(const Candidate& c, co
     const HierarchyNode& g = h_.node(onReceiver.element);
     const HierarchyNode& f = h_.node(onSource.element);
     const Vec3 x = sampleConvexPolygon(g.polygon(), u1, v1);
-    const double factor = pointToPolygonFormFactor(x, g.normal, f.polygon(), f.normal);
+    const double factor = pointToPolygonFormFactorFast(x, g.normal, f.polygon(), f.normal);
     if (!(factor > 0)) {
       ++nonFacing;
       continue;
