@@ -29,7 +29,7 @@ test: build
 	@cd $(BUILD_DIR) && ctest --output-on-failure -j$(JOBS)
 
 # Benchmarks: one JSON document on stdout, {"pipeline": …, "dynamic": …, "load": …, "hierarchical": …, "default_method": …,
-# "viewer": …, "atlas": …, "lightmap": …, "lightmap_update": …, "illuminance": …, "distributed": …, "corpus": …, "office": …, "accuracy": …}, each part also in out/bench/; the micro-benchmarks' table goes to stderr and their JSON to
+# "viewer": …, "atlas": …, "lightmap": …, "lightmap_room": …, "lightmap_update": …, "illuminance": …, "distributed": …, "corpus": …, "office": …, "accuracy": …}, each part also in out/bench/; the micro-benchmarks' table goes to stderr and their JSON to
 # out/bench/micro.json. default_method times whole `lambert` processes (Cornell box against a cached path-traced
 # reference, RenderPark beside it where ../rpk/src/build/rpk or RENDERPARK is built, buildings to 10^6 faces, the link
 # cache); BENCH_FLAGS passes it options, e.g. BENCH_FLAGS=--no-million.
@@ -53,6 +53,7 @@ bench: build
 	@python3 bench/corpus_bench.py --lambert $(LAMBERT) --atlas-bench $(BUILD_DIR)/bin/atlas_bench > out/bench/corpus.json
 	@$(BUILD_DIR)/bin/atlas_bench > out/bench/atlas.json
 	@$(BUILD_DIR)/bin/lightmap_bench > out/bench/lightmap.json
+	@python3 bench/lightmap_room_bench.py --lambert $(LAMBERT) > out/bench/lightmap_room.json
 	@$(BUILD_DIR)/bin/lightmap_update_bench > out/bench/lightmap_update.json
 	@$(BUILD_DIR)/bin/illuminance_bench > out/bench/illuminance.json
 	@if command -v mpirun > /dev/null; then python3 bench/distributed_bench.py --lambert $(LAMBERT) > out/bench/distributed.json; \
@@ -65,7 +66,8 @@ bench: build
 	  printf ', "load": ' && cat out/bench/load.json && printf ', "hierarchical": ' && cat out/bench/hierarchical.json && \
 	  printf ', "default_method": ' && cat out/bench/default_method.json && \
 	  printf ', "viewer": ' && cat out/bench/viewer.json && printf ', "atlas": ' && cat out/bench/atlas.json && \
-	  printf ', "lightmap": ' && cat out/bench/lightmap.json && printf ', "lightmap_update": ' && cat out/bench/lightmap_update.json && \
+	  printf ', "lightmap": ' && cat out/bench/lightmap.json && printf ', "lightmap_room": ' && cat out/bench/lightmap_room.json && \
+	  printf ', "lightmap_update": ' && cat out/bench/lightmap_update.json && \
 	  printf ', "illuminance": ' && cat out/bench/illuminance.json && printf ', "distributed": ' && cat out/bench/distributed.json && \
 	  printf ', "corpus": ' && cat out/bench/corpus.json && printf ', "office": ' && cat out/bench/office.json && \
 	  printf ', "accuracy": ' && cat out/bench/accuracy.json && printf '}\n'

@@ -222,9 +222,15 @@ def main():
         row["wall_seconds_runs"] = walls
         row["peak_rss_mib"] = max((r["rss"] for r in runs if r["rss"] is not None), default=None)
         for key in ("faces", "elements", "links", "converged", "iterations", "residual", "emitted_watts", "exposure_stops",
-                    "inject_seconds", "light_edge_seconds"):
+                    "inject_seconds", "light_edge_seconds", "link_seconds", "solve_seconds", "gather_seconds", "render_seconds",
+                    "total_seconds"):
             if key in stats:
                 row[key] = stats[key]
+        if "gather_seconds" in stats and "render_seconds" in stats and "total_seconds" in stats:
+            # The final gather against everything before the picture (load, links, solve): issue
+            # "a picture as fast as the solve" asks for at most 1.
+            before = stats["total_seconds"] - stats["render_seconds"]
+            row["gather_over_solve"] = round(stats["gather_seconds"] / max(before, 1e-9), 3)
         if "inject_seconds" in stats:  # the lights' direct light (a sky's most of all): its share of the process
             row["inject_share_of_wall"] = round(stats["inject_seconds"] / max(row["wall_seconds_median"], 1e-9), 3)
         row["warnings"] = len(stats.get("warnings", []))

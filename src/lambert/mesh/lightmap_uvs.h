@@ -24,9 +24,10 @@
 namespace lambert {
 
 struct LightmapUvOptions {
-  // Scene units per texel (`--texel-size`, converted from metres by the caller). 0: the smallest
-  // at which the generated charts fit one atlas of atlasSize (defaultTexelSize for 1024), or,
-  // for the file's coordinates, an atlas of atlasSize.
+  // Scene units per texel (`--texel-size`, converted from metres by the caller). 0: the scene's
+  // lightmaps hold about one atlas of atlasSize's texels: the smallest texel size at which the
+  // generated charts fit one atlas (defaultTexelSize for 1024), or for the file's coordinates
+  // the largest power of two at which its atlases together hold no more.
   double texelSize = 0;
   // Texels per side of each atlas, at most (`--lightmap-size`): with a texel size given, the
   // atlas is the smallest power of two that holds every chart, or several of atlasSize.

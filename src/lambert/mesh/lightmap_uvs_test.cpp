@@ -557,6 +557,19 @@ TEST(LightmapUvsTest, GltfTexcoord1IsReadAndUsed) {
   EXPECT_EQ(two->numAtlases, 2);
   EXPECT_NE(two->atlas[0][0], two->atlas[1][0]);
   expectValidLayout(*twice, *two);
+  // By default the atlases together hold about one 1024² atlas's texels: two of 512², five of
+  // 256² (not five of 1024², as Blender's Lightmap Pack per object gave a small room 5 mm texels).
+  EXPECT_EQ(two->size, 512);
+  const std::vector<std::array<Uv, 4>> five(5, std::array<Uv, 4>{{{0, 0}, {1, 0}, {1, 1}, {0, 1}}});
+  Result<Scene> fiveTimes = loadScene(writeSquaresGltf(dir, five));
+  ASSERT_TRUE(fiveTimes.ok());
+  Result<LightmapUvs> fiveAtlases = lightmapUvs(*fiveTimes);
+  EXPECT_EQ(fiveAtlases->numAtlases, 5);
+  EXPECT_EQ(fiveAtlases->size, 256);
+  // A texel size asked for is kept: 1/1024 of a unit square's width needs 1024².
+  LightmapUvOptions fine;
+  fine.texelSize = 1.0 / 1024;
+  EXPECT_EQ(lightmapUvs(*fiveTimes, fine)->size, 1024);
 
   // A square folded over its diagonal in the set: rejected, saying so, and generated.
   const std::vector<std::array<Uv, 4>> folded = {{{{0, 0}, {0.5, 0}, {0.5, 0.5}, {0.6, 0.2}}}};
