@@ -13,9 +13,11 @@ gets an empty cache directory of its own (XDG_CACHE_HOME), so no run reads what 
                solve's own exported vertices, and that reference's own noise beside it.
   renderpark   RenderPark's Galerkin hierarchical radiosity with clustering (its defaults) on the
                same box, written as MGF in RenderPark's colour model, at several ε, its error
-               against the same kind of reference at its own element corners, and lambert's speed
-               ratio at RenderPark's best error (lambert's time interpolated, log-log, along its
-               curve of time against error over --curve-link-errors). Skipped, with the reason,
+               against the same kind of reference at its own element corners (and with the corners
+               elements share averaged, as its Gouraud display shows them: the error the ratio is
+               taken at), and lambert's speed ratio at RenderPark's best error (lambert's time
+               interpolated, log-log, along its curve of time against error over
+               --curve-link-errors). Skipped, with the reason,
                where RenderPark is not built beside the project.
   building     generated buildings (`lambert generate building --rooms N --face-size 0.25`),
                whole-process `lambert solve`, peak memory, and the growth exponent of time in
@@ -377,9 +379,9 @@ def read_renderpark_vrml(path, scale, metres=1.0):
 
 def averaged_at_shared_corners(references, vertices, samples, scratch):
     """The error when the corners elements share (same point and normal) are averaged on both
-    sides: a smoothing RenderPark itself does not do (it draws each element with its own corner
-    values), reported beside the per-corner error for comparison. The averaged reference has more
-    samples per point than the per-corner one, so the per-corner noise is an upper bound."""
+    sides, as RenderPark's Gouraud display smooths them: RenderPark's best showing, the error the
+    speed ratio is taken at. The averaged reference has more samples per point than the
+    per-corner one, so the per-corner noise is an upper bound."""
     reference, _ = references.reference("cornell", vertices, samples)
     header, mine = read_vertices(vertices)
     _, truth = read_vertices(reference)
@@ -479,10 +481,13 @@ def renderpark_errors(args, references, scratch, result, curve):
     for row in rows:
         row.update(references.error("cornell", row["vertices_file"], args.curve_samples))
         row["shared_corners_averaged"] = averaged_at_shared_corners(references, row["vertices_file"], args.curve_samples, scratch)
-    best = min(rows, key=lambda r: r["vertex_relative_rmse"])
-    result["best"] = {"epsilon": best["epsilon"], "vertex_relative_rmse": best["vertex_relative_rmse"],
-                      "wall_seconds_median": best["wall_seconds"]["median"]}
-    lambert_seconds = interpolate_time(curve, best["vertex_relative_rmse"])
+    # RenderPark at its best showing: its corners averaged where elements share them, as its own
+    # Gouraud display smooths them (per corner, its error is larger and the ratio flattered lambert).
+    best = min(rows, key=lambda r: r["shared_corners_averaged"]["vertex_relative_rmse"])
+    best_error = best["shared_corners_averaged"]["vertex_relative_rmse"]
+    result["best"] = {"epsilon": best["epsilon"], "vertex_relative_rmse": best_error, "per_corner_vertex_relative_rmse": best["vertex_relative_rmse"],
+                      "wall_seconds_median": best["wall_seconds"]["median"], "compared": "RenderPark's corners averaged where elements share them"}
+    lambert_seconds = interpolate_time(curve, best_error)
     if lambert_seconds is None:
         result["speed_ratio"] = None
         result["speed_ratio_why_not"] = "RenderPark's best error lies outside lambert's curve; widen --curve-link-errors"

@@ -44,7 +44,8 @@ for run in rpk["runs"]:
           f"reference noise {run['reference_noise']}")
     check(run["vertices_compared"] > 1000, f"ε {run['epsilon']}: {run['vertices_compared']} vertices compared")
 check(max(abs(s / rpk["tone_map_scale"][0] - 1) for s in rpk["tone_map_scale"]) < 0.01, f"tone map scales {rpk['tone_map_scale']}")
-check(rpk["best"]["vertex_relative_rmse"] == min(r["vertex_relative_rmse"] for r in rpk["runs"]), f"best {rpk['best']}")
+# The best ε by RenderPark's best showing: its shared corners averaged, as its Gouraud display does.
+check(rpk["best"]["vertex_relative_rmse"] == min(r["shared_corners_averaged"]["vertex_relative_rmse"] for r in rpk["runs"]), f"best {rpk['best']}")
 check("speed_ratio" in rpk and (rpk["speed_ratio"] is None) == ("speed_ratio_why_not" in rpk), "the speed ratio or why there is none")
 print("default_method_bench_test: RenderPark comparison passed")
 PY
