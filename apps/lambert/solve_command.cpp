@@ -76,6 +76,8 @@ LightmapBakeOptions lightmapBakeOptions(const Scene& scene, const LightmapComman
   options.showProgress = !solve.quiet && !solve.json;
   options.uvs.texelSize = o.texelSizeMetres / scene.metresPerUnit;  // 0 stays 0: the library's default
   options.uvs.atlasSize = o.size;
+  // A size asked for is each atlas's: a file's own UVs were packed for it.
+  options.uvs.fileSetsShareAtlas = !o.given("--lightmap-size");
   options.uvs.paddingTexels = o.padding;
   return options;
 }
@@ -250,7 +252,7 @@ std::function<int()> addSolveCommand(CLI::App& app) {
   cmd->add_option("--texel-size", lightmaps.texelSizeMetres, "With --lightmaps: lightmap texel size in metres")
       ->check(CLI::Range(1e-6, 1e6))
       ->default_str("from the scene's size");
-  cmd->add_option("--lightmap-size", lightmaps.size, "With --lightmaps: texels per side of each atlas, at most (more atlases when one is full)")
+  cmd->add_option("--lightmap-size", lightmaps.size, "With --lightmaps: texels per side of each atlas, at most (more atlases when one is full); given, also each atlas of the file's own lightmap UVs (else they share one of 1024²)")
       ->check(CLI::Range(16, 16384))
       ->capture_default_str();
   cmd->add_option("--lightmap-padding", lightmaps.padding, "With --lightmaps: empty texels kept around each chart")

@@ -88,6 +88,7 @@ int runView(const ViewCommandOptions& o) {
   v.display.lightmaps = o.lightmaps;
   v.display.probes = o.probes;
   v.bake.uvs.atlasSize = o.lightmapSize;
+  v.bake.uvs.fileSetsShareAtlas = !o.given("--lightmap-size");  // as `solve --lightmaps`
   v.bake.probeOptions.spacing = o.probeSpacing;
   if (Result<ProbeVolume> grid = probeGrid(*scene, v.bake.probeOptions); !grid) return fail("view", grid.error().message);
   // The sphere: where asked, else the middle of the scene's box; a 25th of its diagonal across.

@@ -170,7 +170,8 @@ std::string fileSet(const Scene& scene, bool lightmapSet, const LightmapUvOption
   // of 5 mm texels (3.35 M texels, a 505 s bake of a room solved in 0.02 s).
   const double texelsPerUnit = std::sqrt(area2 / area3);  // atlas widths per scene unit
   out.size = options.atlasSize;
-  while (out.size > 16 && static_cast<double>(out.numAtlases) * out.size * out.size > static_cast<double>(options.atlasSize) * options.atlasSize)
+  while (options.fileSetsShareAtlas && out.size > 16 &&
+         static_cast<double>(out.numAtlases) * out.size * out.size > static_cast<double>(options.atlasSize) * options.atlasSize)
     out.size /= 2;
   if (options.texelSize > 0) {
     const double wanted = 1 / (texelsPerUnit * options.texelSize);

@@ -36,6 +36,10 @@ struct LightmapUvOptions {
   // edges (dilation fills them; bilinear filtering reads one texel beyond a chart).
   int paddingTexels = 2;
   bool useFileUvs = true; // false: generate charts even where the file has usable coordinates
+  // Without a texel size, whether a file's own sets share one atlas of atlasSize's texels among
+  // their atlases (true) or get atlasSize each (false: a tool that packed its islands' margins
+  // for that size asks for it, as the Blender add-on does with --lightmap-size).
+  bool fileSetsShareAtlas = true;
 };
 
 struct LightmapUvs {

@@ -566,10 +566,15 @@ TEST(LightmapUvsTest, GltfTexcoord1IsReadAndUsed) {
   Result<LightmapUvs> fiveAtlases = lightmapUvs(*fiveTimes);
   EXPECT_EQ(fiveAtlases->numAtlases, 5);
   EXPECT_EQ(fiveAtlases->size, 256);
-  // A texel size asked for is kept: 1/1024 of a unit square's width needs 1024².
+  // A texel size asked for is kept: 1/1024 of a unit square's width needs 1024². So is an atlas
+  // size asked for each (the CLI's --lightmap-size: a tool packed its margins for it).
   LightmapUvOptions fine;
   fine.texelSize = 1.0 / 1024;
   EXPECT_EQ(lightmapUvs(*fiveTimes, fine)->size, 1024);
+  LightmapUvOptions each;
+  each.atlasSize = 512;
+  each.fileSetsShareAtlas = false;
+  EXPECT_EQ(lightmapUvs(*fiveTimes, each)->size, 512);
 
   // A square folded over its diagonal in the set: rejected, saying so, and generated.
   const std::vector<std::array<Uv, 4>> folded = {{{{0, 0}, {0.5, 0}, {0.5, 0.5}, {0.6, 0.2}}}};
