@@ -44,7 +44,7 @@ struct SolverOptions {
 
 struct SolverReport {
   std::string solver;
-  int iterations = 0;     // sweeps, shots for shooting, 1 for direct
+  int iterations = 0;     // sweeps (Gauss–Seidel's BiCGSTAB finish: two per iteration), shots for shooting, 1 for direct
   double residual = 0;    // max |E + ρFB − B| / max |B|, over patches and channels; NaN if not measured
   double seconds = 0;
   bool converged = false;
