@@ -76,7 +76,9 @@ SolverReport GatheringSolver::solve(const RadiosityProblem& problem, std::vector
     }
     slowSweeps = inPlace_ && step.change > kSlowRatio * previousChange ? slowSweeps + 1 : 0;
     previousChange = step.change;
-    if (slowSweeps >= kSlowSweeps && sweep < options_.maxIterations) {
+    // Not under a time budget (a live view's frame): BiCGSTAB runs to its end without looking at
+    // the clock, where each sweep does.
+    if (slowSweeps >= kSlowSweeps && sweep < options_.maxIterations && !(options_.maxSeconds > 0)) {
       // Each Krylov iteration applies the transport twice: counted as two sweeps.
       const int krylov = finishByKrylov(problem, radiosity, options_.tolerance, (options_.maxIterations - sweep) / 2);
       if (krylov >= 0) {
