@@ -112,8 +112,10 @@ check(building["faces"] > 1000 and building["converged"] == "yes", f"building: {
 # The link cache: the CLI caches the default method's links, so the case must run; the second run
 # of the same solve loads the links, the final gather's visibility values and its irradiance that
 # the first saved, and is faster: measured 7.4 times on the 1-room building (6.9 on the 10⁵-face
-# one, docs/performance.md); a cache written but not read would make it about as slow.
-SPEEDUP_MIN = 3.0
+# one, docs/performance.md), 5.4–7.7 times since the final gather got cheaper (2026-12-07); a
+# cache written but not read would make it about as slow. Timed beside whatever else ctest -j
+# runs, so only a clear margin is asked for: the statuses above are what shows the files read.
+SPEEDUP_MIN = 2.0
 cache = first["link_cache"]
 check(cache["available"] is True, f"link cache not measured: {cache.get('why')}")
 saved, loaded = cache["cache_stats"]["first"], cache["cache_stats"]["second"]
