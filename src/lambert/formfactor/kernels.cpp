@@ -48,16 +48,23 @@ double contourFormFactor(const Vec3& x, const Vec3& xNormal, std::span<const Vec
   return std::fabs(sum) / (2 * kPi);
 }
 
+namespace {
+
+// Only a polygon's front side emits: x must lie in front of its plane by more than 1e-10 of the
+// sizes involved, far above what the rounding of coordinates (1e-15 of them) can put it there and
+// far below any gap a scene models. A point in the polygon's own plane (on a two-sided face's back
+// twin, on a duplicate of the face, on a face lying on another) sees none of it; counted as in
+// front, the contour integral from a point inside the polygon is the whole hemisphere, F = 1.
+bool inFrontOf(const Vec3& x, std::span<const Vec3> polygon, const Vec3& polygonNormal) {
+  const double height = dot(x - polygon[0], polygonNormal);
+  return height > 1e-10 * (length(polygon[1] - polygon[0]) + length(x - polygon[0]));
+}
+
+}  // namespace
+
 double pointToPolygonFormFactor(const Vec3& x, const Vec3& xNormal, std::span<const Vec3> polygon,
                                 const Vec3& polygonNormal) {
-  if (polygon.size() < 3) return 0;
-  // Only the polygon's front side emits: x must lie in front of its plane by more than 1e-10 of
-  // the sizes involved, far above what the rounding of coordinates (1e-15 of them) can put it
-  // there and far below any gap a scene models. A point in the polygon's own plane (on a two-sided face's back twin, on a duplicate of the
-  // face, on a face lying on another) sees none of it; counted as in front, the contour integral
-  // from a point inside the polygon is the whole hemisphere, F = 1.
-  const double height = dot(x - polygon[0], polygonNormal);
-  if (!(height > 1e-10 * (length(polygon[1] - polygon[0]) + length(x - polygon[0])))) return 0;
+  if (polygon.size() < 3 || !inFrontOf(x, polygon, polygonNormal)) return 0;
   // Patches are triangles, so the common case stays on the stack.
   constexpr std::size_t kStackVertices = 8;
   Vec3 stackBuffer[kStackVertices];
@@ -209,9 +216,7 @@ std::array<double, 4> cornerFormFactors(const Vec3& x, const Vec3& xNormal, std:
   const std::size_t m = polygon.size();
   LAMBERT_CHECK(m == 3 || m == 4);
   std::array<double, 4> out{0, 0, 0, 0};
-  // In front of the plane by more than rounding, as pointToPolygonFormFactor asks.
-  const double height = dot(x - polygon[0], polygonNormal);
-  if (!(height > 1e-10 * (length(polygon[1] - polygon[0]) + length(x - polygon[0])))) return out;
+  if (!inFrontOf(x, polygon, polygonNormal)) return out;
   for (std::size_t k = 1; k + 1 < m; ++k) {
     const std::array<Vec3, 3> triangle{polygon[0], polygon[k], polygon[k + 1]};
     Vec3 clipped[4];

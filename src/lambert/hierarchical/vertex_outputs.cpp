@@ -58,29 +58,28 @@ std::vector<std::vector<Rgb>> HierarchicalMethod::vertexSolution(const ElementSo
   }, 64);
   NearFieldWeights near;
   NearFieldCoupling coupling;
-  // A distributed gather always runs: every rank takes part in its exchanges.
+  // The last gather's result where its input is this one's (nothing gathered, as a result read
+  // from the irradiance file counts; the coupling it showed). A distributed gather always runs:
+  // every rank takes part in its exchanges.
   const std::uint64_t inputDigest = ranks_.acrossRanks() ? 0 : gatherInputDigest(mean, 0, {&direct, &emitted, &albedo});
-  std::shared_ptr<const std::vector<Rgb>> reused;
-  {
+  std::shared_ptr<const std::vector<Rgb>> result;
+  if (!ranks_.acrossRanks()) {
     const std::lock_guard<std::mutex> lock(gatherMutex_);
     const LastVertexGather& last = lastVertexGather_;
-    if (!ranks_.acrossRanks() && last.gathered && last.inputDigest == inputDigest && last.links == links_.get() &&
-        last.leafMeshGeneration == leafMeshGeneration_)
-      reused = last.gathered;
+    if (last.gathered && last.inputDigest == inputDigest && last.links == links_.get() && last.leafMeshGeneration == leafMeshGeneration_) {
+      result = last.gathered;
+      coupling = nearFieldCoupling_;
+      ++gatherReuses_;
+    }
   }
-  const bool gatheredBefore = reused != nullptr;
-  if (gatheredBefore) {
-    // Nothing gathered (as a result read from the irradiance file counts), the coupling shown.
+  const bool gatheredBefore = result != nullptr;
+  if (gatheredBefore)
     for (std::uint32_t l : leaf) counts.vertices += l != kNoNode;
-    const std::lock_guard<std::mutex> lock(gatherMutex_);
-    coupling = nearFieldCoupling_;
-    ++gatherReuses_;
-  }
-  const std::vector<Rgb>& gathered =
-      reused ? *reused
-             : *(reused = std::make_shared<const std::vector<Rgb>>(
-                     ranks_.acrossRanks() ? ranks_.gatherAtVertices(gather, mean, direct, emitted, albedo, counts, near, &coupling)
-                                          : gatherAtVertices(gather, mean, direct, emitted, albedo, counts, near, coupling)));
+  else
+    result = std::make_shared<const std::vector<Rgb>>(
+        ranks_.acrossRanks() ? ranks_.gatherAtVertices(gather, mean, direct, emitted, albedo, counts, near, &coupling)
+                             : gatherAtVertices(gather, mean, direct, emitted, albedo, counts, near, coupling));
+  const std::vector<Rgb>& gathered = *result;
   if (!coupling.converged)
     warning("the final gather's close sources did not converge in " + std::to_string(coupling.iterations) +
             " steps: their leaves' means are shown instead of their corners' values");
@@ -113,7 +112,7 @@ std::vector<std::vector<Rgb>> HierarchicalMethod::vertexSolution(const ElementSo
   if (!gatheredBefore) nearFieldWeights_ = near.size();
   nearFieldCoupling_ = coupling;
   gatherSeconds_ = gatherTimer.seconds();
-  if (!ranks_.acrossRanks()) lastVertexGather_ = {inputDigest, links_.get(), leafMeshGeneration_, reused};
+  if (!ranks_.acrossRanks()) lastVertexGather_ = {inputDigest, links_.get(), leafMeshGeneration_, result};
   return out;
 }
 
