@@ -82,6 +82,40 @@ struct ElementHierarchy::FaceKey {
   std::uint32_t face;  // into the constructor's faces
 };
 
+// The oriented box of a cluster's faces (ClusterBounds): along their area-weighted mean normal,
+// each face's normal counted on the first one's side (a two-sided surface's twins would cancel),
+// and the two tangents slabFrame() makes from it; the centre and the half extents rounded so
+// that the box, as stored, holds every corner.
+void ElementHierarchy::setSlab(const std::vector<FaceRoot>& all, std::span<const FaceKey> faces, ClusterBounds& bounds) {
+  Vec3 sum{};
+  for (const FaceKey& f : faces) sum += f.normal * (f.area * (dot(f.normal, faces[0].normal) < 0 ? -1.0 : 1.0));
+  const double l = length(sum);
+  if (!(l > 0)) return;  // slabAxis stays zero: the axis-aligned box alone
+  const Vec3 unit = sum / l;
+  bounds.slabAxis = {static_cast<float>(unit.x), static_cast<float>(unit.y), static_cast<float>(unit.z)};
+  const SlabFrame frame = slabFrame(bounds);
+  const std::array<Vec3, 3> axes = {frame.axis, frame.tangent, frame.bitangent};
+  std::array<double, 3> lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+  for (const FaceKey& f : faces) {
+    const HierarchyNode& e = all[f.face].element;
+    for (std::size_t k = 0; k < e.numCorners; ++k)
+      for (int a = 0; a < 3; ++a) {
+        const double h = dot(axes[a], e.corners[k]);
+        lo[a] = std::fmin(lo[a], h);
+        hi[a] = std::fmax(hi[a], h);
+      }
+  }
+  const Vec3 centre = axes[0] * (0.5 * (lo[0] + hi[0])) + axes[1] * (0.5 * (lo[1] + hi[1])) + axes[2] * (0.5 * (lo[2] + hi[2]));
+  bounds.slabCentre = {static_cast<float>(centre.x), static_cast<float>(centre.y), static_cast<float>(centre.z)};
+  const Vec3 stored{bounds.slabCentre[0], bounds.slabCentre[1], bounds.slabCentre[2]};
+  for (int a = 0; a < 3; ++a) {
+    const double c = dot(axes[a], stored), half = std::fmax(hi[a] - c, c - lo[a]);
+    float h = static_cast<float>(half);
+    if (static_cast<double>(h) < half) h = std::nextafter(h, INFINITY);  // the box must hold the faces
+    bounds.slabHalfExtent[a] = h;
+  }
+}
+
 std::uint32_t ElementHierarchy::addNode(const HierarchyNode& node) {
   LAMBERT_CHECK(nodes_.size() < kNoNode);
   nodes_.push_back(node);
@@ -190,6 +224,7 @@ void ElementHierarchy::buildClusters(const std::vector<FaceRoot>& all, std::span
       if (static_cast<double>(h) < halves[a]) h = std::nextafter(h, INFINITY);  // the box must hold the faces
       bounds.halfExtent[a] = h;
     }
+    setSlab(all, faces, bounds);
     c.bounds = bounds;
   }
   // At most four faces: they are the cluster's children. Otherwise two halves by the median

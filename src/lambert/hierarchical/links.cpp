@@ -92,6 +92,12 @@ std::array<std::uint8_t, 6> quantizedShares(const std::array<double, 6>& parts, 
   return q;
 }
 
+// A cone as LinkEstimator keeps it, in floats: its half angle padded for the axis's rounding.
+std::array<float, 4> storedCone(const NormalCone& c) {
+  if (c.empty() || c.whole()) return {0, 0, 1, static_cast<float>(c.halfAngle)};
+  return {static_cast<float>(c.axis.x), static_cast<float>(c.axis.y), static_cast<float>(c.axis.z), static_cast<float>(c.halfAngle + 1e-6)};
+}
+
 // A face as casterFace holds it: surface << 32 | face.
 std::uint64_t faceKey(const HierarchyNode& e) { return static_cast<std::uint64_t>(e.surface) << 32 | e.face; }
 
@@ -130,6 +136,18 @@ LinkEstimator::LinkEstimator(const ElementHierarchy& hierarchy, const RayCaster&
     if (!nodes[i].isCluster()) unenclosedArea_[i] = nodes[i].enclosed ? 0.0 : nodes[i].area;
     if (nodes[i].parent != kNoNode && nodes[nodes[i].parent].isCluster()) unenclosedArea_[nodes[i].parent] += unenclosedArea_[i];
   }
+  normalCone_.resize(nodes.size());
+  {
+    std::vector<NormalCone> cones(nodes.size());
+    for (std::size_t i = nodes.size(); i-- > 0;) {  // children first
+      if (!nodes[i].isCluster()) {
+        cones[i] = nodes[i].enclosed ? NormalCone{} : NormalCone::of(nodes[i].normal);
+      } else {
+        for (std::uint32_t k : h_.children(static_cast<std::uint32_t>(i))) cones[i] = mergeCones(cones[i], cones[k]);
+      }
+      normalCone_[i] = storedCone(cones[i]);
+    }
+  }
   radiosity_.assign(nodes.size(), 0.0);
   peakRadiosity_.assign(nodes.size(), 0.0);
   double power = 0;
@@ -157,6 +175,7 @@ void LinkEstimator::addChildren(std::uint32_t node) {
     peakRadiosity_.push_back(radiosity_[node]);  // a leaf's radiosity is one value
     partlyCovered_.push_back(partlyCovered_[node]);
     unenclosedArea_.push_back(h_.node(k).enclosed ? 0.0 : h_.node(k).area);
+    normalCone_.push_back(normalCone_[node]);  // the same plane
   }
 }
 
@@ -192,11 +211,19 @@ std::uint8_t LinkEstimator::estimate(Candidate& c) const {
   const HierarchyNode& r = h_.node(c.receiver);
   const HierarchyNode& s = h_.node(c.source);
   c.estimated = true;
+  // A node whose every face lies inside closed objects (geometry/enclosures.h) receives nothing,
+  // and sends nothing either: its faces' radiosity stays zero (an emitter inside makes its
+  // enclosure lit, not enclosed). Judged only by boxes, the inner twins of a closed sphere were
+  // inadmissible against the outer ones they overlap, and opened down to every pair of faces.
+  if (!(unenclosedArea_[c.receiver] > 0) || !(unenclosedArea_[c.source] > 0)) {
+    c.verdict = Verdict::Empty;
+    return 0;
+  }
   // With a cluster at either end, pairs that cannot face each other at all (a floor's clusters
   // side by side, a wall's cluster with itself) are empty before anything is sampled: refined,
   // every pair of elements under them would be found empty (anyCornerInFront), one candidate
   // at a time, and the Monte Carlo estimates on the way would find no pair of points facing.
-  if ((r.isCluster() || s.isCluster()) && (!mayFace(r, s) || !mayFace(s, r))) {
+  if ((r.isCluster() || s.isCluster()) && (!mayFace(c.receiver, c.source) || !mayFace(c.source, c.receiver))) {
     c.verdict = Verdict::Empty;
     return 0;
   }
@@ -287,11 +314,6 @@ std::uint8_t LinkEstimator::estimate(Candidate& c) const {
   // anywhere) could link to it. Refinement then opened it down to every facet, each linked to
   // the floor's elements one by one (the MGF floor's finely divided cylinders made 47 M links).
   // The estimate below is exact on average at any distance, so the boxes need only be apart.
-  // A cluster whose every face lies inside closed objects receives nothing (geometry/enclosures.h).
-  if (r.isCluster() && !(unenclosedArea_[c.receiver] > 0)) {
-    c.verdict = Verdict::Empty;
-    return 0;
-  }
   const Vec3 d = s.centre - r.centre;
   if (!boxesApart(r, s) || cutsThrough(r, s) || cutsThrough(s, r)) {
     c.verdict = Verdict::Inadmissible;
@@ -381,39 +403,39 @@ bool LinkEstimator::boxesApart(const HierarchyNode& a, const HierarchyNode& b) c
   return std::fmax(gap.x, std::fmax(gap.y, gap.z)) > epsilon_;
 }
 
-// Whether some face under node a may have a point of node b's box more than a ray epsilon in
-// front of its plane. The height n·(x − y) of a point x in b's box over a point y of a face is
-// a sum over the axes of n_axis (x − y)_axis; a term is positive only where the normal's
-// component and the offset's can share a sign, and the two boxes bound the offsets. Which
-// signs the normals take comes from a cluster's axis areas (the area its faces show along
-// ±axis) or an element's normal. The ray epsilon is anyCornerInFront's: no corner of an
-// element under b is in front of an element under a where this says no.
-bool LinkEstimator::mayFace(const HierarchyNode& a, const HierarchyNode& b) const {
+// Whether some face under node `faces` may have a point of node `seen` more than a ray epsilon
+// in front of its plane. An element: the most the points of seen's boxes (an element's corners)
+// rise over its plane. A cluster: first its normal cone against the directions from its sphere
+// to seen's; then the height n·(x − y) of a point x in seen's box over a point y of a face,
+// a sum over the axes of n_axis (x − y)_axis, where a term is positive only if the normal's
+// component and the offset's can share a sign (the cluster's axis areas say which signs its
+// normals take) and the two boxes bound the offsets. The ray epsilon is anyCornerInFront's: no
+// corner of an element under seen is in front of an element under `faces` where this says no.
+bool LinkEstimator::mayFace(std::uint32_t faces, std::uint32_t seen) const {
+  const HierarchyNode& a = h_.node(faces);
+  const HierarchyNode& b = h_.node(seen);
+  if (!a.isCluster()) return b.extentAlong(a.normal).hi - dot(a.normal, a.centre) > epsilon_;
+  if (!coneMayFace(normalCone(faces), a.centre, a.radius, b.centre, b.radius)) return false;
   Vec3 aLo, aHi, bLo, bHi;
   a.box(aLo, aHi);
   b.box(bLo, bHi);
   const Vec3 most = bHi - aLo, least = bLo - aHi;  // the range of (x − y) along each axis
   const double mostOf[3] = {most.x, most.y, most.z}, leastOf[3] = {least.x, least.y, least.z};
-  const double normalOf[3] = {a.normal.x, a.normal.y, a.normal.z};
   double height = 0;
   for (int axis = 0; axis < 3; ++axis) {
-    const bool along = a.isCluster() ? a.bounds.axisArea[2 * axis] > 0 : normalOf[axis] > 0;
-    const bool against = a.isCluster() ? a.bounds.axisArea[2 * axis + 1] > 0 : normalOf[axis] < 0;
-    if (along) height += std::fmax(0.0, mostOf[axis]);
-    if (against) height += std::fmax(0.0, -leastOf[axis]);
+    if (a.bounds.axisArea[2 * axis] > 0) height += std::fmax(0.0, mostOf[axis]);
+    if (a.bounds.axisArea[2 * axis + 1] > 0) height += std::fmax(0.0, -leastOf[axis]);
   }
   return height > epsilon_;
 }
 
-// Whether element e's plane cuts through node b's box. Touching is not cutting: a column
+// Whether element e's plane cuts through node b (its boxes). Touching is not cutting: a column
 // standing on the floor is all in front of it.
 bool LinkEstimator::cutsThrough(const HierarchyNode& e, const HierarchyNode& b) const {
   if (e.isCluster()) return false;
-  Vec3 lo, hi;
-  b.box(lo, hi);
-  const Vec3 half = (hi - lo) * 0.5;
-  const double reach = std::fabs(e.normal.x) * half.x + std::fabs(e.normal.y) * half.y + std::fabs(e.normal.z) * half.z;
-  return std::fabs(dot(e.normal, (lo + hi) * 0.5 - e.centre)) < reach - epsilon_;
+  const Extent along = b.extentAlong(e.normal);
+  const double plane = dot(e.normal, e.centre);
+  return along.lo < plane - epsilon_ && along.hi > plane + epsilon_;
 }
 
 // The ray runs to a ray epsilon behind the source point: anything it meets first other than
