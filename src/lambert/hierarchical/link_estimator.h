@@ -83,6 +83,7 @@ class LinkEstimator {
   bool boxesApart(const HierarchyNode& a, const HierarchyNode& b) const;
   double leafRadiosityAt(std::uint32_t node, const Vec3& y) const;
   bool mayFace(std::uint32_t faces, std::uint32_t seen) const;
+  bool facesSeeNothingOf(std::uint32_t faces, std::uint32_t seen) const;
   bool cutsThrough(const HierarchyNode& e, const HierarchyNode& b) const;
   void trace(const Vec3& x, const Vec3& xNormal, std::uint8_t xCoverage, const Vec3& y, const Vec3& yNormal,
              std::uint64_t sourceFace, Visibility& seen) const;

@@ -360,7 +360,10 @@ std::uint8_t LinkEstimator::estimate(Candidate& c) const {
   const Visibility& seen = sample.seen;
   const int nonFacing = sample.nonFacing;
   if (seen.facing == 0 && seen.covered == 0) {
-    c.verdict = Verdict::Inadmissible;  // no sampled pair faced each other: look closer
+    // No sampled pair faced each other: look closer, unless the faces of one of the two, few
+    // enough to ask one by one, show that none of them faces the other (two patches of one
+    // sphere, side by side: their spheres overlap, which leaves the cones no say).
+    c.verdict = facesSeeNothingOf(c.receiver, c.source) || facesSeeNothingOf(c.source, c.receiver) ? Verdict::Empty : Verdict::Inadmissible;
     return 0;
   }
   // Covered receiving points are left out: K is the irradiance of the receiver's open part.
@@ -427,6 +430,31 @@ bool LinkEstimator::mayFace(std::uint32_t faces, std::uint32_t seen) const {
     if (a.bounds.axisArea[2 * axis + 1] > 0) height += std::fmax(0.0, -leastOf[axis]);
   }
   return height > epsilon_;
+}
+
+// Whether no face under `faces` (outside closed objects) has a point of `seen` more than a ray
+// epsilon in front of its plane, asked face by face where there are at most kFacesAsked of them;
+// false (not known) where there are more.
+bool LinkEstimator::facesSeeNothingOf(std::uint32_t faces, std::uint32_t seen) const {
+  constexpr std::size_t kFacesAsked = 16;
+  const HierarchyNode& b = h_.node(seen);
+  std::uint32_t stack[kFacesAsked + 1];
+  std::size_t depth = 0, asked = 0;
+  stack[depth++] = faces;
+  while (depth > 0) {
+    const std::uint32_t n = stack[--depth];
+    const HierarchyNode& a = h_.node(n);
+    if (!(unenclosedArea_[n] > 0)) continue;
+    if (!a.isCluster()) {
+      if (++asked > kFacesAsked || b.extentAlong(a.normal).hi - dot(a.normal, a.centre) > epsilon_) return false;
+      continue;
+    }
+    for (std::uint32_t k : h_.children(n)) {
+      if (depth == kFacesAsked + 1) return false;
+      stack[depth++] = k;
+    }
+  }
+  return true;
 }
 
 // Whether element e's plane cuts through node b (its boxes). Touching is not cutting: a column
