@@ -7,6 +7,8 @@ exec 1>&2
 
 packages=(
   build-essential cmake pkg-config python3
+  # a fresh clone (CI's) recompiles only what changed (CMakeLists.txt, LAMBERT_CCACHE)
+  ccache
   libembree-dev libtbb-dev libeigen3-dev
   libcli11-dev nlohmann-json3-dev libstb-dev libtinyobjloader-dev libtinygltf-dev libtinyexr-dev
   libgtest-dev libgmock-dev libbenchmark-dev
