@@ -17,6 +17,7 @@
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/hierarchical/element_hierarchy.h"
 #include "lambert/load/scene_file.h"
+#include "tests/support/engines.h"
 #include "tests/support/files.h"
 #include "tests/support/scenes.h"
 
@@ -238,14 +239,9 @@ TEST(LinksTest, ClusterBoundsHoldTheirFacesAndLieThinAlongACurvedPatch) {
 TEST(LinksTest, SpheresInARoomAreNotOpenedDownToEveryPairOfFaces) {
   const Result<Scene> scene = spheresInARoom(64);
   ASSERT_TRUE(scene.ok()) << scene.error().message;
-  RadiosityOptions options;
-  options.meshing = MeshStrategy::Hierarchical;
-  options.formFactors.showProgress = false;
-  auto engine = Radiosity::create(*scene, options);
-  ASSERT_TRUE(engine.ok()) << engine.error().message;
-  auto report = (*engine)->solve();
-  ASSERT_TRUE(report.ok()) << report.error().message;
-  const Stats stats = (*engine)->stats();
+  const auto engine = testing::solved(*scene);  // the default method: hierarchical, clustered
+  ASSERT_TRUE(engine);
+  const Stats stats = engine->stats();
   const double faces = statValue(stats, "faces"), estimated = statValue(stats, "links_estimated");
   std::printf("%g faces: %g links estimated, %g kept, %g leaves\n", faces, estimated, statValue(stats, "links"), statValue(stats, "patches"));
   EXPECT_LT(estimated, 120 * faces);  // was 8,690 a face, 308 without the faces asked one by one
