@@ -97,8 +97,14 @@ TEST(LinkCacheCliTest, TheDefaultDirectoryIsUsedAndNoCacheWritesNothing) {
   nlohmann::json cached = statsOf(shell(render + (dir / "cached.png").string()));
   EXPECT_EQ(cached["formfactor_cache"].get<std::string>().rfind("saved " + (xdg / "lambert" / "links-").string(), 0), 0u)
       << cached["formfactor_cache"];
-  EXPECT_EQ(filesIn(xdg), 3u);  // the links and the final gather's visibility values and irradiance
+  // The links alone: a picture gathers at the vertices it shows, and only a gather at every
+  // vertex (an export) keeps its visibility values and irradiance.
+  EXPECT_EQ(filesIn(xdg), 1u);
   EXPECT_EQ(filesIn(home), 0u);
+  nlohmann::json exported = statsOf(shell(render + (dir / "exported.png").string() + " --export " + (dir / "exported.glb").string()));
+  EXPECT_EQ(exported["formfactor_cache"].get<std::string>().rfind("loaded ", 0), 0u) << exported["formfactor_cache"];
+  EXPECT_EQ(filesIn(xdg), 3u);  // the links and the final gather's visibility values and irradiance
+  EXPECT_TRUE(testing::readBytes(dir / "off.png") == testing::readBytes(dir / "exported.png"));
   // The image does not depend on where the links came from.
   nlohmann::json loaded = statsOf(shell(render + (dir / "loaded.png").string()));
   EXPECT_EQ(loaded["formfactor_cache"].get<std::string>().rfind("loaded ", 0), 0u) << loaded["formfactor_cache"];

@@ -174,16 +174,18 @@ INSTANTIATE_TEST_SUITE_P(
         "--scene " LAMBERT_SOURCE_DIR "/scenes/floor/floor.mgf --mgf-divisions 8", "--scene {ply}"));
 
 // 21 renders at once on one cache directory, a third of them on the uniform mesh (the form-factor
-// matrix, .lff), a third adaptive (the master table, .lft) and a third hierarchical (the links,
-// .lhl, and the final gather's visibility values and irradiance, .lhv and .lhg): writers race to rename their caches into place while others read them. Every image must
-// be the one a cacheless render makes, and the cache must be whole afterwards.
+// matrix, .lff), a third adaptive (the master table, .lft) and a third hierarchical with a glb
+// (the links, .lhl, and the final gather's visibility values and irradiance at every vertex, .lhv
+// and .lhg): writers race to rename their caches into place while others read them. Every image
+// must be the one a cacheless render makes, and the cache must be whole afterwards.
 TEST(ReliabilityTest, TwentyConcurrentRendersShareOneCacheDirectory) {
   const fs::path dir = testing::scratchDirectory("reliability", "concurrent-cache");
   const fs::path cache = dir / "cache";
   const std::string cli = LAMBERT_CLI_PATH;
   const std::string kinds[] = {" render --threads 1 --scene cornell-spots --patches 300 --width 64 --height 64",
                                " render --threads 1 --scene cornell-spots --adaptive --max-level 2 --width 64 --height 64",
-                               " render --threads 1 --scene cornell-spots --link-error 1e-3 --width 64 --height 64"};
+                               " render --threads 1 --scene cornell-spots --link-error 1e-3 --width 64 --height 64 --exposure -3 --export " +
+                                   (dir / "hierarchical.glb").string()};
   const std::string quiet = " --quiet";
   std::vector<std::vector<char>> images;
   for (int k = 0; k < 3; ++k) {

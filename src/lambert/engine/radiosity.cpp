@@ -75,8 +75,9 @@ std::vector<Rgb> indirectRadiosity(const ElementSolution& solution) {
   return indirect;
 }
 
-std::vector<std::vector<Rgb>> Method::vertexSolution(const ElementSolution& solution,
-                                                      std::span<const VertexQuantity> quantities) const {
+std::vector<std::vector<Rgb>> Method::vertexSolution(const ElementSolution& solution, std::span<const VertexQuantity> quantities,
+                                                      std::span<const std::uint8_t> /*neededVertices*/) const {
+  // Interpolating every vertex costs as little as interpolating some.
   std::vector<std::vector<Rgb>> out;
   for (VertexQuantity quantity : quantities) {
     std::vector<Rgb> perElement = quantity == VertexQuantity::IndirectRadiosity ? indirectRadiosity(solution) : solution.radiosity;
@@ -423,13 +424,15 @@ std::vector<Rgb> SolutionView::vertexValues(const std::vector<Rgb>& perElement) 
   return SolutionInternals::of(*this).meshing_->vertexValues(perElement);
 }
 
-std::vector<std::vector<Rgb>> SolutionView::vertexValues(std::span<const VertexQuantity> quantities) const {
+std::vector<std::vector<Rgb>> SolutionView::vertexValues(std::span<const VertexQuantity> quantities,
+                                                         std::span<const std::uint8_t> neededVertices) const {
   const auto& e = SolutionInternals::of(*this);
-  return e.meshing_->vertexSolution(e.elementSolution(), quantities);
+  LAMBERT_CHECK(neededVertices.empty() || neededVertices.size() == vertexMesh().numVertices());
+  return e.meshing_->vertexSolution(e.elementSolution(), quantities, neededVertices);
 }
 
-std::vector<Rgb> SolutionView::vertexValues(VertexQuantity quantity) const {
-  return std::move(vertexValues(std::span<const VertexQuantity>(&quantity, 1)).front());
+std::vector<Rgb> SolutionView::vertexValues(VertexQuantity quantity, std::span<const std::uint8_t> neededVertices) const {
+  return std::move(vertexValues(std::span<const VertexQuantity>(&quantity, 1), neededVertices).front());
 }
 
 Result<std::vector<Rgb>> SolutionView::pointIrradiance(std::span<const SurfacePoint> points) const {

@@ -38,6 +38,7 @@
 // Its files: final_gather.cpp (the traversal, site by site), gather_visibility.cpp (the rays from
 // a site to a source), near_field.cpp (the close sources' corners), final_gather_outputs.h (what
 // a gather hands back beside the irradiance).
+#include <algorithm>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -86,6 +87,16 @@ struct FinalGatherCounts {
   std::uint64_t visibilityRays = 0;   // rays cast from the vertices to sources
   std::uint64_t visibilityKnown = 0;  // visibility values read from a GatherVisibility instead
   std::uint64_t maxSourcesGathered = 0, maxVisibilityRays = 0;  // at one vertex
+  // Another gather's, at other vertices, added.
+  void add(const FinalGatherCounts& other) {
+    vertices += other.vertices;
+    sourcesGathered += other.sourcesGathered;
+    sourcesOpened += other.sourcesOpened;
+    visibilityRays += other.visibilityRays;
+    visibilityKnown += other.visibilityKnown;
+    maxSourcesGathered = std::max(maxSourcesGathered, other.maxSourcesGathered);
+    maxVisibilityRays = std::max(maxVisibilityRays, other.maxVisibilityRays);
+  }
 };
 
 class FinalGather {

@@ -51,9 +51,12 @@ class HierarchicalMethod final : public Method {
   const Mesh& vertexMesh() const override { return leaves_.mesh; }
   std::vector<Rgb> vertexValues(const std::vector<Rgb>& perElement) const override;
   // The final gather (hierarchical/final_gather.h) at every vertex, with the lights' direct light
-  // evaluated there too; T-junction vertices are then constrained to their edges.
-  std::vector<std::vector<Rgb>> vertexSolution(const ElementSolution& solution,
-                                               std::span<const VertexQuantity> quantities) const override;
+  // evaluated there too; T-junction vertices are then constrained to their edges. With
+  // neededVertices, at those, the ends of the edges they hang on and their close sources' corners
+  // alone (not across ranks: every rank gathers its own share of every vertex); the corners' own
+  // close corners outside these take the elements' interpolated radiosity (vertexValues).
+  std::vector<std::vector<Rgb>> vertexSolution(const ElementSolution& solution, std::span<const VertexQuantity> quantities,
+                                               std::span<const std::uint8_t> neededVertices = {}) const override;
   Result<std::vector<Rgb>> pointIrradiance(const ElementSolution& solution, std::span<const SurfacePoint> points) const override;
   Result<PointGather> pointGather(const ElementSolution& solution, std::span<const SurfacePoint> points, PointGatherRequest part) const override;
   Result<std::vector<Rgb>> nodeMeanRadiosity(const ElementSolution& solution) const override;
@@ -81,7 +84,7 @@ class HierarchicalMethod final : public Method {
   void saveLinks(const std::vector<Rgb>& warmStart);
 
   // The outputs (vertex_outputs.cpp, point_outputs.cpp).
-  // The gather at the vertices with its close sources' corners coupled, in one process: read
+  // The gather at every vertex with its close sources' corners coupled, in one process: read
   // from the gather's irradiance file where it holds this input's, else computed.
   std::vector<Rgb> gatherAtVertices(const FinalGather& gather, const std::vector<Rgb>& mean, const std::vector<Rgb>& direct,
                                     const std::vector<Rgb>& emitted, const std::vector<Rgb>& albedo, FinalGatherCounts& counts,
@@ -131,6 +134,7 @@ class HierarchicalMethod final : public Method {
     std::uint64_t inputDigest = 0;
     const Links* links = nullptr;
     int leafMeshGeneration = -1;
+    std::vector<std::uint8_t> wanted;  // the vertices gathered (vertexSolution); empty: every one
     std::shared_ptr<const std::vector<Rgb>> gathered;
   };
   mutable LastVertexGather lastVertexGather_;

@@ -23,6 +23,8 @@
 #include "lambert/light/lights.h"
 #include "lambert/mesh/vertex_radiosity.h"
 #include "lambert/reference/reference.h"
+#include "lambert/render/rasterizer.h"
+#include "lambert/render/solution_image.h"
 #include "lambert/scene/builtin.h"
 #include "lambert/solve/energy.h"
 #include "lambert/hierarchical/transport.h"
@@ -1348,4 +1350,50 @@ INSTANTIATE_TEST_SUITE_P(HierarchicalTest, HungPanelTest,
                          [](const ::testing::TestParamInfo<HungPanel>& info) { return std::string(info.param.backEmission > 0 ? "BackEmits" : "BackReflects"); });
 
 }  // namespace
+// A picture reads the vertices it shows, and the method gathers those alone (with their close
+// sources' corners, three rings out): from low in a corner of the Cornell box the camera sees
+// the tall block's foot and the walls beside it, a minority of the vertices, many of them where
+// the view cuts the mesh. At every vertex it shows, the value is the gather at every vertex's,
+// and so is the picture.
+TEST(HierarchicalTest, APictureGathersTheVerticesItShowsAsAGatherAtEveryVertexDoes) {
+  Scene scene = cornellBox();
+  scene.camera = {{420, 60, 40}, {340, 40, 420}, {0, 1, 0}, 30};
+  auto engine = solved(scene, hierarchicalOptions(2e-4));
+  ASSERT_TRUE(engine);
+  const SolutionView& view = engine->solution();
+  const Mesh& mesh = view.vertexMesh();
+  SolutionImageOptions image;
+  image.width = image.height = 96;
+  image.lighting = Lighting::Radiosity;
+  const RenderOptions raster{image.width, image.height, image.shading, image.supersample};
+  const std::vector<std::uint8_t> seen = visiblePatches(scene.camera, mesh, raster);
+  std::vector<std::uint8_t> needed(mesh.numVertices(), 0);
+  for (std::size_t i = 0; i < seen.size(); ++i)
+    if (seen[i])
+      for (std::uint32_t v : mesh.cornerIndices(i)) needed[v] = 1;
+  const auto shown = static_cast<std::size_t>(std::count(needed.begin(), needed.end(), 1));
+  ASSERT_GT(shown, 100u);
+  ASSERT_LT(shown, mesh.numVertices() / 2);
+
+  const Image picture = renderSolution(view, image);
+  const auto gathered = static_cast<std::size_t>(testing::statCount(engine->stats(), "gather_vertices"));
+  EXPECT_LT(gathered, mesh.numVertices() / 2);  // measured: 299 of 3,104, the rings included
+  const std::vector<Rgb> some = view.vertexValues(VertexQuantity::Radiosity, needed);
+  const std::vector<Rgb> every = view.vertexValues(VertexQuantity::Radiosity);
+  double mean = 0, worst = 0;
+  for (std::size_t v = 0; v < every.size(); ++v) mean += needed[v] ? every[v].g / static_cast<double>(shown) : 0;
+  for (std::size_t v = 0; v < every.size(); ++v)
+    if (needed[v]) worst = std::max(worst, std::fabs(some[v].g - every[v].g) / mean);
+  // Measured 1.4e-5 of the mean; without the rings (every corner outside the vertices shown at
+  // the elements' interpolated radiosity), 1.7e-2, and the picture 70 times this bound.
+  EXPECT_LT(worst, 1e-4);
+  const Image whole = renderVertexRadiosity(scene.camera, mesh, every, raster);
+  double pictureMean = 0, pictureWorst = 0;
+  for (const Rgb& p : whole.pixels) pictureMean += p.g / static_cast<double>(whole.pixels.size());
+  for (std::size_t p = 0; p < whole.pixels.size(); ++p) pictureWorst = std::max(pictureWorst, std::fabs(picture.pixels[p].g - whole.pixels[p].g));
+  EXPECT_LT(pictureWorst, 1e-4 * pictureMean);
+  std::printf("%zu of %zu vertices shown, %zu gathered; largest difference %.1e of the mean\n", shown, mesh.numVertices(), gathered,
+              worst);
+}
+
 }  // namespace lambert

@@ -69,8 +69,10 @@ class Method {
   // The solution at the vertices, one array per quantity asked for. By default the per-element
   // quantity interpolated (vertexValues); hierarchical meshing gathers at the vertices
   // themselves instead (hierarchical/final_gather.h), once for all the quantities.
-  virtual std::vector<std::vector<Rgb>> vertexSolution(const ElementSolution& solution,
-                                                       std::span<const VertexQuantity> quantities) const;
+  // neededVertices (SolutionView::vertexValues): empty, or one flag per vertex, where a method
+  // that computes vertex by vertex may compute the flagged ones alone.
+  virtual std::vector<std::vector<Rgb>> vertexSolution(const ElementSolution& solution, std::span<const VertexQuantity> quantities,
+                                                       std::span<const std::uint8_t> neededVertices = {}) const;
 
   // SolutionView::pointIrradiance: by default an Error (only hierarchical meshing gathers).
   virtual Result<std::vector<Rgb>> pointIrradiance(const ElementSolution& solution, std::span<const SurfacePoint> points) const;

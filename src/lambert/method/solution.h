@@ -64,10 +64,15 @@ class SolutionView {
   // (method/method.h; gathered at the vertices themselves by the hierarchical method, the
   // elements' values interpolated otherwise), continuous values of any per-element quantity,
   // and the outgoing radiance L = B/π; albedo per patch of vertexMesh().
+  // neededVertices: empty for every vertex, or one flag per vertex where only the flagged ones
+  // are read (a picture's: render/rasterizer.h visiblePatches). The others may then be 0: the
+  // hierarchical method gathers the flagged vertices alone, the close sources' corners among the
+  // others taking the elements' interpolated radiosity (hierarchical/method.h).
   const Mesh& vertexMesh() const;
-  std::vector<Rgb> vertexValues(VertexQuantity quantity) const;
+  std::vector<Rgb> vertexValues(VertexQuantity quantity, std::span<const std::uint8_t> neededVertices = {}) const;
   // Several at once (one final gather for all of them), in the order asked for.
-  std::vector<std::vector<Rgb>> vertexValues(std::span<const VertexQuantity> quantities) const;
+  std::vector<std::vector<Rgb>> vertexValues(std::span<const VertexQuantity> quantities,
+                                             std::span<const std::uint8_t> neededVertices = {}) const;
   std::vector<Rgb> vertexValues(const std::vector<Rgb>& perElement) const;
   std::vector<Rgb> vertexRadiance() const;
   // The irradiance E (W/m²) at points on the scene's faces: from the surfaces, gathered at each

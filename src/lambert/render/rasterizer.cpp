@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <mutex>
 #include <span>
 #include <vector>
 
@@ -280,16 +281,16 @@ void addDirect(const PinholeCamera& camera, const Mesh& mesh, const DirectRadian
 
 namespace {
 
-// The one pipeline behind both entry points. radiance holds L = B/π per vertex when perVertex
-// (Gouraud), else per patch (flat).
-Image render(const Camera& camera, const Mesh& mesh, const std::vector<Rgb>& radiance, bool perVertex,
-             const RenderOptions& options) {
-  LAMBERT_CHECK(options.width > 0 && options.height > 0 && options.supersample >= 1);
+// The one pipeline behind every entry point: the mesh's front-facing triangles set up and
+// z-buffered band by band, each band handed to finish(band) once its samples are final.
+// radiance holds L = B/π per vertex when perVertex (Gouraud), else per patch (flat); recordPatch
+// keeps the patch each sample sees (Band::patch).
+template <class Finish>
+void rasterizeBands(const PinholeCamera& pinhole, const Mesh& mesh, const std::vector<Rgb>& radiance, bool perVertex,
+                    bool recordPatch, int supersample, Finish&& finish) {
   LAMBERT_CHECK(mesh.numPatches() < kNoPatch);
-  const int ss = options.supersample;
-  LAMBERT_CHECK(options.width <= kMaxSamplesPerAxis / ss && options.height <= kMaxSamplesPerAxis / ss);
-  const int sampleWidth = options.width * ss, sampleHeight = options.height * ss;
-  const PinholeCamera pinhole(camera, sampleWidth, sampleHeight);
+  const int ss = supersample;
+  const int sampleWidth = pinhole.width, sampleHeight = pinhole.height;
 
   // Set up triangles in chunks, in parallel; concatenating in chunk order keeps the draw order
   // (and so which of two equally near samples wins) independent of the thread count.
@@ -327,17 +328,12 @@ Image render(const Camera& camera, const Mesh& mesh, const std::vector<Rgb>& rad
   for (auto& chunk : chunks) triangles.insert(triangles.end(), chunk.begin(), chunk.end());
 
   const int bandSampleRows = kBandRows * ss;
-  const int numBands = (options.height + kBandRows - 1) / kBandRows;
+  const int numBands = (sampleHeight / ss + kBandRows - 1) / kBandRows;
   std::vector<std::vector<std::uint32_t>> bins(numBands);
   for (std::uint32_t i = 0; i < triangles.size(); ++i) {
     for (int b = triangles[i].minRow / bandSampleRows; b <= triangles[i].maxRow / bandSampleRows; ++b)
       bins[b].push_back(i);
   }
-
-  Image image{options.width, options.height,
-              std::vector<Rgb>(static_cast<std::size_t>(options.width) * options.height)};
-  const double sampleWeight = 1.0 / (ss * ss);
-  const DirectRadianceFn& direct = options.directRadiance;
   parallelFor(0, static_cast<std::size_t>(numBands), [&](std::size_t b) {
     Band band;
     band.rowBegin = static_cast<int>(b) * bandSampleRows;
@@ -346,14 +342,29 @@ Image render(const Camera& camera, const Mesh& mesh, const std::vector<Rgb>& rad
     std::size_t samples = static_cast<std::size_t>(band.rowEnd - band.rowBegin) * sampleWidth;
     band.radiance.assign(samples, Rgb{});
     band.invZ.assign(samples, 0.0);
-    if (direct) {
+    if (recordPatch) {
       band.patch.assign(samples, kNoPatch);
       for (std::uint32_t i : bins[b]) rasterize<true>(triangles[i], band);
-      addDirect(pinhole, mesh, direct, band);
     } else {
       for (std::uint32_t i : bins[b]) rasterize<false>(triangles[i], band);
     }
+    finish(band);
+  });
+}
 
+Image render(const Camera& camera, const Mesh& mesh, const std::vector<Rgb>& radiance, bool perVertex,
+             const RenderOptions& options) {
+  LAMBERT_CHECK(options.width > 0 && options.height > 0 && options.supersample >= 1);
+  const int ss = options.supersample;
+  LAMBERT_CHECK(options.width <= kMaxSamplesPerAxis / ss && options.height <= kMaxSamplesPerAxis / ss);
+  const int sampleWidth = options.width * ss;
+  const PinholeCamera pinhole(camera, sampleWidth, options.height * ss);
+  Image image{options.width, options.height,
+              std::vector<Rgb>(static_cast<std::size_t>(options.width) * options.height)};
+  const double sampleWeight = 1.0 / (ss * ss);
+  const DirectRadianceFn& direct = options.directRadiance;
+  rasterizeBands(pinhole, mesh, radiance, perVertex, static_cast<bool>(direct), ss, [&](Band& band) {
+    if (direct) addDirect(pinhole, mesh, direct, band);
     for (int y = band.rowBegin / ss; y < band.rowEnd / ss; ++y) {
       for (int x = 0; x < options.width; ++x) {
         Rgb sum;
@@ -369,6 +380,24 @@ Image render(const Camera& camera, const Mesh& mesh, const std::vector<Rgb>& rad
 }
 
 }  // namespace
+
+std::vector<std::uint8_t> visiblePatches(const Camera& camera, const Mesh& mesh, const RenderOptions& options) {
+  LAMBERT_CHECK(options.width > 0 && options.height > 0 && options.supersample >= 1);
+  const int ss = options.supersample;
+  LAMBERT_CHECK(options.width <= kMaxSamplesPerAxis / ss && options.height <= kMaxSamplesPerAxis / ss);
+  const PinholeCamera pinhole(camera, options.width * ss, options.height * ss);
+  // Bands run in parallel: each collects the patches it saw, merged under a lock.
+  std::mutex merge;
+  std::vector<std::uint8_t> seen(mesh.numPatches(), 0);
+  rasterizeBands(pinhole, mesh, std::vector<Rgb>(mesh.numPatches()), false, true, ss, [&](Band& band) {
+    std::sort(band.patch.begin(), band.patch.end());
+    band.patch.erase(std::unique(band.patch.begin(), band.patch.end()), band.patch.end());
+    const std::lock_guard<std::mutex> lock(merge);
+    for (std::uint32_t patch : band.patch)
+      if (patch != kNoPatch) seen[patch] = 1;
+  });
+  return seen;
+}
 
 Image renderRadiance(const Camera& camera, const Mesh& mesh, const std::vector<Rgb>& patchRadiosity,
                      const RenderOptions& options) {

@@ -47,4 +47,9 @@ Image renderRadiance(const Camera& camera, const Mesh& mesh, const std::vector<R
 Image renderVertexRadiosity(const Camera& camera, const Mesh& mesh, const std::vector<Rgb>& vertexRadiosity,
                             const RenderOptions& options);
 
+// Per patch of the mesh, 1 where renderRadiance and renderVertexRadiosity with these options
+// (size, supersampling) would show its front at one sample or more, else 0: the patches whose
+// values a picture reads (a Gouraud picture reads their corners' vertex values).
+std::vector<std::uint8_t> visiblePatches(const Camera& camera, const Mesh& mesh, const RenderOptions& options);
+
 }  // namespace lambert

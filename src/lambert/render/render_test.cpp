@@ -354,6 +354,53 @@ TEST(RenderTest, NearerTriangleOccludesFartherInEitherDrawOrder) {
   EXPECT_EQ(a.pixels, b.pixels);
 }
 
+// What a picture shows, known by construction: a quad in front of the camera, one wholly hidden
+// behind it, one turned away, one outside the field of view, and the far quad's rim beyond the
+// near one's.
+TEST(VisiblePatchesTest, TheFrontsOfWhatTheCameraSeesAndNothingElse) {
+  MeshBuilder b;
+  b.quad({-1, -1, 2}, {1, -1, 2}, {1, 1, 2}, {-1, 1, 2});          // patches 0, 1: in front
+  b.quad({-0.5, -0.5, 0}, {0.5, -0.5, 0}, {0.5, 0.5, 0}, {-0.5, 0.5, 0});  // 2, 3: hidden behind 0, 1
+  b.quad({-3, -3, -1}, {3, -3, -1}, {3, 3, -1}, {-3, 3, -1});      // 4, 5: the far wall's rim shows
+  b.quad({1.2, -0.2, 1}, {1.2, 0.2, 1}, {1.6, 0.2, 1}, {1.6, -0.2, 1});  // 6, 7: beside, but turned away
+  b.quad({40, 40, 0}, {41, 40, 0}, {41, 41, 0}, {40, 41, 0});      // 8, 9: far outside the view
+  const std::vector<std::uint8_t> seen = visiblePatches(lookingDownZ(6), b.mesh, {64, 64, Shading::Gouraud, 2});
+  ASSERT_EQ(seen.size(), b.mesh.numPatches());
+  EXPECT_EQ(seen, (std::vector<std::uint8_t>{1, 1, 0, 0, 1, 1, 0, 0, 0, 0}));
+  // Turned toward the camera, the side quad is seen.
+  MeshBuilder turned;
+  turned.quad({1.2, -0.2, 1}, {1.6, -0.2, 1}, {1.6, 0.2, 1}, {1.2, 0.2, 1});
+  EXPECT_EQ(visiblePatches(lookingDownZ(6), turned.mesh, {64, 64, Shading::Gouraud, 2}), (std::vector<std::uint8_t>{1, 1}));
+}
+
+// The patches the picture draws are those visiblePatches names: every patch it flags shows its
+// own colour at some pixel of a flat image, and no other patch does (the mesh covers the view
+// with 400 small quads at random depths, some hidden behind others).
+TEST(VisiblePatchesTest, AgreesWithTheImageDrawnPatchByPatch) {
+  MeshBuilder b;
+  std::uint64_t state = 7;
+  const auto uniform = [&state] {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return static_cast<double>(state >> 11) / 9007199254740992.0;
+  };
+  for (int i = 0; i < 200; ++i) {
+    const double x = uniform() * 4 - 2, y = uniform() * 4 - 2, z = uniform() * 2, s = 0.1 + 0.4 * uniform();
+    b.quadPatch({x, y, z}, {x + s, y, z}, {x + s, y + s, z}, {x, y + s, z});
+  }
+  const RenderOptions options{48, 48, Shading::Flat, 1};
+  std::vector<Rgb> id(b.mesh.numPatches());
+  for (std::size_t i = 0; i < id.size(); ++i) id[i] = Rgb{kPi * static_cast<double>(i + 1), 0, 0};
+  const Image image = renderRadiance(lookingDownZ(6), b.mesh, id, options);
+  std::vector<std::uint8_t> drawn(b.mesh.numPatches(), 0);
+  for (const Rgb& pixel : image.pixels)
+    if (const long k = std::lround(pixel.r) - 1; k >= 0) drawn[static_cast<std::size_t>(k)] = 1;
+  const std::vector<std::uint8_t> seen = visiblePatches(lookingDownZ(6), b.mesh, options);
+  EXPECT_EQ(seen, drawn);
+  const auto count = static_cast<std::size_t>(std::count(seen.begin(), seen.end(), 1));
+  EXPECT_GT(count, 20u);
+  EXPECT_LT(count, b.mesh.numPatches());  // some are hidden
+}
+
 TEST(RenderTest, BackFacesAreCulled) {
   MeshBuilder b;
   b.quad({-1, -1, 2}, {-1, 1, 2}, {1, 1, 2}, {1, -1, 2});  // wound clockwise from the camera
