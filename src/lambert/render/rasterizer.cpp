@@ -352,13 +352,18 @@ void rasterizeBands(const PinholeCamera& pinhole, const Mesh& mesh, const std::v
   });
 }
 
-Image render(const Camera& camera, const Mesh& mesh, const std::vector<Rgb>& radiance, bool perVertex,
-             const RenderOptions& options) {
+// The camera over the options' samples (supersample × width by supersample × height).
+PinholeCamera sampleCamera(const Camera& camera, const RenderOptions& options) {
   LAMBERT_CHECK(options.width > 0 && options.height > 0 && options.supersample >= 1);
   const int ss = options.supersample;
   LAMBERT_CHECK(options.width <= kMaxSamplesPerAxis / ss && options.height <= kMaxSamplesPerAxis / ss);
-  const int sampleWidth = options.width * ss;
-  const PinholeCamera pinhole(camera, sampleWidth, options.height * ss);
+  return PinholeCamera(camera, options.width * ss, options.height * ss);
+}
+
+Image render(const Camera& camera, const Mesh& mesh, const std::vector<Rgb>& radiance, bool perVertex,
+             const RenderOptions& options) {
+  const PinholeCamera pinhole = sampleCamera(camera, options);
+  const int ss = options.supersample, sampleWidth = pinhole.width;
   Image image{options.width, options.height,
               std::vector<Rgb>(static_cast<std::size_t>(options.width) * options.height)};
   const double sampleWeight = 1.0 / (ss * ss);
@@ -382,14 +387,11 @@ Image render(const Camera& camera, const Mesh& mesh, const std::vector<Rgb>& rad
 }  // namespace
 
 std::vector<std::uint8_t> visiblePatches(const Camera& camera, const Mesh& mesh, const RenderOptions& options) {
-  LAMBERT_CHECK(options.width > 0 && options.height > 0 && options.supersample >= 1);
-  const int ss = options.supersample;
-  LAMBERT_CHECK(options.width <= kMaxSamplesPerAxis / ss && options.height <= kMaxSamplesPerAxis / ss);
-  const PinholeCamera pinhole(camera, options.width * ss, options.height * ss);
+  const PinholeCamera pinhole = sampleCamera(camera, options);
   // Bands run in parallel: each collects the patches it saw, merged under a lock.
   std::mutex merge;
   std::vector<std::uint8_t> seen(mesh.numPatches(), 0);
-  rasterizeBands(pinhole, mesh, std::vector<Rgb>(mesh.numPatches()), false, true, ss, [&](Band& band) {
+  rasterizeBands(pinhole, mesh, std::vector<Rgb>(mesh.numPatches()), false, true, options.supersample, [&](Band& band) {
     std::sort(band.patch.begin(), band.patch.end());
     band.patch.erase(std::unique(band.patch.begin(), band.patch.end()), band.patch.end());
     const std::lock_guard<std::mutex> lock(merge);
