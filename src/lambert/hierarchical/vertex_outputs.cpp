@@ -51,7 +51,7 @@ std::vector<std::uint8_t> gatheredVertices(std::span<const std::uint8_t> needed,
 }
 
 // Per vertex, kNoNode where the vertex is not gathered, else the leaf it gathers through.
-std::vector<std::uint32_t> gatheringLeaves(std::vector<std::uint32_t> leaf, const std::vector<std::uint8_t>& gathered) {
+std::vector<std::uint32_t> gatheredThrough(std::vector<std::uint32_t> leaf, const std::vector<std::uint8_t>& gathered) {
   for (std::size_t v = 0; v < leaf.size(); ++v)
     if (!gathered[v]) leaf[v] = kNoNode;
   return leaf;
@@ -89,8 +89,8 @@ std::vector<std::vector<Rgb>> HierarchicalMethod::vertexSolution(const ElementSo
   // enter the coupling as known radiosities, the elements' interpolated (an emission with ρ = 0
   // is a row that holds its value) rather than black.
   const bool some = !neededVertices.empty() && !ranks_.acrossRanks();
-  std::vector<std::uint8_t> wanted = some ? gatheredVertices(neededVertices, leaves_.hanging) : std::vector<std::uint8_t>{};
-  const FinalGather gather = some ? whole.throughLeaves(gatheringLeaves(whole.gatheringLeaf(), wanted)) : whole;
+  const std::vector<std::uint8_t> wanted = some ? gatheredVertices(neededVertices, leaves_.hanging) : std::vector<std::uint8_t>{};
+  const FinalGather gather = some ? whole.throughLeaves(gatheredThrough(whole.gatheringLeaf(), wanted)) : whole;
   std::vector<Rgb> mean;
   transport_->pull(solution.radiosity, mean);
   FinalGatherCounts counts;
@@ -154,7 +154,7 @@ std::vector<std::vector<Rgb>> HierarchicalMethod::vertexSolution(const ElementSo
         }
       }
       if (added == 0) break;
-      const FinalGather ringGather = whole.throughLeaves(gatheringLeaves(allLeaves, ring));
+      const FinalGather ringGather = whole.throughLeaves(gatheredThrough(allLeaves, ring));
       lightAtVertices(ringGather.gatheringLeaf());
       FinalGatherCounts ringCounts;
       NearFieldWeights ringNear;
