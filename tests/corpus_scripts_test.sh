@@ -99,7 +99,10 @@ import json, os, sys
 scratch = sys.argv[1]
 bench = json.load(open(os.path.join(scratch, "bench.json")))
 rows = {r["id"]: r for r in bench["scenes"]}
-assert bench["summary"] == {"scenes": 3, "tried": 2, "skipped": 1, "rendered": 2, "converged": 2, "pictures_usable": 2}, bench["summary"]
+summary = bench["summary"]
+assert {k: summary[k] for k in ("scenes", "tried", "skipped", "rendered", "converged", "pictures_usable", "gather_measured")} == \
+    {"scenes": 3, "tried": 2, "skipped": 1, "rendered": 2, "converged": 2, "pictures_usable": 2, "gather_measured": 2}, summary
+assert 0 <= summary["gather_at_most_solve"] <= 2 and "picture_target" not in summary, summary  # the hospital was not asked for
 room = rows["room"]
 assert room["faces"] == 7 and room["links"] > 0 and room["converged"] == "yes", room
 assert room["peak_rss_mib"] > 1 and room["wall_seconds_median"] > 0, room
