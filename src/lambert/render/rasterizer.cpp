@@ -283,7 +283,8 @@ namespace {
 
 // The one pipeline behind every entry point: the mesh's front-facing triangles set up and
 // z-buffered band by band, each band handed to finish(band) once its samples are final.
-// radiance holds L = B/π per vertex when perVertex (Gouraud), else per patch (flat); recordPatch
+// radiance holds L = B/π per vertex when perVertex (Gouraud), else per patch (flat), or nothing
+// where only the patches seen are wanted (the samples' radiance is then 0); recordPatch
 // keeps the patch each sample sees (Band::patch).
 template <class Finish>
 void rasterizeBands(const PinholeCamera& pinhole, const Mesh& mesh, const std::vector<Rgb>& radiance, bool perVertex,
@@ -316,7 +317,7 @@ void rasterizeBands(const PinholeCamera& pinhole, const Mesh& mesh, const std::v
         std::array<Vec3, 3> world{corners[0], corners[k], corners[k + 1]};
         std::array<Rgb, 3> vertexRadiance;
         if (!perVertex) {
-          vertexRadiance.fill(radiance[i]);
+          vertexRadiance.fill(radiance.empty() ? Rgb{} : radiance[i]);
         } else {
           vertexRadiance = {radiance[indices[0]], radiance[indices[k]], radiance[indices[k + 1]]};
         }
@@ -391,7 +392,7 @@ std::vector<std::uint8_t> visiblePatches(const Camera& camera, const Mesh& mesh,
   // Bands run in parallel: each collects the patches it saw, merged under a lock.
   std::mutex merge;
   std::vector<std::uint8_t> seen(mesh.numPatches(), 0);
-  rasterizeBands(pinhole, mesh, std::vector<Rgb>(mesh.numPatches()), false, true, options.supersample, [&](Band& band) {
+  rasterizeBands(pinhole, mesh, {}, false, true, options.supersample, [&](Band& band) {
     std::sort(band.patch.begin(), band.patch.end());
     band.patch.erase(std::unique(band.patch.begin(), band.patch.end()), band.patch.end());
     const std::lock_guard<std::mutex> lock(merge);
