@@ -29,6 +29,8 @@ struct LightmapCommandOptions : GivenOptions {
   double texelSizeMetres = 0;  // 0: the library's default for the scene
   int size = LightmapUvOptions{}.atlasSize;
   int padding = LightmapUvOptions{}.paddingTexels;
+  int gatherStep = AdaptiveTexelOptions{}.coarsestStep;
+  double gatherTolerance = AdaptiveTexelOptions{}.tolerance;
   std::string image;  // lambert's render of the lightmapped glb (.png or .exr); none unless asked for
   LightmapImageOptions imageOptions;
 };
@@ -61,7 +63,7 @@ Status checkLightingOptions(const SolveCommandOptions& o) {
 // nothing then); its settings need --lightmaps, and --image's size needs --image.
 Status checkLightmapOptions(const SolveCommandOptions& o) {
   if (!o.lightmaps.lightmaps)
-    return refuseGiven(o.lightmaps, {"--texel-size", "--lightmap-size", "--lightmap-padding", "--image", "--width", "--height", "--supersample"},
+    return refuseGiven(o.lightmaps, {"--texel-size", "--lightmap-size", "--lightmap-padding", "--lightmap-step", "--lightmap-tolerance", "--image", "--width", "--height", "--supersample"},
                        "it sets up --lightmaps, which is not asked for");
   if (o.lightmaps.image.empty())
     if (Status ok = refuseGiven(o.lightmaps, {"--width", "--height", "--supersample"}, "it sizes --image, which is not asked for"); !ok) return ok;
@@ -79,6 +81,8 @@ LightmapBakeOptions lightmapBakeOptions(const Scene& scene, const LightmapComman
   // A size asked for is each atlas's: a file's own UVs were packed for it.
   options.uvs.fileSetsShareAtlas = !o.given("--lightmap-size");
   options.uvs.paddingTexels = o.padding;
+  options.sampling.coarsestStep = o.gatherStep;
+  options.sampling.tolerance = o.gatherTolerance;
   return options;
 }
 
@@ -257,6 +261,15 @@ std::function<int()> addSolveCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--lightmap-padding", lightmaps.padding, "With --lightmaps: empty texels kept around each chart")
       ->check(CLI::Range(0, 64))
+      ->capture_default_str();
+  cmd->add_option("--lightmap-step", lightmaps.gatherStep,
+                  "With --lightmaps: texels between the points where the light from the surfaces is gathered first; cells whose "
+                  "corners disagree are halved, the rest interpolated (1 gathers every texel)")
+      ->check(CLI::IsMember({1, 2, 4, 8, 16, 32}))
+      ->capture_default_str();
+  cmd->add_option("--lightmap-tolerance", lightmaps.gatherTolerance,
+                  "With --lightmaps: a cell's texels are interpolated where its corners' light differs by at most this share")
+      ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
   cmd->add_option("--image", lightmaps.image,
                   "With --lightmaps: render the glb's mesh lit by its lightmaps from the scene's (the glb's) camera, as a glTF viewer draws "

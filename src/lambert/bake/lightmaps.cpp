@@ -5,11 +5,13 @@
 #include <cmath>
 #include <limits>
 
+#include "lambert/bake/adaptive_texels.h"
 #include "lambert/bake/lightmap_fill.h"
 #include "lambert/core/parallel.h"
 #include "lambert/core/progress.h"
 #include "lambert/core/timer.h"
 #include "lambert/core/vec2.h"
+#include "lambert/engine/solution_internals.h"
 
 namespace lambert {
 namespace {
@@ -125,14 +127,30 @@ Result<BakedLightmaps> bakeLightmaps(const SolutionView& solution, const Lightma
   const std::size_t perAtlas = static_cast<std::size_t>(size) * size;
   Progress progress("lightmap texels", 3, options.showProgress);
   const LightmapTexels texels = lightmapTexels(scene, uvs);
+  // Every texel's site (where shadow rays start) and the lights' direct light there, traced per
+  // texel: a point light's shadow is as sharp as the texels.
+  Result<PointGather> sites = pointGather(solution, texels.points, PointGatherRequest::Sites);
+  if (!sites) return sites.error();
+  std::vector<Rgb> irradiance = directIrradiance(solution, sites->sites, sites->rayEpsilon);
   progress.advance(1);
-  Result<std::vector<Rgb>> irradiance = solution.pointIrradiance(texels.points);
-  if (!irradiance) return irradiance.error();
+  // The light from the surfaces where adaptive sampling asks for it (bake/adaptive_texels.h).
+  const TexelGather gatherTexels = [&](std::span<const std::uint32_t> asked) -> Result<std::vector<Rgb>> {
+    std::vector<SurfacePoint> points(asked.size());
+    for (std::size_t i = 0; i < asked.size(); ++i) points[i] = texels.points[asked[i]];
+    Result<PointGather> gathered = pointGather(solution, points, PointGatherRequest::Light);
+    if (!gathered) return gathered.error();
+    return std::move(gathered->fromSurfaces);
+  };
+  AdaptiveTexelStats sampled;
+  Result<std::vector<Rgb>> fromSurfaces = adaptiveTexelValues(texels, size, uvs.numAtlases, gatherTexels, options.sampling, &sampled);
+  if (!fromSurfaces) return fromSurfaces.error();
+  for (std::size_t i = 0; i < irradiance.size(); ++i) irradiance[i] += (*fromSurfaces)[i];
+  baked.texelsGathered = sampled.gathered;
   progress.advance(1);
   baked.irradiance.assign(static_cast<std::size_t>(uvs.numAtlases), Image{size, size, std::vector<Rgb>(perAtlas)});
   baked.covered.assign(static_cast<std::size_t>(uvs.numAtlases), std::vector<std::uint8_t>(perAtlas, 0));
   for (std::size_t i = 0; i < texels.points.size(); ++i) {
-    baked.irradiance[texels.atlas[i]].pixels[texels.texel[i]] = (*irradiance)[i];
+    baked.irradiance[texels.atlas[i]].pixels[texels.texel[i]] = irradiance[i];
     baked.covered[texels.atlas[i]][texels.texel[i]] = 1;
   }
   baked.texelsBaked = texels.points.size();

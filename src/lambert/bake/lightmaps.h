@@ -2,8 +2,9 @@
 // Lightmaps baked from a solution: per texel of each atlas (mesh/lightmap_uvs.h), the irradiance
 // at the texel's point on the input's own faces, gathered over the hierarchy's links as the final
 // gather does at vertices (hierarchical/final_gather.h), with the point, spot and directional lights'
-// direct light traced per texel (sharp shadows). Radiosity's lightmaps carry no Monte Carlo noise
-// of their own, so no denoiser follows.
+// direct light traced per texel (sharp shadows). The light from the surfaces is gathered where it
+// varies and interpolated where it does not (bake/adaptive_texels.h). Radiosity's lightmaps carry
+// no Monte Carlo noise of their own, so no denoiser follows.
 //
 // Texels are found by conservative rasterisation of each face in UV space; a texel's point is its
 // centre's place on the face (clamped into the face where the texel only overlaps it), nudged off
@@ -20,8 +21,20 @@
 
 namespace lambert {
 
+struct AdaptiveTexelOptions {
+  // Texels between the points where the light from the surfaces is gathered first (a power of
+  // two; 1 gathers every texel). See bake/adaptive_texels.h.
+  int coarsestStep = 4;
+  // A cell is interpolated where, in every channel, its corners' spread is at most this share of
+  // their largest value (or of `floorShare` × the mean of the first pass, whichever is larger:
+  // dark corners are not refined for differences no one can see).
+  double tolerance = 0.02;
+  double floorShare = 0.05;
+};
+
 struct LightmapBakeOptions {
   LightmapUvOptions uvs;
+  AdaptiveTexelOptions sampling;
   bool showProgress = true;  // on a TTY
 };
 
@@ -33,6 +46,7 @@ struct BakedLightmaps {
   // Per atlas, per texel: 1 where a face covers it, 0 where it was dilated or is empty.
   std::vector<std::vector<std::uint8_t>> covered;
   std::size_t texelsBaked = 0;
+  std::size_t texelsGathered = 0;  // those whose light from the surfaces was gathered, not interpolated
   int paddingRings = 0;  // rings of empty texels dilated around the charts (bake/lightmap_fill.h)
   double seconds = 0;
 };

@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include "lambert/core/parallel.h"
 #include "lambert/core/timer.h"
 #include "lambert/core/cache_file.h"
 #include "lambert/flat/adaptive_method.h"
@@ -15,6 +16,7 @@
 #include "lambert/flat/uniform_method.h"
 #include "lambert/light/emission.h"
 #include "lambert/light/injection.h"
+#include "lambert/light/many_lights.h"
 #include "lambert/solve/energy.h"
 #include "lambert/solve/problem.h"
 #include "lambert/solve/progressive_shooter.h"
@@ -48,11 +50,6 @@ Result<std::unique_ptr<Method>> makeMethod(const Scene& scene, const RadiosityOp
     }
   }
   return Error{"unknown mesh strategy"};
-}
-
-Result<std::vector<Rgb>> Method::pointIrradiance(const ElementSolution&, std::span<const SurfacePoint>) const {
-  return Error{"light at points of the faces (lightmaps) is gathered over the hierarchical method's links: solve with "
-               "--method hierarchical (the default) instead of the flat method"};
 }
 
 Result<PointGather> Method::pointGather(const ElementSolution&, std::span<const SurfacePoint>, PointGatherRequest) const {
@@ -436,8 +433,12 @@ std::vector<Rgb> SolutionView::vertexValues(VertexQuantity quantity, std::span<c
 }
 
 Result<std::vector<Rgb>> SolutionView::pointIrradiance(std::span<const SurfacePoint> points) const {
-  const auto& e = SolutionInternals::of(*this);
-  return e.meshing_->pointIrradiance(e.elementSolution(), points);
+  Result<PointGather> gathered = pointGather(*this, points, PointGatherRequest::Light);
+  if (!gathered) return gathered.error();
+  std::vector<Rgb> irradiance = std::move(gathered->fromSurfaces);
+  const std::vector<Rgb> direct = directIrradiance(*this, gathered->sites, gathered->rayEpsilon);
+  for (std::size_t i = 0; i < irradiance.size(); ++i) irradiance[i] += direct[i];
+  return irradiance;
 }
 
 std::vector<Rgb> SolutionView::vertexRadiance() const {
@@ -453,6 +454,18 @@ const RadiosityProblem& radiosityProblem(const SolutionView& view) { return *Sol
 Result<PointGather> pointGather(const SolutionView& view, std::span<const SurfacePoint> points, PointGatherRequest part) {
   const auto& e = SolutionInternals::of(view);
   return e.meshing_->pointGather(e.elementSolution(), points, part);
+}
+
+std::vector<Rgb> directIrradiance(const SolutionView& view, std::span<const VertexSite> sites, double rayEpsilon) {
+  std::vector<Rgb> irradiance(sites.size());
+  if (view.lights().empty()) return irradiance;
+  // By Ward's adaptive shadow testing (light/many_lights.h): within the solve's shadow tolerance
+  // of the unoccluded light at each point, exact when it is 0.
+  const DirectLighting lighting(view.lights(), view.scene().metresPerUnit, SolutionInternals::of(view).options_.directLight.shadowTolerance);
+  parallelFor(0, sites.size(), [&](std::size_t i) {
+    irradiance[i] = lighting.irradiance(sites[i].point, sites[i].normal, view.caster(), rayEpsilon);
+  }, 64);
+  return irradiance;
 }
 
 Result<PointGather> vertexGather(const SolutionView& view, std::span<const std::uint32_t> vertices, PointGatherRequest part) {

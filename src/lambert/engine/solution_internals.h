@@ -27,6 +27,9 @@ const RadiosityProblem& radiosityProblem(const SolutionView& view);
 // that light again from a later solution, as `part` asks (method/point_gather.h). Hierarchical
 // only (an Error for the others).
 Result<PointGather> pointGather(const SolutionView& view, std::span<const SurfacePoint> points, PointGatherRequest part);
+// The lights' direct light at a point gather's sites (shadow rays from rayEpsilon above them),
+// W/m², as SolutionView::pointIrradiance adds it to the light from the surfaces.
+std::vector<Rgb> directIrradiance(const SolutionView& view, std::span<const VertexSite> sites, double rayEpsilon);
 // The same at vertices of the view's vertexMesh(), where vertexValues gathers them (their sites),
 // for what their radiosity B = E + ρ (E_surfaces + E_lights) will be after the light changes.
 Result<PointGather> vertexGather(const SolutionView& view, std::span<const std::uint32_t> vertices, PointGatherRequest part);

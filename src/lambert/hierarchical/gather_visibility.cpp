@@ -4,6 +4,7 @@
 #include "lambert/hierarchical/final_gather.h"
 
 #include <algorithm>
+#include <bit>
 
 #include "lambert/core/rng.h"
 #include "lambert/core/sampling.h"
@@ -28,12 +29,25 @@ const double* GatherVisibility::find(std::uint32_t vertex, std::uint32_t k, std:
   return nullptr;
 }
 
+namespace {
+
+// A point's bits mixed into one key.
+std::uint64_t placeKey(const Vec3& p) {
+  return mixBits(std::bit_cast<std::uint64_t>(p.x) ^ mixBits(std::bit_cast<std::uint64_t>(p.y) ^ mixBits(std::bit_cast<std::uint64_t>(p.z)))) << 1;
+}
+
+}  // namespace
+
 double FinalGather::visibility(std::uint32_t vertex, std::uint32_t link, std::uint32_t s, std::uint32_t& raysCast,
                                bool penumbraRays) const {
   const VertexSite& site = sites_[vertex];
   // Seeded by the nodes, not the link's index: a distributed solve's ranks each hold their own
-  // links, numbered apart, and must draw the rays one process draws.
-  Pcg32 rng(seed_ ^ (links_.source[link] * 0x9e3779b97f4a7c15ull), (static_cast<std::uint64_t>(vertex) << 32) ^ s);
+  // links, numbered apart, and must draw the rays one process draws. A vertex's stream is its
+  // index; a point's is its place, so that its light does not depend on which other points were
+  // gathered with it (a lightmap's adaptive passes ask for texels in batches that differ from
+  // one bake to the next, bake/adaptive_texels.h).
+  const std::uint64_t where = resolveClusterVisibility_ ? placeKey(site.point) : static_cast<std::uint64_t>(vertex) << 32;
+  Pcg32 rng(seed_ ^ (links_.source[link] * 0x9e3779b97f4a7c15ull), where ^ s);
   const std::uint32_t su = rng.nextUint(), sv = rng.nextUint();
   // Each ray counts with the point-to-point kernel at its end: the visibility the factor needs is
   // ∫ k V dA / ∫ k dA over the source, not the share of its area in view. Counted by area, a

@@ -57,7 +57,6 @@ class HierarchicalMethod final : public Method {
   // close corners outside these take the elements' interpolated radiosity (vertexValues).
   std::vector<std::vector<Rgb>> vertexSolution(const ElementSolution& solution, std::span<const VertexQuantity> quantities,
                                                std::span<const std::uint8_t> neededVertices = {}) const override;
-  Result<std::vector<Rgb>> pointIrradiance(const ElementSolution& solution, std::span<const SurfacePoint> points) const override;
   Result<PointGather> pointGather(const ElementSolution& solution, std::span<const SurfacePoint> points, PointGatherRequest part) const override;
   Result<std::vector<Rgb>> nodeMeanRadiosity(const ElementSolution& solution) const override;
   Result<PointGather> vertexGather(const ElementSolution& solution, std::span<const std::uint32_t> vertices, PointGatherRequest part) const override;

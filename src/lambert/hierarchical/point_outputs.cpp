@@ -10,7 +10,6 @@
 
 #include "lambert/core/parallel.h"
 #include "lambert/method/point_gather.h"
-#include "lambert/light/many_lights.h"
 
 namespace lambert {
 
@@ -97,23 +96,6 @@ void HierarchicalMethod::gatherAt(const ElementSolution& solution, PointGatherRe
   if (part == PointGatherRequest::Weights) return;
   out.fromSurfaces = FinalGather::withCorners(gathered, out.near, vertexRadiosity(solution));
   if (!withWeights) out.near = {};
-}
-
-Result<std::vector<Rgb>> HierarchicalMethod::pointIrradiance(const ElementSolution& solution,
-                                                              std::span<const SurfacePoint> points) const {
-  Result<PointGather> gathered = pointGather(solution, points, PointGatherRequest::Light);
-  if (!gathered) return gathered.error();
-  std::vector<Rgb> irradiance = std::move(gathered->fromSurfaces);
-  const std::vector<VertexSite>& sites = gathered->sites;
-  if (!solution.lights.empty()) {
-    // The lights' share by Ward's adaptive shadow testing (light/many_lights.h): within
-    // shadowTolerance_ of the unoccluded light at each point, exact when it is 0.
-    const DirectLighting lighting(solution.lights, solution.metresPerUnit, shadowTolerance_);
-    parallelFor(0, irradiance.size(), [&](std::size_t i) {
-      irradiance[i] += lighting.irradiance(sites[i].point, sites[i].normal, *caster_, epsilon_);
-    }, 64);
-  }
-  return irradiance;
 }
 
 }  // namespace lambert

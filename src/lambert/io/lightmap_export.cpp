@@ -334,6 +334,7 @@ Stats lightmapStats(const Scene& scene, const BakedLightmaps& baked, const Light
   stats.add("lightmap_charts", "lightmap charts", static_cast<std::int64_t>(uvs.charts));
   stats.add("lightmap_efficiency", "lightmap packing efficiency", uvs.efficiency);
   stats.add("lightmap_texels_baked", "lightmap texels baked", static_cast<std::int64_t>(baked.texelsBaked));
+  stats.add("lightmap_texels_gathered", "lightmap texels gathered (the rest interpolated)", static_cast<std::int64_t>(baked.texelsGathered));
   stats.add("lightmap_bake_seconds", "lightmap bake time", baked.seconds, "s");
   stats.add("lightmap_glb_vertices", "lightmapped glb vertices", static_cast<std::int64_t>(files.vertices));
   stats.add("lightmap_glb_triangles", "lightmapped glb triangles", static_cast<std::int64_t>(files.triangles));

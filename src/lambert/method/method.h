@@ -74,10 +74,8 @@ class Method {
   virtual std::vector<std::vector<Rgb>> vertexSolution(const ElementSolution& solution, std::span<const VertexQuantity> quantities,
                                                        std::span<const std::uint8_t> neededVertices = {}) const;
 
-  // SolutionView::pointIrradiance: by default an Error (only hierarchical meshing gathers).
-  virtual Result<std::vector<Rgb>> pointIrradiance(const ElementSolution& solution, std::span<const SurfacePoint> points) const;
-  // pointGather, vertexGather and nodeMeanRadiosity (engine/solution_internals.h): likewise
-  // Errors but for hierarchical meshing.
+  // pointGather (SolutionView::pointIrradiance's light from the surfaces), vertexGather and
+  // nodeMeanRadiosity (engine/solution_internals.h): Errors but for hierarchical meshing.
   virtual Result<PointGather> pointGather(const ElementSolution& solution, std::span<const SurfacePoint> points, PointGatherRequest part) const;
   virtual Result<std::vector<Rgb>> nodeMeanRadiosity(const ElementSolution& solution) const;
   virtual Result<PointGather> vertexGather(const ElementSolution& solution, std::span<const std::uint32_t> vertices, PointGatherRequest part) const;

@@ -1,0 +1,42 @@
+#pragma once
+// Adaptive sampling of a lightmap's texels: the light is gathered on a coarse lattice of each
+// atlas, and a lattice cell's texels are interpolated bilinearly between its four corners where
+// the corners lie on one plane of one surface, agree with each other, and the light gathered at
+// the cell's centre agrees with what they interpolate there; elsewhere the cell is halved (its
+// centre and edge midpoints are the halves' corners) down to single texels, which are gathered.
+// It is irradiance caching's bet (Ward, Rubinstein & Clear 1988: the light from the surfaces
+// varies slowly except near other surfaces, so gather sparsely and interpolate) laid on the
+// texel grid, with each cell checked by five of its own points as quadtree-adaptive image
+// sampling refines a picture's pixels (Painter & Sloan 1989). The lights' direct light (sharp
+// shadows) is not interpolated: the lightmap bake traces it at every texel (bake/lightmaps.h).
+//
+// What it can miss: light that changes only inside a cell, away from its corners and its centre
+// (a contact shadow smaller than half a cell between them). The first cells are `coarsestStep`
+// texels wide, a few centimetres at the default texel size (mesh/lightmap_uvs.h); a coarsestStep
+// of 1 gathers every texel.
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <vector>
+
+#include "lambert/bake/lightmaps.h"
+#include "lambert/core/error.h"
+#include "lambert/core/rgb.h"
+
+namespace lambert {
+
+// The light (any Rgb quantity) at the texels asked for, by index into LightmapTexels::points.
+using TexelGather = std::function<Result<std::vector<Rgb>>(std::span<const std::uint32_t> texels)>;
+
+struct AdaptiveTexelStats {
+  std::size_t texels = 0, gathered = 0, interpolated = 0;
+  int passes = 0;  // calls of the gather
+};
+
+// Per texel of `texels` (lightmapTexels over atlases of `size`² texels): its value, gathered by
+// `gather` (called with indices into texels, twice per cell size) or interpolated between
+// gathered ones.
+Result<std::vector<Rgb>> adaptiveTexelValues(const LightmapTexels& texels, int size, int numAtlases, const TexelGather& gather,
+                                             const AdaptiveTexelOptions& options = {}, AdaptiveTexelStats* stats = nullptr);
+
+}  // namespace lambert
