@@ -106,30 +106,40 @@ Result<std::vector<Rgb>> adaptiveTexelValues(const LightmapTexels& texels, int s
       floor = options.floorShare * (count ? mean / static_cast<double>(count) : 0.0);
     }
     if (step == 1) break;  // every texel of a one-texel cell is its corner, gathered above
-    // The corners' test, then the centres of the cells that pass it.
+    // The cells whose corners and probes (the centre and the edges' midpoints: the halves'
+    // corners, should the cell be halved) lie on one plane of one surface; then the probes' light
+    // against what the corners interpolate there.
+    const int h = step / 2;
+    constexpr int kProbes = 5;
+    const int probeX[kProbes] = {h, h, 0, step, h}, probeY[kProbes] = {h, 0, h, h, step};
     std::vector<Verdict> verdict(cells.size(), Verdict::kSplitBySurface);
-    std::vector<std::uint32_t> centres;
+    std::vector<std::uint32_t> probeTexels;
     for (std::size_t i = 0; i < cells.size(); ++i) {
       const std::uint32_t* corner = &corners[4 * i];
-      const std::uint32_t centre = texelAt(cells[i].atlas, cells[i].x0 + step / 2, cells[i].y0 + step / 2);
-      bool onePlane = corner[0] != kNoTexel && centre != kNoTexel && samePlane(corner[0], centre);
+      bool onePlane = corner[0] != kNoTexel;
       for (int k = 0; k < 4 && onePlane; ++k) onePlane = corner[k] != kNoTexel && samePlane(corner[0], corner[k]);
+      for (int k = 0; k < kProbes && onePlane; ++k) {
+        const std::uint32_t p = texelAt(cells[i].atlas, cells[i].x0 + probeX[k], cells[i].y0 + probeY[k]);
+        onePlane = p != kNoTexel && samePlane(corner[0], p);
+      }
       if (!onePlane) continue;
-      double largest = 0;
-      for (int k = 0; k < 4; ++k) largest = std::fmax(largest, value[corner[k]].maxComponent());
-      bool agreeing = true;
-      for (int k = 1; k < 4 && agreeing; ++k) agreeing = agree(value[corner[0]], value[corner[k]], largest);
-      verdict[i] = agreeing ? Verdict::kSmooth : Verdict::kSplitByLight;
-      if (agreeing) centres.push_back(centre);
+      verdict[i] = Verdict::kSmooth;
+      for (int k = 0; k < kProbes; ++k) probeTexels.push_back(texelAt(cells[i].atlas, cells[i].x0 + probeX[k], cells[i].y0 + probeY[k]));
     }
-    if (Status s = gatherAt(centres); !s) return s.error();
+    if (Status s = gatherAt(probeTexels); !s) return s.error();
     for (std::size_t i = 0; i < cells.size(); ++i) {
       if (verdict[i] != Verdict::kSmooth) continue;
       const Cell& c = cells[i];
       const std::uint32_t* corner = &corners[4 * i];
-      const std::uint32_t centre = texelAt(c.atlas, c.x0 + step / 2, c.y0 + step / 2);
-      const Rgb predicted = (value[corner[0]] + value[corner[1]] + value[corner[2]] + value[corner[3]]) * 0.25;
-      if (!agree(predicted, value[centre], std::fmax(predicted.maxComponent(), value[centre].maxComponent()))) {
+      bool fits = true;
+      for (int k = 0; k < kProbes && fits; ++k) {
+        const double fx = static_cast<double>(probeX[k]) / step, fy = static_cast<double>(probeY[k]) / step;
+        const Rgb predicted = value[corner[0]] * ((1 - fx) * (1 - fy)) + value[corner[1]] * (fx * (1 - fy)) +
+                              value[corner[2]] * ((1 - fx) * fy) + value[corner[3]] * (fx * fy);
+        const Rgb& seen = value[texelAt(c.atlas, c.x0 + probeX[k], c.y0 + probeY[k])];
+        fits = agree(predicted, seen, std::fmax(predicted.maxComponent(), seen.maxComponent()));
+      }
+      if (!fits) {
         verdict[i] = Verdict::kSplitByLight;
         continue;
       }

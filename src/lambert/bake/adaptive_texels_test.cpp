@@ -64,11 +64,12 @@ double worstError(const LightmapTexels& texels, const Sampled& sampled, const st
 TEST(AdaptiveTexelsTest, AnAffineFieldIsInterpolatedExactlyFromALatticeAndItsCentres) {
   LightmapTexels texels;
   addChart(texels, 0, 0, 97, 65, 0, {0, 0, 1});  // 96 × 64 texels of cells, one texel beyond
-  const auto field = [](const SurfacePoint& p) { return 2.0 + 0.003 * p.point.x - 0.002 * p.point.y; };  // under 2% a cell
+  const auto field = [](const SurfacePoint& p) { return 2.0 + 0.03 * p.point.x - 0.02 * p.point.y; };
   const Sampled sampled = sample(texels, field, {});
   EXPECT_LT(worstError(texels, sampled, field), 1e-12);
-  // The lattice of every 4th texel and the cells' centres: (25 × 17) + (24 × 16) of 6,305.
-  EXPECT_EQ(sampled.stats.gathered, 25u * 17u + 24u * 16u);
+  // The lattice of every 8th texel (13 × 9), the 12 × 8 cells' centres and their edges'
+  // midpoints (12 × 9 across, 13 × 8 down): 425 of 6,305.
+  EXPECT_EQ(sampled.stats.gathered, 13u * 9u + 12u * 8u + 12u * 9u + 13u * 8u);
   EXPECT_EQ(sampled.asked, sampled.stats.gathered);
   EXPECT_EQ(sampled.stats.gathered + sampled.stats.interpolated, texels.points.size());
 }
@@ -79,9 +80,7 @@ TEST(AdaptiveTexelsTest, AStepInTheLightIsGatheredTexelByTexelAlongItsEdge) {
   LightmapTexels texels;
   addChart(texels, 3, 5, 117, 115, 0, {0, 0, 1});  // off the lattice: its first cells lack corners
   const auto field = [](const SurfacePoint& p) { return 0.3 * p.point.x + 0.7 * p.point.y > 41.3 ? 1.0 : 0.2; };
-  AdaptiveTexelOptions options;
-  options.coarsestStep = 8;
-  const Sampled sampled = sample(texels, field, options);
+  const Sampled sampled = sample(texels, field, {});
   EXPECT_LT(worstError(texels, sampled, field), 1e-12);
   EXPECT_LT(sampled.stats.gathered, texels.points.size() / 4);
 }
@@ -95,11 +94,24 @@ TEST(AdaptiveTexelsTest, ABumpBetweenTheCornersIsFoundAtTheCentre) {
     const double dx = p.point.x - 12, dy = p.point.y - 20;
     return 1.0 - 0.5 * std::exp(-(dx * dx + dy * dy) / 8);
   };
-  AdaptiveTexelOptions options;
-  options.coarsestStep = 8;
+  const AdaptiveTexelOptions options;
   const Sampled sampled = sample(texels, field, options);
   EXPECT_LT(worstError(texels, sampled, field), options.tolerance) << "the dip at (12, 20) interpolated away";
   EXPECT_LT(sampled.stats.gathered, texels.points.size() / 2);
+}
+
+TEST(AdaptiveTexelsTest, ASaddleIsFoundAtTheEdgesMidpoints) {
+  // Light rising along x and falling along y about a cell's centre (8 + 4, 16 + 4): its four
+  // corners and its centre all see 1, the midpoints of its edges do not.
+  LightmapTexels texels;
+  addChart(texels, 0, 0, 33, 33, 0, {0, 0, 1});
+  const auto field = [](const SurfacePoint& p) {
+    const double dx = p.point.x - 12, dy = p.point.y - 20;
+    return 1.0 + 0.02 * (dx * dx - dy * dy) * std::exp(-(dx * dx + dy * dy) / 32);
+  };
+  const AdaptiveTexelOptions options;
+  const Sampled sampled = sample(texels, field, options);
+  EXPECT_LT(worstError(texels, sampled, field), options.tolerance);
 }
 
 TEST(AdaptiveTexelsTest, EachSurfaceAndPlaneIsInterpolatedFromItsOwnTexels) {

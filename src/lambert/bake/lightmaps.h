@@ -24,10 +24,11 @@ namespace lambert {
 struct AdaptiveTexelOptions {
   // Texels between the points where the light from the surfaces is gathered first (a power of
   // two; 1 gathers every texel). See bake/adaptive_texels.h.
-  int coarsestStep = 4;
-  // A cell is interpolated where, in every channel, its corners' spread is at most this share of
-  // their largest value (or of `floorShare` × the mean of the first pass, whichever is larger:
-  // dark corners are not refined for differences no one can see).
+  int coarsestStep = 8;
+  // A cell is interpolated where, in every channel, the light at its centre and its edges'
+  // midpoints is within this share of what its corners interpolate there (a share of the larger
+  // of the two, or of `floorShare` × the first lattice's mean light, whichever is larger: dark
+  // cells are not halved for differences no one can see).
   double tolerance = 0.02;
   double floorShare = 0.05;
 };

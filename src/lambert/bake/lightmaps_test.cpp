@@ -111,6 +111,43 @@ TEST(LightmapTest, CornellTexelsAgreeWithThePathTracer) {
   EXPECT_LT(std::sqrt(squares) / mean, 0.04);
 }
 
+// The adaptive lattice (bake/adaptive_texels.h) against the same bake with every texel gathered,
+// on the Cornell box in charts of about 60 × 60 texels: the blocks' contact shadows, the room's
+// corner lines and the lamp's penumbrae are what it must not interpolate away. A point's rays are
+// drawn from its place, so a texel gathered in both bakes has one value and the difference is the
+// interpolation's alone. Measured: 35% of the texels gathered, RMSE 0.53% of the mean
+// irradiance, the worst texel 6.3% of the mean.
+TEST(LightmapTest, AnAdaptiveBakeAgreesWithEveryTexelGathered) {
+  const Scene scene = cornellBox();
+  auto engine = solved(scene);
+  ASSERT_TRUE(engine);
+  const LightmapUvs uvs = gridUvs(scene, 256, 4, 3);
+  LightmapBakeOptions every;
+  every.showProgress = false;
+  every.sampling.coarsestStep = 1;
+  Result<BakedLightmaps> exact = bakeLightmaps(engine->solution(), uvs, every);
+  Result<BakedLightmaps> adaptive = quietBake(*engine, uvs);
+  ASSERT_TRUE(exact.ok() && adaptive.ok());
+  EXPECT_EQ(exact->texelsGathered, exact->texelsBaked);
+  double mean = 0, squares = 0, worst = 0;
+  std::size_t n = 0;
+  for (std::size_t t = 0; t < exact->irradiance[0].pixels.size(); ++t)
+    if (exact->covered[0][t]) mean += exact->irradiance[0].pixels[t].g, ++n;
+  mean /= static_cast<double>(n);
+  for (std::size_t t = 0; t < exact->irradiance[0].pixels.size(); ++t) {
+    if (!exact->covered[0][t]) continue;
+    const double d = adaptive->irradiance[0].pixels[t].g - exact->irradiance[0].pixels[t].g;
+    squares += d * d;
+    worst = std::fmax(worst, std::fabs(d));
+  }
+  const double rmse = std::sqrt(squares / static_cast<double>(n)) / mean;
+  std::printf("%zu of %zu texels gathered; RMSE %.3f%%, worst %.2f%% of the mean\n", adaptive->texelsGathered, adaptive->texelsBaked,
+              100 * rmse, 100 * worst / mean);
+  EXPECT_LT(adaptive->texelsGathered, adaptive->texelsBaked / 2);
+  EXPECT_LT(rmse, 0.01);
+  EXPECT_LT(worst / mean, 0.15);
+}
+
 // A floor of two faces placed apart in the atlas, lit by a point light over their shared edge:
 // the light changes across every texel, so each side's own texels differ along the seam; stitched,
 // bilinear lookups on the two sides of the edge agree within 1%.
