@@ -305,12 +305,15 @@ class PyRadiosity {
   // Lightmaps of the solution (hierarchical method): per atlas the irradiance E, W/m², as an
   // (size, size, 3) array and which texels a face covers; written with the scene's mesh as a .glb
   // and its EXR and RGBM files (as `lambert solve --lightmaps --export`) where a path is given.
-  py::dict bakeLightmaps(const std::string& glbPath, double texelSize, int atlasSize, int padding) const {
+  py::dict bakeLightmaps(const std::string& glbPath, double texelSize, int atlasSize, int padding, int step, double tolerance) const {
     LightmapBakeOptions options;
     if (!(texelSize >= 0)) raise("bake_lightmaps: texel_size must be 0 (automatic) or positive metres");
     options.uvs.texelSize = texelSize / engine_->solution().scene().metresPerUnit;  // metres, as --texel-size
     options.uvs.atlasSize = atlasSize;
     options.uvs.paddingTexels = padding;
+    options.sampling.coarsestStep = step;
+    options.sampling.tolerance = tolerance;
+    if (!(tolerance >= 0 && tolerance <= 1)) raise("bake_lightmaps: tolerance must lie in [0, 1]");
     options.showProgress = false;
     Result<BakedLightmaps> baked = Error{""};
     {
@@ -330,6 +333,7 @@ class PyRadiosity {
     out["irradiance"] = irradiance;
     out["covered"] = covered;
     out["texels_baked"] = baked->texelsBaked;
+    out["texels_gathered"] = baked->texelsGathered;
     flushWarnings();
     return out;
   }
@@ -485,11 +489,13 @@ PYBIND11_MODULE(lambert, m) {
            "radiance, W/(m²·sr); written as .png (tone mapped at `exposure` stops, else the scene's or automatic) or .exr "
            "(linear) where a path is given, as `lambert render`.")
       .def("bake_lightmaps", &PyRadiosity::bakeLightmaps, py::arg("path") = "", py::arg("texel_size") = 0.0,
-           py::arg("size") = 1024, py::arg("padding") = 2,
+           py::arg("size") = 1024, py::arg("padding") = 2, py::arg("step") = AdaptiveTexelOptions{}.coarsestStep,
+           py::arg("tolerance") = AdaptiveTexelOptions{}.tolerance,
            "Lightmaps (hierarchical method): a dict with 'irradiance' (per atlas an (size, size, 3) float64 array of E, "
-           "W/m²), 'covered' (per atlas a uint8 mask of the texels a face covers) and 'texels_baked'; with a .glb path, "
-           "written as `lambert solve --lightmaps --export` writes them. texel_size in metres (0: automatic), size and padding in "
-           "texels, as --texel-size, --lightmap-size and --lightmap-padding.")
+           "W/m²), 'covered' (per atlas a uint8 mask of the texels a face covers), 'texels_baked' and 'texels_gathered' "
+           "(the rest interpolated); with a .glb path, written as `lambert solve --lightmaps --export` writes them. texel_size "
+           "in metres (0: automatic), size, padding and step in texels, as --texel-size, --lightmap-size, --lightmap-padding, "
+           "--lightmap-step and --lightmap-tolerance (step 1 gathers every texel).")
       .def("bake_probes", &PyRadiosity::bakeProbes, py::arg("path") = "", py::arg("spacing") = 0.0, py::arg("rays_per_probe") = 512,
            "An L2 SH irradiance volume: a dict with 'coefficients' ((nz, ny, nx, 9, 3) float32, W/m²), 'valid' "
            "((nz, ny, nx) bool), 'origin' and 'spacing' (scene units); written as lambert's probe file where a path is given "

@@ -224,6 +224,11 @@ def test_lightmaps_are_the_clis_and_probes_are_their_file(tmp_path):
                     "--export", str(tmp_path / "cli" / "box.glb"), "-q"], check=True)
     for name in ["box.glb", "box-lightmap-0-rgbm.png", "box-lightmap-0.exr"]:
         assert (tmp_path / "py" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes(), name
+    # The light from the surfaces gathered where it varies (bake/adaptive_texels.h), or everywhere.
+    every = engine.bake_lightmaps(size=128, step=1)
+    assert every["texels_gathered"] == every["texels_baked"] > baked["texels_gathered"]
+    with pytest.raises(lambert.Error, match="power of two"):
+        engine.bake_lightmaps(size=128, step=3)
 
     volume = engine.bake_probes(str(tmp_path / "box.probes"), spacing=100)
     subprocess.run([CLI, "solve", "--scene", "cornell", "--probes", str(tmp_path / "cli.probes"), "--probe-spacing", "100", "-q"],
