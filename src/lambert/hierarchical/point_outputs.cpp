@@ -1,6 +1,6 @@
 // The final gather's outputs at points on the surfaces (hierarchical/method.h): each point's
-// leaf found down its face's elements, the light (and weights) gathered there, and the lights'
-// direct light added. Its own file: one of the method's two outputs (vertex_outputs.cpp gathers
+// leaf found down its face's elements, and the light from the surfaces (and weights) gathered
+// there; the engine adds the lights' direct light (SolutionView::pointIrradiance). Its own file: one of the method's two outputs (vertex_outputs.cpp gathers
 // at the vertices); gatherAt serves both.
 #include "lambert/hierarchical/method.h"
 
