@@ -8,6 +8,7 @@
 #include "lambert/core/rng.h"
 #include "lambert/core/sampling.h"
 #include "lambert/core/union_find.h"
+#include "lambert/geometry/face_contacts.h"
 
 namespace lambert {
 namespace {
@@ -45,6 +46,7 @@ std::vector<std::uint8_t> enclosedPatches(const Mesh& mesh, const RayCaster& cas
   std::vector<std::vector<std::uint32_t>> met(n);
   std::vector<std::uint8_t> lit(n, 0);
   const auto emits = [&](const Patch& p) { return scene.surfaces[p.surface].emittedRadiance.maxComponent() > 0; };
+  const FaceContacts contacts(mesh, scene, epsilon);
   parallelFor(0, n, [&](std::size_t i) {
     const Patch& patch = mesh.patches[i];
     if (!patch.twinned) return;
@@ -58,8 +60,16 @@ std::vector<std::uint8_t> enclosedPatches(const Mesh& mesh, const RayCaster& cas
     for (int k = 0; k < raysPerPatch && !lit[i]; ++k) {
       auto [u, v] = scrambledZeroTwo(static_cast<std::uint32_t>(k), su, sv);
       const Vec3 x = sampleConvexPolygon(corners, u, v);
+      // On a face turned toward it (the floor under a block standing there), x lifted is inside
+      // that face's object: its ray would join that inside to this face's side.
+      if (contacts.inContact(x, static_cast<std::uint32_t>(i))) continue;
       const Vec3 d = cosineDirection(patch.normal, scrambledZeroTwo(static_cast<std::uint32_t>(k), du, dv));
-      const std::optional<RayHit> hit = caster.intersect(Ray{x + patch.normal * epsilon, d, 0, INFINITY});
+      const Vec3 origin = x + patch.normal * epsilon;
+      const std::optional<RayHit> hit = caster.intersect(Ray{origin, d, 0, INFINITY});
+      // A ray that meets a face where another lies on it, turned toward it, has met the contact
+      // (from inside a block standing on the floor, the floor lies on the block's bottom, and
+      // which of the two a ray meets there is undecided): it joins nothing.
+      if (hit && contacts.inContact(origin + d * hit->t, hit->patch)) continue;
       if (!hit) {
         lit[i] = lightOutside;
       } else if (hit->frontFace) {

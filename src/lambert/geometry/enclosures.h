@@ -13,7 +13,8 @@
 // (a ray that escapes) or a one-sided face (ordinary geometry, taken as lit). Without a sky or a
 // sun, the outer shell of a closed two-sided room is dark too. Only twinned faces are asked, so
 // one-sided scenes are untouched; a set is lit if any of its faces is, so one ray from anywhere
-// inside a room that finds its lamp lights the whole room.
+// inside a room that finds its lamp lights the whole room. Points of a face lying on another
+// face turned toward it cast no ray (geometry/face_contacts.h): lifted, they are inside it.
 #include <cstdint>
 #include <vector>
 

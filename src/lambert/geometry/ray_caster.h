@@ -8,6 +8,8 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <utility>
+#include <vector>
 
 #include "lambert/core/vec3.h"
 #include "lambert/mesh/mesh.h"
@@ -45,6 +47,13 @@ class RayCaster {
   // Rays traced since construction (occlusion and intersection together).
   std::uint64_t raysCast() const;
 
+  // The patches that lie inside closed objects (geometry/enclosures.h), one entry per patch: a
+  // point whose first surface along its normal is one of these, from either side, is inside such
+  // an object, hence covered (isCovered in geometry/coverage.h). Unset, none is.
+  void setInsideClosedObjects(std::vector<std::uint8_t> perPatch) { insideClosed_ = std::move(perPatch); }
+  bool insideClosedObject(std::uint32_t patch) const { return patch < insideClosed_.size() && insideClosed_[patch] != 0; }
+  bool hasClosedObjects() const { return !insideClosed_.empty(); }
+
  protected:
   // Each thread counts in its own cache line: one shared counter bounced between the cores on
   // every ray cost 8% of a point-illuminance run (perf, illuminance_bench).
@@ -57,6 +66,7 @@ class RayCaster {
   static constexpr std::size_t kCounterSlots = 16;
   static std::size_t counterSlot();
   mutable std::array<Counter, kCounterSlots> raysCast_;
+  std::vector<std::uint8_t> insideClosed_;
 };
 
 // Embree 3 BVH over the mesh's patches. Casters copy what they need: the mesh may be moved or

@@ -8,6 +8,7 @@
 #include "lambert/core/error.h"
 #include "lambert/core/parallel.h"
 #include "lambert/formfactor/kernels.h"
+#include "lambert/geometry/coverage.h"
 #include "lambert/hierarchical/final_gather_outputs.h"
 
 namespace lambert {
@@ -532,8 +533,10 @@ std::vector<Rgb> FinalGather::irradiance(const std::vector<Rgb>& mean, FinalGath
   std::vector<Rgb> out(sites_.size());
   parallelFor(0, sites_.size(), [&](std::size_t v) {
     // No light reaches inside a closed two-sided object (geometry/enclosures.h), whatever the
-    // links of the clusters holding it carry.
+    // links of the clusters holding it carry: on its inner faces, nor at a point of the floor it
+    // stands on (a cluster link's visibility is its receiver's mean, open where such a point is not).
     if (leaf_[v] == kNoNode || hierarchy_.node(hierarchy_.leafNodes()[leaf_[v]]).enclosed) return;
+    if (isInsideClosedObject(caster_, sites_[v].point, sites_[v].normal, epsilon_)) return;
     out[v] = SiteGather(*this, static_cast<std::uint32_t>(v), mean, range, outputs).irradiance();
   }, 64);
   outputs.finish(leaf_);

@@ -164,7 +164,11 @@ LinkEstimator::LinkEstimator(const ElementHierarchy& hierarchy, const RayCaster&
     radiosity_[parent] += radiosity_[i];
     peakRadiosity_[parent] = std::fmax(peakRadiosity_[parent], peakRadiosity_[i]);
   }
-  for (std::size_t i = 0; i < nodes.size(); ++i) radiosity_[i] = nodes[i].area > 0 ? radiosity_[i] / nodes[i].area : 0.0;
+  // A cluster's mean over its faces outside closed objects, as the transport pulls it.
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    const double area = nodes[i].isCluster() ? unenclosedArea_[i] : nodes[i].area;
+    radiosity_[i] = area > 0 ? radiosity_[i] / area : 0.0;
+  }
   threshold_ = options_.linkError * power;
 }
 

@@ -52,7 +52,9 @@ HierarchicalMethod::HierarchicalMethod(const Scene& scene, const RadiosityOption
   // The inside of closed two-sided objects, before any split: its faces are covered whole (their
   // open fraction 0), so that no cluster hands them light and none is pulled from them.
   Timer enclosures;
-  hierarchy_.markEnclosedFaces(enclosedPatches(leaves_.mesh, *caster_, scene_));
+  std::vector<std::uint8_t> enclosed = enclosedPatches(leaves_.mesh, *caster_, scene_);
+  hierarchy_.markEnclosedFaces(enclosed);
+  caster_->setInsideClosedObjects(std::move(enclosed));
   coverageSeconds_ += enclosures.seconds();
   // The faces' open fractions are measured by the first refine(), unless the link cache holds them.
   // Until the first refinement, the leaves (the faces) exchange nothing.
@@ -165,26 +167,32 @@ Result<bool> HierarchicalMethod::refine(const std::vector<Light>& lights, std::v
     const DirectLighting lighting(lights, scene_.metresPerUnit, shadowTolerance_);
     emitted = emittedRadiosity(scene_, leaves_.mesh);
     albedo = patchAlbedo(scene_, leaves_.mesh);
+    // A leaf reflects light on its open part only (its area-averaged B, as the solve has it):
+    // the inside of a closed two-sided object (open fraction 0) reflects none. Lit here like the
+    // room side, the outer shell of a two-sided room drew half of every cluster link's source
+    // samples, by this radiosity, and those links kept half their K: a Blender room lost 37% of
+    // its power (docs/hierarchical.md, "Two-sided rooms").
     estimate.assign(leaves_.mesh.numPatches(), Rgb{});
     parallelFor(0, estimate.size(), [&](std::size_t i) {
       const Patch& p = leaves_.mesh.patches[i];
-      estimate[i] = emitted[i] + albedo[i] * lighting.irradiance(p.centroid, p.normal, *caster_, epsilon_);
+      estimate[i] = emitted[i] + albedo[i] * lighting.irradiance(p.centroid, p.normal, *caster_, epsilon_) * p.openFraction;
     }, 64);
     // Every surface that reflects will be lit by the bounces too: add what each would reflect of
-    // the first light spread evenly and reflected to convergence (Cohen et al. 1988's ambient
-    // term), so that links from surfaces lit only indirectly are refined, and not dropped as
-    // carrying nothing, in this first pass.
+    // the first light spread evenly over the open area and reflected to convergence (Cohen et
+    // al. 1988's ambient term), so that links from surfaces lit only indirectly are refined, and
+    // not dropped as carrying nothing, in this first pass.
     Rgb firstPower, reflectedArea;
-    double totalArea = 0;
+    double openArea = 0;
     for (std::size_t i = 0; i < estimate.size(); ++i) {
-      const double a = leaves_.mesh.patches[i].area;
+      const double a = leaves_.mesh.patches[i].area, open = a * leaves_.mesh.patches[i].openFraction;
       firstPower += estimate[i] * a;
-      reflectedArea += albedo[i] * a;
-      totalArea += a;
+      reflectedArea += albedo[i] * open;
+      openArea += open;
     }
     Rgb ambient;
-    for (int c = 0; c < 3; ++c) ambient[c] = firstPower[c] / totalArea / std::fmax(1e-3, 1 - reflectedArea[c] / totalArea);
-    for (std::size_t i = 0; i < estimate.size(); ++i) estimate[i] += albedo[i] * ambient;
+    if (openArea > 0)
+      for (int c = 0; c < 3; ++c) ambient[c] = firstPower[c] / openArea / std::fmax(1e-3, 1 - reflectedArea[c] / openArea);
+    for (std::size_t i = 0; i < estimate.size(); ++i) estimate[i] += albedo[i] * ambient * leaves_.mesh.patches[i].openFraction;
     old.clear();
     oldLeafOfNode.assign(hierarchy_.nodes().size(), kNoNode);
   }

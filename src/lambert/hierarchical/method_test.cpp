@@ -122,6 +122,37 @@ TEST(HierarchicalTest, FurnaceIsUniformAtEmissionOverOneMinusAlbedo) {
   EXPECT_LT(relativeError(sum / area, expected), 0.01);
 }
 
+// A closed room whose every face is two-sided, as Blender exports them, lit by a two-sided
+// panel across its middle: each room face has an outer twin no light reaches (its outer shell,
+// geometry/enclosures.h). Every surface reflects ρ = 0.5 and no light escapes, so what leaves
+// the surfaces in all is exactly Φ / (1 − ρ), Φ the panel's power from both its sides. The first
+// pass's estimate once lit the outer shell like the room side: cluster links drew half their
+// source samples from it and kept half their K, and a Blender room lost 37% of its power.
+TEST(HierarchicalTest, ATwoSidedClosedRoomLitInClustersKeepsItsPower) {
+  const double lampRadiance = 4;
+  Scene scene = sceneOf({gridSurface("floor", {0, 0, 0}, {0, 0, 1}, {1, 0, 0}, 6),
+                         gridSurface("ceiling", {0, 1, 0}, {1, 0, 0}, {0, 0, 1}, 6),
+                         gridSurface("x0", {0, 0, 0}, {0, 1, 0}, {0, 0, 1}, 6),
+                         gridSurface("x1", {1, 0, 0}, {0, 0, 1}, {0, 1, 0}, 6),
+                         gridSurface("z0", {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 6),
+                         gridSurface("z1", {0, 0, 1}, {0, 1, 0}, {1, 0, 0}, 6),
+                         gridSurface("panel", {0.4, 0.5, 0.4}, {0.2, 0, 0}, {0, 0, 0.2}, 2, Rgb::gray(lampRadiance))});
+  scene.materials[0].twoSided = true;
+  addTwins(scene);
+  const double power = 2 * kPi * lampRadiance * 0.2 * 0.2;  // both sides emit
+  for (bool clusters : {true, false}) {
+    RadiosityOptions options = testing::quietOptions();
+    options.hierarchical.links.clusters = clusters;
+    auto engine = solved(scene, options);
+    ASSERT_TRUE(engine);
+    const SolutionView& view = engine->solution();
+    double leaving = 0;
+    for (std::size_t i = 0; i < view.mesh().numPatches(); ++i) leaving += view.radiosity()[i].g * view.mesh().patches[i].area;
+    std::printf("clusters %d: leaving %.4f W, exact %.4f W\n", clusters, leaving, power / (1 - 0.5));
+    EXPECT_LT(relativeError(leaving, power / (1 - 0.5)), 0.03) << (clusters ? "clustered" : "unclustered");
+  }
+}
+
 TEST(HierarchicalTest, HowellTwoPatchFactorsThroughTheSolver) {
   // Square a emits E = π (L_e = 1) and is black, so its radiosity is E everywhere; square b
   // reflects ρ = 0.5 of what it receives: its mean radiosity is exactly ρ F_ba E.

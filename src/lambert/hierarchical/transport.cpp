@@ -34,9 +34,17 @@ HierarchicalTransport::HierarchicalTransport(const ElementHierarchy& hierarchy, 
   for (std::size_t i = nodes.size(); i-- > 1;)
     if (parent_[i] != kNoNode) openArea_[parent_[i]] += openArea_[i];
   // A cluster's links sample its faces by the light they show, not uniformly: their rays do not
-  // count the covered parts out, so it shows its mean over all its area.
+  // count the covered parts out, so it shows its mean over all its area, but for the faces inside
+  // closed two-sided objects (geometry/enclosures.h), which no link sees: over them too, the
+  // mean of a two-sided wall's cluster was half what its room side shows, and a link whose K
+  // was estimated before that side was lit (the faces alike) carried half its light.
+  std::vector<double> unenclosed(nodes.size(), 0.0);
+  for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l)
+    if (!nodes[nodeOfLeaf_[l]].enclosed) unenclosed[nodeOfLeaf_[l]] = area_[nodeOfLeaf_[l]];
+  for (std::size_t i = nodes.size(); i-- > 1;)
+    if (parent_[i] != kNoNode) unenclosed[parent_[i]] += unenclosed[i];
   for (std::size_t i = 0; i < nodes.size(); ++i)
-    if (nodes[i].isCluster()) openArea_[i] = area_[i];
+    if (nodes[i].isCluster()) openArea_[i] = unenclosed[i];
   // Depth first from the root, children in the hierarchy's order.
   sweepOrder_.reserve(nodes.size());
   std::vector<SweepStep> stack{{0, 0, 0}};
