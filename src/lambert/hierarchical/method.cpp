@@ -54,7 +54,7 @@ HierarchicalMethod::HierarchicalMethod(const Scene& scene, const RadiosityOption
   Timer enclosures;
   std::vector<std::uint8_t> enclosed = enclosedPatches(leaves_.mesh, *caster_, scene_);
   hierarchy_.markEnclosedFaces(enclosed);
-  caster_->setInsideClosedObjects(std::move(enclosed));
+  if (std::find(enclosed.begin(), enclosed.end(), 1) != enclosed.end()) caster_->setInsideClosedObjects(std::move(enclosed));
   coverageSeconds_ += enclosures.seconds();
   // The faces' open fractions are measured by the first refine(), unless the link cache holds them.
   // Until the first refinement, the leaves (the faces) exchange nothing.
