@@ -8,6 +8,12 @@ namespace {
 
 std::uint64_t cellKey(std::int64_t x, std::int64_t y) { return static_cast<std::uint64_t>(x) << 32 ^ static_cast<std::uint64_t>(y); }
 
+// A grid coordinate's cell, clamped so that a point far off the grid stays a valid integer.
+std::int64_t cellOf(double coordinate, double lo, double cell) {
+  const double c = std::floor((coordinate - lo) / cell);
+  return static_cast<std::int64_t>(std::isfinite(c) ? std::clamp(c, -1e12, 1e12) : -1.0);
+}
+
 // Whether q lies inside the convex polygon (counter-clockwise or clockwise alike), up to `slack`
 // (scene units) outside its edges.
 bool insideConvex(const std::array<Vec2, 4>& corners, std::size_t count, Vec2 q, double slack) {
@@ -31,8 +37,10 @@ std::size_t FaceContacts::PlaneKeyHash::operator()(const PlaneKey& k) const {
 }
 
 FaceContacts::PlaneKey FaceContacts::keyOf(const Vec3& normal, const Vec3& point) const {
+  // Clamped, so that no offset, however far out or fine the tolerance, overflows the key.
+  const double offset = std::clamp(std::floor(dot(normal, point) / tolerance_), -1e18, 1e18);
   return {static_cast<std::int32_t>(std::lround(normal.x * 1e4)), static_cast<std::int32_t>(std::lround(normal.y * 1e4)),
-          static_cast<std::int32_t>(std::lround(normal.z * 1e4)), static_cast<std::int64_t>(std::floor(dot(normal, point) / tolerance_))};
+          static_cast<std::int32_t>(std::lround(normal.z * 1e4)), static_cast<std::int64_t>(std::isfinite(offset) ? offset : 0.0)};
 }
 
 FaceContacts::FaceContacts(const Mesh& mesh, const Scene& scene, double planeTolerance)
@@ -73,10 +81,8 @@ FaceContacts::FaceContacts(const Mesh& mesh, const Scene& scene, double planeTol
     plane.lo = lo;
     plane.cell = std::max({extent / static_cast<double>(plane.patches.size()), (hi.x - lo.x) / 256, (hi.y - lo.y) / 256, 1e-30});
     for (std::uint32_t i = 0; i < plane.patches.size(); ++i) {
-      const auto x0 = static_cast<std::int64_t>(std::floor((bounds[i][0].x - lo.x) / plane.cell));
-      const auto y0 = static_cast<std::int64_t>(std::floor((bounds[i][0].y - lo.y) / plane.cell));
-      const auto x1 = static_cast<std::int64_t>(std::floor((bounds[i][1].x - lo.x) / plane.cell));
-      const auto y1 = static_cast<std::int64_t>(std::floor((bounds[i][1].y - lo.y) / plane.cell));
+      const std::int64_t x0 = cellOf(bounds[i][0].x, lo.x, plane.cell), y0 = cellOf(bounds[i][0].y, lo.y, plane.cell);
+      const std::int64_t x1 = cellOf(bounds[i][1].x, lo.x, plane.cell), y1 = cellOf(bounds[i][1].y, lo.y, plane.cell);
       for (std::int64_t x = x0; x <= x1; ++x)
         for (std::int64_t y = y0; y <= y1; ++y) plane.grid[cellKey(x, y)].push_back(i);
     }
@@ -95,8 +101,7 @@ bool FaceContacts::inContact(const Vec3& x, std::uint32_t self) const {
     if (it == planes_.end()) continue;
     const Plane& plane = it->second;
     const Vec2 q{dot(x, plane.u), dot(x, plane.v)};
-    const auto cell = plane.grid.find(cellKey(static_cast<std::int64_t>(std::floor((q.x - plane.lo.x) / plane.cell)),
-                                              static_cast<std::int64_t>(std::floor((q.y - plane.lo.y) / plane.cell))));
+    const auto cell = plane.grid.find(cellKey(cellOf(q.x, plane.lo.x, plane.cell), cellOf(q.y, plane.lo.y, plane.cell)));
     if (cell == plane.grid.end()) continue;
     for (std::uint32_t i : cell->second) {
       const Patch& other = mesh_.patches[plane.patches[i]];
