@@ -32,7 +32,7 @@ void measureOpenFractions(Mesh& mesh, const RayCaster& caster, std::span<const s
 
 bool isCovered(const RayCaster& caster, const Vec3& x, const Vec3& n, double epsilon) {
   auto hit = caster.intersect(Ray{x + n * epsilon, n, 0, INFINITY});
-  return hit && (!hit->frontFace || caster.insideClosedObject(hit->patch));
+  return hit && !hit->frontFace;
 }
 
 bool isInsideClosedObject(const RayCaster& caster, const Vec3& x, const Vec3& n, double epsilon) {

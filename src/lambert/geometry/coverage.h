@@ -23,9 +23,7 @@ void measureOpenFractions(Mesh& mesh, const RayCaster& caster, int samplesPerPat
 void measureOpenFractions(Mesh& mesh, const RayCaster& caster, std::span<const std::uint8_t> measure, int samplesPerPatch = 16);
 
 // Whether the point x on a surface with normal n is covered: the first surface along n, from x
-// lifted by epsilon, is seen from behind, or lies inside a closed object (RayCaster::
-// insideClosedObject: the floor under a two-sided block sees the inside of the block's top, and
-// the block's bottom, lying on it, is behind x + n·epsilon).
+// lifted by epsilon, is seen from behind.
 bool isCovered(const RayCaster& caster, const Vec3& x, const Vec3& n, double epsilon);
 // Whether the first surface along n from x lifted by epsilon lies inside a closed object: x is
 // inside one (the floor under a two-sided block standing on it). False where the caster knows of
