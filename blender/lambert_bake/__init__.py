@@ -20,7 +20,7 @@ import time
 
 import bpy
 
-from . import process, results
+from . import lights, process, results
 
 
 def _numpy_bool_for_the_exporter():
@@ -68,6 +68,11 @@ class LambertBakeSettings(bpy.types.PropertyGroup):
         name='Objects', default='ALL',
         items=[('ALL', 'All', 'Every visible mesh object and light of the scene'),
                ('SELECTED', 'Selected', 'The selected objects only (select the lights too)')])
+    apply_modifiers: bpy.props.BoolProperty(
+        name='Apply modifiers', default=True,
+        description='Apply the baked objects\' modifiers first (Ctrl+Z restores them), so that what they make '
+                    '(an Array\'s copies, a Mirror\'s half) is lit and gets light of its own; off: the objects '
+                    'go out as their own meshes, and what a modifier adds shares their colours')
     status: bpy.props.StringProperty(name='Status', default='', options={'SKIP_SAVE'})
     progress: bpy.props.FloatProperty(name='Progress', default=0.0, min=0.0, max=100.0, subtype='PERCENTAGE')
 
@@ -96,9 +101,27 @@ def _binary(context):
     return process.find_binary(preferences.binary if preferences else '')
 
 
+def _pool(context, settings):
+    return context.selected_objects if settings.objects == 'SELECTED' else context.scene.objects
+
+
 def _meshes(context, settings):
-    pool = context.selected_objects if settings.objects == 'SELECTED' else context.scene.objects
-    return [o for o in pool if o.type == 'MESH' and o.visible_get()]
+    return [o for o in _pool(context, settings) if o.type == 'MESH' and o.visible_get()]
+
+
+def _apply_modifiers(context, objects):
+    """Replaces each object's mesh by what its modifiers make of it, and drops the modifiers
+    (the operator's undo step brings them back); returns how many objects had some."""
+    depsgraph = context.evaluated_depsgraph_get()
+    applied = 0
+    for obj in objects:
+        if not any(m.show_viewport for m in obj.modifiers):
+            continue
+        mesh = bpy.data.meshes.new_from_object(obj.evaluated_get(depsgraph), preserve_all_data_layers=True, depsgraph=depsgraph)
+        obj.modifiers.clear()
+        obj.data = mesh
+        applied += 1
+    return applied
 
 
 class BakeJob:
@@ -120,6 +143,10 @@ class BakeJob:
         else:
             self.folder = tempfile.mkdtemp(prefix='lambert-bake-')
         self.scene_glb = os.path.join(self.folder, 'scene.glb')
+        self.warnings = []
+        if settings.apply_modifiers and settings.output == 'LIGHTMAPS':
+            # Each copy a modifier makes needs lightmap UVs of its own, made on the applied mesh below.
+            self.apply_modifiers(context)
         # A previous lightmap bake's emission must not go out as the scene's own.
         results.remove_lightmap_nodes(self.objects)
         if settings.output == 'LIGHTMAPS':
@@ -134,9 +161,17 @@ class BakeJob:
         self.lambert = process.LambertProcess(process.solve_arguments(
             binary, self.scene_glb, settings.method, settings.quality, settings.output, self.result_path))
 
+    def apply_modifiers(self, context):
+        applied = _apply_modifiers(context, self.objects)
+        if applied:
+            self.warnings.append(f'modifiers of {applied} objects applied (Ctrl+Z restores them)')
+
     def export(self, context):
         _numpy_bool_for_the_exporter()
         selected = [o for o in context.view_layer.objects if o.select_get()]
+        # Area lights go out as emissive faces (lambert_bake/lights.py), selected for the export.
+        stand_ins, warnings = lights.area_light_stand_ins([o for o in _pool(context, self.settings) if o.visible_get()])
+        self.warnings += warnings
         if self.settings.objects == 'ALL':
             # Export exactly the objects baked (and every light): the visible ones.
             for o in selected:
@@ -144,12 +179,15 @@ class BakeJob:
             for o in context.scene.objects:
                 if (o in self.objects or o.type == 'LIGHT') and o.visible_get():
                     o.select_set(True)
+        for o in stand_ins:
+            o.select_set(True)
         try:
             result = bpy.ops.export_scene.gltf(
-                filepath=self.scene_glb, export_format='GLB', use_selection=True, export_apply=False,
+                filepath=self.scene_glb, export_format='GLB', use_selection=True, export_apply=self.settings.apply_modifiers,
                 export_lights=True, export_cameras=True, export_yup=True, export_materials='EXPORT',
                 export_texcoords=True, export_normals=True, export_colors=False, export_animations=False)
         finally:
+            lights.remove_stand_ins(stand_ins)
             if self.settings.objects == 'ALL':
                 for o in context.view_layer.objects:
                     o.select_set(o in selected)
@@ -171,6 +209,9 @@ class BakeJob:
             if status != 0:
                 raise RuntimeError('lambert failed: ' + self.lambert.error_message())
             if self.settings.output == 'VERTEX_COLORS':
+                if self.settings.apply_modifiers:
+                    # The meshes as exported (export_apply), now that there is light to write on them.
+                    self.apply_modifiers(context)
                 corners, far = results.write_vertex_colors(self.objects, self.result_path)
                 results.show_attribute_in_viewports(context)
                 summary = f'{corners} corners of {len(self.objects)} objects coloured'
@@ -179,7 +220,8 @@ class BakeJob:
             else:
                 wired, image = results.wire_lightmaps(self.objects, self.result_path)
                 summary = f'a {image.size[0]}² lightmap wired into {wired} materials'
-            return summary + f' (lambert {time.monotonic() - self.started:.1f} s)'
+            summary += f' (lambert {time.monotonic() - self.started:.1f} s)'
+            return '; '.join([summary] + self.warnings)
         finally:
             self.cleanup()
 
@@ -278,7 +320,7 @@ class LAMBERT_OT_bake(bpy.types.Operator):
             self.report({'ERROR'}, str(error))
             return {'CANCELLED'}
         settings.status, settings.progress = 'done: ' + summary, 100.0
-        self.report({'INFO'}, 'lambert: ' + summary)
+        self.report({'WARNING'} if job.warnings else {'INFO'}, 'lambert: ' + summary)
         return {'FINISHED'}
 
 
@@ -297,6 +339,7 @@ class RENDER_PT_lambert(bpy.types.Panel):
         layout.prop(settings, 'quality')
         layout.prop(settings, 'output', expand=True)
         layout.prop(settings, 'objects', expand=True)
+        layout.prop(settings, 'apply_modifiers')
         if _running_job is not None:
             layout.prop(settings, 'progress', text=settings.status or 'running', slider=True)
             layout.label(text='Esc cancels', icon='CANCEL')

@@ -22,6 +22,10 @@ constexpr double kOpeningTolerance = 1e-3;
 // Sources whose link's rays all got through have their visibility resolved at the vertex, the
 // largest first, until those left bring less than this share of the vertex's irradiance together.
 constexpr double kResolveShare = 0.003;
+// Far clusters whose link's rays were partly blocked have their visibility resolved at a vertex,
+// the largest first, until those left bring less than this share of its irradiance together
+// (SiteGather::resolveClusters).
+constexpr double kResolveClusterShare = 0.02;
 
 // Levels below an element gathered whole over which its radiosity's shape is followed.
 constexpr int kShapeDepth = 2;
@@ -38,9 +42,22 @@ struct Term {
   bool resolvable = false;  // an element receiver's link whose rays all got through: seen = 1 so far
 };
 
+// A far cluster source gathered at a vertex with its link's visibility, some of whose rays were
+// blocked: what it brings unoccluded (its light toward the vertex × the kernel), the visibility
+// taken, and its entry among the weights (or kNoWeight).
+struct ClusterTerm {
+  static constexpr std::size_t kNoWeight = static_cast<std::size_t>(-1);
+  std::uint32_t link, source;
+  Rgb unoccluded;
+  double seen;
+  double weightPerSeen;  // its weight over the visibility
+  std::size_t weight;
+};
+
 // Per thread, reused from vertex to vertex (about a hundred terms each: not allocated anew).
 struct Scratch {
   std::vector<Term> terms;
+  std::vector<ClusterTerm> partlySeenClusters;
   std::vector<std::uint32_t> open;  // sources still to gather
   std::vector<std::pair<std::uint32_t, double>> clusterTerms;  // (cluster source, factor × visibility)
   std::vector<std::pair<double, std::uint32_t>> candidates;  // (what it brings, term)
@@ -245,11 +262,13 @@ class FinalGather::SiteGather {
         scratch_(threadScratch()) {
     scratch_.terms.clear();
     scratch_.clusterTerms.clear();
+    scratch_.partlySeenClusters.clear();
   }
 
   Rgb irradiance() {
     gatherLinks();
     resolveVisibility();
+    resolveClusters();
     openCloseSources();
     followShapes();
     if (outputs_.wantsWeights()) addWeights();
@@ -355,16 +374,21 @@ class FinalGather::SiteGather {
             // points on the faces inside the cluster: a ceiling under a lamp panel hung 10 cm
             // below it sees the walls past the panel's edge, and with its receivers' visibility
             // the two sides of a leaf edge beside the panel differed by up to 35% (steps in the
-            // lightmap; HierarchicalTest.PointsUnderACeilingSeePastALampHungBelowIt). Vertices
-            // keep the link's: interpolated, their values show no step, and resolving there
-            // doubled the gather's time on RenderPark's classroom.
+            // lightmap; HierarchicalTest.PointsUnderACeilingSeePastALampHungBelowIt). At
+            // vertices the largest are resolved after every link is gathered (resolveClusters).
             const double seen = g_.resolveClusterVisibility_ && measured < 1 ? seenFrom(k, s, false) : measured;
             sum_ += shown * (kernel * seen);
             // The weights multiply the cluster's mean: what it shows this way, over its mean,
             // as the light is now (a luminaire's faces keep their shares when it moves).
             const double meanSum = mean_[s].r + mean_[s].g + mean_[s].b, shownSum = shown.r + shown.g + shown.b;
             const double shows = meanSum > 0 ? shownSum / meanSum : source.projectedArea(-w);
-            if (outputs_.wantsWeights()) scratch_.clusterTerms.push_back({s, shows * kernel * seen});
+            std::size_t weight = ClusterTerm::kNoWeight;
+            if (outputs_.wantsWeights()) {
+              weight = scratch_.clusterTerms.size();
+              scratch_.clusterTerms.push_back({s, shows * kernel * seen});
+            }
+            if (!g_.resolveClusterVisibility_ && measured < 1)
+              scratch_.partlySeenClusters.push_back({k, s, shown * kernel, seen, shows * kernel, weight});
           }
         }
       }
@@ -408,6 +432,34 @@ class FinalGather::SiteGather {
       term.seen = seen;
       term.resolvesVisibility = true;
       term.mixed = seen > 0 && seen < 1;
+    }
+  }
+
+  // A vertex takes a far cluster's visibility from its link, measured over the link's whole
+  // receiver: where some of those rays were blocked, the receiver's mean is not the vertex's.
+  // Blocks on a floor, lit by an area light hung under the ceiling, one cluster link bringing the
+  // light to all three: their tops' vertices showed 13% (under the light) to 20% (the far one)
+  // less than the path tracer, and the points there, which resolve every such cluster, 2–3% less
+  // (tests/blender_lights_test.py's room; docs/hierarchical.md). Resolving every one at every
+  // vertex as well doubled the gather's time on RenderPark's classroom: here the largest are
+  // resolved, until those left could bring kResolveClusterShare of the vertex's light together.
+  void resolveClusters() {
+    std::vector<ClusterTerm>& terms = scratch_.partlySeenClusters;
+    if (terms.empty()) return;
+    std::sort(terms.begin(), terms.end(), [](const ClusterTerm& a, const ClusterTerm& b) {
+      const double x = a.unoccluded.maxComponent(), y = b.unoccluded.maxComponent();
+      return x > y || (x == y && (a.link < b.link || (a.link == b.link && a.source < b.source)));
+    });
+    double unresolved = 0;
+    for (const ClusterTerm& term : terms) unresolved += term.unoccluded.maxComponent();
+    const double resolveAbove = kResolveClusterShare * sum_.maxComponent();
+    for (ClusterTerm& term : terms) {
+      if (!(unresolved > resolveAbove)) break;
+      unresolved -= term.unoccluded.maxComponent();
+      const double seen = seenFrom(term.link, term.source, false);
+      sum_ += term.unoccluded * (seen - term.seen);
+      term.seen = seen;
+      if (term.weight != ClusterTerm::kNoWeight) scratch_.clusterTerms[term.weight].second = term.weightPerSeen * seen;
     }
   }
 

@@ -26,11 +26,12 @@
 //   cluster source   I_s(−ω) max(0, n·ω) / (π d²) × the link's visibility, with ω and d toward
 //                    the power-weighted centroid of its leaves and I_s(−ω) = Σ_axis |ω_axis| × the
 //                    power its leaves send toward that side of the axis (B̄_s P_s(−ω) where its
-//                    radiosity is uniform: a luminaire shows the floor its emitting face); at points (not
-//                    vertices), where some of the link's rays were blocked, the share of rays
-//                    from the point to points on the faces inside s, picked by area, that get
-//                    through (a point beside an occluder sees past it where the receiver's
-//                    mean did not).
+//                    radiosity is uniform: a luminaire shows the floor its emitting face); where
+//                    some of the link's rays were blocked, the share of rays from the site to
+//                    points on the faces inside s, picked by area, that get through (a point
+//                    beside an occluder sees past it where the receiver's mean did not): at
+//                    points for every such source, at vertices for the largest, until those left
+//                    could bring 2% of the vertex's light together.
 // A vertex is evaluated where the path tracer's reference evaluates it (vertexSites: nudged
 // into its own surface) and gathers through the adjacent leaf with the largest open fraction,
 // then the smallest (whose links are the finest).
