@@ -8,6 +8,8 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <cctype>
+#include <type_traits>
 #include <cmath>
 #include <optional>
 #include <memory>
@@ -122,6 +124,22 @@ Vec3 vec3(const std::vector<double>& v, const char* what) {
   return {v[0], v[1], v[2]};
 }
 
+// A light's RGB amount (intensity, irradiance): three finite numbers, none negative (a negative
+// light would take light away, which no light does).
+Rgb lightAmount(const std::vector<double>& v, const char* what) {
+  const Vec3 c = vec3(v, what);
+  for (const double x : {c.x, c.y, c.z})
+    if (!std::isfinite(x) || x < 0) raise(std::string(what) + " takes finite numbers of at least 0, not " + std::to_string(x));
+  return {c.x, c.y, c.z};
+}
+
+// Whether path ends with the extension (case-insensitive, with its dot).
+bool endsWith(const std::string& path, const std::string& extension) {
+  if (path.size() < extension.size()) return false;
+  return std::equal(extension.begin(), extension.end(), path.end() - static_cast<std::ptrdiff_t>(extension.size()),
+                    [](char a, char b) { return std::tolower(static_cast<unsigned char>(a)) == std::tolower(static_cast<unsigned char>(b)); });
+}
+
 // A keyword's value as the settings take it.
 SettingValue settingValue(const std::string& name, const py::handle& value) {
   if (py::isinstance<py::bool_>(value)) return value.cast<bool>();
@@ -162,6 +180,7 @@ class PyRadiosity {
       report = engine_->solve(SolveBudget{maxShots, maxSweeps, maxMilliseconds});
     }
     if (!report) raise(report.error().message);
+    solved_ = true;
     flushWarnings();
     py::dict out;
     out["iterations"] = report->iterations;
@@ -175,18 +194,41 @@ class PyRadiosity {
   std::vector<Light> lights() const { return engine_->solution().lights(); }
 
   py::array_t<double> vertexPositions() const { return rows3(engine_->solution().vertexMesh().positions); }
-  py::array_t<double> vertexRadiance() const { return rows3(engine_->solution().vertexRadiance()); }
+  // The final gather at every vertex, the GIL released while it runs (seconds on large scenes;
+  // the solution keeps it, so a second call returns at once).
+  py::array_t<double> vertexRadiance() const {
+    requireSolved("vertex_radiance");
+    std::vector<Rgb> values;
+    {
+      py::gil_scoped_release release;
+      values = engine_->solution().vertexRadiance();
+    }
+    flushWarnings();
+    return rows3(std::move(values));
+  }
   py::array_t<double> vertexValues(const std::string& quantity) const {
     static const std::vector<std::pair<std::string, VertexQuantity>> names{
         {"radiosity", VertexQuantity::Radiosity}, {"indirect_radiosity", VertexQuantity::IndirectRadiosity}, {"irradiance", VertexQuantity::Irradiance}};
     for (const auto& [name, q] : names)
-      if (name == quantity) return rows3(engine_->solution().vertexValues(q));
+      if (name == quantity) {
+        requireSolved("vertex_values");
+        std::vector<Rgb> values;
+        {
+          py::gil_scoped_release release;
+          values = engine_->solution().vertexValues(q);
+        }
+        flushWarnings();
+        return rows3(std::move(values));
+      }
     raise("vertex_values takes radiosity, indirect_radiosity or irradiance, not " + quantity);
   }
   // Per element of the solution's mesh (the hierarchy's leaves, or the flat method's patches).
   py::array_t<double> elementValues(const std::string& quantity) const {
     const SolutionView& view = engine_->solution();
-    if (quantity == "radiosity") return rows3(std::vector<Rgb>(view.radiosity()));
+    if (quantity == "radiosity") {
+      requireSolved("element_values('radiosity')");
+      return rows3(std::vector<Rgb>(view.radiosity()));
+    }
     if (quantity == "injected") return rows3(std::vector<Rgb>(view.injected()));
     if (quantity == "emitted") return rows3(std::vector<Rgb>(view.emitted()));
     if (quantity == "albedo") return rows3(std::vector<Rgb>(view.albedo()));
@@ -214,6 +256,7 @@ class PyRadiosity {
   // an (n, 3) array of E_direct, E_indirect and E in lux.
   py::array_t<double> illuminance(const py::array_t<double, py::array::c_style | py::array::forcecast>& points, int indirectRays) const {
     if (points.ndim() != 2 || points.shape(1) != 6) raise("illuminance takes an (n, 6) array of x, y, z, nx, ny, nz");
+    requireSolved("illuminance");
     std::vector<CalculationPoint> at(static_cast<std::size_t>(points.shape(0)));
     const auto rows = points.unchecked<2>();
     for (std::size_t i = 0; i < at.size(); ++i)
@@ -252,11 +295,21 @@ class PyRadiosity {
     return owned(std::move(surfaces), {count});
   }
 
+  // The CLI's --json figures; its yes/no answers (converged, …) as Python's True and False, as
+  // solve() gives them.
   py::dict stats() const {
     py::dict out;
     const Stats stats = engine_->stats();
     for (const Stats::Entry& e : stats.entries())
-      std::visit([&](const auto& v) { out[py::str(e.key)] = v; }, e.value);
+      std::visit([&](const auto& v) {
+        if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::string>) {
+          if (v == "yes" || v == "no") {
+            out[py::str(e.key)] = py::bool_(v == "yes");
+            return;
+          }
+        }
+        out[py::str(e.key)] = v;
+      }, e.value);
     return out;
   }
 
@@ -265,11 +318,14 @@ class PyRadiosity {
     if (bake == "irradiance") options.bake = GltfBake::Irradiance;
     else if (bake == "radiance") options.bake = GltfBake::Radiance;
     else raise("bake takes irradiance or radiance, not " + bake);
+    if (!endsWith(path, ".glb")) raise("write_glb: " + path + ": it writes binary glTF; give a path ending in .glb");
+    requireSolved("write_glb");
     options.exposureStops = exposureStops;
     orRaise(lambert::writeGlb(path, engine_->solution(), options));
     flushWarnings();
   }
   void writeVertices(const std::string& path) const {
+    requireSolved("write_vertices");
     orRaise(lambert::writeVertices(path, vertexSamples(engine_->solution())));
     flushWarnings();
   }
@@ -279,6 +335,9 @@ class PyRadiosity {
   // where a path is given.
   py::array_t<double> render(const std::string& path, int width, int height, std::optional<double> exposure) const {
     if (width < 1 || width > 16384 || height < 1 || height > 16384) raise("render: width and height must lie in [1, 16384]");
+    if (!path.empty() && !endsWith(path, ".png") && !endsWith(path, ".exr"))
+      raise("render: " + path + ": images are .png (tone mapped, 8-bit sRGB) or .exr (linear float radiance)");
+    requireSolved("render");
     const SolutionView& view = engine_->solution();
     SolutionImageOptions options;
     options.width = width, options.height = height;
@@ -288,15 +347,11 @@ class PyRadiosity {
       py::gil_scoped_release release;
       image = renderSolution(view, options);
     }
-    if (!path.empty()) {
-      if (path.size() >= 4 && path.compare(path.size() - 4, 4, ".exr") == 0) {
-        orRaise(writeExr(path, image));
-      } else if (path.size() >= 4 && path.compare(path.size() - 4, 4, ".png") == 0) {
-        const double stops = exposure ? *exposure : sceneExposureStops(view.scene(), image);
-        orRaise(writePng(path, image.width, image.height, toSrgb8(image, stops)));
-      } else {
-        raise(path + ": images are .png (tone mapped, 8-bit sRGB) or .exr (linear float radiance)");
-      }
+    if (endsWith(path, ".exr")) {
+      orRaise(writeExr(path, image));
+    } else if (!path.empty()) {
+      const double stops = exposure ? *exposure : sceneExposureStops(view.scene(), image);
+      orRaise(writePng(path, image.width, image.height, toSrgb8(image, stops)));
     }
     flushWarnings();
     return pixels(std::move(image));
@@ -314,6 +369,10 @@ class PyRadiosity {
     options.sampling.coarsestStep = step;
     options.sampling.tolerance = tolerance;
     if (!(tolerance >= 0 && tolerance <= 1)) raise("bake_lightmaps: tolerance must lie in [0, 1]");
+    if (!glbPath.empty() && !endsWith(glbPath, ".glb"))
+      raise("bake_lightmaps: " + glbPath + ": it writes the scene with its lightmaps as binary glTF (with .exr and RGBM .png "
+            "atlases beside it); give a path ending in .glb");
+    requireSolved("bake_lightmaps");
     options.showProgress = false;
     Result<BakedLightmaps> baked = Error{""};
     {
@@ -342,6 +401,7 @@ class PyRadiosity {
   // (nz, ny, nx, 9, 3) float32 array (W/m²), valid as (nz, ny, nx) bool, origin and spacing in
   // scene units; written as lambert's probe file where a path is given.
   py::dict bakeProbes(const std::string& path, double spacing, int raysPerProbe) const {
+    requireSolved("bake_probes");
     ProbeOptions options;
     options.spacing = spacing;
     options.raysPerProbe = raysPerProbe;
@@ -365,7 +425,14 @@ class PyRadiosity {
   }
 
  private:
+  // Every output reads a solution: before the first solve() there is none, and the outputs would
+  // be black or zero with nothing said.
+  void requireSolved(const std::string& what) const {
+    if (!solved_) raise(what + ": nothing is solved yet; call solve() first");
+  }
+
   std::unique_ptr<Radiosity> engine_;
+  bool solved_ = false;
 };
 
 }  // namespace
@@ -385,24 +452,43 @@ PYBIND11_MODULE(lambert, m) {
   });
   m.attr("__version__") = LAMBERT_VERSION_STRING;
 
-  py::enum_<LightKind>(m, "LightKind")
+  py::enum_<LightKind>(m, "LightKind",
+                       "What a Light is: POINT and SPOT (intensity, W/sr), DIRECTIONAL (a sun: irradiance, W/m² on a surface "
+                       "facing it), SKY and LUMINAIRE (from scene files: a CIE sky, an IES or EULUMDAT luminaire).")
       .value("POINT", LightKind::Point)
       .value("SPOT", LightKind::Spot)
       .value("DIRECTIONAL", LightKind::Directional)
       .value("SKY", LightKind::Sky)
       .value("LUMINAIRE", LightKind::Luminaire);
 
-  py::class_<Light>(m, "Light", "A light of a scene (scene units; intensity in W/sr per RGB channel).")
-      .def(py::init([](LightKind kind, const std::vector<double>& position, const std::vector<double>& intensity) {
+  const Light defaults;
+  py::class_<Light>(m, "Light",
+                    "A light of a scene, in the scene's frame and units (as the file's loader gives them, y up: an MGF "
+                    "file's (x, y, z) as (x, z, −y), docs/scene-format.md). POINT and SPOT: position, intensity "
+                    "(W/sr per RGB channel; a spot's on its axis), a spot's direction, cone_angle_degrees (half-angle) and "
+                    "falloff_degrees; DIRECTIONAL (a sun): direction (the way the light travels) and irradiance (W/m² per "
+                    "channel on a surface facing it). Amounts must be finite and not negative.")
+      .def(py::init([](LightKind kind, const std::vector<double>& position, const std::vector<double>& intensity,
+                       const std::vector<double>& direction, double cone, double falloff, const std::vector<double>& irradiance) {
              Light l;
              l.kind = kind;
              l.position = vec3(position, "position");
-             const Vec3 i = vec3(intensity, "intensity");
-             l.intensity = {i.x, i.y, i.z};
+             l.intensity = lightAmount(intensity, "intensity");
+             l.direction = vec3(direction, "direction");
+             if (!(length(l.direction) > 0)) raise("direction must not be (0, 0, 0)");
+             l.direction = normalize(l.direction);
+             if (!(cone > 0 && cone <= 90)) raise("cone_angle_degrees must lie in (0, 90]");
+             if (!(falloff >= 0 && falloff <= cone)) raise("falloff_degrees must lie in [0, cone_angle_degrees]");
+             l.coneAngleDegrees = cone;
+             l.falloffDegrees = falloff;
+             l.irradiance = lightAmount(irradiance, "irradiance");
              return l;
            }),
            py::arg("kind") = LightKind::Point, py::arg("position") = std::vector<double>{0, 0, 0},
-           py::arg("intensity") = std::vector<double>{1, 1, 1})
+           py::arg("intensity") = std::vector<double>{1, 1, 1},
+           py::arg("direction") = std::vector<double>{defaults.direction.x, defaults.direction.y, defaults.direction.z},
+           py::arg("cone_angle_degrees") = defaults.coneAngleDegrees, py::arg("falloff_degrees") = defaults.falloffDegrees,
+           py::arg("irradiance") = std::vector<double>{0, 0, 0})
       .def_readwrite("name", &Light::name)
       .def_readwrite("kind", &Light::kind)
       .def_property("position", [](const Light& l) { return std::vector<double>{l.position.x, l.position.y, l.position.z}; },
@@ -410,8 +496,11 @@ PYBIND11_MODULE(lambert, m) {
       .def_property("direction", [](const Light& l) { return std::vector<double>{l.direction.x, l.direction.y, l.direction.z}; },
                     [](Light& l, const std::vector<double>& v) { l.direction = vec3(v, "direction"); })
       .def_property("intensity", [](const Light& l) { return std::vector<double>{l.intensity.r, l.intensity.g, l.intensity.b}; },
-                    [](Light& l, const std::vector<double>& v) { const Vec3 i = vec3(v, "intensity"); l.intensity = {i.x, i.y, i.z}; },
+                    [](Light& l, const std::vector<double>& v) { l.intensity = lightAmount(v, "intensity"); },
                     "W/sr per channel (point, spot)")
+      .def_property("irradiance", [](const Light& l) { return std::vector<double>{l.irradiance.r, l.irradiance.g, l.irradiance.b}; },
+                    [](Light& l, const std::vector<double>& v) { l.irradiance = lightAmount(v, "irradiance"); },
+                    "W/m² per channel on a surface facing the light (directional: a sun's strength)")
       .def_readwrite("cone_angle_degrees", &Light::coneAngleDegrees)
       .def_readwrite("falloff_degrees", &Light::falloffDegrees)
       .def("__repr__", [](const Light& l) {
@@ -423,7 +512,11 @@ PYBIND11_MODULE(lambert, m) {
       .def_readonly("name", &Scene::name)
       .def_readonly("metres_per_unit", &Scene::metresPerUnit)
       .def_property_readonly("surface_count", [](const Scene& s) { return s.surfaces.size(); })
-      .def_readwrite("lights", &Scene::lights);
+      .def_property(
+          "lights", [](const Scene& s) { return py::tuple(py::cast(s.lights)); },
+          [](Scene& s, const std::vector<Light>& lights) { s.lights = lights; },
+          "The scene's lights, a tuple (a copy): assign a sequence to change them, e.g. scene.lights = [*scene.lights, light]. "
+          "An engine made from the scene keeps its own: Radiosity.set_lights() moves those.");
 
   m.def(
       "load_scene",

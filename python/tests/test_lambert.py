@@ -173,7 +173,90 @@ def test_outputs_are_written(tmp_path):
     with pytest.raises(lambert.Error, match="a-file"):
         engine.write_glb(str(tmp_path / "a-file" / "box.glb"))
     stats = engine.stats()
-    assert stats["faces"] == 17 and stats["converged"] == "yes"
+    assert stats["faces"] == 17 and stats["converged"] is True  # as solve() says it, not the CLI's "yes"
+
+
+def test_outputs_before_a_solve_are_refused(tmp_path):
+    # Before solve() there is no solution: black pictures and zero arrays would pass for one.
+    engine = lambert.Radiosity(lambert.load_scene("cornell"))
+    for call in (lambda: engine.render(), lambda: engine.vertex_radiance(), lambda: engine.vertex_values("irradiance"),
+                 lambda: engine.bake_lightmaps(), lambda: engine.write_glb(str(tmp_path / "box.glb")),
+                 lambda: engine.write_vertices(str(tmp_path / "box.csv")), lambda: engine.bake_probes(),
+                 lambda: engine.illuminance(np.array([[0.0, 0, 0, 0, 1, 0]]))):
+        with pytest.raises(lambert.Error, match=r"call solve\(\) first"):
+            call()
+    assert not os.listdir(tmp_path)
+    engine.solve(max_sweeps=1)  # a partial solve is a solution (in progress)
+    assert engine.vertex_radiance().sum() > 0
+
+
+def test_paths_are_refused_where_their_extension_says_another_format(tmp_path):
+    engine = lambert.Radiosity(lambert.load_scene("cornell"))
+    engine.solve()
+    with pytest.raises(lambert.Error, match=r"box\.gltf.*\.glb"):
+        engine.write_glb(str(tmp_path / "box.gltf"))  # it writes binary glTF
+    with pytest.raises(lambert.Error, match=r"lm\.png.*\.glb"):
+        engine.bake_lightmaps(str(tmp_path / "lm.png"))  # a glb with its atlases beside it
+    with pytest.raises(lambert.Error, match=r"box\.jpg.*\.png.*\.exr"):
+        engine.render(str(tmp_path / "box.jpg"))
+    assert not os.listdir(tmp_path)
+    engine.write_glb(str(tmp_path / "BOX.GLB"))  # the extension's case does not matter
+    assert (tmp_path / "BOX.GLB").read_bytes()[:4] == b"glTF"
+
+
+def test_lights_are_made_whole_and_refused_when_negative():
+    spot = lambert.Light(lambert.LightKind.SPOT, position=[1, 2, 3], intensity=[5, 5, 5], direction=[0, 0, -2],
+                         cone_angle_degrees=25, falloff_degrees=4)
+    assert spot.direction == [0, 0, -1] and spot.cone_angle_degrees == 25 and spot.falloff_degrees == 4
+    sun = lambert.Light(lambert.LightKind.DIRECTIONAL, direction=[0, -1, 0], irradiance=[3, 3, 2.85])
+    assert sun.irradiance == [3, 3, 2.85]
+    for bad in ({"intensity": [-1, 0, 0]}, {"irradiance": [0, float("nan"), 0]}, {"direction": [0, 0, 0]},
+                {"cone_angle_degrees": 0}, {"cone_angle_degrees": 20, "falloff_degrees": 30}):
+        with pytest.raises(lambert.Error):
+            lambert.Light(lambert.LightKind.SPOT, **bad)
+    with pytest.raises(lambert.Error, match="at least 0"):
+        spot.intensity = [1, -2, 1]
+    assert spot.intensity == [5, 5, 5]
+    # A scene's lights are a copy: appending to them would change nothing, so they are a tuple.
+    scene = lambert.load_scene("cornell")  # lit by its emissive lamp: no light of its own
+    assert isinstance(scene.lights, tuple) and len(scene.lights) == 0
+    with pytest.raises(AttributeError):
+        scene.lights.append(spot)
+    spot.position, spot.direction = [278, 500, 280], [0, -1, 0]  # under the ceiling, down (mm)
+    scene.lights = [*scene.lights, spot]
+    assert len(scene.lights) == 1 and scene.lights[0].cone_angle_degrees == 25
+    # The added spot lights the box: more light than the box's own lamp alone.
+    alone = lambert.Radiosity(lambert.load_scene("cornell"))
+    alone.solve()
+    both = lambert.Radiosity(scene)
+    both.solve()
+    assert both.vertex_radiance().sum() > alone.vertex_radiance().sum() * 1.001
+
+
+def test_the_gil_is_released_while_gathering_at_the_vertices():
+    # The final gather at every vertex takes seconds on large scenes: a Python thread keeps
+    # counting while it runs.
+    engine = lambert.Radiosity(lambert.load_scene("cornell"), link_error=1e-4, no_cache=True)
+    engine.solve()
+    counts = []
+    done = threading.Event()
+
+    def count():
+        n = 0
+        while not done.is_set():
+            n += 1
+            if n % 1000 == 0:
+                counts.append(time.perf_counter())
+
+    counter = threading.Thread(target=count)
+    counter.start()
+    start = time.perf_counter()
+    engine.vertex_radiance()
+    end = time.perf_counter()
+    done.set()
+    counter.join()
+    during = [t for t in counts if start < t < end]
+    assert end - start > 0.05 and len(during) > 10
 
 
 def test_the_convergence_example_plots_a_falling_residual(tmp_path):
