@@ -124,6 +124,50 @@ TEST(CliTest, JsonStatsAreMachineReadable) {
 }
 
 // What a loader dropped reaches a script too: --json lists every warning, as stderr showed it.
+// The glb `solve --export` writes carries a camera, and `--lightmaps --image` draws from it: for a
+// scene without one (an OBJ box here, as an MGF building) that is the view `render` draws, not a
+// default that stands outside; --eye/--target place it, and without --export they are refused.
+TEST(CliTest, SolvesGlbCameraIsRendersViewOrTheOneGiven) {
+  const fs::path dir = outputDir("solve-camera");
+  const fs::path obj = dir / "box.obj";
+  {
+    std::ofstream out(obj);
+    out << "v 0 0 0\nv 4 0 0\nv 4 0 3\nv 0 0 3\nv 0 2.5 0\nv 4 2.5 0\nv 4 2.5 3\nv 0 2.5 3\n"
+           "f 1 2 3 4\nf 5 8 7 6\nf 1 5 6 2\nf 2 6 7 3\nf 3 7 8 4\nf 4 8 5 1\n";
+  }
+  const auto glbCamera = [](const fs::path& glb) {
+    tinygltf::Model model;
+    tinygltf::TinyGLTF reader;
+    std::string error, warning;
+    EXPECT_TRUE(reader.LoadBinaryFromFile(&model, &error, &warning, glb.string())) << error;
+    for (const tinygltf::Node& node : model.nodes)
+      if (node.camera >= 0 && node.translation.size() == 3) return Vec3{node.translation[0], node.translation[1], node.translation[2]};
+    ADD_FAILURE() << glb << " has no camera node";
+    return Vec3{};
+  };
+  const auto eyeOf = [](const CommandResult& r) {
+    const std::string eye = nlohmann::json::parse(r.output.substr(r.output.find('{')))["camera_eye"].get<std::string>();  // after the warning: nothing lights the box
+    Vec3 v;
+    EXPECT_EQ(std::sscanf(eye.c_str(), "%lf,%lf,%lf", &v.x, &v.y, &v.z), 3) << eye;
+    return v;
+  };
+  const CommandResult rendered = run("render --scene " + obj.string() + " --width 16 --height 16 -o " + (dir / "r.png").string() + " --json");
+  ASSERT_EQ(rendered.exitCode, 0) << rendered.output;
+  const CommandResult solved = run("solve --scene " + obj.string() + " --export " + (dir / "a.glb").string() + " --json");
+  ASSERT_EQ(solved.exitCode, 0) << solved.output;
+  const Vec3 view = eyeOf(rendered);
+  EXPECT_LT(length(eyeOf(solved) - view), 1e-4) << "solve's camera is not render's";
+  EXPECT_LT(length(glbCamera(dir / "a.glb") - view), 1e-4) << "the glb's camera is not render's view";
+  EXPECT_GT(view.x, 0) << "render's view stands inside the box";
+  EXPECT_LT(view.x, 4);
+  const CommandResult placed = run("solve --scene " + obj.string() + " --export " + (dir / "b.glb").string() + " --eye 1,1.2,2 --target 3,1,1 --json");
+  ASSERT_EQ(placed.exitCode, 0) << placed.output;
+  EXPECT_LT(length(glbCamera(dir / "b.glb") - Vec3{1, 1.2, 2}), 1e-6);
+  const CommandResult refused = run("solve --scene " + obj.string() + " --eye 1,1.2,2");
+  EXPECT_EQ(refused.exitCode, 2);
+  EXPECT_TRUE(testing::contains(refused.output, "--eye has no effect")) << refused.output;
+}
+
 TEST(CliTest, JsonListsTheWarnings) {
   fs::path dir = outputDir("json_warnings");
   const fs::path obj = fs::path(LAMBERT_SOURCE_DIR) / "tests" / "bad" / "obj-degenerate-faces.obj";

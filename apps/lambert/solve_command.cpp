@@ -39,6 +39,7 @@ struct SolveCommandOptions {
   SolvingOptions solve;
   ExportCommandOptions exported;
   LightmapCommandOptions lightmaps;
+  CameraCommandOptions camera;  // --export's glb camera, and --image's
   double exposure = 0;  // of the --export's COLOR_0, or with --lightmaps of the --image
   std::string exportVertices;
   std::string probes;         // the light-probe volume (bake/probes.h); none unless asked for
@@ -132,6 +133,17 @@ int runSolve(const SolveCommandOptions& given) {
   probeOptions.showProgress = !o.solve.quiet && !o.solve.json;
   if (!o.probes.empty())
     if (Result<ProbeVolume> grid = probeGrid(*scene, probeOptions); !grid) return fail("solve", grid.error().message);
+  // --export's glb carries a camera and --image draws from it: the view `lambert render` draws,
+  // or the one --eye/--target/--up/--fov give (--image needs --lightmaps, which needs --export).
+  Stats cameraFigures;
+  if (o.exported.glb.empty()) {
+    if (Status ok = refuseGiven(o.camera, {"--eye", "--target", "--up", "--fov"},
+                                "it places the camera --export's glb carries and --image draws from, and no --export is asked for");
+        !ok)
+      return fail("solve", ok.error().message);
+  } else if (Status ok = chooseCamera(*scene, o.camera, cameraFigures); !ok) {
+    return fail("solve", ok.error().message);
+  }
   std::unique_ptr<Radiosity> engine = makeEngine("solve", *scene, o.solve, communicator);
   if (communicator) {
     if (Status all = communicator->agree(engine ? Status(Ok{}) : Status(Error{"the engine could not be made"})); !all)
@@ -218,6 +230,7 @@ int runSolve(const SolveCommandOptions& given) {
   }
   const double outputSeconds = output.seconds();
   Stats stats = engine->stats();
+  stats.append(cameraFigures);
   stats.append(lightingFigures);
   stats.append(lightmapFigures);
   if (!o.exportVertices.empty()) stats.add("vertices_file", "vertices written to", o.exportVertices);
@@ -246,6 +259,7 @@ std::function<int()> addSolveCommand(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("solve", "Solve a scene's radiosity; export per-vertex radiance (CSV or PLY)");
   addSolveOptions(*cmd, options->solve);
   addExportOptions(*cmd, options->exported);
+  addCameraOptions(*cmd, options->camera);
   cmd->add_option("--exposure", options->exposure, "Exposure in stops of --export's COLOR_0; with --lightmaps, of --image")
       ->default_str("0; --image: the scene's, else automatic");
   LightmapCommandOptions& lightmaps = options->lightmaps;
@@ -272,7 +286,8 @@ std::function<int()> addSolveCommand(CLI::App& app) {
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
   cmd->add_option("--image", lightmaps.image,
-                  "With --lightmaps: render the glb's mesh lit by its lightmaps from the scene's (the glb's) camera, as a glTF viewer draws "
+                  "With --lightmaps: render the glb's mesh lit by its lightmaps from its camera (the scene's, --eye/--target, else "
+                  "`render`'s view), as a glTF viewer draws "
                   "it: .png (tone mapped) or .exr (linear radiance)");
   cmd->add_option("--width", lightmaps.imageOptions.width, "With --image: width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
   cmd->add_option("--height", lightmaps.imageOptions.height, "With --image: height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();

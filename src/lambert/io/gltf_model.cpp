@@ -7,6 +7,7 @@
 
 #include "lambert/core/srgb.h"
 #include "lambert/io/png.h"
+#include "lambert/render/scene_camera.h"
 
 namespace lambert::gltf {
 
@@ -99,19 +100,24 @@ int addIndices(tinygltf::Model& model, const std::vector<std::uint32_t>& indices
 }
 
 tinygltf::Node cameraNode(tinygltf::Model& model, const Scene& scene) {
+  // The scene's own camera, else the view `lambert render` draws (render/scene_camera.h): a
+  // scene without one (an MGF building) has a default Camera{} that stands wherever it happens to,
+  // outside the building (the glb opened in a viewer showed its outer wall, +9.8 stops).
+  const Result<ChosenCamera> chosen = sceneCamera(scene, CameraRequest{});
+  const Camera& view = chosen ? chosen->camera : scene.camera;
   tinygltf::Camera camera;
   camera.type = "perspective";
   camera.name = "camera";
-  camera.perspective.yfov = scene.camera.verticalFovDegrees * kPi / 180;
+  camera.perspective.yfov = view.verticalFovDegrees * kPi / 180;
   camera.perspective.aspectRatio = 1;
   const Bounds bounds = sceneBounds(scene);
   const double diagonal = length(bounds.hi - bounds.lo) * scene.metresPerUnit;
   camera.perspective.znear = 1e-3 * diagonal;
-  camera.perspective.zfar = 10 * diagonal + length(scene.camera.eye - bounds.lo) * scene.metresPerUnit;
+  camera.perspective.zfar = 10 * diagonal + length(view.eye - bounds.lo) * scene.metresPerUnit;
   model.cameras.push_back(camera);
   // Rotation from the camera's basis (right, up, back) as a quaternion.
-  const Vec3 back = normalize(scene.camera.eye - scene.camera.target);
-  const Vec3 right = normalize(cross(scene.camera.up, back));
+  const Vec3 back = normalize(view.eye - view.target);
+  const Vec3 right = normalize(cross(view.up, back));
   const Vec3 up = cross(back, right);
   const double m[3][3] = {{right.x, up.x, back.x}, {right.y, up.y, back.y}, {right.z, up.z, back.z}};
   double w, x, y, z;
@@ -132,7 +138,7 @@ tinygltf::Node cameraNode(tinygltf::Model& model, const Scene& scene) {
   tinygltf::Node node;
   node.name = "camera";
   node.camera = static_cast<int>(model.cameras.size() - 1);
-  const Vec3 eye = scene.camera.eye * scene.metresPerUnit;
+  const Vec3 eye = view.eye * scene.metresPerUnit;
   node.translation = {eye.x, eye.y, eye.z};
   node.rotation = {x, y, z, w};
   return node;

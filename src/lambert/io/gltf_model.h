@@ -28,8 +28,9 @@ int addVec2(tinygltf::Model& model, const std::vector<float>& uv);
 int addVec3(tinygltf::Model& model, const std::vector<float>& xyz, bool bounds);
 // A 32-bit index accessor.
 int addIndices(tinygltf::Model& model, const std::vector<std::uint32_t>& indices);
-// The scene's camera, so that a viewer opens at lambert's view: a node at the eye whose −z looks
-// at the target, in metres (added to model.cameras; the node is returned, not added).
+// The scene's camera (else the view `lambert render` draws without one), so that a viewer opens
+// at lambert's view: a node at the eye whose −z looks at the target, in metres (added to
+// model.cameras; the node is returned, not added).
 tinygltf::Node cameraNode(tinygltf::Model& model, const Scene& scene);
 // The default scene: a node holding mesh 0 (named after the scene) and the scene's camera node.
 void addSceneWithCamera(tinygltf::Model& model, const Scene& scene);
