@@ -172,6 +172,11 @@ class BakeJob:
         # Area lights go out as emissive faces (lambert_bake/lights.py), selected for the export.
         stand_ins, warnings = lights.area_light_stand_ins([o for o in _pool(context, self.settings) if o.visible_get()])
         self.warnings += warnings
+        world, warning = lights.world_stand_in(context.scene.world, self.objects)
+        if warning:
+            self.warnings.append(warning)
+        if world is not None:
+            stand_ins.append(world)
         if self.settings.objects == 'ALL':
             # Export exactly the objects baked (and every light): the visible ones.
             for o in selected:
