@@ -151,12 +151,11 @@ class BakeJob:
         results.remove_lightmap_nodes(self.objects)
         if settings.output == 'LIGHTMAPS':
             self.result_path = os.path.join(self.folder, 'baked.glb')
-            results.add_lightmap_uvs(context, self.objects, process.LIGHTMAP_SIZE[settings.quality])
         else:
             self.result_path = os.path.join(self.folder, 'vertices.csv')
         if os.path.exists(self.result_path):  # a kept folder's previous result must not pass for this one
             os.remove(self.result_path)
-        self.export(context)
+        self.export(context, process.LIGHTMAP_SIZE[settings.quality] if settings.output == 'LIGHTMAPS' else None)
         self.started = time.monotonic()
         self.lambert = process.LambertProcess(process.solve_arguments(
             binary, self.scene_glb, settings.method, settings.quality, settings.output, self.result_path))
@@ -166,17 +165,27 @@ class BakeJob:
         if applied:
             self.warnings.append(f'modifiers of {applied} objects applied (Ctrl+Z restores them)')
 
-    def export(self, context):
+    def export(self, context, lightmap_size):
+        """Exports the objects (and the stand-ins of what the exporter drops) to scene.glb; with
+        lightmap_size, after packing their lightmap UVs at that atlas size."""
         _numpy_bool_for_the_exporter()
         selected = [o for o in context.view_layer.objects if o.select_get()]
         # Area lights go out as emissive faces (lambert_bake/lights.py), selected for the export.
         stand_ins, warnings = lights.area_light_stand_ins([o for o in _pool(context, self.settings) if o.visible_get()])
         self.warnings += warnings
-        world, warning = lights.world_stand_in(context.scene.world, self.objects)
-        if warning:
-            self.warnings.append(warning)
-        if world is not None:
-            stand_ins.append(world)
+        # The world is not carried (docs/blender.md, "Lights"): say so where it would light the scene.
+        radiance, warning = lights.world_radiance(context.scene.world)
+        if warning or max(radiance) > 0:
+            self.warnings.append('the world\'s light is not carried: lambert sees black outside the scene' +
+                                 (f' (Background {radiance[0]:.3g}, {radiance[1]:.3g}, {radiance[2]:.3g})' if max(radiance) > 0 else f' ({warning})'))
+        if lightmap_size is not None:
+            # The area lights' faces are packed with the objects (they are small): lambert keeps the
+            # given UVs only where every face has them.
+            try:
+                results.add_lightmap_uvs(context, self.objects + stand_ins, lightmap_size)
+            except Exception:
+                lights.remove_stand_ins(stand_ins)
+                raise
         if self.settings.objects == 'ALL':
             # Export exactly the objects baked (and every light): the visible ones.
             for o in selected:

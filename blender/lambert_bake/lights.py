@@ -10,19 +10,9 @@
 # So for the export each becomes a face of its shape and size with an emissive material of that
 # strength, black (a light reflects nothing) and one-sided (backface culling, which the exporter
 # writes as doubleSided false), and is removed again after it.
-#
-# The world's uniform colour (a Background node's Color × Strength, or the world's colour without
-# nodes) lights every direction that escapes the scene with that radiance, as Cycles shows it. A
-# closed emissive shell of radiance L around the scene does the same for every point inside
-# (whatever its shape, what a point sees of it in every open direction is L), so the world goes
-# out as a sphere just around the exported objects, facing in, black and emitting that radiance.
-# Just around them, not far: lambert sizes its smallest elements and its tolerances by the
-# scene's area and extent, which a far sphere would inflate.
 import math
 
-import bmesh
 import bpy
-from mathutils import Vector
 
 # Sides of the polygon a disk or an ellipse becomes, scaled to the ellipse's own area.
 ELLIPSE_SIDES = 32
@@ -110,12 +100,9 @@ def remove_stand_ins(stand_ins):
                 bpy.data.materials.remove(material)
 
 
-WORLD_NAME = 'lambert world'
-WORLD_SEGMENTS = 48  # around; half as many from pole to pole
-
-
-def _world_radiance(world):
-    """The world's uniform radiance (r, g, b), and a warning when it has one that is not uniform."""
+def world_radiance(world):
+    """The world's uniform radiance (r, g, b): a Background node's Color × Strength, or the world's
+    colour without nodes; and, where its light is not one colour, what it is instead (or None)."""
     if world is None:
         return (0.0, 0.0, 0.0), None
     if not world.use_nodes or world.node_tree is None:
@@ -126,47 +113,9 @@ def _world_radiance(world):
         return (0.0, 0.0, 0.0), None
     background = surface.links[0].from_node
     if background.type != 'BACKGROUND':
-        return (0.0, 0.0, 0.0), f'the world\'s "{background.name}" node is not carried (only a Background of one colour is)'
+        return (0.0, 0.0, 0.0), f'its "{background.name}" node'
     color, strength = background.inputs['Color'], background.inputs['Strength']
     if color.is_linked or strength.is_linked:
-        return (0.0, 0.0, 0.0), 'the world\'s colour comes from a texture, which is not carried (only a uniform colour is): no world light'
+        return (0.0, 0.0, 0.0), 'a textured Background'
     c = color.default_value
     return (c[0] * strength.default_value, c[1] * strength.default_value, c[2] * strength.default_value), None
-
-
-def world_stand_in(world, objects):
-    """A sphere around objects emitting the world's uniform radiance inward, or None where the world
-    is black; and a warning about what of the world is not carried (or None)."""
-    radiance, warning = _world_radiance(world)
-    if not max(radiance) > 0:
-        return None, warning
-    if min(radiance) < 0:
-        return None, 'the world\'s colour is negative: left out'
-    corners = [obj.matrix_world @ Vector(c) for obj in objects if obj.type == 'MESH' for c in obj.bound_box]
-    if not corners:
-        return None, warning
-    lo = Vector(tuple(min(c[k] for c in corners) for k in range(3)))
-    hi = Vector(tuple(max(c[k] for c in corners) for k in range(3)))
-    # Around the box's corners with a margin, so that the facets (whose flat middles lie inside the
-    # sphere) stay clear of the objects.
-    radius = 0.5 * (hi - lo).length * 1.1 + 1e-3
-    mesh = bpy.data.meshes.new(WORLD_NAME)
-    bm = bmesh.new()
-    bmesh.ops.create_uvsphere(bm, u_segments=WORLD_SEGMENTS, v_segments=WORLD_SEGMENTS // 2, radius=radius)
-    bmesh.ops.reverse_faces(bm, faces=bm.faces[:])  # facing in, toward the scene
-    bm.to_mesh(mesh)
-    bm.free()
-    material = bpy.data.materials.new(WORLD_NAME)
-    material.use_nodes = True
-    material.use_backface_culling = True
-    bsdf = material.node_tree.nodes.get('Principled BSDF')
-    bsdf.inputs['Base Color'].default_value = (0, 0, 0, 1)
-    bsdf.inputs['Specular'].default_value = 0
-    strength = max(radiance)
-    bsdf.inputs['Emission'].default_value = (radiance[0] / strength, radiance[1] / strength, radiance[2] / strength, 1)
-    bsdf.inputs['Emission Strength'].default_value = strength
-    mesh.materials.append(material)
-    sphere = bpy.data.objects.new(WORLD_NAME, mesh)
-    sphere.location = (lo + hi) / 2
-    bpy.context.scene.collection.objects.link(sphere)
-    return sphere, warning
