@@ -206,6 +206,37 @@ check(near > 1.3 * far, f'the Array\'s copies are lit alike: the top under the l
 # The add-on leaves no stand-in behind.
 check(not [o for o in bpy.data.objects if o.name.startswith('lambert area light')], 'an area light\'s stand-in was left in the scene')
 
+# Lightmaps carry the area light too: its stand-in gets lightmap UVs packed with the objects' (lambert
+# keeps given UVs only where every face has them), and the floor's texels agree with its vertex
+# colours (E = π L / ρ, ρ = 0.7) within 10% at the median.
+settings.output, settings.quality = 'LIGHTMAPS', 'DRAFT'
+status = bake_with_lambert(1000.0)
+print(f'blender-lights: lightmaps: {status}')
+image = bpy.data.images.get('lambert lightmap')
+check(image is not None, 'no lightmap image')
+if image is not None:
+    width, height = image.size
+    pixels = image.pixels[:]
+    mesh = room.data
+    ratios = []
+    for polygon in mesh.polygons:
+        if (room.matrix_world @ polygon.center).z > 1e-6 or polygon.normal.z < 0.5:
+            continue  # the floor's faces only
+        uv = [mesh.uv_layers['lambert_lightmap'].data[i].uv for i in polygon.loop_indices]
+        u, v = sum(p.x for p in uv) / len(uv), sum(p.y for p in uv) / len(uv)
+        x, y = min(int(u * width), width - 1), min(int(v * height), height - 1)
+        texel = pixels[4 * (y * width + x):4 * (y * width + x) + 3]
+        colours = [mesh.color_attributes['lambert'].data[i].color for i in polygon.loop_indices]
+        from_vertices = math.pi / 0.7 * sum(0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2] for c in colours) / len(colours)
+        if from_vertices > 0:
+            ratios.append((0.2126 * texel[0] + 0.7152 * texel[1] + 0.0722 * texel[2]) / from_vertices)
+    ratios.sort()
+    median = ratios[len(ratios) // 2] if ratios else 0
+    print(f'blender-lights: lightmaps: floor texels over its vertex colours, median {median:.3f} of {len(ratios)} faces')
+    check(len(ratios) > 100 and abs(median - 1) < 0.1, f'the lightmap\'s floor is not its vertex colours\' light: median {median:.3f}')
+check(not [o for o in bpy.data.objects if o.name.startswith('lambert area light')], 'an area light\'s stand-in was left after the lightmap bake')
+settings.output = 'VERTEX_COLORS'
+
 # Blender's world is not carried (docs/blender.md, "Lights"): a bake under a coloured world says so.
 world = bpy.data.worlds.new('sky')
 world.use_nodes = True
