@@ -333,7 +333,9 @@ class PyRadiosity {
   // The solution drawn from the scene's camera (else lambert's default view): radiance per pixel,
   // written as .png (tone mapped at `exposure` stops, or the scene's / automatic) or .exr (linear)
   // where a path is given.
-  py::array_t<double> render(const std::string& path, int width, int height, std::optional<double> exposure) const {
+  py::array_t<double> render(const std::string& path, int width, int height, std::optional<double> exposure,
+                             std::optional<std::vector<double>> eye, std::optional<std::vector<double>> target,
+                             std::optional<std::vector<double>> up, std::optional<double> fov) const {
     if (width < 1 || width > 16384 || height < 1 || height > 16384) raise("render: width and height must lie in [1, 16384]");
     if (!path.empty() && !endsWith(path, ".png") && !endsWith(path, ".exr"))
       raise("render: " + path + ": images are .png (tone mapped, 8-bit sRGB) or .exr (linear float radiance)");
@@ -341,7 +343,15 @@ class PyRadiosity {
     const SolutionView& view = engine_->solution();
     SolutionImageOptions options;
     options.width = width, options.height = height;
-    options.camera = orRaise(sceneCamera(view.scene(), CameraRequest{})).camera;
+    // The camera asked for, in the scene's frame as every array here (the library's request is in
+    // the file's frame, as the CLI's --eye: an MGF file's z-up).
+    if (eye.has_value() != target.has_value()) raise("render: eye and target are given together");
+    const FileFrame& frame = view.scene().fileFrame;
+    CameraRequest request;
+    if (eye) request.eye = frame.filePoint(vec3(*eye, "eye")), request.target = frame.filePoint(vec3(*target, "target"));
+    if (up) request.up = frame.filePoint(frame.offset + vec3(*up, "up")) - frame.filePoint(frame.offset);
+    if (fov) request.verticalFovDegrees = *fov;
+    options.camera = orRaise(sceneCamera(view.scene(), request)).camera;
     Image image;
     {
       py::gil_scoped_release release;
@@ -577,8 +587,11 @@ PYBIND11_MODULE(lambert, m) {
       .def("write_vertices", &PyRadiosity::writeVertices, py::arg("path"),
            "Write every vertex: position, normal, radiance (.csv or .ply), as `lambert solve --export-vertices`.")
       .def("render", &PyRadiosity::render, py::arg("path") = "", py::arg("width") = 512, py::arg("height") = 512,
-           py::arg("exposure") = py::none(),
-           "Draw the solution from the scene's camera (else lambert's default view): an (height, width, 3) float64 array of "
+           py::arg("exposure") = py::none(), py::arg("eye") = py::none(), py::arg("target") = py::none(), py::arg("up") = py::none(),
+           py::arg("fov") = py::none(),
+           "Draw the solution from eye toward target (given together, in the scene's frame and units as vertex_positions(); "
+           "up and fov, the vertical field of view in degrees, optional), else from the scene's camera, else lambert's "
+           "default view: an (height, width, 3) float64 array of "
            "radiance, W/(m²·sr); written as .png (tone mapped at `exposure` stops, else the scene's or automatic) or .exr "
            "(linear) where a path is given, as `lambert render`.")
       .def("bake_lightmaps", &PyRadiosity::bakeLightmaps, py::arg("path") = "", py::arg("texel_size") = 0.0,

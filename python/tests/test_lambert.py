@@ -294,6 +294,34 @@ def test_render_draws_what_lambert_render_draws(tmp_path):
         engine.render(str(tmp_path / "x.jpg"))
 
 
+def test_render_takes_a_camera_in_the_scenes_frame(tmp_path):
+    # An MGF room (z-up: its (x, y, z) is the scene's (x, z, -y)) drawn from a camera given in the
+    # scene's frame draws what `lambert render --eye --target` draws from the same place given in
+    # the file's.
+    import matplotlib.image
+    corners = {"a": (0, 0, 0), "b": (4, 0, 0), "c": (4, 3, 0), "d": (0, 3, 0),
+               "e": (0, 0, 2.5), "f": (4, 0, 2.5), "g": (4, 3, 2.5), "h": (0, 3, 2.5),
+               "l1": (1.5, 1, 2.49), "l2": (2.5, 1, 2.49), "l3": (2.5, 2, 2.49), "l4": (1.5, 2, 2.49)}
+    lines = ["m wall =", "\tc", "\trd 0.6", "m lamp =", "\tc", "\ted 20"]
+    for name, (x, y, z) in corners.items():
+        lines += [f"v {name} =", f"\tp {x} {y} {z}"]
+    lines += ["m wall", "f a b c d", "f e h g f", "f a e f b", "f b f g c", "f c g h d", "f d h e a", "m lamp", "f l1 l4 l3 l2"]
+    mgf = tmp_path / "room.mgf"
+    mgf.write_text("\n".join(lines) + "\n")
+    engine = lambert.Radiosity(lambert.load_scene(str(mgf)))
+    engine.solve()
+    eye_file, target_file = (0.5, 0.5, 1.2), (3.5, 2.5, 0.8)
+    to_scene = lambda p: [p[0], p[2], -p[1]]  # noqa: E731
+    ours = engine.render(str(tmp_path / "py.png"), width=64, height=48, eye=to_scene(eye_file), target=to_scene(target_file))
+    subprocess.run([CLI, "render", "--scene", str(mgf), "--width", "64", "--height", "48", "--eye", "%g,%g,%g" % eye_file,
+                    "--target", "%g,%g,%g" % target_file, "-o", str(tmp_path / "cli.png"), "-q", "--no-cache"], check=True)
+    np.testing.assert_array_equal(matplotlib.image.imread(str(tmp_path / "py.png")), matplotlib.image.imread(str(tmp_path / "cli.png")))
+    default = engine.render(width=64, height=48)
+    assert np.abs(default - ours).mean() > 0.01 * ours.mean()  # another view than the default one
+    with pytest.raises(lambert.Error, match="together"):
+        engine.render(eye=[1, 1, 1])
+
+
 def test_lightmaps_are_the_clis_and_probes_are_their_file(tmp_path):
     import struct
     engine = lambert.Radiosity(lambert.load_scene("cornell"))
