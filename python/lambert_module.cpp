@@ -192,6 +192,7 @@ class PyRadiosity {
 
   void setLights(const std::vector<Light>& lights) { engine_->setLights(lights); }
   std::vector<Light> lights() const { return engine_->solution().lights(); }
+  Scene scene() const { return engine_->solution().scene(); }
 
   py::array_t<double> vertexPositions() const { return rows3(engine_->solution().vertexMesh().positions); }
   // The final gather at every vertex, the GIL released while it runs (seconds on large scenes;
@@ -522,6 +523,37 @@ PYBIND11_MODULE(lambert, m) {
       .def_readonly("name", &Scene::name)
       .def_readonly("metres_per_unit", &Scene::metresPerUnit)
       .def_property_readonly("surface_count", [](const Scene& s) { return s.surfaces.size(); })
+      .def_property_readonly(
+          "surface_names", [](const Scene& s) {
+            std::vector<std::string> names;
+            for (const Surface& surface : s.surfaces) names.push_back(surface.name);
+            return names;
+          },
+          "Each surface's name (the file's object or group), in the order elements()['surface'] and triangle_surfaces() "
+          "number them.")
+      .def_property_readonly(
+          "material_names", [](const Scene& s) {
+            std::vector<std::string> names;
+            for (const Material& material : s.materials) names.push_back(material.name);
+            return names;
+          },
+          "Each material's name, as the file gives it.")
+      .def_property_readonly(
+          "surface_materials", [](const Scene& s) {
+            std::vector<std::uint32_t> materials;
+            for (const Surface& surface : s.surfaces) materials.push_back(static_cast<std::uint32_t>(surface.material));
+            const auto count = static_cast<py::ssize_t>(materials.size());
+            return owned(std::move(materials), {count});
+          },
+          "(surfaces,) uint32: each surface's material, an index into material_names; with elements()['surface'] or "
+          "triangle_surfaces(), the material of every element or triangle.")
+      .def_property_readonly(
+          "material_albedo", [](const Scene& s) {
+            std::vector<Rgb> albedo;
+            for (const Material& material : s.materials) albedo.push_back(material.albedo);
+            return rows3(std::move(albedo));
+          },
+          "(materials, 3) float64: each material's diffuse reflectance ρ (before its texture, if any).")
       .def_property(
           "lights", [](const Scene& s) { return py::tuple(py::cast(s.lights)); },
           [](Scene& s, const std::vector<Light>& lights) { s.lights = lights; },
@@ -565,6 +597,10 @@ PYBIND11_MODULE(lambert, m) {
       .def("set_lights", &PyRadiosity::setLights, py::arg("lights"),
            "Replace the lights; the next solve() traces only those that changed and starts warm.")
       .def_property_readonly("lights", &PyRadiosity::lights)
+      .def_property_readonly("scene", &PyRadiosity::scene,
+                             "A copy of the scene as solved, with the lights as set_lights() left them: its surface_names and "
+                             "surface_materials are what elements()['surface'] and triangle_surfaces() index (a two-sided "
+                             "face's back is a surface of its own, named '… (back)').")
       .def("vertex_positions", &PyRadiosity::vertexPositions, "(n, 3) float64: the exported mesh's vertices, scene units.")
       .def("vertex_radiance", &PyRadiosity::vertexRadiance, "(n, 3) float64: outgoing radiance L = B/π per vertex, W/(m²·sr).")
       .def("vertex_values", &PyRadiosity::vertexValues, py::arg("quantity"),

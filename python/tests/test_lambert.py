@@ -322,6 +322,24 @@ def test_render_takes_a_camera_in_the_scenes_frame(tmp_path):
         engine.render(eye=[1, 1, 1])
 
 
+def test_materials_and_surfaces_are_named(tmp_path):
+    # Blender's own export (shared/samples' README: the red block's base colour is (0.6, 0.08,
+    # 0.06), the floor has its own material, the sphere the walls'): every triangle's material.
+    here = os.path.dirname(os.path.abspath(__file__))
+    engine = lambert.Radiosity(lambert.load_scene(os.path.join(here, "..", "..", "tests", "data", "blender_room.glb")))
+    engine.solve()
+    scene = engine.scene
+    names, materials = scene.surface_names, scene.surface_materials
+    assert len(names) == len(materials) == scene.surface_count
+    assert materials.dtype == np.uint32 and materials.max() < len(scene.material_names)
+    material_of = dict(zip(names, (scene.material_names[m] for m in materials)))
+    assert material_of["floor"] == "floor" and material_of["sphere"] == "wall" and material_of["sphere (back)"] == "wall"
+    red = scene.material_names.index("red")
+    np.testing.assert_allclose(scene.material_albedo[red], [0.6, 0.08, 0.06], atol=1e-6)
+    per_triangle = materials[engine.triangle_surfaces()]
+    assert per_triangle.shape == (len(engine.triangles()),) and set(per_triangle) == set(range(len(scene.material_names)))
+
+
 def test_lightmaps_are_the_clis_and_probes_are_their_file(tmp_path):
     import struct
     engine = lambert.Radiosity(lambert.load_scene("cornell"))
