@@ -6,72 +6,23 @@
 import csv
 import math
 import os
-import shutil
 import subprocess
 import sys
 import time
 
-SKIP = 77
-started = time.monotonic()
-lambert_binary, scratch = sys.argv[sys.argv.index('--') + 1:][:2]
-lambert_binary = os.path.abspath(lambert_binary)
-scratch = os.path.abspath(scratch)
-shutil.rmtree(scratch, ignore_errors=True)
-os.makedirs(scratch)
-source_dir = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from blender_support import box, checker, material, start  # noqa: E402
 
-try:
-    import numpy  # noqa: F401  (Blender's glTF exporter needs it)
-except ImportError as error:
-    print(f'blender-bake: skip: Blender\'s glTF exporter needs numpy, and this Python has none ({error})')
-    sys.exit(SKIP)
+started = time.monotonic()
+lambert_binary, scratch = start('blender-bake')
+source_dir = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 import addon_utils  # noqa: E402
 import bmesh  # noqa: E402
 import bpy  # noqa: E402
 from mathutils import Vector  # noqa: E402
 
-failures = []
-
-
-def check(condition, message):
-    if not condition:
-        failures.append(message)
-        print('blender-bake: FAIL: ' + message)
-
-
-def material(name, color, emission=None):
-    m = bpy.data.materials.new(name)
-    m.use_nodes = True
-    bsdf = m.node_tree.nodes['Principled BSDF']
-    bsdf.inputs['Base Color'].default_value = (*color, 1)
-    bsdf.inputs['Roughness'].default_value = 1
-    bsdf.inputs['Specular'].default_value = 0
-    if emission:
-        bsdf.inputs['Emission'].default_value = (1, 1, 1, 1)
-        bsdf.inputs['Emission Strength'].default_value = emission
-    return m
-
-
-def box(name, size, location, mat, cuts=0, rotation_z=0.0, inward=False):
-    """A box of unit size scaled by its object transform (so the world transform matters); inward:
-    its normals flipped, as a room is modelled (Mesh > Normals > Flip)."""
-    mesh = bpy.data.meshes.new(name)
-    bm = bmesh.new()
-    bmesh.ops.create_cube(bm, size=1.0)
-    if cuts:
-        bmesh.ops.subdivide_edges(bm, edges=bm.edges[:], cuts=cuts, use_grid_fill=True)
-    if inward:
-        bmesh.ops.reverse_faces(bm, faces=bm.faces[:])
-    bm.to_mesh(mesh)
-    bm.free()
-    obj = bpy.data.objects.new(name, mesh)
-    obj.scale = size
-    obj.location = location
-    obj.rotation_euler = (0, 0, rotation_z)
-    mesh.materials.append(mat)
-    bpy.context.scene.collection.objects.link(obj)
-    return obj
+check, failures = checker('blender-bake')
 
 
 def build_scene(broken=False):

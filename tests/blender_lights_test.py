@@ -6,67 +6,24 @@
 # Exit 0: passed; 1: failed (what is printed); 77: this Blender cannot export glTF (skipped).
 import math
 import os
-import shutil
 import sys
 import time
 
-SKIP = 77
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from blender_support import box, checker, material, start  # noqa: E402
+
 started = time.monotonic()
-lambert_binary, scratch = sys.argv[sys.argv.index('--') + 1:][:2]
-lambert_binary = os.path.abspath(lambert_binary)
-scratch = os.path.abspath(scratch)
-shutil.rmtree(scratch, ignore_errors=True)
-os.makedirs(scratch)
+lambert_binary, scratch = start('blender-lights')
 source_dir = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
-try:
-    import numpy  # noqa: F401  (Blender's glTF exporter needs it)
-except ImportError as error:
-    print(f'blender-lights: skip: Blender\'s glTF exporter needs numpy, and this Python has none ({error})')
-    sys.exit(SKIP)
-
 import addon_utils  # noqa: E402
-import bmesh  # noqa: E402
 import bpy  # noqa: E402
 
 # Cycles' bake at this many samples a corner is noisy by a few per cent at a corner, well under
 # that over a region's hundreds of corners.
 CYCLES_SAMPLES = 256
 REGION_TOLERANCE = 0.10  # the issue's "within 10% per region"
-failures = []
-
-
-def check(condition, message):
-    if not condition:
-        failures.append(message)
-        print('blender-lights: FAIL: ' + message)
-
-
-def material(name, color):
-    m = bpy.data.materials.new(name)
-    m.use_nodes = True
-    bsdf = m.node_tree.nodes['Principled BSDF']
-    bsdf.inputs['Base Color'].default_value = (*color, 1)
-    bsdf.inputs['Roughness'].default_value = 1
-    bsdf.inputs['Specular'].default_value = 0
-    return m
-
-
-def box(name, size, location, mat, cuts, inward=False):
-    mesh = bpy.data.meshes.new(name)
-    bm = bmesh.new()
-    bmesh.ops.create_cube(bm, size=1.0)
-    bmesh.ops.subdivide_edges(bm, edges=bm.edges[:], cuts=cuts, use_grid_fill=True)
-    if inward:
-        bmesh.ops.reverse_faces(bm, faces=bm.faces[:])
-    bm.to_mesh(mesh)
-    bm.free()
-    obj = bpy.data.objects.new(name, mesh)
-    obj.scale = size
-    obj.location = location
-    mesh.materials.append(mat)
-    bpy.context.scene.collection.objects.link(obj)
-    return obj
+check, failures = checker('blender-lights')
 
 
 def build_scene():
