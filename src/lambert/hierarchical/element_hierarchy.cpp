@@ -329,6 +329,16 @@ void ElementHierarchy::markEnclosedFaces(std::span<const std::uint8_t> perLeaf) 
   }
 }
 
+std::vector<double> ElementHierarchy::unenclosedAreas() const {
+  std::vector<double> area(nodes_.size(), 0.0);
+  for (std::size_t i = nodes_.size(); i-- > 0;) {  // children first
+    const HierarchyNode& n = nodes_[i];
+    if (!n.isCluster()) area[i] = n.enclosed ? 0.0 : n.area;
+    if (n.parent != kNoNode && nodes_[n.parent].isCluster()) area[n.parent] += area[i];
+  }
+  return area;
+}
+
 std::size_t ElementHierarchy::numberLeaves() {
   leafNodes_.clear();
   for (std::uint32_t i = 0; i < nodes_.size(); ++i) {

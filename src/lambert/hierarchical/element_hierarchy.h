@@ -196,6 +196,10 @@ class ElementHierarchy {
   // Marks the faces whose root leaf is flagged (per leaf, in leaf order, before any split) and
   // everything split from them later as enclosed.
   void markEnclosedFaces(std::span<const std::uint8_t> perLeaf);
+  // Per node, the area of its faces outside closed two-sided objects: an element's own area, 0 if
+  // it is enclosed; a cluster's, the sum of its children's. What a cluster's links sample and its
+  // mean radiosity is taken over (the enclosed faces receive and send nothing).
+  std::vector<double> unenclosedAreas() const;
 
   // Splits a leaf element (elementSplit below says how). Children are appended to nodes().
   void split(std::uint32_t element);

@@ -131,11 +131,7 @@ LinkEstimator::LinkEstimator(const ElementHierarchy& hierarchy, const RayCaster&
     if (nodes[i].parent != kNoNode && partlyCovered_[i]) partlyCovered_[nodes[i].parent] = kMayBeCovered;
   for (std::size_t i = 0; i < nodes.size(); ++i)
     if (nodes[i].enclosed) partlyCovered_[i] = kEnclosed;
-  unenclosedArea_.assign(nodes.size(), 0.0);
-  for (std::size_t i = nodes.size(); i-- > 0;) {  // children first
-    if (!nodes[i].isCluster()) unenclosedArea_[i] = nodes[i].enclosed ? 0.0 : nodes[i].area;
-    if (nodes[i].parent != kNoNode && nodes[nodes[i].parent].isCluster()) unenclosedArea_[nodes[i].parent] += unenclosedArea_[i];
-  }
+  unenclosedArea_ = h_.unenclosedAreas();
   normalCone_.resize(nodes.size());
   {
     std::vector<NormalCone> cones(nodes.size());

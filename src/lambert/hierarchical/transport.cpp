@@ -38,11 +38,7 @@ HierarchicalTransport::HierarchicalTransport(const ElementHierarchy& hierarchy, 
   // closed two-sided objects (geometry/enclosures.h), which no link sees: over them too, the
   // mean of a two-sided wall's cluster was half what its room side shows, and a link whose K
   // was estimated before that side was lit (the faces alike) carried half its light.
-  std::vector<double> unenclosed(nodes.size(), 0.0);
-  for (std::size_t l = 0; l < nodeOfLeaf_.size(); ++l)
-    if (!nodes[nodeOfLeaf_[l]].enclosed) unenclosed[nodeOfLeaf_[l]] = area_[nodeOfLeaf_[l]];
-  for (std::size_t i = nodes.size(); i-- > 1;)
-    if (parent_[i] != kNoNode) unenclosed[parent_[i]] += unenclosed[i];
+  const std::vector<double> unenclosed = hierarchy.unenclosedAreas();
   for (std::size_t i = 0; i < nodes.size(); ++i)
     if (nodes[i].isCluster()) openArea_[i] = unenclosed[i];
   // Depth first from the root, children in the hierarchy's order.
