@@ -46,6 +46,13 @@ if command -v npm >/dev/null 2>&1 && [ ! -f "$tools/node_modules/three/package.j
   npm install --silent --no-audit --no-fund --prefix "$tools" three@0.187.0 >/dev/null 2>&1 ||
     echo "install-deps: note: no three.js (npm failed); the browser tests will be skipped"
 fi
+# puppeteer-core (npm; 23.x, the last for Node 18/20) drives Debian's chromium for those tests
+# (tests/web-screenshot.js); optional as above.
+if command -v npm >/dev/null 2>&1 && [ ! -f "$tools/node_modules/puppeteer-core/package.json" ]; then
+  echo "install-deps: installing puppeteer-core (npm puppeteer-core@23.11.1) into .tools/"
+  npm install --silent --no-audit --no-fund --prefix "$tools" puppeteer-core@23.11.1 >/dev/null 2>&1 ||
+    echo "install-deps: note: no puppeteer-core (npm failed); the browser tests will be skipped"
+fi
 
 missing=()
 for p in "${packages[@]}"; do

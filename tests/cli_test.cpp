@@ -900,7 +900,7 @@ TEST(CliTest, ExportsPassTheKhronosGltfValidator) {
 
 // `solve --lightmaps --export OUT.glb`: the Cornell box's own faces with their lightmaps, the
 // files beside the glb, validated; at a point of the floor the lightmap's irradiance, decoded
-// with its MOZ_lightmap intensity, is the solution's: ρ/π × E from the glb within 15% of the
+// as RGBM with its LAMBERT_lightmap range, is the solution's: ρ/π × E from the glb within 15% of the
 // radiance `--export-vertices` gives at the floor's vertices around it (a factor π or an exposure
 // in the lightmap convention would be far outside).
 TEST(CliTest, SolveBakesLightmapsIntoTheGlb) {
@@ -914,8 +914,8 @@ TEST(CliTest, SolveBakesLightmapsIntoTheGlb) {
   EXPECT_EQ(stats["lightmap_size"].get<int>(), 256);
   EXPECT_NEAR(stats["lightmap_texel_size_m"].get<double>(), 0.01, 1e-9);
   EXPECT_EQ(stats["lightmap_0_exr"].get<std::string>(), (dir / "box-lightmap-0.exr").string());
-  EXPECT_EQ(stats["lightmap_0_rgbm"].get<std::string>(), (dir / "box-lightmap-0-rgbm.png").string());
-  EXPECT_TRUE(fs::exists(dir / "box-lightmap-0.exr") && fs::exists(dir / "box-lightmap-0-rgbm.png"));
+  EXPECT_TRUE(fs::exists(dir / "box-lightmap-0.exr"));
+  EXPECT_FALSE(stats.contains("lightmap_0_rgbm")) << "the glb holds the RGBM";
 
   tinygltf::TinyGLTF loader;
   tinygltf::Model model;
@@ -934,10 +934,11 @@ TEST(CliTest, SolveBakesLightmapsIntoTheGlb) {
   std::size_t triangles = 0;
   for (const tinygltf::Primitive& primitive : model.meshes.at(0).primitives) {
     const tinygltf::Material& material = model.materials.at(static_cast<std::size_t>(primitive.material));
-    ASSERT_TRUE(material.extensions.count("MOZ_lightmap")) << material.name;
+    ASSERT_TRUE(material.extensions.count("LAMBERT_lightmap")) << material.name;
     ASSERT_TRUE(primitive.attributes.count("TEXCOORD_1")) << material.name;
-    const tinygltf::Value& lightmap = material.extensions.at("MOZ_lightmap");
-    const double intensity = lightmap.Get("intensity").GetNumberAsDouble();
+    const tinygltf::Value& lightmap = material.extensions.at("LAMBERT_lightmap");
+    ASSERT_EQ(lightmap.Get("encoding").Get<std::string>(), "RGBM");
+    const double range = lightmap.Get("range").GetNumberAsDouble();
     const tinygltf::Image& image =
         model.images.at(static_cast<std::size_t>(model.textures.at(static_cast<std::size_t>(lightmap.Get("index").GetNumberAsInt())).source));
     const std::vector<float> p = floats(primitive.attributes.at("POSITION")), uv = floats(primitive.attributes.at("TEXCOORD_1"));
@@ -958,8 +959,9 @@ TEST(CliTest, SolveBakesLightmapsIntoTheGlb) {
       const double u = w0 * uv[2 * i] + w1 * uv[2 * j] + w2 * uv[2 * k], v = w0 * uv[2 * i + 1] + w1 * uv[2 * j + 1] + w2 * uv[2 * k + 1];
       const std::size_t texel = static_cast<std::size_t>(std::floor(v * image.height)) * static_cast<std::size_t>(image.width) +
                                 static_cast<std::size_t>(std::floor(u * image.width));
-      lightmapIrradiance = Rgb{intensity * image.image[4 * texel] / 255, intensity * image.image[4 * texel + 1] / 255,
-                               intensity * image.image[4 * texel + 2] / 255};
+      const double multiplier = range * image.image[4 * texel + 3] / 255;
+      lightmapIrradiance = Rgb{multiplier * image.image[4 * texel] / 255, multiplier * image.image[4 * texel + 1] / 255,
+                               multiplier * image.image[4 * texel + 2] / 255};
     }
   }
   // The box's faces as given: 5 walls and 2 × 5 block sides and the light, all quads.

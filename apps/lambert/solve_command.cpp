@@ -195,7 +195,8 @@ int runSolve(const SolveCommandOptions& given) {
     }
     lightmapFigures = lightmapStats(solution.scene(), *baked, *written);
     if (!o.lightmaps.image.empty()) {
-      const Image image = renderLightmapped(solution.scene(), *baked, solution.scene().camera, o.lightmaps.imageOptions);
+      // What a client of the glb draws: its RGBM bytes, decoded.
+      const Image image = renderLightmapped(solution.scene(), asCarriedByGlb(*baked), solution.scene().camera, o.lightmaps.imageOptions);
       const double exposure = imageExposureStops(o.exported, o.exposure, solution.scene(), image, lightmapFigures);
       if (Status ok = writeImageFile(o.lightmaps.image, image, exposure); !ok) {
         std::fprintf(stderr, "lambert solve: %s\n", ok.error().message.c_str());
@@ -265,8 +266,8 @@ std::function<int()> addSolveCommand(CLI::App& app) {
   LightmapCommandOptions& lightmaps = options->lightmaps;
   lightmaps.command = cmd;
   cmd->add_flag("--lightmaps", lightmaps.lightmaps,
-                "Bake lightmaps: --export's glb holds the scene's own mesh with each material's lightmap (MOZ_lightmap, TEXCOORD_1), "
-                "OUT-lightmap-K.exr (irradiance, W/m², half float) and OUT-lightmap-K-rgbm.png beside it");
+                "Bake lightmaps: --export's glb holds the scene's own mesh with each material's lightmap (irradiance as 8-bit RGBM, "
+                "LAMBERT_lightmap, TEXCOORD_1), OUT-lightmap-K.exr (irradiance, W/m², half float) beside it");
   cmd->add_option("--texel-size", lightmaps.texelSizeMetres, "With --lightmaps: lightmap texel size in metres")
       ->check(CLI::Range(1e-6, 1e6))
       ->default_str("from the scene's size");
@@ -286,9 +287,9 @@ std::function<int()> addSolveCommand(CLI::App& app) {
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
   cmd->add_option("--image", lightmaps.image,
-                  "With --lightmaps: render the glb's mesh lit by its lightmaps from its camera (the scene's, --eye/--target, else "
-                  "`render`'s view), as a glTF viewer draws "
-                  "it: .png (tone mapped) or .exr (linear radiance)");
+                  "With --lightmaps: render the glb's mesh lit by the lightmaps it carries (its RGBM, decoded) from its camera (the "
+                  "scene's, --eye/--target, else `render`'s view), as a glTF viewer draws it: .png (tone mapped) or .exr (linear "
+                  "radiance)");
   cmd->add_option("--width", lightmaps.imageOptions.width, "With --image: width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
   cmd->add_option("--height", lightmaps.imageOptions.height, "With --image: height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
   cmd->add_option("--supersample", lightmaps.imageOptions.supersample, "With --image: samples per pixel along each axis")

@@ -10,14 +10,16 @@
 //                  specular layer (glTF's 4% dielectric lobe, even at roughness 1) takes its share
 //                  of the lightmap's light from the diffuse (1 − E_spec, 5–10%), and returns none
 //                  of it where there is no environment map
-//   lightmap=L     glb (default): the glb's 8-bit lightmaps through MOZ_lightmap; exr: the HDR
-//                  OUT-lightmap-K.exr beside the glb (three's EXRLoader); none: no lightmap
+//   lightmap=L     glb (default): the glb's RGBM lightmaps (LAMBERT_lightmap, decoded by the plugin
+//                  lambert-lightmap.js); exr: the HDR OUT-lightmap-K.exr beside the glb (three's
+//                  EXRLoader); none: no lightmap
 //   antialias=0|1  multisampling (default 1)
 //   width=W, height=H  the canvas's size in pixels (default: the window's)
 // The page logs "lambert-lightmap: rendered ..." or "lambert-lightmap: error ..." to the console.
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { EXRLoader } from 'three/addons/loaders/EXRLoader.js';
+import { LambertLightmapPlugin, decodeLambertLightmap } from './lambert-lightmap.js';
 
 const params = new URLSearchParams(location.search);
 const glbUrl = params.get('glb');
@@ -32,41 +34,32 @@ function fail(message) {
   document.title = 'error';
 }
 
-// MOZ_lightmap (Mozilla Hubs): a material extension {index, texCoord, intensity}; the texture
-// holds the irradiance E / intensity, linear (no sRGB transfer), on TEXCOORD_1 ('uv1' in three).
-// GLTFLoader does not know it: this plugin lays it on as the material's lightMap.
-class MozLightmap {
-  constructor(parser) {
-    this.parser = parser;
-    this.name = 'MOZ_lightmap';
-  }
-  async extendMaterialParams(materialIndex, materialParams) {
-    const extension = this.parser.json.materials[materialIndex].extensions?.MOZ_lightmap;
-    if (!extension || lightmapSource === 'none') return;
-    let texture, intensity;
-    if (lightmapSource === 'exr') {
-      // The atlas's HDR original beside the glb: E itself, so intensity 1.
-      const atlas = this.parser.json.textures[extension.index].source;
-      const name = this.parser.json.images[atlas].name;  // "<stem>-lightmap-K", io/lightmap_export.cpp
-      texture = await new EXRLoader().setDataType(THREE.HalfFloatType).loadAsync(new URL(`${name}.exr`, new URL(glbUrl, location.href)).href);
+// lightmap=exr: each lightMap replaced by its atlas's HDR original beside the glb, E itself (so
+// intensity 1), read with three's own filtering.
+async function useExrLightmaps(scene) {
+  const atlases = new Map();  // GLTFLoader names a texture after its image: "<stem>-lightmap-K"
+  const materials = [];
+  scene.traverse((object) => { if (object.isMesh && object.material.lightMap) materials.push(object.material); });
+  for (const material of materials) {
+    const name = material.lightMap.name;
+    if (!atlases.has(name)) {
+      const texture = await new EXRLoader().setDataType(THREE.HalfFloatType).loadAsync(new URL(`${name}.exr`, new URL(glbUrl, location.href)).href);
       // EXRLoader stores the file's last row first (OpenGL's v = 0 at the bottom); glTF's (0, 0)
       // is the atlas's top-left corner: put the rows back in the file's order.
-      const { data, width, height } = texture.image;
+      const { data, height } = texture.image;
       const row = data.length / height, rows = data.slice();
       for (let y = 0; y < height; ++y) data.set(rows.subarray((height - 1 - y) * row, (height - y) * row), y * row);
       texture.flipY = false;
       texture.minFilter = THREE.LinearFilter;  // no mip-maps: they would mix charts across their padding
       texture.magFilter = THREE.LinearFilter;
       texture.generateMipmaps = false;
+      texture.channel = material.lightMap.channel;
       texture.needsUpdate = true;
-      intensity = 1;
-    } else {
-      texture = await this.parser.getDependency('texture', extension.index);  // linear, flipY false
-      intensity = extension.intensity ?? 1;
+      atlases.set(name, texture);
     }
-    texture.channel = extension.texCoord ?? 1;
-    materialParams.lightMap = texture;
-    materialParams.lightMapIntensity = intensity;
+    material.lightMap = atlases.get(name);
+    material.lightMapIntensity = 1;
+    material.needsUpdate = true;
   }
 }
 
@@ -96,16 +89,26 @@ async function main() {
   renderer.setClearColor(0x000000, 1);
   document.body.appendChild(renderer.domElement);
 
-  const loader = new GLTFLoader().register((parser) => new MozLightmap(parser));
+  const loader = new GLTFLoader().register((parser) => new LambertLightmapPlugin(parser));
   const gltf = await loader.loadAsync(glbUrl);
   // No lights and no environment: the light is all in the lightmaps.
   const scene = gltf.scene;
   if (materialKind === 'lambert') {
     scene.traverse((object) => {
-      if (object.isMesh) object.material = asLambert(object.material);
+      if (object.isMesh) {
+        object.material = asLambert(object.material);
+        decodeLambertLightmap(object.material);
+      }
     });
   } else if (materialKind !== 'standard') {
     return fail(`material=${materialKind}: lambert or standard`);
+  }
+  if (lightmapSource === 'exr') {
+    await useExrLightmaps(scene);
+  } else if (lightmapSource === 'none') {
+    scene.traverse((object) => { if (object.isMesh) object.material.lightMap = null; });
+  } else if (lightmapSource !== 'glb') {
+    return fail(`lightmap=${lightmapSource}: glb, exr or none`);
   }
   if (gltf.cameras.length === 0) return fail('the glb has no camera');
   const camera = gltf.cameras[0];

@@ -83,14 +83,6 @@ double lightmapScale(const Image& irradiance) {
   return largest > 0 ? largest : 1;
 }
 
-std::vector<std::uint8_t> encodeLinear8(const Image& irradiance, double scale) {
-  std::vector<std::uint8_t> bytes;
-  bytes.reserve(irradiance.pixels.size() * 3);
-  for (const Rgb& p : irradiance.pixels)
-    for (int c = 0; c < 3; ++c) bytes.push_back(byteOf(usable(p[c]) ? p[c] / scale : 0));
-  return bytes;
-}
-
 std::vector<std::uint8_t> encodeRgbm(const Image& irradiance, double scale) {
   std::vector<std::uint8_t> bytes;
   bytes.reserve(irradiance.pixels.size() * 4);
@@ -111,10 +103,19 @@ Rgb decodeRgbm(const std::uint8_t* rgba, double scale) {
   return {multiplier * rgba[0] / 255.0, multiplier * rgba[1] / 255.0, multiplier * rgba[2] / 255.0};
 }
 
-std::string lightmapFilePath(const std::string& glbPath, std::size_t atlas, LightmapFile kind) {
+BakedLightmaps asCarriedByGlb(const BakedLightmaps& baked) {
+  BakedLightmaps carried = baked;
+  for (Image& atlas : carried.irradiance) {
+    const double scale = lightmapScale(atlas);
+    const std::vector<std::uint8_t> bytes = encodeRgbm(atlas, scale);
+    for (std::size_t p = 0; p < atlas.pixels.size(); ++p) atlas.pixels[p] = decodeRgbm(&bytes[4 * p], scale);
+  }
+  return carried;
+}
+
+std::string lightmapExrPath(const std::string& glbPath, std::size_t atlas) {
   std::filesystem::path path(glbPath);
-  const std::string stem = path.stem().string() + "-lightmap-" + std::to_string(atlas);
-  return (path.parent_path() / (stem + (kind == LightmapFile::Exr ? ".exr" : "-rgbm.png"))).string();
+  return (path.parent_path() / (path.stem().string() + "-lightmap-" + std::to_string(atlas) + ".exr")).string();
 }
 
 Result<LightmapExport> writeLightmaps(const std::string& glbPath, const Scene& scene, const BakedLightmaps& baked,
@@ -142,15 +143,15 @@ Result<LightmapExport> writeLightmaps(const std::string& glbPath, const Scene& s
   model.asset.version = "2.0";
   model.asset.generator = "lambert";
   model.buffers.resize(1);
-  model.extensionsUsed = {"MOZ_lightmap"};
+  model.extensionsUsed = {"LAMBERT_lightmap"};
 
-  // Each atlas's image, linear 8-bit RGB, once for all the materials on it (and only for an atlas
+  // Each atlas's image, RGBM, once for all the materials on it (and only for an atlas
   // some face lies in: an unused texture is no part of the model).
   const std::string stem = std::filesystem::path(glbPath).stem().string();
   std::vector<int> lightmapTexture(numAtlases, -1);
   auto lightmapTextureOf = [&](std::size_t k) -> Result<int> {
     if (lightmapTexture[k] >= 0) return lightmapTexture[k];
-    Result<std::vector<std::uint8_t>> png = encodePng(uvs.size, uvs.size, encodeLinear8(lightmaps[k], result.atlases[k].scale));
+    Result<std::vector<std::uint8_t>> png = encodePngRgba(uvs.size, uvs.size, encodeRgbm(lightmaps[k], result.atlases[k].scale));
     if (!png) return png.error();
     const int image = gltf::addPngImage(model, *png, stem + "-lightmap-" + std::to_string(k));
     return lightmapTexture[k] = gltf::addTexture(model, image, TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE, TINYGLTF_TEXTURE_FILTER_LINEAR);
@@ -257,10 +258,11 @@ Result<LightmapExport> writeLightmaps(const std::string& glbPath, const Scene& s
     }
     Result<int> lightmapIndex = lightmapTextureOf(static_cast<std::size_t>(group.atlas));
     if (!lightmapIndex) return Error{glbPath + ": " + lightmapIndex.error().message};
-    m.extensions["MOZ_lightmap"] = tinygltf::Value(tinygltf::Value::Object{
+    m.extensions["LAMBERT_lightmap"] = tinygltf::Value(tinygltf::Value::Object{
         {"index", tinygltf::Value(*lightmapIndex)},
         {"texCoord", tinygltf::Value(1)},
-        {"intensity", number(result.atlases[static_cast<std::size_t>(group.atlas)].scale)}});
+        {"encoding", tinygltf::Value(std::string("RGBM"))},
+        {"range", number(result.atlases[static_cast<std::size_t>(group.atlas)].scale)}});
     model.materials.push_back(m);
 
     tinygltf::Primitive primitive;
@@ -286,24 +288,17 @@ Result<LightmapExport> writeLightmaps(const std::string& glbPath, const Scene& s
   for (std::size_t k = 0; k < numAtlases; ++k) {
     LightmapAtlasFiles& atlas = result.atlases[k];
     if (options.exr) {
-      atlas.exr = lightmapFilePath(glbPath, k, LightmapFile::Exr);
+      atlas.exr = lightmapExrPath(glbPath, k);
       for (const Rgb& p : lightmaps[k].pixels)
         for (int c = 0; c < 3; ++c) result.clampedTexels += static_cast<float>(p[c]) > 65504.0f;
       Result<std::vector<std::uint8_t>> exr = encodeExr(lightmaps[k], ExrPixelType::Half);
       if (!exr) return Error{atlas.exr + ": " + exr.error().message};
       files.emplace_back(atlas.exr, std::move(*exr));
     }
-    if (options.rgbm) {
-      atlas.rgbm = lightmapFilePath(glbPath, k, LightmapFile::Rgbm);
-      Result<std::vector<std::uint8_t>> png = encodePngRgba(uvs.size, uvs.size, encodeRgbm(lightmaps[k], atlas.scale));
-      if (!png) return Error{atlas.rgbm + ": " + png.error().message};
-      files.emplace_back(atlas.rgbm, std::move(*png));
-    }
   }
   if (result.clampedTexels > 0)
     warning(glbPath + ": " + std::to_string(result.clampedTexels) +
-            " lightmap texel channels exceed half float's 65504 W/m² and are written as 65504 in the EXR files (the glb and the RGBM "
-            "files keep them)");
+            " lightmap texel channels exceed half float's 65504 W/m² and are written as 65504 in the EXR files (the glb keeps them)");
   Result<std::vector<std::uint8_t>> glb = gltf::encodeGlb(model);
   if (!glb) return Error{glbPath + ": " + glb.error().message};
   files.emplace_back(glbPath, std::move(*glb));  // last: a reader that sees the glb sees its lightmaps
@@ -342,8 +337,7 @@ Stats lightmapStats(const Scene& scene, const BakedLightmaps& baked, const Light
   for (std::size_t k = 0; k < files.atlases.size(); ++k) {
     const std::string key = "lightmap_" + std::to_string(k), label = "lightmap " + std::to_string(k);
     if (!files.atlases[k].exr.empty()) stats.add(key + "_exr", label + " EXR written to", files.atlases[k].exr);
-    if (!files.atlases[k].rgbm.empty()) stats.add(key + "_rgbm", label + " RGBM PNG written to", files.atlases[k].rgbm);
-    stats.add(key + "_scale", label + " scale (MOZ_lightmap intensity, RGBM range)", files.atlases[k].scale, "W/m²");
+    stats.add(key + "_scale", label + " range (the glb's RGBM, LAMBERT_lightmap)", files.atlases[k].scale, "W/m²");
   }
   return stats;
 }

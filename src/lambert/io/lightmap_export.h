@@ -1,22 +1,28 @@
 #pragma once
 // Baked lightmaps (bake/lightmaps.h) written for engines and the web: the input's own mesh as a
-// binary glTF whose materials carry their lightmap through Mozilla's MOZ_lightmap extension, and
-// beside it, per atlas, the lightmap as linear HDR (EXR, half float) and as 8-bit RGBM (PNG).
+// binary glTF whose materials carry their lightmap through lambert's LAMBERT_lightmap extension
+// as 8-bit RGBM, and beside it, per atlas, the lightmap as linear HDR (EXR, half float).
 //
 // What a texel holds. Every file holds the irradiance E in W/m² arriving at the texel's point
-// (bake/lightmaps.h), never a tone-mapped or exposed value; per atlas k one scale S_k in W/m²
-// (lightmapScale: the atlas's largest channel) maps the 8-bit encodings onto it:
+// (bake/lightmaps.h), never a tone-mapped or exposed value; per atlas k one range S_k in W/m²
+// (lightmapScale: the atlas's largest channel) maps the glb's bytes onto it:
+//   OUT.glb, atlas k image   RGBM (Karis 2009), an RGBA PNG: E = S_k · (t / 255) · (a / 255) per
+//                            channel, t a colour byte and a the alpha byte (the multiplier
+//                            M = a / 255), S_k the extension's "range". Each texel keeps about 8
+//                            significant bits down to S_k / 255² (linear 8-bit bytes kept 8 bits
+//                            at S_k and none below S_k / 510: on RenderPark's office2, 99.6% of
+//                            the texels fell under 16/255 of the lamp-lit ceiling's S_k and
+//                            banded).
 //   OUT-lightmap-k.exr       E itself, half float (11 significant bits; E above 65504 is written
 //                            as 65504, with a warning).
-//   OUT.glb, atlas k image   linear 8-bit RGB, no sRGB transfer: E = S_k · t / 255 per channel,
-//                            with S_k the MOZ_lightmap "intensity" of every material on atlas k.
-//   OUT-lightmap-k-rgbm.png  RGBM (Karis 2009): E = S_k · (t / 255) · (a / 255) per channel, t a
-//                            colour byte and a the alpha byte (the multiplier M = a / 255); three.js
-//                            decoded as RGBMLoader().setMaxRange(S_k) does, in the three.js
-//                            releases that ship it (r187 does not: the EXR is its HDR path).
+// The extension, on each material: "LAMBERT_lightmap": {"index": texture, "texCoord": 1,
+// "encoding": "RGBM", "range": S_k}. A client decodes the four texels around a point and filters
+// the decoded values (examples/web/lambert-lightmap.js, a GLTFLoader plugin): filtering the bytes
+// first would multiply two interpolated factors, up to 7% off across a shadow's edge.
 // A renderer turns a texel into the outgoing radiance of the diffuse surface under it as
 // L = ρ/π · E (+ the surface's own emission L_e), ρ the base colour (factor × texture). This is
-// what current three.js draws for a lightmap: lights_fragment_maps adds texel × lightMapIntensity
+// what current three.js draws for a lightmap (the plugin hands it E, decoded, as the lightmap
+// texel with lightMapIntensity 1): lights_fragment_maps adds texel × lightMapIntensity
 // to the irradiance that RE_IndirectDiffuse multiplies by BRDF_Lambert = diffuseColor/π, and
 // MeshBasicMaterial multiplies texel × lightMapIntensity by RECIPROCAL_PI and the diffuse colour;
 // so a page with no lights and no environment shows lambert's radiance, to which it applies its
@@ -26,13 +32,13 @@
 // (not the solution's re-meshed leaves), positions in metres, per-vertex normals (area-weighted
 // over each surface's faces), TEXCOORD_0 the file's texture coordinates where a texture draws
 // through them (else the lightmap coordinates again: glTF numbers the sets from 0 without gaps),
-// TEXCOORD_1 the lightmap coordinates; vertices are split wherever a corner's coordinates differ. One primitive, with one glTF material, per (scene material, atlas,
-// emission) group: MOZ_lightmap can name one texture per material, so a material whose faces lie
-// in two atlases becomes two glTF materials. Materials are lit (metallic 0, roughness 1), not
-// KHR_materials_unlit: three.js draws both kinds as ρ/π · E, but Hubs multiplies an unlit
-// material's lightMapIntensity by π (for content made when three.js did not divide there by π),
-// so the lit material is the one both agree on. Emitting surfaces carry L_e as emissiveFactor × emissiveStrength
-// (KHR_materials_emissive_strength where L_e exceeds 1). Lightmap samplers clamp to the edge and
+// // TEXCOORD_1 the lightmap coordinates; vertices are split wherever a corner's coordinates
+// differ. One primitive, with one glTF material, per (scene material, atlas, emission) group: a
+// material names one lightmap texture, so a material whose faces lie in two atlases becomes two
+// glTF materials. Materials are lit (metallic 0, roughness 1), not KHR_materials_unlit, which
+// some clients draw with a lightmap π times brighter (Mozilla Hubs, for content made when
+// three.js did not divide there by π). Emitting surfaces carry L_e as emissiveFactor ×
+// emissiveStrength (KHR_materials_emissive_strength where L_e exceeds 1). Lightmap samplers clamp to the edge and
 // do not mip-map (a mip level would average neighbouring charts across their padding).
 //
 // Cost: one pass over the faces and one over the texels per file, the bulk being PNG's and EXR's
@@ -54,9 +60,6 @@ namespace lambert {
 // E / S lies in [0, 1]. Non-finite and negative channels are not counted.
 double lightmapScale(const Image& irradiance);
 
-// Linear 8-bit RGB: t = round(255 · clamp(E / scale, 0, 1)) per channel (the glb's images).
-std::vector<std::uint8_t> encodeLinear8(const Image& irradiance, double scale);
-
 // RGBM, interleaved RGBA bytes. Per texel, with c = clamp(E / scale, 0, 1) and m its largest
 // channel: a = ceil(255 · m), t = round(255 · c / (a / 255)); a black texel is (0, 0, 0, 0).
 // Decoding E' = scale · (t / 255) · (a / 255) differs from E by at most
@@ -66,18 +69,20 @@ std::vector<std::uint8_t> encodeRgbm(const Image& irradiance, double scale);
 // The decode of one RGBM texel (four bytes), W/m².
 Rgb decodeRgbm(const std::uint8_t* rgba, double scale);
 
+// The lightmaps as the glb carries them: each atlas's irradiance through RGBM at its range S_k and
+// back (unusable channels as 0), what a client of the glb draws. `solve --image` draws these.
+BakedLightmaps asCarriedByGlb(const BakedLightmaps& baked);
+
 struct LightmapExportOptions {
-  bool exr = true;   // OUT-lightmap-k.exr per atlas
-  bool rgbm = true;  // OUT-lightmap-k-rgbm.png per atlas
+  bool exr = true;  // OUT-lightmap-k.exr per atlas
 };
 
-enum class LightmapFile { Exr, Rgbm };
-// "dir/OUT.glb", atlas k: "dir/OUT-lightmap-k.exr" or "dir/OUT-lightmap-k-rgbm.png".
-std::string lightmapFilePath(const std::string& glbPath, std::size_t atlas, LightmapFile kind);
+// "dir/OUT.glb", atlas k: "dir/OUT-lightmap-k.exr".
+std::string lightmapExrPath(const std::string& glbPath, std::size_t atlas);
 
 struct LightmapAtlasFiles {
-  std::string exr, rgbm;     // empty where not asked for
-  double scale = 0;          // S_k, W/m²: MOZ_lightmap intensity and RGBM range
+  std::string exr;           // empty where not asked for
+  double scale = 0;          // S_k, W/m²: the LAMBERT_lightmap range
   std::size_t coveredTexels = 0;
 };
 
@@ -99,7 +104,7 @@ Result<LightmapExport> writeLightmaps(const std::string& glbPath, const Scene& s
 // The bake's and the export's figures, for a command's table and --json: the atlases (count,
 // texels per side, texel size in metres, packing efficiency, charts, where the coordinates came
 // from), the bake's texels and time, the glb's vertices, triangles and primitives, and per atlas
-// k its files and scale (lightmap_k_exr, lightmap_k_rgbm, lightmap_k_scale in W/m²).
+// k its EXR and range (lightmap_k_exr, lightmap_k_scale in W/m²).
 Stats lightmapStats(const Scene& scene, const BakedLightmaps& baked, const LightmapExport& files);
 
 }  // namespace lambert

@@ -1,13 +1,14 @@
 // Lightmap output, from lightmaps made by hand here (not baked): a small scene in millimetres whose
 // faces are given lightmap coordinates at known texels of two atlases filled with a known
 // irradiance pattern. The glb is read back with tinygltf and every vertex's lightmap texel,
-// decoded with the material's intensity, must be the pattern's irradiance there; the EXR and RGBM
-// files must give the irradiance back within their precision, decoded by formulas written here.
+// decoded as RGBM with the material's range, must be the pattern's irradiance there; the EXR must
+// give the irradiance back within its precision, decoded by formulas written here.
 #include "lambert/io/lightmap_export.h"
 
 #include <gtest/gtest.h>
 #include <tiny_gltf.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -135,9 +136,7 @@ TEST(LightmapExportTest, GlbCarriesTheInputMeshAndEachMaterialsLightmap) {
   EXPECT_FALSE(testing::hasTemporaryFiles(dir));
   for (std::size_t k = 0; k < 2; ++k) {
     EXPECT_EQ(written->atlases[k].exr, (dir / ("box-lightmap-" + std::to_string(k) + ".exr")).string());
-    EXPECT_EQ(written->atlases[k].rgbm, (dir / ("box-lightmap-" + std::to_string(k) + "-rgbm.png")).string());
     EXPECT_TRUE(std::filesystem::exists(written->atlases[k].exr));
-    EXPECT_TRUE(std::filesystem::exists(written->atlases[k].rgbm));
     EXPECT_EQ(written->atlases[k].scale, Fixture::scale(static_cast<int>(k)));
   }
 
@@ -146,8 +145,8 @@ TEST(LightmapExportTest, GlbCarriesTheInputMeshAndEachMaterialsLightmap) {
   std::string error, warn;
   ASSERT_TRUE(loader.LoadBinaryFromFile(&model, &error, &warn, path)) << error;
   const std::set<std::string> used(model.extensionsUsed.begin(), model.extensionsUsed.end());
-  EXPECT_EQ(used, (std::set<std::string>{"MOZ_lightmap", "KHR_materials_emissive_strength"}));
-  EXPECT_TRUE(model.extensionsRequired.empty()) << "a reader without MOZ_lightmap still draws the mesh";
+  EXPECT_EQ(used, (std::set<std::string>{"LAMBERT_lightmap", "KHR_materials_emissive_strength"}));
+  EXPECT_TRUE(model.extensionsRequired.empty()) << "a reader without LAMBERT_lightmap still draws the mesh";
   ASSERT_EQ(model.meshes.size(), 1u);
   // white × 2 atlases, checker with and without coordinates, lamp.
   ASSERT_EQ(model.meshes[0].primitives.size(), 5u);
@@ -175,23 +174,24 @@ TEST(LightmapExportTest, GlbCarriesTheInputMeshAndEachMaterialsLightmap) {
   for (const tinygltf::Primitive& primitive : model.meshes[0].primitives) {
     const tinygltf::Material& material = model.materials.at(static_cast<std::size_t>(primitive.material));
     names.insert(material.name);
-    // MOZ_lightmap: the atlas's texture through TEXCOORD_1, intensity S_k.
-    ASSERT_TRUE(material.extensions.count("MOZ_lightmap")) << material.name;
-    const tinygltf::Value& lightmap = material.extensions.at("MOZ_lightmap");
+    // LAMBERT_lightmap: the atlas's texture through TEXCOORD_1, RGBM of range S_k.
+    ASSERT_TRUE(material.extensions.count("LAMBERT_lightmap")) << material.name;
+    const tinygltf::Value& lightmap = material.extensions.at("LAMBERT_lightmap");
     EXPECT_EQ(member(lightmap, "texCoord").GetNumberAsInt(), 1) << material.name;
+    EXPECT_EQ(member(lightmap, "encoding").Get<std::string>(), "RGBM") << material.name;
     const tinygltf::Texture& texture = model.textures.at(static_cast<std::size_t>(member(lightmap, "index").GetNumberAsInt()));
     const tinygltf::Image& image = model.images.at(static_cast<std::size_t>(texture.source));
     EXPECT_EQ(image.mimeType, "image/png");
     EXPECT_GE(image.bufferView, 0) << "embedded";
     EXPECT_TRUE(image.uri.empty());
     ASSERT_EQ(image.width, kAtlasSize);
-    ASSERT_EQ(image.component, 4);  // tinygltf decodes to RGBA
+    ASSERT_EQ(image.component, 4);  // RGBA
     const tinygltf::Sampler& sampler = model.samplers.at(static_cast<std::size_t>(texture.sampler));
     EXPECT_EQ(sampler.wrapS, TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE);
     EXPECT_EQ(sampler.minFilter, TINYGLTF_TEXTURE_FILTER_LINEAR);
     const int atlas = material.name.find("(lightmap 1)") != std::string::npos ? 1 : 0;
-    const double intensity = member(lightmap, "intensity").GetNumberAsDouble();
-    EXPECT_EQ(intensity, Fixture::scale(atlas)) << material.name;
+    const double range = member(lightmap, "range").GetNumberAsDouble();
+    EXPECT_EQ(range, Fixture::scale(atlas)) << material.name;
     EXPECT_EQ(material.pbrMetallicRoughness.metallicFactor, 0);
     EXPECT_FALSE(material.extensions.count("KHR_materials_unlit"));
 
@@ -203,13 +203,15 @@ TEST(LightmapExportTest, GlbCarriesTheInputMeshAndEachMaterialsLightmap) {
     ASSERT_EQ(uv1.size(), 2 * count);
     vertices += count;
     for (std::size_t v = 0; v < count; ++v) {
-      // The lightmap texel under the vertex, decoded with the intensity: the pattern there.
+      // The lightmap texel under the vertex, decoded with the range: the pattern there.
       const int x = static_cast<int>(std::floor(uv1[2 * v] * kAtlasSize)), y = static_cast<int>(std::floor(uv1[2 * v + 1] * kAtlasSize));
       ASSERT_TRUE(x >= 0 && x < kAtlasSize && y >= 0 && y < kAtlasSize) << material.name;
       const Rgb expected = patternAt(atlas, x, y);
+      const unsigned char* rgbm = &image.image[4 * static_cast<std::size_t>(y * kAtlasSize + x)];
       for (int c = 0; c < 3; ++c) {
-        const double decoded = intensity * image.image[4 * static_cast<std::size_t>(y * kAtlasSize + x) + static_cast<std::size_t>(c)] / 255;
-        EXPECT_NEAR(decoded, expected[c], 0.5 * intensity / 255 + 1e-12) << material.name << " texel " << x << ", " << y;
+        const double decoded = range * (rgbm[c] / 255.0) * (rgbm[3] / 255.0);
+        EXPECT_NEAR(decoded, expected[c], 0.5 / 255 * (expected.maxComponent() + range / 255) + 1e-12)
+            << material.name << " texel " << x << ", " << y;
       }
       EXPECT_NEAR(std::hypot(normal[3 * v], normal[3 * v + 1], normal[3 * v + 2]), 1, 1e-6);
     }
@@ -279,15 +281,15 @@ TEST(LightmapExportTest, GlbCarriesTheInputMeshAndEachMaterialsLightmap) {
   EXPECT_EQ(written->triangles, 2u + 2 + 2 + 2 + 3);
   EXPECT_NEAR(exportedArea, area, 1e-6 * area);
 
-  // The Khronos validator finds nothing wrong (MOZ_lightmap is a vendor extension it does not know).
+  // The Khronos validator finds nothing wrong (LAMBERT_lightmap is an extension it does not know).
   if (const std::string skip = testing::gltfValidatorSkipReason(LAMBERT_SOURCE_DIR); !skip.empty()) GTEST_SKIP() << skip;
   testing::CommandResult report = testing::validateGlb(LAMBERT_SOURCE_DIR, path);
   EXPECT_EQ(report.exitCode, 0) << report.output;
 }
 
 // RGBM decoded by its formula, written out here: E' = S · (t/255) · (a/255), within the bound the
-// 8-bit rounding allows, over six decades; the linear 8-bit encoding of the glb resolves S/255
-// only, so RGBM keeps the dark texels that linear 8 bits lose.
+// 8-bit rounding allows, over six decades; texels a thousandth of S, which linear 8 bits (S/255
+// a step) would round to 0 or one step, within 2%.
 TEST(LightmapExportTest, RgbmRoundTripsWithinItsQuantisation) {
   Image image;
   image.width = 40;
@@ -300,7 +302,6 @@ TEST(LightmapExportTest, RgbmRoundTripsWithinItsQuantisation) {
   const double scale = lightmapScale(image);
   EXPECT_EQ(scale, 100);
   const std::vector<std::uint8_t> rgbm = encodeRgbm(image, scale);
-  const std::vector<std::uint8_t> linear = encodeLinear8(image, scale);
   ASSERT_EQ(rgbm.size(), 4 * image.pixels.size());
   std::size_t darkTexels = 0;
   for (std::size_t p = 0; p < image.pixels.size(); ++p) {
@@ -310,12 +311,10 @@ TEST(LightmapExportTest, RgbmRoundTripsWithinItsQuantisation) {
       const double decoded = scale * (rgbm[4 * p + static_cast<std::size_t>(c)] / 255.0) * (rgbm[4 * p + 3] / 255.0);
       EXPECT_NEAR(decoded, e[c], bound + 1e-15) << p << " " << c;
       EXPECT_NEAR(decodeRgbm(&rgbm[4 * p], scale)[c], decoded, 1e-12 * scale);
-      EXPECT_NEAR(linear[3 * p + static_cast<std::size_t>(c)] * scale / 255, e[c], 0.5 * scale / 255 + 1e-12);
     }
-    if (e.r >= scale / 2000 && e.r <= scale / 1000) {  // linear 8 bits round these to 0 or 1 step
+    if (e.r >= scale / 2000 && e.r <= scale / 1000) {
       ++darkTexels;
       EXPECT_LT(std::fabs(scale * (rgbm[4 * p] / 255.0) * (rgbm[4 * p + 3] / 255.0) - e.r), 0.02 * e.r) << p;
-      EXPECT_GT(std::fabs(linear[3 * p] * scale / 255 - e.r), 0.3 * e.r) << p;
     }
   }
   EXPECT_GT(darkTexels, 50u);
@@ -324,10 +323,10 @@ TEST(LightmapExportTest, RgbmRoundTripsWithinItsQuantisation) {
   EXPECT_EQ(rgbm[0], 255);
 }
 
-// Each file of an export holds the lightmap: the EXR within half precision, the RGBM PNG the
-// encoding's bytes (PNG keeps alpha as stored, not premultiplied). A non-finite texel is written
-// as 0 with a warning.
-TEST(LightmapExportTest, ExrAndRgbmFilesHoldTheIrradiance) {
+// Each file of an export holds the lightmap: the EXR within half precision, and the glb's atlas
+// images exactly what asCarriedByGlb gives (what `solve --image` draws), which is the irradiance
+// within RGBM's rounding. A non-finite texel is written as 0 with a warning.
+TEST(LightmapExportTest, ExrAndGlbHoldTheIrradianceAndImageDrawsWhatTheGlbCarries) {
   Fixture fixture;
   fixture.baked.irradiance[1].pixels[3].g = std::nan("");
   const std::filesystem::path dir = testing::scratchDirectory("lightmap-export", "files");
@@ -336,14 +335,20 @@ TEST(LightmapExportTest, ExrAndRgbmFilesHoldTheIrradiance) {
   ASSERT_TRUE(written.ok()) << written.error().message;
   EXPECT_EQ(written->repairedTexels, 1u);
   EXPECT_EQ(warnings.count("were not a finite irradiance"), 1);
+  const BakedLightmaps carried = asCarriedByGlb(fixture.baked);
+  tinygltf::TinyGLTF loader;
+  tinygltf::Model model;
+  std::string error, warn;
+  ASSERT_TRUE(loader.LoadBinaryFromFile(&model, &error, &warn, (dir / "scene.glb").string())) << error;
   for (int k = 0; k < 2; ++k) {
     Result<Image> exr = readExr(written->atlases[static_cast<std::size_t>(k)].exr);
     ASSERT_TRUE(exr.ok()) << exr.error().message;
     ASSERT_EQ(exr->width, kAtlasSize);
     ASSERT_EQ(exr->height, kAtlasSize);
-    Result<PngRgbaImage> png = readPngRgba(written->atlases[static_cast<std::size_t>(k)].rgbm);
-    ASSERT_TRUE(png.ok()) << png.error().message;
-    ASSERT_EQ(png->width, kAtlasSize);
+    // The atlas's image in the glb, by its name.
+    const auto image = std::find_if(model.images.begin(), model.images.end(),
+                                    [&](const tinygltf::Image& i) { return i.name == "scene-lightmap-" + std::to_string(k); });
+    ASSERT_NE(image, model.images.end());
     const double scale = written->atlases[static_cast<std::size_t>(k)].scale;
     for (int y = 0; y < kAtlasSize; ++y)
       for (int x = 0; x < kAtlasSize; ++x) {
@@ -352,14 +357,15 @@ TEST(LightmapExportTest, ExrAndRgbmFilesHoldTheIrradiance) {
         const std::size_t p = static_cast<std::size_t>(y * kAtlasSize + x);
         for (int c = 0; c < 3; ++c) {
           EXPECT_NEAR(exr->pixels[p][c], expected[c], std::ldexp(expected[c], -11)) << k << " " << x << ", " << y;
-          const double rgbm = scale * (png->rgba8[4 * p + static_cast<std::size_t>(c)] / 255.0) * (png->rgba8[4 * p + 3] / 255.0);
+          const double rgbm = scale * (image->image[4 * p + static_cast<std::size_t>(c)] / 255.0) * (image->image[4 * p + 3] / 255.0);
           EXPECT_NEAR(rgbm, expected[c], 0.5 / 255 * (expected.maxComponent() + scale / 255) + 1e-12);
+          EXPECT_NEAR(carried.irradiance[static_cast<std::size_t>(k)].pixels[p][c], rgbm, 1e-12 * scale) << k << " " << x << ", " << y;
         }
       }
   }
   // Only what is asked for.
   const std::filesystem::path only = testing::scratchDirectory("lightmap-export", "glb-only");
-  Result<LightmapExport> glbOnly = writeLightmaps((only / "scene.glb").string(), fixture.scene, fixture.baked, {.exr = false, .rgbm = false});
+  Result<LightmapExport> glbOnly = writeLightmaps((only / "scene.glb").string(), fixture.scene, fixture.baked, {.exr = false});
   ASSERT_TRUE(glbOnly.ok()) << glbOnly.error().message;
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(only), std::filesystem::directory_iterator()), 1);
   EXPECT_TRUE(glbOnly->atlases[0].exr.empty());
@@ -401,7 +407,7 @@ TEST(LightmapExportTest, DegenerateFacesGiveValidTrianglesAndNormals) {
   fixture.baked.uvs.atlas = {{0}, {0}};
   const std::filesystem::path dir = testing::scratchDirectory("lightmap-export", "degenerate");
   const std::string path = (dir / "degenerate.glb").string();
-  Result<LightmapExport> written = writeLightmaps(path, fixture.scene, fixture.baked, {.exr = false, .rgbm = false});
+  Result<LightmapExport> written = writeLightmaps(path, fixture.scene, fixture.baked, {.exr = false});
   ASSERT_TRUE(written.ok()) << written.error().message;
   tinygltf::TinyGLTF loader;
   tinygltf::Model model;
@@ -420,7 +426,7 @@ TEST(LightmapExportTest, DegenerateFacesGiveValidTrianglesAndNormals) {
 
   // The same corner twice with one coordinate is one vertex: its fan triangle is dropped.
   fixture.baked.uvs.uv[0][0][2] = fixture.baked.uvs.uv[0][0][1];
-  written = writeLightmaps(path, fixture.scene, fixture.baked, {.exr = false, .rgbm = false});
+  written = writeLightmaps(path, fixture.scene, fixture.baked, {.exr = false});
   ASSERT_TRUE(written.ok()) << written.error().message;
   EXPECT_EQ(written->triangles, 3u);
 
@@ -430,8 +436,8 @@ TEST(LightmapExportTest, DegenerateFacesGiveValidTrianglesAndNormals) {
 }
 
 TEST(LightmapExportTest, FilesAreNamedAfterTheGlb) {
-  EXPECT_EQ(lightmapFilePath("out/room.glb", 0, LightmapFile::Exr), "out/room-lightmap-0.exr");
-  EXPECT_EQ(lightmapFilePath("room.glb", 12, LightmapFile::Rgbm), "room-lightmap-12-rgbm.png");
+  EXPECT_EQ(lightmapExrPath("out/room.glb", 0), "out/room-lightmap-0.exr");
+  EXPECT_EQ(lightmapExrPath("room.glb", 12), "room-lightmap-12.exr");
 }
 
 }  // namespace

@@ -66,12 +66,4 @@ Result<PngImage> readPng(const std::string& path) {
   return image;
 }
 
-Result<PngRgbaImage> readPngRgba(const std::string& path) {
-  PngRgbaImage image;
-  Result<std::vector<std::uint8_t>> bytes = load(path, 4, image.width, image.height);
-  if (!bytes) return bytes.error();
-  image.rgba8 = std::move(*bytes);
-  return image;
-}
-
 }  // namespace lambert

@@ -29,11 +29,4 @@ struct PngImage {
 // Reads any PNG as 8-bit RGB (grey and alpha are converted).
 Result<PngImage> readPng(const std::string& path);
 
-struct PngRgbaImage {
-  int width = 0, height = 0;
-  std::vector<std::uint8_t> rgba8;  // interleaved RGBA, row-major, top row first, alpha as stored
-};
-// Reads any PNG as 8-bit RGBA (opaque where the file has no alpha).
-Result<PngRgbaImage> readPngRgba(const std::string& path);
-
 }  // namespace lambert
