@@ -370,7 +370,7 @@ class PyRadiosity {
 
   // Lightmaps of the solution (hierarchical method): per atlas the irradiance E, W/m², as an
   // (size, size, 3) array and which texels a face covers; written with the scene's mesh as a .glb
-  // and its EXR and RGBM files (as `lambert solve --lightmaps --export`) where a path is given.
+  // with its RGBM lightmaps and their EXR files (as `lambert solve --lightmaps --export`) where a path is given.
   py::dict bakeLightmaps(const std::string& glbPath, double texelSize, int atlasSize, int padding, int step, double tolerance) const {
     LightmapBakeOptions options;
     if (!(texelSize >= 0)) raise("bake_lightmaps: texel_size must be 0 (automatic) or positive metres");
