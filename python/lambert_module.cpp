@@ -9,15 +9,19 @@
 
 #include <algorithm>
 #include <cctype>
-#include <type_traits>
+#include <chrono>
 #include <cmath>
-#include <optional>
+#include <future>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
+#include <thread>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
+#include "lambert/core/cancel.h"
 #include "lambert/core/rgb.h"
 #include "lambert/core/warning.h"
 #include "lambert/engine/radiosity.h"
@@ -75,6 +79,45 @@ void flushWarnings() {
   flushWarnings();
   PyErr_SetString(errorType().ptr(), message.c_str());
   throw py::error_already_set();
+}
+
+// Runs work (a long library call) on a thread of its own while this one, without the GIL, looks
+// every 50 ms for a signal Python has received (Ctrl-C, which only Python's main thread handles):
+// on one it asks the library to cancel (core/cancel.h), waits the moment the work takes to stop,
+// and raises what the signal's handler raised (KeyboardInterrupt). The work's own exceptions
+// reach the caller as they are; a cancel another call asked for is a lambert.Error.
+template <class Work>
+auto interruptible(Work&& work) -> decltype(work()) {
+  using Value = decltype(work());
+  std::packaged_task<Value()> task(std::forward<Work>(work));
+  std::future<Value> done = task.get_future();
+  bool interrupted = false;
+  {
+    py::gil_scoped_release release;
+    std::thread worker(std::move(task));
+    while (done.wait_for(std::chrono::milliseconds(50)) != std::future_status::ready) {
+      if (interrupted) continue;
+      py::gil_scoped_acquire acquire;
+      if (PyErr_CheckSignals() != 0) {
+        interrupted = true;
+        requestCancel();
+      }
+    }
+    worker.join();
+  }
+  if (interrupted) {
+    clearCancel();
+    try {
+      (void)done.get();  // stopped (Cancelled), or done just before the request: either way dropped
+    } catch (...) {
+    }
+    throw py::error_already_set();  // the handler's exception, set by PyErr_CheckSignals
+  }
+  try {
+    return done.get();
+  } catch (const Cancelled&) {
+    raise("interrupted: another call in this process was interrupted (Ctrl-C), which stops every long call");
+  }
 }
 
 template <typename T>
@@ -164,20 +207,27 @@ class PyRadiosity {
     RadiosityOptions chosen = orRaise(radiosityOptions(scene, settings, [&](std::string_view name) {
       return std::find(given.begin(), given.end(), name) != given.end();
     }));
-    Result<std::unique_ptr<Radiosity>> created = Error{""};
-    {
-      py::gil_scoped_release release;
-      created = Radiosity::create(std::move(scene), std::move(chosen));
-    }
-    engine_ = orRaise(std::move(created));
+    options_ = chosen;
+    engine_ = orRaise(interruptible([&] { return Radiosity::create(std::move(scene), std::move(chosen)); }));
     flushWarnings();
   }
 
+  // A solve stopped by Ctrl-C leaves the engine part-way (a half-refined hierarchy): the next
+  // solve starts from a new engine of the same scene, settings and lights.
   py::dict solve(long long maxShots, int maxSweeps, double maxMilliseconds) {
+    if (interrupted_) {
+      const std::vector<Light> lights = engine_->solution().lights();
+      engine_ = orRaise(interruptible([&] { return Radiosity::create(engine_->solution().scene(), options_); }));
+      engine_->setLights(lights);
+      interrupted_ = false;
+    }
     Result<SolveReport> report = Error{""};
-    {
-      py::gil_scoped_release release;
-      report = engine_->solve(SolveBudget{maxShots, maxSweeps, maxMilliseconds});
+    try {
+      report = interruptible([&] { return engine_->solve(SolveBudget{maxShots, maxSweeps, maxMilliseconds}); });
+    } catch (...) {
+      interrupted_ = true;
+      solved_ = false;
+      throw;
     }
     if (!report) raise(report.error().message);
     solved_ = true;
@@ -199,11 +249,7 @@ class PyRadiosity {
   // the solution keeps it, so a second call returns at once).
   py::array_t<double> vertexRadiance() const {
     requireSolved("vertex_radiance");
-    std::vector<Rgb> values;
-    {
-      py::gil_scoped_release release;
-      values = engine_->solution().vertexRadiance();
-    }
+    std::vector<Rgb> values = interruptible([&] { return engine_->solution().vertexRadiance(); });
     flushWarnings();
     return rows3(std::move(values));
   }
@@ -213,11 +259,7 @@ class PyRadiosity {
     for (const auto& [name, q] : names)
       if (name == quantity) {
         requireSolved("vertex_values");
-        std::vector<Rgb> values;
-        {
-          py::gil_scoped_release release;
-          values = engine_->solution().vertexValues(q);
-        }
+        std::vector<Rgb> values = interruptible([&] { return engine_->solution().vertexValues(q); });
         flushWarnings();
         return rows3(std::move(values));
       }
@@ -264,12 +306,10 @@ class PyRadiosity {
       at[i] = {{rows(i, 0), rows(i, 1), rows(i, 2)}, {rows(i, 3), rows(i, 4), rows(i, 5)}};
     IlluminanceOptions options;
     options.indirectRays = indirectRays;
-    Result<std::vector<PointIrradiance>> measured = Error{""};
-    {
-      py::gil_scoped_release release;
+    Result<std::vector<PointIrradiance>> measured = interruptible([&] {
       const IlluminanceMeter meter(engine_->solution(), options);
-      measured = meter.measure(at);
-    }
+      return meter.measure(at);
+    });
     if (!measured) raise(measured.error().message);
     std::vector<Rgb> lux;
     for (const PointIrradiance& e : *measured)
@@ -322,12 +362,12 @@ class PyRadiosity {
     if (!endsWith(path, ".glb")) raise("write_glb: " + path + ": it writes binary glTF; give a path ending in .glb");
     requireSolved("write_glb");
     options.exposureStops = exposureStops;
-    orRaise(lambert::writeGlb(path, engine_->solution(), options));
+    orRaise(interruptible([&] { return lambert::writeGlb(path, engine_->solution(), options); }));
     flushWarnings();
   }
   void writeVertices(const std::string& path) const {
     requireSolved("write_vertices");
-    orRaise(lambert::writeVertices(path, vertexSamples(engine_->solution())));
+    orRaise(interruptible([&] { return lambert::writeVertices(path, vertexSamples(engine_->solution())); }));
     flushWarnings();
   }
 
@@ -353,11 +393,7 @@ class PyRadiosity {
     if (up) request.up = frame.filePoint(frame.offset + vec3(*up, "up")) - frame.filePoint(frame.offset);
     if (fov) request.verticalFovDegrees = *fov;
     options.camera = orRaise(sceneCamera(view.scene(), request)).camera;
-    Image image;
-    {
-      py::gil_scoped_release release;
-      image = renderSolution(view, options);
-    }
+    Image image = interruptible([&] { return renderSolution(view, options); });
     if (endsWith(path, ".exr")) {
       orRaise(writeExr(path, image));
     } else if (!path.empty()) {
@@ -385,14 +421,10 @@ class PyRadiosity {
             "atlases beside it); give a path ending in .glb");
     requireSolved("bake_lightmaps");
     options.showProgress = false;
-    Result<BakedLightmaps> baked = Error{""};
-    {
-      py::gil_scoped_release release;
-      baked = lambert::bakeLightmaps(engine_->solution(), options);
-    }
+    Result<BakedLightmaps> baked = interruptible([&] { return lambert::bakeLightmaps(engine_->solution(), options); });
     if (!baked) raise(baked.error().message);
     if (!glbPath.empty())
-      if (Result<LightmapExport> written = writeLightmaps(glbPath, engine_->solution().scene(), *baked); !written) raise(written.error().message);
+      orRaise(interruptible([&] { return writeLightmaps(glbPath, engine_->solution().scene(), *baked); }));
     py::list irradiance, covered;
     for (Image& atlas : baked->irradiance) irradiance.append(pixels(std::move(atlas)));
     for (std::vector<std::uint8_t>& mask : baked->covered) {
@@ -417,11 +449,7 @@ class PyRadiosity {
     options.spacing = spacing;
     options.raysPerProbe = raysPerProbe;
     options.showProgress = false;
-    Result<ProbeVolume> volume = Error{""};
-    {
-      py::gil_scoped_release release;
-      volume = lambert::bakeProbes(engine_->solution(), options);
-    }
+    Result<ProbeVolume> volume = interruptible([&] { return lambert::bakeProbes(engine_->solution(), options); });
     if (!volume) raise(volume.error().message);
     if (!path.empty()) orRaise(writeProbes(path, *volume));
     const auto [nx, ny, nz] = volume->dims;
@@ -444,6 +472,8 @@ class PyRadiosity {
 
   std::unique_ptr<Radiosity> engine_;
   bool solved_ = false;
+  bool interrupted_ = false;    // the last solve was stopped by Ctrl-C
+  RadiosityOptions options_;    // what the engine was made with, to make it again
 };
 
 }  // namespace

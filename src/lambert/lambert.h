@@ -11,9 +11,12 @@
 //   (*engine)->solve();
 //   lambert::writeGlb("out.glb", (*engine)->solution(), {});        // or PNG, EXR, lightmaps, lux
 //
-// Errors are values (Result<T>, Status), never exceptions; all names are in namespace lambert.
+// Errors are values (Result<T>, Status), never exceptions, but for one: a long call stops with
+// lambert::Cancelled once a program that takes interrupts asks it to (core/cancel.h). All names
+// are in namespace lambert.
 
-// Errors, warnings, figures and the version.
+// Errors, warnings, cancellation, figures and the version.
+#include "lambert/core/cancel.h"
 #include "lambert/core/error.h"
 #include "lambert/core/stats.h"
 #include "lambert/core/warning.h"

@@ -10,6 +10,7 @@
 // transport's gather (solve/krylov.h), to the same bound on the change a sweep would make.
 #include <cmath>
 
+#include "lambert/core/cancel.h"
 #include "lambert/core/error.h"
 #include "lambert/core/timer.h"
 #include "lambert/solve/concrete_solvers.h"
@@ -66,6 +67,7 @@ SolverReport GatheringSolver::solve(const RadiosityProblem& problem, std::vector
   double previousChange = INFINITY;
   int slowSweeps = 0;
   for (int sweep = 1; sweep <= options_.maxIterations; ++sweep) {
+    throwIfCancelled();
     const SweepChange step = transport.sweep(problem.emitted, problem.albedo, radiosity, inPlace_);
     report.iterations = sweep;
     if (options_.onProgress && options_.progressEvery > 0 && sweep % options_.progressEvery == 0)

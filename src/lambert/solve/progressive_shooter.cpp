@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "lambert/core/cancel.h"
 #include "lambert/core/error.h"
 #include "lambert/core/timer.h"
 
@@ -44,6 +45,7 @@ long long ProgressiveShooter::shoot(long long maxShots, double tolerance) {
   const FormFactorMatrix& F = *problem_.transport->matrix();
   long long shots = 0;
   while (shots < maxShots) {
+    throwIfCancelled();
     // The brightest shooter, and the totals the stopping test compares.
     std::size_t shooter = 0;
     double best = -1, unshotPower = 0, totalPower = 0;
