@@ -101,6 +101,7 @@ def error(a, b):
 
 
 TOLERANCE = 1e-4  # lambert's CSV has 9 significant digits; the attribute is float32
+SEAM_TOLERANCE = 0.03  # a lightmap's step across an edge two quads' islands share
 
 sys.path.insert(0, os.path.join(source_dir, 'blender'))
 build_scene()
@@ -236,6 +237,45 @@ ratios.sort()
 median = ratios[len(ratios) // 2] if ratios else 0
 check(len(ratios) >= 20, f'only {len(ratios)} lit floor faces compared')
 check(0.8 < median < 1.25, f'lightmap / vertex irradiance on the floor: median {median:.3g} (of {len(ratios)} faces)')
+# Lightmap Pack gives every quad an island of its own: along every edge two floor quads share, the
+# lightmap read (bilinear, as Blender's Linear image node reads it) from either quad's island must
+# give the same light, else the floor shows a step at every quad (measured: up to 20% beside the
+# block with each seam texel pair set to its mean, 1.2% stitched in least squares).
+def lightmap_at(u, v):
+    x, y = u * width - 0.5, v * height - 0.5
+    x0, y0 = math.floor(x), math.floor(y)
+    fx, fy = x - x0, y - y0
+
+    def texel(i, j):
+        i, j = min(max(i, 0), width - 1), min(max(j, 0), height - 1)
+        return luminance(pixels[4 * (j * width + i):4 * (j * width + i) + 3])
+
+    return ((1 - fy) * ((1 - fx) * texel(x0, y0) + fx * texel(x0 + 1, y0)) +
+            fy * ((1 - fx) * texel(x0, y0 + 1) + fx * texel(x0 + 1, y0 + 1)))
+
+
+room_object = bpy.data.objects['room']
+edge_sides = {}  # (vertex, vertex) of a floor edge: per floor quad, the lightmap UVs of its two ends
+for polygon in room.polygons:
+    if abs((room_object.matrix_world @ polygon.center).z) > 1e-6:
+        continue
+    loops = list(polygon.loop_indices)
+    for k, loop in enumerate(loops):
+        following = loops[(k + 1) % len(loops)]
+        a, b = room.loops[loop].vertex_index, room.loops[following].vertex_index
+        uv_a, uv_b = room.uv_layers['lambert_lightmap'].data[loop].uv.copy(), room.uv_layers['lambert_lightmap'].data[following].uv.copy()
+        key, ends = ((a, b), (uv_a, uv_b)) if a < b else ((b, a), (uv_b, uv_a))
+        edge_sides.setdefault(key, []).append(ends)
+seam_pairs = [tuple(lightmap_at(*(ends[0].lerp(ends[1], t))) for ends in sides)
+              for sides in edge_sides.values() if len(sides) == 2 for t in (0.2, 0.5, 0.8)]  # not the floor's rim
+brightest = max((max(pair) for pair in seam_pairs), default=0)
+# Steps where the light is at least a tenth of the floor's brightest (not in the block's shadow).
+seam_steps = sorted(abs(one - other) / max(one, other) for one, other in seam_pairs if max(one, other) > 0.1 * brightest)
+seam_median = seam_steps[len(seam_steps) // 2] if seam_steps else 1
+seam_worst = seam_steps[-1] if seam_steps else 1
+check(len(seam_steps) >= 100, f'only {len(seam_steps)} points on shared floor edges compared')
+check(seam_worst < SEAM_TOLERANCE, f'lightmap step across the floor quads\' shared edges: median {100 * seam_median:.2f}%, '
+      f'worst {100 * seam_worst:.2f}% (at most {100 * SEAM_TOLERANCE:.0f}% wanted)')
 # The packed islands (a box per quad) keep apart by the margin lambert's padding and a viewer's
 # bilinear lookups need (results.MARGIN_TEXELS on each side): else a floor island's rim reads the
 # lamp's island beside it.
@@ -304,6 +344,7 @@ if failures:
     sys.exit(1)
 print(f'blender-bake: ok: {compared} corners within {TOLERANCE} of the CLI (other side: {worst_wrong_side:.3g}, '
       f'next corner: {worst_rotated:.3g}); floor lit {lit:.4g} vs under the block {dark:.4g}; cancel and error ok; '
-      f'flat on the selected block: {flat_compared} corners within {TOLERANCE}; lightmaps: median lightmap/vertex irradiance {median:.3f} over {len(ratios)} floor faces, islands {closest:.1f} texels apart; '
+      f'flat on the selected block: {flat_compared} corners within {TOLERANCE}; lightmaps: median lightmap/vertex irradiance {median:.3f} over {len(ratios)} floor faces, islands {closest:.1f} texels apart, '
+      f'steps across quad edges median {100 * seam_median:.2f}%, worst {100 * seam_worst:.2f}% over {len(seam_steps)} points; '
       f'bake {bake_seconds:.1f} s, lightmap bake {lightmap_seconds:.1f} s, whole test {total:.1f} s')
 sys.exit(0)

@@ -9,8 +9,9 @@
 // Texels are found by conservative rasterisation of each face in UV space; a texel's point is its
 // centre's place on the face (clamped into the face where the texel only overlaps it), nudged off
 // the surface as vertex sites are; texels no face reaches are dilated from their neighbours, and
-// texels on both sides of a UV seam (one surface point at two places in the atlas) are given one
-// value, so that no step shows along the seam.
+// the texels under a UV seam's two sides (one surface line at two places in the atlas) are moved
+// until bilinear reads on both sides agree, so that no step shows along the seam
+// (bake/lightmap_fill.h).
 #include <cstdint>
 #include <vector>
 
