@@ -8,6 +8,7 @@
 #include "lambert/core/timer.h"
 #include "lambert/method/point_gather.h"
 #include "lambert/engine/solution_internals.h"
+#include "lambert/light/sky.h"
 #include "lambert/light/lights.h"
 
 namespace lambert {
@@ -41,8 +42,8 @@ bool mayLight(const Light& light, const VertexSite& site) {
       if (!(distance > 0) || !(dot(site.normal, toPoint) < 0)) return false;
       return dot(toPoint / distance, normalize(light.direction)) >= std::cos(light.coneAngleDegrees * kPi / 180) - 1e-9;
     }
-    case LightKind::Sky:  // every site but one facing straight down sees some of the sky
-      return light.sky != nullptr && site.normal.y > -1 + 1e-12;
+    case LightKind::Sky:  // every site but one facing straight down sees some of the sky (any, an environment)
+      return light.sky != nullptr && (light.sky->isUniformEnvironment() || site.normal.y > -1 + 1e-12);
   }
   return true;
 }

@@ -7,6 +7,7 @@
 #include "lambert/engine/radiosity.h"
 #include "lambert/engine/solution_internals.h"
 #include "lambert/flat/table.h"
+#include "lambert/light/sky.h"
 #include "lambert/load/scene_file.h"
 #include "lambert/render/solution_image.h"
 #include "lambert/solve/solver.h"
@@ -333,6 +334,44 @@ TEST(RadiosityTest, TheViewsLightIsTheClosedForm) {
 }
 
 // Stats describe the solve the view holds: its lights' power, and every solve counted.
+// A floor alone under a uniform environment of radiance L (light/sky.h; Blender's world colour):
+// every point sees the whole sky above it, E = π L, so every element's radiosity is ρ π L and the
+// radiance at every vertex ρ L, in each channel, with every mesh strategy; a black box on the
+// floor takes its share of the sky, so it cannot be the same there (the comparison can fail).
+TEST(RadiosityTest, AnEnvironmentLightsAnOpenFloorWithPiTimesItsRadiance) {
+  const double rho = 0.5;
+  const Rgb radiance{1, 0.5, 0.25};
+  Scene scene = testing::sceneOf({{"floor", {{-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}}, 0, {}}}, Rgb::gray(rho));
+  Light environment;
+  environment.kind = LightKind::Sky;
+  environment.sky = std::make_shared<const SkyModel>(*SkyModel::uniformEnvironment(radiance));
+  scene.lights = {environment};
+  for (MeshStrategy strategy : {MeshStrategy::Uniform, MeshStrategy::Hierarchical}) {
+    RadiosityOptions options = uniformOptions(64, SolverKind::GaussSeidel, 1e-9);
+    options.meshing = strategy;
+    std::unique_ptr<Radiosity> engine = engineFor(scene, options);
+    ASSERT_TRUE(engine);
+    solveCall(*engine);
+    const SolutionView& view = engine->solution();
+    for (const Rgb& b : view.radiosity())
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(b[c], rho * kPi * radiance[c], 1e-3 * rho * kPi * radiance[c]) << c;
+    for (const Rgb& l : view.vertexRadiance())
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(l[c], rho * radiance[c], 1e-3 * rho * radiance[c]) << c;
+  }
+  Scene boxed = scene;
+  for (Surface s : testing::closedCube(0.4).surfaces) {  // 5 cm above the floor's middle (its faces inward: opaque all the same)
+    for (Vec3& v : s.vertices) v = v + Vec3{-0.2, 0.05, -0.2};
+    boxed.surfaces.push_back(s);
+  }
+  std::unique_ptr<Radiosity> engine = engineFor(boxed, uniformOptions(64, SolverKind::GaussSeidel, 1e-9));
+  ASSERT_TRUE(engine);
+  solveCall(*engine);
+  double least = INFINITY;
+  for (std::size_t i = 0; i < engine->solution().mesh().numPatches(); ++i)
+    if (engine->solution().mesh().patches[i].surface == 0) least = std::fmin(least, engine->solution().radiosity()[i].r);
+  EXPECT_LT(least, 0.9 * rho * kPi * radiance.r) << "the box's shadow on the floor";
+}
+
 TEST(RadiosityTest, StatsDescribeTheCurrentSolution) {
   Scene scene = cornellBoxWithSpots();
   std::unique_ptr<Radiosity> engine = engineFor(scene, uniformOptions(200, SolverKind::Shooting, 1e-6));

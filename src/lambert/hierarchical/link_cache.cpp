@@ -113,6 +113,7 @@ void hashLight(KeyHasher& h, const Light& light) {
     h.f64(light.sky->sunElevationDegrees());
     h.vec3(light.sky->north());
     h.f64(light.sky->zenithLuminance());
+    hashRgb(h, light.sky->colour());
     h.i64(light.skyDirections);
   }
 }

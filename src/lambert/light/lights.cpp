@@ -59,7 +59,7 @@ double patchRadius(const Patch& patch, const PatchCorners& corners) {
 bool mayReceive(const Light& light, const Cone& cone, const Patch& patch, const PatchCorners& corners) {
   if (light.kind == LightKind::Directional) return dot(patch.normal, light.direction) < 0;
   // Only a patch facing straight down sees none of the sky above the horizon.
-  if (light.kind == LightKind::Sky) return light.sky && patch.normal.y > -1 + 1e-12;
+  if (light.kind == LightKind::Sky) return light.sky && (light.sky->isUniformEnvironment() || patch.normal.y > -1 + 1e-12);
   // An opening's sources lie off its centre: a patch edge-on to the centre may face some of them.
   if (light.kind == LightKind::Luminaire && light.luminaireModel == LuminaireModel::Opening) return true;
   bool faces = false;
@@ -192,7 +192,7 @@ Rgb unshadowedIrradiance(const Light& light, const Vec3& x, const Vec3& n, doubl
   if (light.kind == LightKind::Sky) {
     // The same directions as irradiance() below, all visible: never less than the shadowed value.
     if (!light.sky) return {};
-    return Rgb::gray(unobstructedSkyIlluminance(*light.sky, n, light.skyDirections) / kLumensPerWatt);
+    return light.sky->colour() * (unobstructedSkyIlluminance(*light.sky, n, light.skyDirections) / kLumensPerWatt);
   }
   if (light.kind == LightKind::Luminaire) {
     const LuminaireFrame frame = luminaireFrame(light);
@@ -221,7 +221,8 @@ Rgb unshadowedIrradiance(const Light& light, const Vec3& x, const Vec3& n, doubl
 Rgb irradiance(const Light& light, const Vec3& x, const Vec3& n, const RayCaster& caster, double epsilon,
                double metresPerUnit) {
   if (light.kind == LightKind::Sky) {
-    // ∫ L(ω) V(x, ω) max(0, n·ω) dω: a ray to infinity per direction above the horizon.
+    // ∫ L(ω) V(x, ω) max(0, n·ω) dω: a ray to infinity per direction above the horizon (every
+    // direction of a uniform environment).
     if (!light.sky) return {};
     const Vec3 origin = x + n * epsilon;
     thread_local std::vector<Ray> rays;
@@ -231,7 +232,7 @@ Rgb irradiance(const Light& light, const Vec3& x, const Vec3& n, const RayCaster
       caster.occluded(rays, seen);
       for (bool& s : seen) s = !s;
     });
-    return Rgb::gray(lux / kLumensPerWatt);
+    return light.sky->colour() * (lux / kLumensPerWatt);
   }
   if (light.kind == LightKind::Luminaire && light.luminaireModel == LuminaireModel::Opening) {
     // Each of the opening's sources with its own shadow ray: a partly hidden opening gives a

@@ -91,8 +91,26 @@ SkyModel SkyModel::traditionalOvercast(double zenithLuminance, const Vec3& north
   return sky;
 }
 
+Result<SkyModel> SkyModel::uniformEnvironment(const Rgb& radiance) {
+  for (int c = 0; c < 3; ++c)
+    if (!(radiance[c] >= 0 && std::isfinite(radiance[c])))
+      return Error{"an environment's radiance must be finite and not negative in every channel"};
+  if (!(radiance.luminance() > 0)) return Error{"an environment's radiance must not be black (it would light nothing)"};
+  SkyModel sky;
+  sky.type_ = kUniformEnvironment;
+  sky.zenithLuminance_ = luminanceCandelasPerSquareMetre(radiance);
+  sky.colour_ = radiance * (1 / radiance.luminance());
+  sky.finish();
+  return sky;
+}
+
 void SkyModel::finish() {
   sun_ = skyDirection(sunAzimuthDegrees_, sunElevationDegrees_, north_);
+  if (type_ == kUniformEnvironment) {
+    normaliser_ = 1;
+    horizontalIlluminance_ = kPi * zenithLuminance_;
+    return;
+  }
   const double cosSunZenith = std::sin(sunElevationDegrees_ * kRadians);
   normaliser_ = type_ == 0 ? 1 : 1 / (indicatrix(p_, cosSunZenith) * gradation(p_, 1));
   // E_h = ∫₀^{2π} ∫₀^{π/2} L(Z, α) cos Z sin Z dZ dα: Simpson's rule in Z (the integrand is smooth
@@ -127,6 +145,7 @@ SkyModel SkyModel::withHorizontalIlluminance(double lux) const {
 }
 
 double SkyModel::relativeFromCosines(double cosZenith, double cosSunAngle) const {
+  if (type_ == kUniformEnvironment) return 1;
   if (type_ == 0) return (1 + 2 * cosZenith) / 3;  // Moon and Spencer: (1 + 2 sin elevation) / 3
   return indicatrix(p_, cosSunAngle) * gradation(p_, cosZenith) * normaliser_;
 }
@@ -142,6 +161,7 @@ double SkyModel::luminance(const Vec3& direction) const {
   const double len = length(direction);
   if (!(len > 0)) return 0;
   const Vec3 w = direction / len;
+  if (type_ == kUniformEnvironment) return zenithLuminance_;
   if (w.y <= 0) return 0;
   return zenithLuminance_ * relativeFromCosines(w.y, dot(w, sun_));
 }
@@ -189,6 +209,7 @@ SkyLuminanceTable::SkyLuminanceTable(const SkyModel& sky) : sky_(sky) {
 }
 
 double SkyLuminanceTable::luminance(const Vec3& w) const {
+  if (sky_.isUniformEnvironment()) return sky_.zenithLuminance();
   if (w.y <= 0) return 0;
   auto lerp = [](const std::vector<double>& table, double x) {
     const double at = std::clamp(x, 0.0, 1.0) * kSkyTableIntervals;

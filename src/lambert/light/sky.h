@@ -3,7 +3,9 @@
 // CIE S 011/E:2003) and the traditional CIE overcast sky (Moon and Spencer 1942, adopted by the CIE
 // in 1955), scaled absolutely by a zenith luminance or an unobstructed horizontal illuminance. The
 // sky is a dome at infinity above the horizon; below it, it gives nothing (the ground is whatever
-// geometry the scene has). Its light reaches a point through a light of LightKind::Sky
+// geometry the scene has). And one that is not daylight: a uniform environment, radiance L (RGB)
+// from every direction at infinity, below the horizon too, as Blender's and Cycles' world colour
+// lights a scene (and a glTF viewer's uniform environment). Its light reaches a point through a light of LightKind::Sky
 // (light/lights.h), which estimates ∫ L(ω) V(x, ω) max(0, n·ω) dω over stratified directions.
 //
 // Frame: lambert is y-up, so the zenith is +y. North is a horizontal scene direction (default −z,
@@ -48,12 +50,19 @@ class SkyModel {
                                       double zenithLuminance, const Vec3& north = {0, 0, -1});
   // The traditional CIE overcast sky, L(Z) = Lz (1 + 2 cos Z) / 3: no sun dependence.
   static SkyModel traditionalOvercast(double zenithLuminance, const Vec3& north = {0, 0, -1});
+  // A uniform environment of radiance L in W/(m²·sr) per channel from every direction, the
+  // whole sphere: finite, not negative, not black.
+  static Result<SkyModel> uniformEnvironment(const Rgb& radiance);
 
   // The same sky scaled to an unobstructed horizontal illuminance of `lux` (> 0).
   SkyModel withHorizontalIlluminance(double lux) const;
 
   bool isTraditionalOvercast() const { return type_ == 0; }
-  int cieType() const { return type_; }  // 1–15; 0 for the traditional overcast sky
+  bool isUniformEnvironment() const { return type_ == kUniformEnvironment; }
+  int cieType() const { return type_; }  // 1–15; 0 for the traditional overcast sky, −1 for a uniform environment
+  // What a candela per square metre of it is in radiance, W/(m²·sr) per channel, × 683: (1, 1, 1)
+  // for the white daylight skies, the environment's colour (its Rec. 709 luminance 1) otherwise.
+  const Rgb& colour() const { return colour_; }
   double sunAzimuthDegrees() const { return sunAzimuthDegrees_; }
   double sunElevationDegrees() const { return sunElevationDegrees_; }
   const Vec3& north() const { return north_; }
@@ -63,13 +72,15 @@ class SkyModel {
   // L(Z, α) / Lz at zenith angle Z and azimuth α (radians, α from north clockwise), by the
   // standard's angular formula: cos χ = cos Zs cos Z + sin Zs sin Z cos(α − αs).
   double relativeLuminance(double zenithAngle, double azimuth) const;
-  // Luminance in cd/m² seen looking along `direction` (scene frame, any length); 0 below the horizon.
+  // Luminance in cd/m² seen looking along `direction` (scene frame, any length); 0 below the
+  // horizon, but for a uniform environment.
   double luminance(const Vec3& direction) const;
-  // Radiance in W/(m²·sr) per channel: white light, luminance / 683.
-  Rgb radiance(const Vec3& direction) const { return Rgb::gray(luminance(direction) / kLumensPerWatt); }
+  // Radiance in W/(m²·sr) per channel: colour × luminance / 683 (white for the daylight skies).
+  Rgb radiance(const Vec3& direction) const { return colour_ * (luminance(direction) / kLumensPerWatt); }
 
   // Illuminance in lux on an unobstructed horizontal plane, ∫ L cos Z dω over the sky, by a
-  // Simpson (zenith, 256 intervals) × midpoint (azimuth, 512) rule, computed once at construction.
+  // Simpson (zenith, 256 intervals) × midpoint (azimuth, 512) rule, computed once at construction
+  // (π L for a uniform environment).
   double horizontalIlluminance() const { return horizontalIlluminance_; }
 
   // L / Lz from cos Z and the cosine of the angle χ to the sun (the formula of relativeLuminance).
@@ -78,10 +89,12 @@ class SkyModel {
   bool operator==(const SkyModel&) const = default;
 
  private:
+  static constexpr int kUniformEnvironment = -1;
   SkyModel() = default;
   void finish();  // sun_, normaliser_, horizontalIlluminance_ from the rest
 
   int type_ = 0;
+  Rgb colour_{1, 1, 1};
   CieSkyParameters p_;
   double sunAzimuthDegrees_ = 0, sunElevationDegrees_ = 90;
   Vec3 north_{0, 0, -1};

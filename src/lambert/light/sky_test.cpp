@@ -451,6 +451,67 @@ TEST(SkyComponentTest, APatchsSkyIsItsPointsMean) {
 const std::string kSquare = R"("materials": [{"name": "grey"}],
     "surfaces": [{"material": "grey", "vertices": [[0,0,0], [1,0,0], [1,0,-1], [0,0,-1]]}])";
 
+// --- A uniform environment (Blender's world colour) ------------------------------------------
+
+// Radiance L from every direction, the whole sphere, in its colour: π L on any unobstructed plane,
+// whichever way it faces.
+TEST(EnvironmentTest, IsTheSameRadianceFromEveryDirection) {
+  const Rgb radiance{1, 0.5, 0.25};
+  Result<SkyModel> environment = SkyModel::uniformEnvironment(radiance);
+  ASSERT_TRUE(environment) << environment.error().message;
+  EXPECT_TRUE(environment->isUniformEnvironment());
+  for (Vec3 w : {Vec3{0, 1, 0}, Vec3{0, -1, 0}, Vec3{1, 0, 0}, Vec3{0.3, -0.8, 0.5}})
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(environment->radiance(w)[c], radiance[c], 1e-12) << c;
+  EXPECT_NEAR(environment->horizontalIlluminance(), kPi * kLumensPerWatt * radiance.luminance(), 1e-9);
+  const SkyLuminanceTable table(*environment);
+  EXPECT_NEAR(table.luminance({0, -1, 0}), kLumensPerWatt * radiance.luminance(), 1e-9);
+  for (Vec3 n : {Vec3{0, 1, 0}, Vec3{0, -1, 0}, normalize(Vec3{1, -2, 0.5})})
+    EXPECT_NEAR(unobstructedSkyIlluminance(*environment, n, kDefaultSkyDirections), environment->horizontalIlluminance(),
+                1e-9 * environment->horizontalIlluminance());
+  for (const Rgb& bad : {Rgb{}, Rgb{1, -0.1, 1}, Rgb{1, std::nan(""), 1}}) EXPECT_FALSE(SkyModel::uniformEnvironment(bad)) << bad.g;
+}
+
+// Beside a black wall 10 m high and 1 km long, the environment reaches a point through what the
+// wall leaves: E = π L − (the wall's share), the share by the contour integral of a uniform
+// source (uniformSkyComponentClosedForm); on the floor at 0.3, 1 and 4 m from the wall, on the
+// wall itself, and from above, facing down (the environment lights from below the horizon too).
+TEST(EnvironmentTest, ABlackWallTakesItsProjectedSolidAngle) {
+  const Vec3 X{1, 0, 0}, Y{0, 1, 0}, Z{0, 0, 1};
+  const std::vector<Vec3> wall = {{-500, 0, 0}, {500, 0, 0}, {500, 10, 0}, {-500, 10, 0}};
+  const Scene scene = testing::sceneOf({rectangle("wall", {-500, 0, 0}, X * 1000, Y * 10, Z)}, Rgb::gray(0));
+  Mesh mesh = subdivideScene(scene, 10.0);
+  auto caster = makeEmbreeRayCaster(mesh);
+  const double epsilon = rayEpsilon(mesh);
+  Light light;
+  light.kind = LightKind::Sky;
+  light.sky = std::make_shared<const SkyModel>(*SkyModel::uniformEnvironment({0.2, 0.3, 0.6}));
+  const double lv = light.sky->zenithLuminance();
+  double worst = 0;
+  // The part of a polygon in front of the plane through x with normal n (Sutherland–Hodgman): the
+  // contour integral holds for what lies in the point's hemisphere.
+  const auto inFront = [](const std::vector<Vec3>& polygon, Vec3 x, Vec3 n) {
+    std::vector<Vec3> out;
+    for (std::size_t i = 0; i < polygon.size(); ++i) {
+      const Vec3 a = polygon[i], b = polygon[(i + 1) % polygon.size()];
+      const double da = dot(n, a - x), db = dot(n, b - x);
+      if (da >= 0) out.push_back(a);
+      if ((da >= 0) != (db >= 0)) out.push_back(a + (b - a) * (da / (da - db)));
+    }
+    return out;
+  };
+  for (auto [x, n] : std::vector<std::pair<Vec3, Vec3>>{{{0, 0, 0.3}, Y}, {{3, 0, 1}, Y}, {{-2, 0, 4}, Y}, {{0, 5, 0.001}, Z},
+                                                        {{0, 20, 3}, -Y}, {{0, 2, 0.5}, -Y}}) {
+    const std::vector<Vec3> seen = inFront(wall, x, n);
+    const double expected = kPi * lv - (seen.size() >= 3 ? uniformSkyComponentClosedForm(lv, x, n, seen) : 0);
+    const Rgb got = irradiance(light, x, n, *caster, epsilon, 1);
+    const double lux = kLumensPerWatt * got.luminance();
+    worst = std::fmax(worst, std::fabs(lux / expected - 1));
+    EXPECT_NEAR(lux / expected, 1, 0.01) << "at (" << x.x << ", " << x.y << ", " << x.z << ")";
+    EXPECT_NEAR(got.b / got.r, 3, 1e-9) << "its colour";
+  }
+  std::printf("environment beside a black wall: largest error %.3f%%\n", 100 * worst);
+}
+
 Result<Scene> withLights(const std::string& lights) { return parseSceneFile("{" + kSquare + ", \"lights\": [" + lights + "]}", "sky.json"); }
 
 TEST(SkySceneFileTest, ReadsSkiesAndRoundTrips) {
@@ -475,7 +536,7 @@ TEST(SkySceneFileTest, ReadsSkiesAndRoundTrips) {
 
   Result<Scene> again = parseSceneFile(sceneFileText(*scene), "again.json");
   ASSERT_TRUE(again) << again.error().message;
-  for (std::size_t l = 0; l < 3; ++l) {
+  for (std::size_t l = 0; l < 3; ++l) {  // (the environment's round trip: EnvironmentTest below)
     const SkyModel &read = *again->lights[l].sky, &written = *scene->lights[l].sky;
     EXPECT_EQ(read.cieType(), written.cieType()) << l;
     EXPECT_EQ(read.sunAzimuthDegrees(), written.sunAzimuthDegrees()) << l;
@@ -484,6 +545,31 @@ TEST(SkySceneFileTest, ReadsSkiesAndRoundTrips) {
     EXPECT_EQ(read.zenithLuminance(), written.zenithLuminance()) << l;
     EXPECT_NEAR(read.horizontalIlluminance(), written.horizontalIlluminance(), 1e-12 * written.horizontalIlluminance()) << l;
     EXPECT_EQ(again->lights[l].skyDirections, scene->lights[l].skyDirections);
+  }
+}
+
+// {"type": "sky", "radiance": [r, g, b]}: a uniform environment, written back as it was read; the
+// daylight skies' fields are refused with it.
+TEST(SkySceneFileTest, ReadsAnEnvironmentAndRoundTrips) {
+  Result<Scene> scene = withLights(R"({"type": "sky", "radiance": [0.05, 0.08, 0.12], "directions": 2048})");
+  ASSERT_TRUE(scene) << scene.error().message;
+  const Light& light = scene->lights.at(0);
+  ASSERT_EQ(light.kind, LightKind::Sky);
+  ASSERT_TRUE(light.sky->isUniformEnvironment());
+  EXPECT_EQ(light.skyDirections, 2048);
+  EXPECT_NEAR(light.sky->radiance({0, -1, 0}).b, 0.12, 1e-12);
+  Result<Scene> again = parseSceneFile(sceneFileText(*scene), "again.json");
+  ASSERT_TRUE(again) << again.error().message;
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(again->lights[0].sky->radiance({1, 0, 0})[c], light.sky->radiance({1, 0, 0})[c], 1e-15);
+  EXPECT_EQ(again->lights[0].skyDirections, 2048);
+  for (auto [lights, message] : std::vector<std::pair<std::string, std::string>>{
+           {R"({"type": "sky", "radiance": [1, 1, 1], "cie": 1})", "/lights/0/cie: a uniform environment"},
+           {R"({"type": "sky", "radiance": [1, 1, 1], "sunElevation": 10})", "/lights/0/sunElevation"},
+           {R"({"type": "sky", "radiance": [0, 0, 0]})", "/lights/0/radiance: an environment's radiance must not be black"},
+           {R"({"type": "sky", "radiance": [1, -1, 0]})", "/lights/0/radiance"}}) {
+    Result<Scene> bad = withLights(lights);
+    ASSERT_FALSE(bad) << lights;
+    EXPECT_TRUE(testing::contains(bad.error().message, message)) << bad.error().message;
   }
 }
 

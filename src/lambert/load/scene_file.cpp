@@ -210,9 +210,22 @@ std::optional<SunPosition> readSkySun(ObjectReader& r) {
 }
 
 // {"type": "sky", "cie": 1..15 | "overcast", "zenithLuminance": cd/m² | "horizontalIlluminance":
-// lux, the sun, "north", "directions"} (docs/scene-format.md).
+// lux, the sun, "north", "directions"}, or {"type": "sky", "radiance": [r, g, b] W/(m²·sr),
+// "directions"}, a uniform environment (docs/scene-format.md).
 Light readSkyLight(ObjectReader& r, Light light) {
   light.kind = LightKind::Sky;
+  if (r.has("radiance")) {
+    for (const char* daylight : {"cie", "zenithLuminance", "horizontalIlluminance", "sun", "sunAzimuth", "sunElevation", "north"})
+      if (r.has(daylight))
+        throw FieldError{r.pointerOf(daylight), std::string("a uniform environment (\"radiance\") is the same from every direction: ") +
+                                                    daylight + " is for the CIE daylight skies"};
+    Result<SkyModel> environment = SkyModel::uniformEnvironment(r.colour("radiance", {}, 1e12, false));
+    if (!environment) throw FieldError{r.pointerOf("radiance"), environment.error().message};
+    light.sky = std::make_shared<const SkyModel>(*environment);
+    light.skyDirections = static_cast<int>(r.number("directions", kDefaultSkyDirections, 1, 1 << 24));
+    r.finish("name, type, radiance, directions");
+    return light;
+  }
   const Json& cie = r.require("cie");
   const Vec3 north = readNorth(r);
   const std::optional<SunPosition> sun = readSkySun(r);
@@ -760,6 +773,11 @@ std::string sceneFileText(const Scene& scene) {
         break;
       case LightKind::Sky:
         l["type"] = "sky";
+        if (light.sky->isUniformEnvironment()) {
+          l["radiance"] = triple(light.sky->radiance({0, 1, 0}));
+          l["directions"] = light.skyDirections;
+          break;
+        }
         if (light.sky->isTraditionalOvercast()) {
           l["cie"] = "overcast";
         } else {
