@@ -103,6 +103,8 @@ def cycles_bake(objects):
     scene.render.bake.target = 'VERTEX_COLORS'
     for obj in objects:
         mesh = obj.data
+        if 'cycles' in mesh.color_attributes:  # an earlier bake's: a second would be named cycles.001
+            mesh.color_attributes.remove(mesh.color_attributes['cycles'])
         attribute = mesh.color_attributes.new('cycles', 'FLOAT_COLOR', 'CORNER')
         mesh.color_attributes.active_color = attribute
     bpy.ops.object.select_all(action='DESELECT')
