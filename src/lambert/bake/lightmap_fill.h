@@ -36,6 +36,10 @@ class LightmapFill {
   // Dilates into the padding, then stitches the seams, in place (images as the plan's atlases).
   void apply(std::vector<Image>& atlases) const;
   std::size_t seamPoints() const { return seamPoints_; }
+  // The texels the seams move (global numbers, ascending): a caller that applies the fill again
+  // to lightmaps it changed in part must give these their unstitched values first (the solve
+  // starts from what it is given, and a second solve would smooth them again).
+  const std::vector<std::uint64_t>& seamTexels() const { return seamTexel_; }
   std::size_t paddedTexels() const { return padded_.size(); }
 
  private:

@@ -248,6 +248,9 @@ Result<LightmapUpdater> LightmapUpdater::create(const SolutionView& view, const 
   u.changeFloor_ = kChangeTolerance * meanIrradiance;
   u.fill_ = LightmapFill::plan(scene, u.uvs_, u.covered_, u.paddingRings_);
   u.texelChanged_.assign(n, 1);  // the first update writes every texel
+  u.seamTexel_.assign(n, 0);
+  for (std::size_t t = 0; t < n; ++t)
+    u.seamTexel_[t] = std::binary_search(u.fill_.seamTexels().begin(), u.fill_.seamTexels().end(), u.texel_[t]);
   u.lightmaps_.assign(static_cast<std::size_t>(baked.uvs.numAtlases), Image{size, size, std::vector<Rgb>(perAtlas)});
 
   u.stats_.texels = n;
@@ -371,7 +374,7 @@ Status LightmapUpdater::update(const SolutionView& view) {
   const std::uint64_t perAtlas = static_cast<std::uint64_t>(uvs_.size) * uvs_.size;
   // Only the texels this update changes, and those the last one changed (back to their bake).
   parallelFor(0, n, [&](std::size_t t) {
-    bool changed = texelRetraced[t] != 0;
+    bool changed = texelRetraced[t] != 0 || seamTexel_[t] != 0;  // a seam's texels are stitched from their own values every time
     for (std::uint32_t k = interpStart_[t]; k < interpStart_[t + 1] && !changed; ++k) changed = pointTouched[interpPoint_[k]] != 0;
     const bool wasChanged = texelChanged_[t] != 0;
     texelChanged_[t] = changed;

@@ -112,6 +112,7 @@ class LightmapUpdater {
   std::vector<std::uint32_t> pointsOfNodeStart_, pointsOfNode_, cornersOfNodeStart_, cornersOfNode_, pointsOfCornerStart_, pointsOfCorner_;
   double changeFloor_ = 0;  // W/m²: a node's change × its largest weight below this is not read
   std::vector<std::uint8_t> texelChanged_;  // per texel: the last update moved it off its bake
+  std::vector<std::uint8_t> seamTexel_;     // per texel: the seams' stitching moves it (LightmapFill::seamTexels)
   LightmapFill fill_;
   std::vector<Image> lightmaps_;
   LightmapUpdateStats stats_;
