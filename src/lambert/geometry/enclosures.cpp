@@ -30,12 +30,13 @@ bool seesALight(const Scene& scene, const RayCaster& caster, const Vec3& x, cons
 
 }  // namespace
 
-std::vector<std::uint8_t> enclosedPatches(const Mesh& mesh, const RayCaster& caster, const Scene& scene, int raysPerPatch) {
+Enclosures findEnclosures(const Mesh& mesh, const RayCaster& caster, const Scene& scene, int raysPerPatch) {
   const std::size_t n = mesh.numPatches();
-  std::vector<std::uint8_t> enclosed(n, 0);
+  Enclosures out;
+  out.enclosed.assign(n, 0);
   bool anyTwinned = false;
   for (const Patch& p : mesh.patches) anyTwinned |= p.twinned;
-  if (!anyTwinned) return enclosed;
+  if (!anyTwinned) return out;
   const double epsilon = rayEpsilon(mesh);
   // A ray that escapes meets light only where the sky or the sun is there to give it: without
   // either, the outside of a closed two-sided room is as dark as the inside of a sphere in it.
@@ -44,7 +45,7 @@ std::vector<std::uint8_t> enclosedPatches(const Mesh& mesh, const RayCaster& cas
   // Per patch: what its rays met (the twinned fronts that join it to their patches) and whether
   // any reached light.
   std::vector<std::vector<std::uint32_t>> met(n);
-  std::vector<std::uint8_t> lit(n, 0);
+  std::vector<std::uint8_t> lit(n, 0), escaped(n, 0);
   const auto emits = [&](const Patch& p) { return scene.surfaces[p.surface].emittedRadiance.maxComponent() > 0; };
   const FaceContacts contacts(mesh, scene, epsilon);
   parallelFor(0, n, [&](std::size_t i) {
@@ -72,6 +73,7 @@ std::vector<std::uint8_t> enclosedPatches(const Mesh& mesh, const RayCaster& cas
       if (hit && contacts.inContact(origin + d * hit->t, hit->patch)) continue;
       if (!hit) {
         lit[i] = lightOutside;
+        escaped[i] = 1;
       } else if (hit->frontFace) {
         const Patch& other = mesh.patches[hit->patch];
         if (!other.twinned || emits(other)) lit[i] = 1;
@@ -93,9 +95,20 @@ std::vector<std::uint8_t> enclosedPatches(const Mesh& mesh, const RayCaster& cas
     if (setLit[r]) continue;
     if (seesALight(scene, caster, mesh.patches[i].centroid, mesh.patches[i].normal, epsilon)) setLit[r] = 1;
   }
+  std::vector<std::uint8_t> setEscapes(n, 0);
   for (std::size_t i = 0; i < n; ++i)
-    enclosed[i] = mesh.patches[i].twinned && !setLit[sets.find(static_cast<std::uint32_t>(i))];
-  return enclosed;
+    if (escaped[i]) setEscapes[sets.find(static_cast<std::uint32_t>(i))] = 1;
+  bool litOutside = false, litClosed = false;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!mesh.patches[i].twinned) continue;
+    const std::uint32_t r = sets.find(static_cast<std::uint32_t>(i));
+    out.enclosed[i] = !setLit[r];
+    // An emitter casts no ray and joins no set: it says nothing of the walls around it.
+    if (!setLit[r] || emits(mesh.patches[i])) continue;
+    (setEscapes[r] ? litOutside : litClosed) = true;
+  }
+  out.litOnBothSides = lightOutside && litOutside && litClosed;
+  return out;
 }
 
 }  // namespace lambert

@@ -24,11 +24,19 @@
 
 namespace lambert {
 
-// Per patch of `mesh` (the caster's mesh, one patch per face or finer): 1 where it is a twinned
-// face of a dark enclosure, else 0. `raysPerPatch` cosine-distributed rays from stratified points
-// of each twinned patch join it to what they meet; the lights are tested by shadow rays from a
-// patch's centroid (point-like lights: position; directional: toward the light). The lights are
-// scene.lights: a light moved into a closed object later does not light its inside.
-std::vector<std::uint8_t> enclosedPatches(const Mesh& mesh, const RayCaster& caster, const Scene& scene, int raysPerPatch = 16);
+struct Enclosures {
+  std::vector<std::uint8_t> enclosed;  // per patch: 1 where a twinned face of a dark enclosure, else 0
+  // A sky or a sun lights the outside of two-sided walls around a lit closed set (a room lit
+  // inside): both sides of those walls are lit, which the clustered solve gets wrong
+  // (hierarchical.md, "What is left": such a room came out 25% dark).
+  bool litOnBothSides = false;
+};
+
+// Per patch of `mesh` (the caster's mesh, one patch per face or finer). `raysPerPatch`
+// cosine-distributed rays from stratified points of each twinned patch join it to what they
+// meet; the lights are tested by shadow rays from a patch's centroid (point-like lights:
+// position; directional: toward the light). The lights are scene.lights: a light moved into a
+// closed object later does not light its inside.
+Enclosures findEnclosures(const Mesh& mesh, const RayCaster& caster, const Scene& scene, int raysPerPatch = 16);
 
 }  // namespace lambert

@@ -115,7 +115,7 @@ TEST(FaceContactsTest, TheInsideOfABlockStandingOnTheFloorIsEnclosed) {
   scene.lights.push_back(lamp);
   const Mesh mesh = subdivideScene(scene, 0.25);
   const auto caster = makeEmbreeRayCaster(mesh);
-  const std::vector<std::uint8_t> enclosed = enclosedPatches(mesh, *caster, scene, 64);
+  const std::vector<std::uint8_t> enclosed = findEnclosures(mesh, *caster, scene, 64).enclosed;
   int inside = 0;
   for (std::uint32_t p = 0; p < mesh.numPatches(); ++p) {
     const std::string& name = scene.surfaces[mesh.patches[p].surface].name;

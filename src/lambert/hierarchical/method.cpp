@@ -8,6 +8,7 @@
 #include "lambert/core/parallel.h"
 #include "lambert/core/memory.h"
 #include "lambert/core/timer.h"
+#include "lambert/core/warning.h"
 #include "lambert/geometry/coverage.h"
 #include "lambert/geometry/enclosures.h"
 #include "lambert/hierarchical/light_edges.h"
@@ -52,9 +53,14 @@ HierarchicalMethod::HierarchicalMethod(const Scene& scene, const RadiosityOption
   // The inside of closed two-sided objects, before any split: its faces are covered whole (their
   // open fraction 0), so that no cluster hands them light and none is pulled from them.
   Timer enclosures;
-  std::vector<std::uint8_t> enclosed = enclosedPatches(leaves_.mesh, *caster_, scene_);
-  hierarchy_.markEnclosedFaces(enclosed);
-  if (std::find(enclosed.begin(), enclosed.end(), 1) != enclosed.end()) caster_->setInsideClosedObjects(std::move(enclosed));
+  Enclosures found = findEnclosures(leaves_.mesh, *caster_, scene_);
+  if (found.litOnBothSides && options_.links.clusters)
+    warning(scene_.name + ": a sky or a sun lights the outside of two-sided walls around a room lit inside: the clustered solve "
+            "can lose light inside such a room (25% in the Blender add-on's test room); --no-clusters solves it right, at a cost "
+            "that grows with the square of the faces (docs/hierarchical.md, \"What is left\")");
+  hierarchy_.markEnclosedFaces(found.enclosed);
+  if (std::find(found.enclosed.begin(), found.enclosed.end(), 1) != found.enclosed.end())
+    caster_->setInsideClosedObjects(std::move(found.enclosed));
   coverageSeconds_ += enclosures.seconds();
   // The faces' open fractions are measured by the first refine(), unless the link cache holds them.
   // Until the first refinement, the leaves (the faces) exchange nothing.
