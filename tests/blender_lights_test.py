@@ -147,7 +147,7 @@ check(worst_ratio < 1e-3, f'1000 W is not ten times 100 W at every corner: worst
 
 # Cycles' bake of the same scene at 1000 W, region by region: the room's six surfaces, each copy
 # of the block, and each copy's top, within REGION_TOLERANCE. A copy's sides are printed, not
-# checked: they are 3–12% short of Cycles' at Medium quality (1–9% at High), the clustered
+# checked: they are 4–11% short of Cycles' at Medium quality (1–9% at High), the clustered
 # solve's known shortfall on small objects standing on a floor (docs/blender.md, "Limits").
 cycles_bake([room, blocks])
 for obj, region_of, checked in ((room, room_region, lambda region: True), (blocks, block_copy, lambda region: True),
