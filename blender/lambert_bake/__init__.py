@@ -143,6 +143,7 @@ class BakeJob:
         else:
             self.folder = tempfile.mkdtemp(prefix='lambert-bake-')
         self.scene_glb = os.path.join(self.folder, 'scene.glb')
+        self.scene_path = self.scene_glb  # what lambert reads: the glb, or a scene file around it with the world
         self.warnings = []
         if settings.apply_modifiers and settings.output == 'LIGHTMAPS':
             # Each copy a modifier makes needs lightmap UVs of its own, made on the applied mesh below.
@@ -158,7 +159,7 @@ class BakeJob:
         self.export(context, process.LIGHTMAP_SIZE[settings.quality] if settings.output == 'LIGHTMAPS' else None)
         self.started = time.monotonic()
         self.lambert = process.LambertProcess(process.solve_arguments(
-            binary, self.scene_glb, settings.method, settings.quality, settings.output, self.result_path))
+            binary, self.scene_path, settings.method, settings.quality, settings.output, self.result_path))
 
     def apply_modifiers(self, context):
         applied = _apply_modifiers(context, self.objects)
@@ -173,11 +174,15 @@ class BakeJob:
         # Area lights go out as emissive faces (lambert_bake/lights.py), selected for the export.
         stand_ins, warnings = lights.area_light_stand_ins([o for o in _pool(context, self.settings) if o.visible_get()])
         self.warnings += warnings
-        # The world is not carried (docs/blender.md, "Lights"): say so where it would light the scene.
+        # A uniform world goes to lambert as a uniform environment (docs/blender.md, "Lights"); one
+        # that is not one colour is named in the panel as not carried.
         radiance, warning = lights.world_radiance(context.scene.world)
-        if warning or max(radiance) > 0:
-            self.warnings.append('the world\'s light is not carried: lambert sees black outside the scene' +
-                                 (f' (Background {radiance[0]:.3g}, {radiance[1]:.3g}, {radiance[2]:.3g})' if max(radiance) > 0 else f' ({warning})'))
+        if warning:
+            self.warnings.append(f'the world\'s light is not carried ({warning}): lambert takes a uniform Background colour only')
+        elif max(radiance) > 0:
+            self.scene_path = lights.write_world_scene(self.folder, os.path.basename(self.scene_glb), radiance)
+            self.warnings.append(f'the world lights the scene as a uniform environment of {radiance[0]:.3g}, {radiance[1]:.3g}, '
+                                 f'{radiance[2]:.3g} W/(m²·sr)')
         if lightmap_size is not None:
             # The area lights' faces are packed with the objects (they are small): lambert keeps the
             # given UVs only where every face has them.

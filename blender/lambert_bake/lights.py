@@ -10,7 +10,9 @@
 # So for the export each becomes a face of its shape and size with an emissive material of that
 # strength, black (a light reflects nothing) and one-sided (backface culling, which the exporter
 # writes as doubleSided false), and is removed again after it.
+import json
 import math
+import os
 
 import bpy
 
@@ -98,6 +100,18 @@ def remove_stand_ins(stand_ins):
         for material in materials:
             if material is not None and material.users == 0:
                 bpy.data.materials.remove(material)
+
+
+def write_world_scene(folder, glb_name, radiance):
+    """scene.json in folder: lambert's scene file holding the exported glb as its one mesh and the
+    world as a uniform environment of radiance (r, g, b) W/(m²·sr) (docs/scene-format.md, a sky
+    with "radiance"): from every direction, below the horizon too, as Cycles' world lights."""
+    path = os.path.join(folder, 'scene.json')
+    scene = {'version': 1, 'name': 'scene', 'unit': 'm', 'meshes': [{'path': glb_name}],
+             'lights': [{'type': 'sky', 'name': 'world', 'radiance': [float(c) for c in radiance]}]}
+    with open(path, 'w') as f:
+        json.dump(scene, f, indent=1)
+    return path
 
 
 def world_radiance(world):

@@ -4,7 +4,6 @@
 #include <cstdio>
 
 #include "lambert/core/sampling.h"
-#include "lambert/core/warning.h"
 #include "lambert/engine/radiosity.h"
 #include "lambert/engine/solution_internals.h"
 #include "lambert/flat/table.h"
@@ -371,40 +370,6 @@ TEST(RadiosityTest, AnEnvironmentLightsAnOpenFloorWithPiTimesItsRadiance) {
   for (std::size_t i = 0; i < engine->solution().mesh().numPatches(); ++i)
     if (engine->solution().mesh().patches[i].surface == 0) least = std::fmin(least, engine->solution().radiosity()[i].r);
   EXPECT_LT(least, 0.9 * rho * kPi * radiance.r) << "the box's shadow on the floor";
-}
-
-// A closed two-sided room lit inside, with a sky outside: both sides of its walls are lit, which
-// the clustered solve gets wrong (hierarchical.md, "What is left"), and it says so; not without
-// the sky, nor without clusters, nor for a room open to the sky.
-TEST(RadiosityTest, ASkyAroundAClosedTwoSidedRoomLitInsideIsNamed) {
-  const auto room = [](bool sky, bool closed) {
-    std::string surfaces = R"({"material": "wall", "vertices": [[0, 0, 0], [0, 0, 4], [4, 0, 4], [4, 0, 0]]},
-      {"material": "wall", "vertices": [[0, 2.5, 0], [4, 2.5, 0], [4, 2.5, 4], [0, 2.5, 4]]},
-      {"material": "wall", "vertices": [[0, 0, 0], [4, 0, 0], [4, 2.5, 0], [0, 2.5, 0]]},
-      {"material": "wall", "vertices": [[0, 0, 4], [0, 2.5, 4], [4, 2.5, 4], [4, 0, 4]]},
-      {"material": "wall", "vertices": [[0, 0, 0], [0, 2.5, 0], [0, 2.5, 4], [0, 0, 4]]},
-      {"material": "lamp", "vertices": [[1.5, 2.3, 1.5], [2.5, 2.3, 1.5], [2.5, 2.3, 2.5], [1.5, 2.3, 2.5]]})";
-    if (closed) surfaces += R"(, {"material": "wall", "vertices": [[4, 0, 0], [4, 0, 4], [4, 2.5, 4], [4, 2.5, 0]]})";
-    return parseSceneFile(R"({"materials": [{"name": "wall", "albedo": [0.7, 0.7, 0.7], "twoSided": true},
-      {"name": "lamp", "albedo": [0, 0, 0], "emittedRadiance": [10, 10, 10]}], "surfaces": [)" + surfaces + "]" +
-                              (sky ? R"(, "lights": [{"type": "sky", "radiance": [0.05, 0.05, 0.05]}])" : "") + "}",
-                          "room.json");
-  };
-  struct Case {
-    bool sky, closed, clusters;
-    int warnings;
-  };
-  for (const Case& c : {Case{true, true, true, 1}, Case{false, true, true, 0}, Case{true, true, false, 0}, Case{true, false, true, 0}}) {
-    Result<Scene> scene = room(c.sky, c.closed);
-    ASSERT_TRUE(scene) << scene.error().message;
-    addTwins(*scene);  // as loadScene makes two-sided materials' backs
-    RadiosityOptions options;
-    options.hierarchical.links.clusters = c.clusters;
-    WarningCapture warnings;
-    ASSERT_TRUE(Radiosity::create(*scene, options));
-    EXPECT_EQ(warnings.count("lights the outside of two-sided walls around a room lit inside"), c.warnings)
-        << "sky " << c.sky << ", closed " << c.closed << ", clusters " << c.clusters;
-  }
 }
 
 TEST(RadiosityTest, StatsDescribeTheCurrentSolution) {

@@ -98,16 +98,28 @@ Enclosures findEnclosures(const Mesh& mesh, const RayCaster& caster, const Scene
   std::vector<std::uint8_t> setEscapes(n, 0);
   for (std::size_t i = 0; i < n; ++i)
     if (escaped[i]) setEscapes[sets.find(static_cast<std::uint32_t>(i))] = 1;
-  bool litOutside = false, litClosed = false;
+  // The groups; the lit closed sets numbered in the order of their first patch.
+  out.group.assign(n, Enclosures::kOrdinary);
+  std::vector<std::uint32_t> closedGroup(n, 0);
+  std::uint32_t nextClosed = Enclosures::kFirstClosedSet;
+  bool outside = false, dark = false;
   for (std::size_t i = 0; i < n; ++i) {
     if (!mesh.patches[i].twinned) continue;
     const std::uint32_t r = sets.find(static_cast<std::uint32_t>(i));
     out.enclosed[i] = !setLit[r];
-    // An emitter casts no ray and joins no set: it says nothing of the walls around it.
-    if (!setLit[r] || emits(mesh.patches[i])) continue;
-    (setEscapes[r] ? litOutside : litClosed) = true;
+    if (emits(mesh.patches[i])) continue;
+    if (!setLit[r]) {
+      out.group[i] = Enclosures::kDark;
+      dark = true;
+    } else if (setEscapes[r]) {
+      out.group[i] = Enclosures::kOutside;
+      outside = true;
+    } else {
+      if (closedGroup[r] == 0) closedGroup[r] = nextClosed++;
+      out.group[i] = closedGroup[r];
+    }
   }
-  out.litOnBothSides = lightOutside && litOutside && litClosed;
+  out.groups = static_cast<int>(nextClosed - Enclosures::kFirstClosedSet) + (outside ? 1 : 0) + (dark ? 1 : 0);
   return out;
 }
 

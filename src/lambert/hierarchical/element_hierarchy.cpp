@@ -79,7 +79,8 @@ struct ElementHierarchy::FaceKey {
   Vec3 normal;
   double area;
   std::uint32_t firstVertex;
-  std::uint32_t face;  // into the constructor's faces
+  std::uint32_t face;   // into the constructor's faces
+  std::uint32_t group;  // the constructor's faceGroups (0 without)
 };
 
 // The oriented box of a cluster's faces (ClusterBounds): along their area-weighted mean normal,
@@ -122,7 +123,7 @@ std::uint32_t ElementHierarchy::addNode(const HierarchyNode& node) {
   return static_cast<std::uint32_t>(nodes_.size() - 1);
 }
 
-ElementHierarchy::ElementHierarchy(const Scene& scene) {
+ElementHierarchy::ElementHierarchy(const Scene& scene, const std::vector<std::vector<std::uint32_t>>& faceGroups) {
   std::vector<FaceRoot> faces;
   std::size_t numPolygons = 0;
   for (const Surface& surface : scene.surfaces) numPolygons += std::max<std::size_t>(1, surface.faces.size());
@@ -173,7 +174,8 @@ ElementHierarchy::ElementHierarchy(const Scene& scene) {
       lo = componentMin(lo, e.corners[k]);
       hi = componentMax(hi, e.corners[k]);
     }
-    keys[i] = {e.centre, lo, hi, e.normal, e.area, faces[i].vertices[0], i};
+    const std::uint32_t group = faceGroups.empty() ? 0 : faceGroups.at(e.surface).at(e.face);
+    keys[i] = {e.centre, lo, hi, e.normal, e.area, faces[i].vertices[0], i, group};
   }
   buildClusters(faces, keys, kNoNode, 0, 0);
   numberLeaves();
@@ -227,10 +229,21 @@ void ElementHierarchy::buildClusters(const std::vector<FaceRoot>& all, std::span
     setSlab(all, faces, bounds);
     c.bounds = bounds;
   }
-  // At most four faces: they are the cluster's children. Otherwise two halves by the median
-  // centroid along the longest axis of the centroids' bounds.
+  // Faces of two groups: two parts by group (the groups in order, cut at the group boundary
+  // nearest the middle). Else at most four faces: they are the cluster's children. Otherwise two
+  // halves by the median centroid along the longest axis of the centroids' bounds.
   std::vector<std::span<FaceKey>> parts;
-  if (faces.size() <= 4) {
+  const bool mixed = std::any_of(faces.begin(), faces.end(), [&](const FaceKey& f) { return f.group != faces[0].group; });
+  if (mixed) {
+    std::sort(faces.begin(), faces.end(), [](const FaceKey& a, const FaceKey& b) { return a.group != b.group ? a.group < b.group : a.face < b.face; });
+    std::size_t cut = 0, best = faces.size();
+    for (std::size_t i = 1; i < faces.size(); ++i) {
+      if (faces[i].group == faces[i - 1].group) continue;
+      const std::size_t off = i > faces.size() / 2 ? i - faces.size() / 2 : faces.size() / 2 - i;
+      if (off < best) best = off, cut = i;
+    }
+    parts = {faces.first(cut), faces.subspan(cut)};
+  } else if (faces.size() <= 4) {
     for (std::size_t i = 0; i < faces.size(); ++i) parts.push_back(faces.subspan(i, 1));
   } else {
     Vec3 lo{INFINITY, INFINITY, INFINITY}, hi = -lo;

@@ -181,7 +181,10 @@ struct HangingVertex {
 class ElementHierarchy {
  public:
   // The faces of every surface, and the clusters over them. The root (node 0) is a cluster.
-  explicit ElementHierarchy(const Scene& scene);
+  // faceGroups (per surface, per face; empty: one group) keeps groups apart: a cluster's faces
+  // are split by group before by place, so that no cluster below the root holds two groups
+  // (geometry/enclosures.h: a room's inside and, across its two-sided walls, its outside).
+  explicit ElementHierarchy(const Scene& scene, const std::vector<std::vector<std::uint32_t>>& faceGroups = {});
 
   const std::vector<HierarchyNode>& nodes() const { return nodes_; }
   const HierarchyNode& node(std::uint32_t i) const { return nodes_[i]; }

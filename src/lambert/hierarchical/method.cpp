@@ -8,7 +8,6 @@
 #include "lambert/core/parallel.h"
 #include "lambert/core/memory.h"
 #include "lambert/core/timer.h"
-#include "lambert/core/warning.h"
 #include "lambert/geometry/coverage.h"
 #include "lambert/geometry/enclosures.h"
 #include "lambert/hierarchical/light_edges.h"
@@ -32,6 +31,20 @@ std::vector<double> HierarchicalMethod::openFractions(const Mesh& mesh) {
   return out;
 }
 
+void HierarchicalMethod::useFaces() {
+  Timer leafTimer;
+  leaves_ = hierarchy_.leaves(scene_);
+  leafMeshNodes_ = hierarchy_.nodes().size();
+  leafSeconds_ += leafTimer.seconds();
+  Timer bvh;
+  caster_ = makeEmbreeRayCaster(leaves_.mesh);
+  casterFace_.clear();
+  casterFace_.reserve(leaves_.mesh.numPatches());
+  for (const Patch& p : leaves_.mesh.patches) casterFace_.push_back(static_cast<std::uint64_t>(p.surface) << 32 | p.face);
+  epsilon_ = rayEpsilon(leaves_.mesh);
+  bvhSeconds_ += bvh.seconds();
+}
+
 HierarchicalMethod::HierarchicalMethod(const Scene& scene, const RadiosityOptions& options)
     : scene_(scene),
       options_(options.hierarchical),
@@ -40,24 +53,22 @@ HierarchicalMethod::HierarchicalMethod(const Scene& scene, const RadiosityOption
       ranks_(options.communicator),
       hierarchy_(scene) {
   buildSeconds_ = created_.seconds();
-  Timer leafTimer;
-  leaves_ = hierarchy_.leaves(scene_);
-  leafMeshNodes_ = hierarchy_.nodes().size();
-  leafSeconds_ += leafTimer.seconds();
-  Timer bvh;
-  caster_ = makeEmbreeRayCaster(leaves_.mesh);
-  casterFace_.reserve(leaves_.mesh.numPatches());
-  for (const Patch& p : leaves_.mesh.patches) casterFace_.push_back(static_cast<std::uint64_t>(p.surface) << 32 | p.face);
-  epsilon_ = rayEpsilon(leaves_.mesh);
-  bvhSeconds_ = bvh.seconds();
+  useFaces();
   // The inside of closed two-sided objects, before any split: its faces are covered whole (their
   // open fraction 0), so that no cluster hands them light and none is pulled from them.
   Timer enclosures;
   Enclosures found = findEnclosures(leaves_.mesh, *caster_, scene_);
-  if (found.litOnBothSides && options_.links.clusters)
-    warning(scene_.name + ": a sky or a sun lights the outside of two-sided walls around a room lit inside: the clustered solve "
-            "can lose light inside such a room (25% in the Blender add-on's test room); --no-clusters solves it right, at a cost "
-            "that grows with the square of the faces (docs/hierarchical.md, \"What is left\")");
+  if (found.groups >= 2) {
+    // Sets on the two sides of two-sided walls (a room's inside and outside): the clusters again,
+    // one group at a time (geometry/enclosures.h), and what was made from them.
+    std::vector<std::vector<std::uint32_t>> groups(scene_.surfaces.size());
+    for (std::size_t s = 0; s < scene_.surfaces.size(); ++s) groups[s].assign(surfaceFaces(scene_.surfaces[s]).size(), 0);
+    for (std::size_t l = 0; l < leaves_.mesh.numPatches(); ++l)
+      groups[leaves_.mesh.patches[l].surface][leaves_.mesh.patches[l].face] = found.group[l];
+    hierarchy_ = ElementHierarchy(scene_, groups);
+    useFaces();
+    found = findEnclosures(leaves_.mesh, *caster_, scene_);
+  }
   hierarchy_.markEnclosedFaces(found.enclosed);
   if (std::find(found.enclosed.begin(), found.enclosed.end(), 1) != found.enclosed.end())
     caster_->setInsideClosedObjects(std::move(found.enclosed));

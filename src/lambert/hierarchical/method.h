@@ -106,6 +106,8 @@ class HierarchicalMethod final : public Method {
   Timer created_;  // started before the hierarchy is built
   ElementHierarchy hierarchy_;
   ElementHierarchy::LeafMesh leaves_;
+  // The leaves as they are at the start (the hierarchy's faces), their ray caster and its faces.
+  void useFaces();
   std::size_t leafMeshNodes_ = 0;  // the hierarchy's nodes when leaves_ was made
   std::vector<std::uint32_t> measuredLeafNodes_;  // per leaf, its node when its open fraction was measured
   std::unique_ptr<RayCaster> caster_;  // over the faces: elements only split them
