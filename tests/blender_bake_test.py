@@ -29,6 +29,9 @@ def build_scene(broken=False):
     for collection in (bpy.data.objects, bpy.data.meshes, bpy.data.materials, bpy.data.lights, bpy.data.cameras):
         for item in list(collection):
             collection.remove(item)
+    # No world: the bake is compared with the CLI's own solve of the exported glb, which has none
+    # (a world goes to lambert in a scene file around the glb: tests/blender_lights_test.py).
+    bpy.context.scene.world = None
     room = box('room', (4, 4, 2.5), (0, 0, 1.25), material('wall', (0.7, 0.7, 0.7)), cuts=5, inward=True)
     # The room's floor has vertices every 2/3 m: one at (2/3, 0) deep under the block, one at
     # (−2/3, −2/3) right under the lamp. (The block's bottom corners are off the floor's: where

@@ -57,7 +57,7 @@ def tick():
         except ProcessLookupError:
             pass
         check(bpy.data.images.get('lambert lightmap') is None, 'a cancelled bake wrote a lightmap image')
-        left = sorted(f for f in os.listdir(keep) if f != 'scene.glb')
+        left = sorted(f for f in os.listdir(keep) if f not in ('scene.glb', 'scene.json'))  # the export (and the world around it)
         check(not left, f'a cancelled bake left {left}')
         state['summary'] = f'Esc at "{state["progress"][0]}" {state["progress"][1]:.0f}%: process gone, nothing written'
         finish(1 if failures else 0)

@@ -1,6 +1,7 @@
 #include "lambert/geometry/enclosures.h"
 
 #include <cmath>
+#include <map>
 #include <utility>
 
 #include "lambert/core/error.h"
@@ -98,28 +99,27 @@ Enclosures findEnclosures(const Mesh& mesh, const RayCaster& caster, const Scene
   std::vector<std::uint8_t> setEscapes(n, 0);
   for (std::size_t i = 0; i < n; ++i)
     if (escaped[i]) setEscapes[sets.find(static_cast<std::uint32_t>(i))] = 1;
-  // The groups; the lit closed sets numbered in the order of their first patch.
-  out.group.assign(n, Enclosures::kOrdinary);
-  std::vector<std::uint32_t> closedGroup(n, 0);
-  std::uint32_t nextClosed = Enclosures::kFirstClosedSet;
-  bool outside = false, dark = false;
+  for (std::size_t i = 0; i < n; ++i)
+    if (mesh.patches[i].twinned) out.enclosed[i] = !setLit[sets.find(static_cast<std::uint32_t>(i))];
+  // Walls lit on both sides: a face and its twin (the same face of the twin surface) lit, in
+  // different sets; the set of the two that escapes is their outer side.
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> patchOfFace;
+  for (std::size_t i = 0; i < n; ++i) patchOfFace.try_emplace({mesh.patches[i].surface, mesh.patches[i].face}, static_cast<std::uint32_t>(i));
+  std::vector<std::uint8_t> outerSet(n, 0);
   for (std::size_t i = 0; i < n; ++i) {
-    if (!mesh.patches[i].twinned) continue;
-    const std::uint32_t r = sets.find(static_cast<std::uint32_t>(i));
-    out.enclosed[i] = !setLit[r];
-    if (emits(mesh.patches[i])) continue;
-    if (!setLit[r]) {
-      out.group[i] = Enclosures::kDark;
-      dark = true;
-    } else if (setEscapes[r]) {
-      out.group[i] = Enclosures::kOutside;
-      outside = true;
-    } else {
-      if (closedGroup[r] == 0) closedGroup[r] = nextClosed++;
-      out.group[i] = closedGroup[r];
-    }
+    const Patch& p = mesh.patches[i];
+    const int twin = scene.surfaces[p.surface].twin;
+    if (!p.twinned || twin < 0 || emits(p)) continue;
+    const auto other = patchOfFace.find({static_cast<std::uint32_t>(twin), p.face});
+    if (other == patchOfFace.end() || emits(mesh.patches[other->second])) continue;
+    const std::uint32_t here = sets.find(static_cast<std::uint32_t>(i)), there = sets.find(other->second);
+    if (here == there || !setLit[here] || !setLit[there] || setEscapes[here] == setEscapes[there]) continue;
+    outerSet[setEscapes[here] ? here : there] = 1;
+    out.wallsLitOnBothSides = true;
   }
-  out.groups = static_cast<int>(nextClosed - Enclosures::kFirstClosedSet) + (outside ? 1 : 0) + (dark ? 1 : 0);
+  out.outerSide.assign(n, 0);
+  for (std::size_t i = 0; i < n; ++i)
+    if (mesh.patches[i].twinned) out.outerSide[i] = outerSet[sets.find(static_cast<std::uint32_t>(i))];
   return out;
 }
 

@@ -26,17 +26,16 @@ namespace lambert {
 
 struct Enclosures {
   std::vector<std::uint8_t> enclosed;  // per patch: 1 where a twinned face of a dark enclosure, else 0
-  // Per patch, the group a cluster may hold it with. A cluster that holds faces of two sets (a
-  // room's inner faces and, across its two-sided walls, its outer twins) hands what it gathers to
-  // both by their areas, though its links' light reached one (hierarchical/transport.h, the
-  // directional push): with a sky or a sun lighting the outer twins, a closed room lit inside
-  // came out 25% dark. The hierarchy keeps the groups apart (hierarchical/element_hierarchy.h).
-  static constexpr std::uint32_t kOrdinary = 0;        // one-sided, or emitting (an emitter casts no ray, joins no set)
-  static constexpr std::uint32_t kOutside = 1;         // twinned, in a lit set a ray of which escapes the scene
-  static constexpr std::uint32_t kDark = 2;            // twinned, in a dark enclosure
-  static constexpr std::uint32_t kFirstClosedSet = 3;  // + k: twinned, in the k-th lit set no ray escapes
-  std::vector<std::uint32_t> group;
-  int groups = 0;  // the distinct groups of twinned faces
+  // Per patch, 1 on the outer side of two-sided walls lit on both sides, else 0. A cluster that
+  // holds faces of both sides of such walls (a room's inner faces and its outer twins) hands what
+  // it gathers to both by their areas, though its links' light reached one side
+  // (hierarchical/transport.h, the directional push): with a sky or a sun lighting the outer
+  // twins, a closed room lit inside came out 25% dark. The hierarchy keeps the sides apart
+  // (hierarchical/element_hierarchy.h). A wall is lit on both sides where a face and its twin
+  // are both lit and in different sets; its outer side is the set a ray of which escapes the
+  // scene. Faces of no such wall (a two-sided sphere in the open, whose inside is dark) are 0.
+  std::vector<std::uint32_t> outerSide;
+  bool wallsLitOnBothSides = false;
 };
 
 // Per patch of `mesh` (the caster's mesh, one patch per face or finer). `raysPerPatch`

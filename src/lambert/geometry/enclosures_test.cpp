@@ -1,4 +1,4 @@
-// The enclosure sets' groups (geometry/enclosures.h) and the hierarchy that keeps them apart
+// The walls lit on both sides (geometry/enclosures.h) and the hierarchy that keeps their sides apart
 // (hierarchical/element_hierarchy.h): a closed two-sided room lit inside, under a sky or not.
 #include "lambert/geometry/enclosures.h"
 
@@ -33,32 +33,25 @@ Scene room(bool sky, bool closed) {
   return *scene;
 }
 
-// The inner faces are one lit closed set; their twins outside are dark without a sky and lit
-// (reaching the outside) under one; the panel is ordinary geometry. With the east wall open, the
-// inside and the outside are one set that escapes.
-TEST(EnclosuresTest, TheInsideAndTheOutsideOfAClosedRoomAreGroupsOfTheirOwn) {
+// Under a sky, the closed room's walls are lit on both sides: their twins outside are the outer
+// side, the inner faces and the panel not. Without the sky the twins are dark (no wall lit on
+// both sides); with the east wall open, inside and outside are one set (nor then).
+TEST(EnclosuresTest, TheOuterSideOfWallsLitOnBothSidesIsFound) {
   struct Case {
-    bool sky, closed;
-    std::uint32_t outerGroup;
-    int groups;
+    bool sky, closed, both;
   };
-  for (const Case& c : {Case{false, true, Enclosures::kDark, 2}, Case{true, true, Enclosures::kOutside, 2},
-                        Case{true, false, Enclosures::kOutside, 1}}) {
+  for (const Case& c : {Case{false, true, false}, Case{true, true, true}, Case{true, false, false}}) {
     SCOPED_TRACE("sky " + std::to_string(c.sky) + ", closed " + std::to_string(c.closed));
     const Scene scene = room(c.sky, c.closed);
     const Mesh mesh = subdivideScene(scene, 1.0);
     const auto caster = makeEmbreeRayCaster(mesh);
     const Enclosures found = findEnclosures(mesh, *caster, scene, 64);
-    EXPECT_EQ(found.groups, c.groups);
+    EXPECT_EQ(found.wallsLitOnBothSides, c.both);
     for (std::size_t p = 0; p < mesh.numPatches(); ++p) {
       const std::string& name = scene.surfaces[mesh.patches[p].surface].name;
       const bool outer = name.find("(back)") != std::string::npos;
-      if (name == "panel")
-        EXPECT_EQ(found.group[p], Enclosures::kOrdinary);
-      else if (!c.closed)
-        EXPECT_EQ(found.group[p], Enclosures::kOutside) << name;
-      else
-        EXPECT_EQ(found.group[p], outer ? c.outerGroup : Enclosures::kFirstClosedSet) << name;
+      EXPECT_EQ(found.outerSide[p], c.both && outer ? 1u : 0u) << name;
+      EXPECT_EQ(found.enclosed[p], !c.sky && c.closed && outer ? 1 : 0) << name;
     }
   }
 }

@@ -58,13 +58,14 @@ HierarchicalMethod::HierarchicalMethod(const Scene& scene, const RadiosityOption
   // open fraction 0), so that no cluster hands them light and none is pulled from them.
   Timer enclosures;
   Enclosures found = findEnclosures(leaves_.mesh, *caster_, scene_);
-  if (found.groups >= 2) {
-    // Sets on the two sides of two-sided walls (a room's inside and outside): the clusters again,
-    // one group at a time (geometry/enclosures.h), and what was made from them.
+  if (found.wallsLitOnBothSides) {
+    // Two-sided walls lit on both sides (a room lit inside under a sky): the clusters again, the
+    // walls' outer side apart from everything else (geometry/enclosures.h), and what was made
+    // from them.
     std::vector<std::vector<std::uint32_t>> groups(scene_.surfaces.size());
     for (std::size_t s = 0; s < scene_.surfaces.size(); ++s) groups[s].assign(surfaceFaces(scene_.surfaces[s]).size(), 0);
     for (std::size_t l = 0; l < leaves_.mesh.numPatches(); ++l)
-      groups[leaves_.mesh.patches[l].surface][leaves_.mesh.patches[l].face] = found.group[l];
+      groups[leaves_.mesh.patches[l].surface][leaves_.mesh.patches[l].face] = found.outerSide[l];
     hierarchy_ = ElementHierarchy(scene_, groups);
     useFaces();
     found = findEnclosures(leaves_.mesh, *caster_, scene_);
