@@ -11,6 +11,9 @@ packages=(
   ccache
   libembree-dev libtbb-dev libeigen3-dev
   libcli11-dev nlohmann-json3-dev libstb-dev libtinyobjloader-dev libtinygltf-dev libtinyexr-dev
+  # the lighting report's PDF is drawn with cairo in DejaVu Sans; its test renders the pages
+  # (poppler's pdftoppm, pdftotext)
+  libcairo2-dev fonts-dejavu-core poppler-utils
   libgtest-dev libgmock-dev libbenchmark-dev
   libglfw3-dev libepoxy-dev libimgui-dev
   # the viewer's test draws in a real window: an X server without a screen, Mesa's software OpenGL

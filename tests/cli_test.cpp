@@ -116,7 +116,7 @@ TEST(CliTest, JsonStatsAreMachineReadable) {
   for (const char* key : {"hierarchy_seconds", "link_seconds", "gather_seconds", "solve_seconds", "render_seconds", "total_seconds"})
     EXPECT_TRUE(stats.contains(key)) << key;
   const double emitted = stats["emitted_watts"].get<double>();
-  EXPECT_NEAR(emitted, 0.130 * 0.105 * kPi * 33, 1e-9);
+  EXPECT_NEAR(emitted, 0.130 * 0.105 * kPi * (0.2126 * 17 + 0.7152 * 12 + 0.0722 * 4), 1e-9);
   EXPECT_NEAR(stats["absorbed_watts"].get<double>() + stats["escaped_watts"].get<double>(), emitted, 1e-6 * emitted);
   EXPECT_GT(stats["escaped_watts"].get<double>(), 0.05 * emitted) << "the box is open at the front";
   EXPECT_EQ(stats["warnings"], nlohmann::json::array());
@@ -578,7 +578,7 @@ TEST(CliTest, SolveReferenceAndCompareMeasureTheSameVertices) {
   nlohmann::json both = nlohmann::json::parse(direct.output);
   EXPECT_GT(both["image_compared"].get<int>(), 0);
   EXPECT_NEAR(both["vertex_relative_rmse"].get<double>(), error, 1e-6);
-  EXPECT_NEAR(both["emitted_watts"].get<double>(), 0.130 * 0.105 * kPi * 33, 1e-9);
+  EXPECT_NEAR(both["emitted_watts"].get<double>(), 0.130 * 0.105 * kPi * (0.2126 * 17 + 0.7152 * 12 + 0.0722 * 4), 1e-9);
   EXPECT_TRUE(fs::exists(dir / "truth.png"));
 
   // Vertex files of different meshes are refused, naming the problem.
@@ -652,7 +652,7 @@ TEST(CliTest, AdaptiveSolutionsExportAndCompareAndAnimationStatsAreLit) {
   EXPECT_EQ(frames["solver"], "gs");
   EXPECT_EQ(frames["solves"], 3);
   EXPECT_LE(frames["iterations"].get<int>(), 4) << "a frame after the first stays within its budget";
-  EXPECT_GT(frames["emitted_watts"].get<double>(), 0.01) << "the stats must describe the lit frames";
+  EXPECT_GT(frames["injected_watts"].get<double>(), 0.01) << "the stats must describe the lit frames";
 }
 
 // A scene file renders like the built-in scene it describes, byte for byte; a bad one is refused
@@ -685,8 +685,8 @@ TEST(CliTest, SceneFilesRenderAndBadOnesAreRefused) {
   ASSERT_EQ(obj.exitCode, 0) << obj.output;
   nlohmann::json stats = nlohmann::json::parse(obj.output);
   EXPECT_EQ(stats["scene"], "room");
-  // The panel, 0.4 × 0.4 m emitting π·5 W/m² per channel, in watts over three channels.
-  EXPECT_NEAR(stats["emitted_watts"].get<double>(), 3 * 0.16 * kPi * 5, 1e-9);
+  // The panel, 0.4 × 0.4 m emitting π·5 W/m² in each channel: white, so that many watts of luminance.
+  EXPECT_NEAR(stats["emitted_watts"].get<double>(), 0.16 * kPi * 5, 1e-9);
   CommandResult crease = run("render --scene " + file + " --crease-angle 30" + common + (dir / "never.png").string());
   EXPECT_EQ(crease.exitCode, 2);
   EXPECT_NE(crease.output.find("--crease-angle has no effect"), std::string::npos) << crease.output;
@@ -1058,8 +1058,8 @@ TEST(CliTest, HierarchicalMethodSolvesAndRefusesFlatOptions) {
   EXPECT_GT(stats["links"].get<double>(), 1000);
   EXPECT_EQ(stats["converged"], "yes");
   EXPECT_LT(stats["residual"].get<double>(), 1e-3);
-  // The box's lamp: 130 mm × 105 mm emitting π·(17 + 12 + 4) W/m².
-  EXPECT_NEAR(stats["emitted_watts"].get<double>(), 0.130 * 0.105 * kPi * 33, 1e-6);
+  // The box's lamp: 130 mm × 105 mm emitting π·(17, 12, 4) W/m², in watts of luminance.
+  EXPECT_NEAR(stats["emitted_watts"].get<double>(), 0.130 * 0.105 * kPi * (0.2126 * 17 + 0.7152 * 12 + 0.0722 * 4), 1e-6);
   // The power figures against a closed form (tests/support/scenes.h): a black square emitting
   // L_e = 1 over a grey one, the default method at link error 1e-4 within 2%.
   std::ofstream(dir / "plate.json") << R"({"materials": [{"name": "grey", "albedo": [0.5, 0.5, 0.5]},
@@ -1145,8 +1145,8 @@ TEST(CliTest, InfoDescribesTheSceneAndTheSolveItWouldNeed) {
   EXPECT_EQ(stats["emitting_surfaces"], 1);
   EXPECT_EQ(stats["lights"], 0);
   EXPECT_EQ(stats["metres_per_unit"], 0.001);
-  // The light: 130 × 105 mm of L_e = (17, 12, 4) W/(m² sr), emitting π·L_e·A.
-  EXPECT_NEAR(stats["emitted_watts"].get<double>(), 0.130 * 0.105 * kPi * (17 + 12 + 4), 1e-9);
+  // The light: 130 × 105 mm of L_e = (17, 12, 4) W/(m² sr), emitting π·L_e·A (its luminance, in W).
+  EXPECT_NEAR(stats["emitted_watts"].get<double>(), 0.130 * 0.105 * kPi * (0.2126 * 17 + 0.7152 * 12 + 0.0722 * 4), 1e-9);
   const double patches = stats["patches"].get<double>();
   EXPECT_GE(patches, 3000);
   EXPECT_NEAR(stats["formfactor_matrix_mib"].get<double>(), patches * patches * 4 / (1024.0 * 1024.0), 1e-9);

@@ -50,9 +50,11 @@ TEST(LightingCliTest, PointsGetTheirLuxAndKeepTheirColumns) {
   ASSERT_EQ(r.exitCode, 0) << r.output;
   const auto rows = csvRows(dir / "out.csv");
   ASSERT_EQ(rows.size(), 3u);
-  EXPECT_EQ(rows[0], (std::vector<std::string>{"x", "y", "z", "nx", "ny", "nz", "name", "E_direct", "E_indirect", "E"}));
+  EXPECT_EQ(rows[0], (std::vector<std::string>{"x", "y", "z", "nx", "ny", "nz", "name", "E_direct", "E_sky", "E_sun", "E_indirect", "E"}));
   EXPECT_EQ(rows[1][6], "air");
-  const double direct = std::stod(rows[1][7]), indirect = std::stod(rows[1][8]), total = std::stod(rows[1][9]);
+  const double direct = std::stod(rows[1][7]), indirect = std::stod(rows[1][10]), total = std::stod(rows[1][11]);
+  EXPECT_EQ(std::stod(rows[1][8]), 0) << "no sky";
+  EXPECT_EQ(std::stod(rows[1][9]), 0) << "no sun";
   EXPECT_NEAR(total, direct + indirect, 1e-4 * total);
   const Scene cornell = cornellBox();
   const Surface* lamp = nullptr;

@@ -100,8 +100,8 @@ inline EnergyBalanceWatts emitterOverPlateBalance(double albedo) {
       second += f * f / (n * n);
     }
   EnergyBalanceWatts watts;
-  watts.emitted = 3 * kPi;
-  watts.absorbed = 3 * kPi * ((1 - albedo) * first + albedo * second);
+  watts.emitted = kPi;  // L_e = 1 in each channel: white, π W of luminance
+  watts.absorbed = kPi * ((1 - albedo) * first + albedo * second);
   watts.escaped = watts.emitted - watts.absorbed;
   return watts;
 }

@@ -3,8 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "lambert/design/false_colour.h"
+#include "lambert/design/lighting.h"
 #include "lambert/scene/builtin.h"
 #include "tests/support/scenes.h"
 
@@ -134,18 +136,101 @@ TEST(FalseColourTest, IsoluxLineSitsWhereTheFieldCrossesItsLevel) {
   const FalseColourImage image = falseColourImage(grid, lux, options);
   ASSERT_GT(image.width, 440);
   ASSERT_EQ(image.rgb.size(), static_cast<std::size_t>(image.width) * image.height * 3);
-  // The plane starts at x = 16 (the margin) below the title; a middle row of it.
-  const int row = 2 * 12 * 2 + 16 + 100;
+  ASSERT_EQ(image.planeWidth, 440);
+  // A row of the plane clear of the isolux line's label (written half way along the line).
+  const int row = image.planeTop + 30, left = image.planeLeft;
   auto pixel = [&](int x) { return &image.rgb[(static_cast<std::size_t>(row) * image.width + x) * 3]; };
   std::vector<int> black;
-  for (int x = 16; x < 16 + 440; ++x)
-    if (pixel(x)[0] == 0 && pixel(x)[1] == 0 && pixel(x)[2] == 0) black.push_back(x - 16);
+  for (int x = left; x < left + 440; ++x)
+    if (pixel(x)[0] == 0 && pixel(x)[1] == 0 && pixel(x)[2] == 0) black.push_back(x - left);
   ASSERT_EQ(black.size(), 1u);
   // 500 lx lies at cell 5's centre: u = 5.5 cells = 220 pixels.
   EXPECT_NEAR(black[0], 220, 1);
   // Blue at the left (150 lx), red at the right.
-  EXPECT_GT(pixel(16 + 80)[2], pixel(16 + 80)[0]);
-  EXPECT_GT(pixel(16 + 430)[0], pixel(16 + 430)[2]);
+  EXPECT_GT(pixel(left + 80)[2], pixel(left + 80)[0]);
+  EXPECT_GT(pixel(left + 430)[0], pixel(left + 430)[2]);
+}
+
+// The value a plan pixel shows: the Turbo colour nearest it, as a fraction of the scale (−1 for
+// a colour Turbo does not hold: text, lines, the background).
+double turboValue(const std::uint8_t* rgb) {
+  static std::vector<std::array<std::uint8_t, 3>> table;
+  if (table.empty())
+    for (int k = 0; k <= 1000; ++k) table.push_back(turboColour(k / 1000.0));
+  int best = -1, bestDistance = 1 << 30;
+  for (int k = 0; k <= 1000; ++k) {
+    int d = 0;
+    for (int c = 0; c < 3; ++c) d += (table[k][c] - rgb[c]) * (table[k][c] - rgb[c]);
+    if (d < bestDistance) bestDistance = d, best = k;
+  }
+  return bestDistance <= 12 ? best / 1000.0 : -1;
+}
+
+// A plan as lambert's convention draws it (x east to the right, north −z up the page): one lamp
+// at x = 1.5, z = 1.0 m over a 6 m × 4 m room, near its north-west corner, peaks in the plan's
+// top-left, a quarter of the way across and down, where its symbol is; the same room's west wall
+// is drawn from inside the room with the scene's up at the top. The values are the lamp's exact
+// direct light, I·h/r³.
+TEST(CalculationGridTest, PlansAreDrawnNorthUpWithTheLuminairesWhereTheyHang) {
+  Scene scene = testing::closedCube(1);
+  for (Surface& s : scene.surfaces)
+    for (Vec3& v : s.vertices) v = {v.x * 6, v.y * 3, v.z * 4};
+  WorkPlaneSpec spec;
+  spec.heightMetres = 0.8;
+  spec.spacingMetres = 0.1;
+  Result<CalculationGrid> grid = workPlaneGrid(scene, spec);
+  ASSERT_TRUE(grid.ok()) << grid.error().message;
+  Light lamp;
+  lamp.kind = LightKind::Point;
+  lamp.position = {1.5, 2.8, 1.0};
+  lamp.intensity = Rgb::gray(1);
+  std::vector<double> lux;
+  for (const CalculationPoint& p : grid->points) {
+    const Vec3 d = lamp.position - p.position;
+    lux.push_back(683 * d.y / std::pow(length(d), 3));
+  }
+  const FalseColourImage image = falseColourImage(*grid, lux, planOptions(scene, std::span<const Light>(&lamp, 1)));
+  // The brightest colour on the plane, away from the lamp's symbol (a ring of 7 pixels).
+  double best = -1;
+  int bestX = 0, bestY = 0;
+  for (int y = 0; y < image.planeHeight; ++y)
+    for (int x = 0; x < image.planeWidth; ++x) {
+      const double t = turboValue(&image.rgb[(static_cast<std::size_t>(image.planeTop + y) * image.width + image.planeLeft + x) * 3]);
+      if (t > best) best = t, bestX = x, bestY = y;
+    }
+  const double across = (bestX + 0.5) / image.planeWidth, down = (bestY + 0.5) / image.planeHeight;
+  std::printf("peak at %.3f across, %.3f down the plan (the lamp: 0.25, 0.25)\n", across, down);
+  EXPECT_NEAR(across, 0.25, 0.03);
+  EXPECT_NEAR(down, 0.25, 0.03);
+  // The symbol: its ring's pixels black, 7 pixels round the point under the lamp.
+  const auto [cx, cy] = image.pixelOf(lamp.position);
+  EXPECT_NEAR((cx - image.planeLeft) / image.planeWidth, 0.25, 0.01);
+  EXPECT_NEAR((cy - image.planeTop) / image.planeHeight, 0.25, 0.01);
+  int ringBlack = 0;
+  for (int k = 0; k < 16; ++k) {
+    const double a = 2 * kPi * k / 16;
+    const int x = static_cast<int>(std::floor(cx + 7 * std::cos(a))), y = static_cast<int>(std::floor(cy + 7 * std::sin(a)));
+    const std::uint8_t* p = &image.rgb[(static_cast<std::size_t>(y) * image.width + x) * 3];
+    ringBlack += p[0] < 60 && p[1] < 60 && p[2] < 60;
+  }
+  EXPECT_GE(ringBlack, 12);
+
+  // The west wall (x = 0), seen from inside the room: its values rising with height show red at
+  // the top; its page runs north to south as a viewer facing west sees it (south, +z, on the left).
+  SurfaceGridSpec wall;
+  wall.surface = "x0";
+  wall.spacingMetres = 0.1;
+  Result<CalculationGrid> west = surfaceGrid(scene, wall);
+  ASSERT_TRUE(west.ok()) << west.error().message;
+  std::vector<double> rising;
+  for (const CalculationPoint& p : west->points) rising.push_back(100 * p.position.y + 10 * p.position.z);
+  const FalseColourImage side = falseColourImage(*west, rising);
+  auto valueAt = [&](double across, double down) {
+    const int x = side.planeLeft + static_cast<int>(across * side.planeWidth), y = side.planeTop + static_cast<int>(down * side.planeHeight);
+    return turboValue(&side.rgb[(static_cast<std::size_t>(y) * side.width + x) * 3]);
+  };
+  EXPECT_GT(valueAt(0.5, 0.1), valueAt(0.5, 0.9)) << "up is up";
+  EXPECT_GT(valueAt(0.1, 0.5), valueAt(0.9, 0.5)) << "facing west, south (+z) is on the left";
 }
 
 }  // namespace

@@ -314,7 +314,8 @@ struct IlluminanceMeter::State {
   Sources emitters;                // B_e
   Sources bright;                  // ρE where it is far above the scene's mean
   std::vector<Rgb> patchEmission;  // B_e per patch of the vertex mesh
-  std::unique_ptr<DirectLighting> lighting;
+  std::vector<Light> electric, daylight;  // the solution's lights: the skies and suns apart
+  std::unique_ptr<DirectLighting> lighting;  // over `electric`
   std::vector<Vec3> directions;
   double epsilon = 0;
   double setupSeconds = 0;
@@ -331,7 +332,11 @@ IlluminanceMeter::IlluminanceMeter(const SolutionView& solution, const Illuminan
   s.reflected = std::make_unique<PatchInterpolation>(mesh, solution.vertexValues(VertexQuantity::Irradiance), solution.vertexMeshAlbedo());
   s.emitters = sceneEmitters(solution.scene(), mesh);
   s.bright = brightReflectors(mesh, *s.reflected);
-  s.lighting = std::make_unique<DirectLighting>(solution.lights(), solution.scene().metresPerUnit, options.shadowTolerance);
+  // Skies and suns are measured apart (each alone, exactly as lights.h's irradiance gives it), so
+  // that their parts of the direct light are known; the other lights go through Ward's testing.
+  for (const Light& light : solution.lights())
+    (light.kind == LightKind::Sky || light.kind == LightKind::Directional ? s.daylight : s.electric).push_back(light);
+  s.lighting = std::make_unique<DirectLighting>(s.electric, solution.scene().metresPerUnit, options.shadowTolerance);
   s.patchEmission = emittedRadiosity(solution.scene(), mesh);
   s.directions = cosineDirections(options.indirectRays, options.seed);
   s.epsilon = rayEpsilon(mesh);
@@ -356,8 +361,8 @@ Result<std::vector<PointIrradiance>> IlluminanceMeter::measure(std::span<const C
     if (!(std::isfinite(n.x) && std::isfinite(n.y) && std::isfinite(n.z) && length(n) > 0))
       return Error{"point " + std::to_string(i) + ": its normal is zero or not finite"};
   }
-  const std::vector<Light>& lights = s.solution.lights();
   const RayCaster& shadows = s.solution.caster();
+  const double metresPerUnit = s.solution.scene().metresPerUnit;
   const int samples = std::max(s.options.emitterSamples, 1);
   Pcg32 rng(s.options.seed, 0xe31);
   const std::uint32_t su = rng.nextUint(), sv = rng.nextUint();
@@ -371,7 +376,9 @@ Result<std::vector<PointIrradiance>> IlluminanceMeter::measure(std::span<const C
     const Vec3 x = points[i].position;
     const Vec3 origin = x + n * s.epsilon;
     PointIrradiance& e = out[i];
-    if (!lights.empty()) e.direct += s.lighting->irradiance(x, n, shadows, s.epsilon);
+    if (!s.electric.empty()) e.direct += s.lighting->irradiance(x, n, shadows, s.epsilon);
+    for (const Light& light : s.daylight) (light.kind == LightKind::Sky ? e.sky : e.sun) += irradiance(light, x, n, shadows, s.epsilon, metresPerUnit);
+    e.direct += e.sky + e.sun;
     std::uint64_t rays = 0;
     thread_local std::vector<char> explicitEmitter, explicitBright;
     e.direct += emitters(x, n, explicitEmitter, rays);

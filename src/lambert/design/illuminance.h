@@ -62,6 +62,8 @@ struct CalculationPoint {
 // (core/photometric.h).
 struct PointIrradiance {
   Rgb direct;    // lights and emitting surfaces, with their shadows
+  Rgb sky;       // of which from skies (light/sky.h): the sky component
+  Rgb sun;       // of which from directional lights (suns)
   Rgb indirect;  // reflected by the surfaces
   Rgb total() const { return direct + indirect; }
 };

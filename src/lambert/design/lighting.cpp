@@ -25,9 +25,15 @@ Result<LightingResults> measureLighting(const SolutionView& solution, const Ligh
     if (!grid) return grid.error();
     grids.push_back(std::move(*grid));
   }
-  // Every point at once, so that one parallel pass covers them.
+  // Every point at once, so that one parallel pass covers them: the points, the grids' and the
+  // observers' eyes (facing their lines of sight).
   std::vector<CalculationPoint> all = request.points;
   for (const CalculationGrid& grid : grids) all.insert(all.end(), grid.points.begin(), grid.points.end());
+  for (const GlareObserverSpec& o : request.glareObservers) {
+    const Vec3 sight{o.viewDirection.x, 0, o.viewDirection.z};
+    if (!(length(sight) > 0)) return Error{"glare observer \"" + o.name + "\": its view direction has no horizontal part (UGR's line of sight is horizontal)"};
+    all.push_back({o.eye, normalize(sight)});
+  }
   if (all.empty()) return results;
   const IlluminanceMeter meter(solution, request.illuminance);
   results.setupSeconds = meter.setupSeconds();
@@ -50,6 +56,18 @@ Result<LightingResults> measureLighting(const SolutionView& solution, const Ligh
     return df;
   };
   results.pointDaylightFactor = daylightFactors(results.points);
+  std::size_t eye = all.size() - request.glareObservers.size();
+  for (const GlareObserverSpec& o : request.glareObservers) {
+    GlareRating g;
+    g.observer = o;
+    g.atEye = (*measured)[eye++];
+    UgrObserver observer{o.eye, o.viewDirection, backgroundLuminanceFromIndirect(illuminanceLux(g.atEye.indirect))};
+    if (!(observer.backgroundLuminance > 0)) observer.backgroundLuminance = 1e-9;  // a black room: no background, UGR unbounded
+    Result<UgrResult> rating = unifiedGlareRating(solution.lights(), scene.metresPerUnit, observer);
+    if (!rating) return Error{"glare observer \"" + o.name + "\": " + rating.error().message};
+    g.rating = std::move(*rating);
+    results.glare.push_back(std::move(g));
+  }
   for (CalculationGrid& grid : grids) {
     MeasuredGrid m;
     m.irradiance.assign(measured->begin() + static_cast<std::ptrdiff_t>(next),
@@ -63,6 +81,39 @@ Result<LightingResults> measureLighting(const SolutionView& solution, const Ligh
     results.grids.push_back(std::move(m));
   }
   return results;
+}
+
+std::vector<GlareObserverSpec> defaultGlareObservers(const Scene& scene) {
+  const Bounds b = sceneBounds(scene);
+  const double inset = 0.5 / scene.metresPerUnit, eyeHeight = b.lo.y + 1.2 / scene.metresPerUnit;
+  const double cx = 0.5 * (b.lo.x + b.hi.x), cz = 0.5 * (b.lo.z + b.hi.z);
+  return {{"west side, looking east", {b.lo.x + inset, eyeHeight, cz}, {1, 0, 0}},
+          {"east side, looking west", {b.hi.x - inset, eyeHeight, cz}, {-1, 0, 0}},
+          {"north side, looking south", {cx, eyeHeight, b.lo.z + inset}, {0, 0, 1}},
+          {"south side, looking north", {cx, eyeHeight, b.hi.z - inset}, {0, 0, -1}}};
+}
+
+std::vector<std::string> lightLabels(std::span<const Light> lights) {
+  std::vector<std::string> labels;
+  int k = 0;
+  for (const Light& light : lights) {
+    const bool placed = light.kind == LightKind::Luminaire || light.kind == LightKind::Point || light.kind == LightKind::Spot;
+    labels.push_back(placed ? "L" + std::to_string(++k) : light.name);
+  }
+  return labels;
+}
+
+FalseColourOptions planOptions(const Scene& scene, std::span<const Light> lights) {
+  FalseColourOptions options;
+  options.metresPerUnit = scene.metresPerUnit;
+  const std::vector<std::string> labels = lightLabels(lights);
+  for (std::size_t i = 0; i < lights.size(); ++i) {
+    const Light& light = lights[i];
+    if (light.kind == LightKind::Sky && light.sky) options.north = light.sky->north();
+    if (light.kind == LightKind::Luminaire || light.kind == LightKind::Point || light.kind == LightKind::Spot)
+      options.luminaires.push_back({light.position, light.kind == LightKind::Point ? Vec3{0, -1, 0} : light.direction, labels[i]});
+  }
+  return options;
 }
 
 PointsTable gridTable(const CalculationGrid& grid, const FileFrame& frame) {

@@ -132,12 +132,13 @@ Status writePointsCsv(const std::string& path, const PointsTable& table, std::sp
   std::string out;
   const std::size_t columns = table.header.size();
   for (std::size_t c = 0; c < columns; ++c) out += csvField(table.header[c]) + ",";
-  out += daylight ? "E_direct,E_indirect,E,DF\n" : "E_direct,E_indirect,E\n";
-  char number[96];
+  out += daylight ? "E_direct,E_sky,E_sun,E_indirect,E,DF\n" : "E_direct,E_sky,E_sun,E_indirect,E\n";
+  char number[160];
   for (std::size_t i = 0; i < table.rows.size(); ++i) {
     for (std::size_t c = 0; c < columns; ++c) out += (c < table.rows[i].size() ? csvField(table.rows[i][c]) : std::string()) + ",";
-    std::snprintf(number, sizeof number, "%.6g,%.6g,%.6g", illuminanceLux(irradiance[i].direct), illuminanceLux(irradiance[i].indirect),
-                  illuminanceLux(irradiance[i].total()));
+    const PointIrradiance& e = irradiance[i];
+    std::snprintf(number, sizeof number, "%.6g,%.6g,%.6g,%.6g,%.6g", illuminanceLux(e.direct), illuminanceLux(e.sky), illuminanceLux(e.sun),
+                  illuminanceLux(e.indirect), illuminanceLux(e.total()));
     out += number;
     if (daylight) {
       std::snprintf(number, sizeof number, ",%.6g", daylightFactorPercent[i]);

@@ -2,7 +2,8 @@
 // Calculation points as a lighting designer's tools exchange them: a CSV of x, y, z, nx, ny, nz
 // (the scene file's own frame and unit; for an MGF file z up, as the file writes them), one
 // point per row, and the same rows written back with the illuminance appended in lux:
-// E_direct, E_indirect, E (design/illuminance.h, core/photometric.h).
+// E_direct (lights, skies, suns and emitting surfaces), E_sky and E_sun (the skies' and suns' parts
+// of E_direct), E_indirect, E = E_direct + E_indirect (design/illuminance.h, core/photometric.h).
 //
 // Read liberally: a header row (most of its fields not numbers) names the columns (any order, any case, other columns kept and
 // written back; without nx, ny, nz every point faces the file's up, with a warning); without a
@@ -28,7 +29,7 @@ struct PointsTable {
 
 Result<PointsTable> readPointsCsv(const std::string& path, const FileFrame& frame);
 
-// The table's columns and rows, then E_direct, E_indirect and E in lux per point (and DF in %
+// The table's columns and rows, then E_direct, E_sky, E_sun, E_indirect and E in lux per point (and DF in %
 // when daylightFactorPercent is not empty), written atomically.
 Status writePointsCsv(const std::string& path, const PointsTable& table, std::span<const PointIrradiance> irradiance,
                       std::span<const double> daylightFactorPercent = {});

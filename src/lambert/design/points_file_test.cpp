@@ -27,12 +27,14 @@ TEST(PointsFileTest, ReadsHeadersInAnyOrderAndKeepsOtherColumns) {
   EXPECT_EQ(table->points[1].normal.y, 1);  // normalised
   EXPECT_EQ(table->rows[0][0], "desk 1");
   const std::string out = written("header-out.csv", "");
-  const std::vector<PointIrradiance> e{{Rgb::gray(1), Rgb::gray(0.5)}, {Rgb::gray(2), {}}};
+  const std::vector<PointIrradiance> e{{.direct = Rgb::gray(1), .sky = Rgb::gray(0.25), .sun = Rgb::gray(0.5), .indirect = Rgb::gray(0.5)},
+                                       {.direct = Rgb::gray(2), .sky = {}, .sun = {}, .indirect = {}}};
   ASSERT_TRUE(writePointsCsv(out, *table, e).ok());
   Result<std::string> text = readWholeFile(out);
   ASSERT_TRUE(text.ok());
   // 683 lm/W × the luminance of grey 1 W/m² (Rec. 709 weights sum to 1): 683 lx.
-  EXPECT_EQ(*text, "name,Z,x,y,NX,ny,nz,E_direct,E_indirect,E\ndesk 1,3,1,0.8,0,1,0,683,341.5,1024.5\ndesk 2,3.5,2,0.8,0,2,0,1366,0,1366\n");
+  EXPECT_EQ(*text, "name,Z,x,y,NX,ny,nz,E_direct,E_sky,E_sun,E_indirect,E\ndesk 1,3,1,0.8,0,1,0,683,170.75,341.5,341.5,1024.5\n"
+                   "desk 2,3.5,2,0.8,0,2,0,1366,0,0,0,1366\n");
 }
 
 TEST(PointsFileTest, ReadsRowsWithoutAHeaderInTheFilesFrame) {

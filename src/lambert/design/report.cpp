@@ -3,30 +3,19 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <map>
 
 #include "lambert/core/photometric.h"
-#include "lambert/method/solution.h"
 #include "lambert/io/png.h"
 #include "lambert/light/emission.h"
+#include "lambert/light/lights.h"
 #include "lambert/light/photometry.h"
 #include "lambert/light/sky.h"
+#include "lambert/method/solution.h"
 
 namespace lambert {
 namespace {
-
-std::string escaped(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
 
 std::string fixed(double v, int digits = 1) {
   char buffer[64];
@@ -46,47 +35,33 @@ std::string value(const Stats::Value& v) {
   return std::get<std::string>(v);
 }
 
-std::string lightKind(LightKind kind) {
-  switch (kind) {
-    case LightKind::Point: return "point";
-    case LightKind::Spot: return "spot";
-    case LightKind::Directional: return "directional";
-    case LightKind::Sky: return "sky";
-    case LightKind::Luminaire: return "luminaire";
-  }
-  return "light";
+ReportBlock heading(std::string text) { return {ReportBlock::Kind::Heading, std::move(text), {}, {}, {}}; }
+ReportBlock paragraph(std::string text) { return {ReportBlock::Kind::Paragraph, std::move(text), {}, {}, {}}; }
+ReportBlock tableBlock(ReportTable table) { return {ReportBlock::Kind::Table, {}, std::move(table), {}, {}}; }
+
+// The mean of a column (lux) over the grid's points.
+double meanLux(const std::vector<PointIrradiance>& irradiance, Rgb PointIrradiance::*part) {
+  double sum = 0;
+  for (const PointIrradiance& e : irradiance) sum += illuminanceLux(e.*part);
+  return irradiance.empty() ? 0 : sum / static_cast<double>(irradiance.size());
 }
 
-// A histogram of the grid's values as inline SVG: `bins` bars from 0 to the maximum, the mean marked.
-std::string histogramSvg(const MeasuredGrid& m, const std::string& unit) {
-  const int bins = 20, width = 420, height = 160, left = 40, bottom = 24;
-  const double top = std::max(m.statistics.maximum, 1e-12);
-  std::vector<int> count(bins, 0);
-  for (double v : m.lux) count[std::clamp(static_cast<int>(v / top * bins), 0, bins - 1)]++;
-  const int most = std::max(1, *std::max_element(count.begin(), count.end()));
-  std::string svg = "<svg class=\"histogram\" width=\"" + std::to_string(width) + "\" height=\"" + std::to_string(height) +
-                    "\" role=\"img\" aria-label=\"histogram of " + escaped(m.grid.name) + "\">";
-  const int plotTop = 22;  // room above the bars for the mean's label
-  const double barWidth = double(width - left - 10) / bins, plotHeight = height - bottom - plotTop;
-  for (int b = 0; b < bins; ++b) {
-    const double h = plotHeight * count[b] / most;
-    svg += "<rect x=\"" + fixed(left + b * barWidth, 1) + "\" y=\"" + fixed(plotTop + plotHeight - h, 1) + "\" width=\"" +
-           fixed(barWidth - 1, 1) + "\" height=\"" + fixed(h, 1) + "\" fill=\"#4a7ab8\"/>";
-  }
-  const double meanX = left + (width - left - 10) * m.statistics.average / top;
-  svg += "<line x1=\"" + fixed(meanX) + "\" x2=\"" + fixed(meanX) + "\" y1=\"" + std::to_string(plotTop - 6) + "\" y2=\"" + fixed(plotTop + plotHeight) +
-         "\" stroke=\"#c0392b\" stroke-width=\"2\"/>";
-  const bool labelLeft = meanX > 0.6 * width;  // right of the line unless it would run off the plot
-  svg += "<text x=\"" + fixed(labelLeft ? meanX - 4 : meanX + 4) + "\" y=\"" + std::to_string(plotTop - 8) +
-         "\" font-size=\"11\" fill=\"#c0392b\"" + (labelLeft ? " text-anchor=\"end\"" : "") + ">E_avg " +
-         general(m.statistics.average) + " " + unit + "</text>";
-  svg += "<line x1=\"" + std::to_string(left) + "\" x2=\"" + std::to_string(width - 10) + "\" y1=\"" + fixed(plotTop + plotHeight) + "\" y2=\"" +
-         fixed(plotTop + plotHeight) + "\" stroke=\"#333\"/>";
-  svg += "<text x=\"" + std::to_string(left) + "\" y=\"" + std::to_string(height - 6) + "\" font-size=\"11\">0</text>";
-  svg += "<text x=\"" + std::to_string(width - 10) + "\" y=\"" + std::to_string(height - 6) + "\" font-size=\"11\" text-anchor=\"end\">" +
-         general(top) + " " + unit + "</text>";
-  svg += "<text x=\"4\" y=\"" + std::to_string(plotTop + 10) + "\" font-size=\"11\">" + std::to_string(most) + "</text></svg>";
-  return svg;
+// A luminaire type: lights of one photometric file, output and maintenance.
+struct LuminaireType {
+  const Light* first = nullptr;
+  std::vector<std::size_t> members;  // indices into the lights
+};
+
+std::string skyName(const SkyModel& sky) {
+  if (sky.isUniformEnvironment()) return "uniform environment";
+  if (sky.isTraditionalOvercast()) return "CIE traditional overcast (Moon and Spencer)";
+  return "CIE standard general sky, type " + std::to_string(sky.cieType());
+}
+
+// The plan position of a horizontal direction: degrees counter-clockwise from east, [0, 360).
+double azimuthFromEast(const Vec3& d) {
+  double a = std::atan2(-d.z, d.x) * 180 / kPi;
+  return a < 0 ? a + 360 : a;
 }
 
 }  // namespace
@@ -106,114 +81,382 @@ std::string base64(const std::vector<std::uint8_t>& bytes) {
   return out;
 }
 
-Result<std::string> lightingReportHtml(const ReportInput& input) {
+Result<LightingReport> lightingReport(const ReportInput& input) {
   if (!input.solution || !input.lighting) return Error{"a report needs a solution and its lighting results"};
   const SolutionView& solution = *input.solution;
   const Scene& scene = solution.scene();
   const LightingResults& lighting = *input.lighting;
-  std::string h;
-  h += "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>" + escaped(scene.name) + " — lighting report</title>\n";
-  h += "<style>body{font-family:system-ui,sans-serif;margin:2em auto;max-width:980px;color:#222}"
-       "table{border-collapse:collapse;margin:0.5em 0 1.5em}td,th{border:1px solid #ccc;padding:3px 8px;text-align:right}"
-       "th{background:#f0f0f0}td.name,th.name{text-align:left}img{max-width:100%;border:1px solid #ddd}"
-       "section{margin-bottom:2.5em}.note{color:#666;font-size:0.9em}</style></head><body>\n";
-  h += "<h1>" + escaped(scene.name) + "</h1>\n<p class=\"note\">Lighting report written by " + escaped(input.generator) +
-       ". Illuminance in lux = 683 lm/W × the Rec. 709 luminance of the RGB irradiance; direct light from the lights and "
-       "emitting surfaces with their shadows, indirect light from the radiosity solution (docs/photometry.md).</p>\n";
+  const std::vector<Light>& lights = solution.lights();
+  const std::vector<std::string> labels = lightLabels(lights);
+  const double mpu = scene.metresPerUnit, m2 = mpu * mpu;
+  const Bounds bounds = sceneBounds(scene);
+  const double length = (bounds.hi.x - bounds.lo.x) * mpu, depth = (bounds.hi.z - bounds.lo.z) * mpu, height = (bounds.hi.y - bounds.lo.y) * mpu;
+  const double floorArea = length * depth;
 
-  // Summary of every grid.
-  h += "<section id=\"summary\"><h2>Calculation surfaces</h2>\n";
-  if (lighting.grids.empty()) h += "<p>No calculation surface was asked for.</p>\n";
-  else {
-    h += "<table id=\"grids\"><tr><th class=\"name\">surface</th><th>points</th><th>spacing (m)</th><th>E<sub>avg</sub> (lx)</th>"
-         "<th>E<sub>min</sub> (lx)</th><th>E<sub>max</sub> (lx)</th><th>U<sub>0</sub> = E<sub>min</sub>/E<sub>avg</sub></th>"
-         "<th>E<sub>min</sub>/E<sub>max</sub></th></tr>\n";
-    const bool daylight = lighting.skyHorizontalLux > 0;
-    if (daylight) h.replace(h.rfind("</tr>\n"), 6, "<th>DF<sub>avg</sub> (%)</th><th>DF<sub>min</sub> (%)</th></tr>\n");
-    for (const MeasuredGrid& m : lighting.grids) {
-      const GridStatistics& s = m.statistics;
-      const std::string df = daylight ? "<td>" + fixed(m.daylight.average, 2) + "</td><td>" + fixed(m.daylight.minimum, 2) + "</td>" : "";
-      h += "<tr><td class=\"name\">" + escaped(m.grid.name) + "</td><td>" + std::to_string(s.points) + "</td><td>" +
-           fixed(m.grid.spacingU * scene.metresPerUnit, 2) + "</td><td>" + fixed(s.average) + "</td><td>" + fixed(s.minimum) +
-           "</td><td>" + fixed(s.maximum) + "</td><td>" + fixed(s.uniformity, 2) + "</td><td>" + fixed(s.minOverMax, 2) + "</td>" + df + "</tr>\n";
+  LightingReport report;
+  report.title = scene.name + " — lighting report";
+  report.subtitle = "Written by " + input.generator + (input.date.empty() ? "" : " on " + input.date) +
+                    (input.sceneFile.empty() ? "" : " from " + input.sceneFile) + ".";
+
+  // Luminaire types: one per photometric file and output (colour × multiplier × maintenance), and
+  // one per point or spot light of its own intensity.
+  std::vector<LuminaireType> types;
+  for (std::size_t i = 0; i < lights.size(); ++i) {
+    const Light& light = lights[i];
+    if (light.kind != LightKind::Luminaire && light.kind != LightKind::Point && light.kind != LightKind::Spot) continue;
+    auto same = std::find_if(types.begin(), types.end(), [&](const LuminaireType& t) {
+      return t.first->kind == light.kind && t.first->photometry == light.photometry && t.first->intensity == light.intensity &&
+             t.first->maintenance == light.maintenance && t.first->coneAngleDegrees == light.coneAngleDegrees;
+    });
+    if (same == types.end()) types.push_back({&light, {i}});
+    else same->members.push_back(i);
+  }
+  auto typeName = [](std::size_t t) { return std::string(1, static_cast<char>('A' + t % 26)) + (t >= 26 ? std::to_string(t / 26) : ""); };
+  double installedWatts = 0;
+  bool everyWattageStated = !types.empty();
+  for (const LuminaireType& t : types) {
+    const double watts = t.first->photometry ? t.first->photometry->inputWatts : 0;
+    if (!(watts > 0)) everyWattageStated = false;
+    installedWatts += watts * static_cast<double>(t.members.size());
+  }
+
+  // Summary.
+  ReportPage summary{"Summary", "summary", {}};
+  bool anyMaintenance = false;
+  for (const Light& light : lights) anyMaintenance |= light.maintenance.factor() != 1;
+  summary.blocks.push_back(paragraph(
+      std::string(anyMaintenance ? "Every illuminance is a maintained value: the lights' output as new times their maintenance factor MF "
+                                   "(CIE 97: lamp lumen × lamp survival × luminaire × room surface maintenance), listed with the luminaires. "
+                                 : "No maintenance factor is given (MF = 1): every illuminance is the value as new. ") +
+      "Illuminance in lux = 683 lm/W × the Rec. 709 luminance of the RGB irradiance; direct light from the lights, skies, suns and "
+      "emitting surfaces with their shadows, indirect light from the radiosity solution (docs/photometry.md). Each figure of a calculation "
+      "surface is the mean, least or greatest of the column E of the CSV named on its page."));
+  ReportTable grids{"Calculation surfaces", {"surface", "points", "spacing (m)", "Ē (lx)", "E min (lx)", "E max (lx)", "U₀ = E min/Ē", "E min/E max"}, {}, "grids"};
+  const bool daylightFactors = lighting.skyHorizontalLux > 0;
+  if (daylightFactors) grids.header.insert(grids.header.end(), {"DF mean (%)", "DF min (%)"});
+  for (const MeasuredGrid& m : lighting.grids) {
+    const GridStatistics& s = m.statistics;
+    std::vector<std::string> row{m.grid.name, std::to_string(s.points), fixed(m.grid.spacingU * mpu, 2), fixed(s.average), fixed(s.minimum),
+                                 fixed(s.maximum), fixed(s.uniformity, 2), fixed(s.minOverMax, 2)};
+    if (daylightFactors) row.insert(row.end(), {fixed(m.daylight.average, 2), fixed(m.daylight.minimum, 2)});
+    grids.rows.push_back(std::move(row));
+  }
+  if (grids.rows.empty()) summary.blocks.push_back(paragraph("No calculation surface was asked for."));
+  else summary.blocks.push_back(tableBlock(std::move(grids)));
+  if (daylightFactors)
+    summary.blocks.push_back(paragraph("Daylight factor DF = 100 · E / E_h under the overcast sky that alone lights the scene, its unobstructed "
+                                       "horizontal illuminance E_h = " + fixed(lighting.skyHorizontalLux, 0) + " lx."));
+  summary.blocks.push_back(tableBlock({"Room (the scene's bounding box)", {"length x (m)", "depth z (m)", "height y (m)", "floor area (m²)"},
+                                       {{fixed(length, 2), fixed(depth, 2), fixed(height, 2), fixed(floorArea, 2)}}, "room"}));
+  ReportTable materials{"Surfaces and reflectances", {"material", "reflectance ρ (luminance)", "ρ red, green, blue", "area (m²)", "emitting"}, {}, "materials"};
+  std::vector<double> materialArea(scene.materials.size(), 0);
+  std::vector<char> materialEmits(scene.materials.size(), 0);
+  for (const Surface& surface : scene.surfaces) {
+    if (surface.material < 0 || static_cast<std::size_t>(surface.material) >= scene.materials.size()) continue;
+    materialArea[surface.material] += surfaceArea(surface) * m2;
+    materialEmits[surface.material] |= meanEmittedRadiance(scene, surface).maxComponent() > 0;
+  }
+  for (std::size_t k = 0; k < scene.materials.size(); ++k) {
+    if (!(materialArea[k] > 0)) continue;
+    const Material& mat = scene.materials[k];
+    materials.rows.push_back({mat.name, fixed(mat.albedo.luminance(), 2) + (mat.texture ? " × texture" : ""),
+                              fixed(mat.albedo.r, 2) + ", " + fixed(mat.albedo.g, 2) + ", " + fixed(mat.albedo.b, 2), fixed(materialArea[k], 2),
+                              materialEmits[k] ? "yes" : ""});
+  }
+  summary.blocks.push_back(tableBlock(std::move(materials)));
+  if (!types.empty()) {
+    ReportTable power{"Power", {"luminaires", "installed power (W)", "floor area (m²)", "power density (W/m²)", "per 100 lx on the first surface (W/m²)"}, {}, "power"};
+    std::size_t count = 0;
+    for (const LuminaireType& t : types) count += t.members.size();
+    const double density = floorArea > 0 ? installedWatts / floorArea : 0;
+    const double perHundred = !lighting.grids.empty() && lighting.grids[0].statistics.average > 0 ? density * 100 / lighting.grids[0].statistics.average : 0;
+    power.rows.push_back({std::to_string(count), everyWattageStated ? fixed(installedWatts, 1) : fixed(installedWatts, 1) + " (some not stated)",
+                          fixed(floorArea, 2), fixed(density, 2), perHundred > 0 ? fixed(perHundred, 2) : "—"});
+    summary.blocks.push_back(tableBlock(std::move(power)));
+    if (!everyWattageStated)
+      summary.blocks.push_back(paragraph("A luminaire whose photometric file states no input power counts 0 W here (point and spot lights always)."));
+  }
+  report.pages.push_back(std::move(summary));
+
+  // Luminaires and daylight.
+  ReportPage sources{"Light sources", "lights", {}};
+  if (!types.empty()) {
+    ReportTable schedule{"Luminaire schedule",
+                         {"type", "count", "product", "file", "flux as new (lm)", "MF", "maintained flux (lm)", "power (W)", "efficacy (lm/W)"},
+                         {},
+                         "schedule"};
+    for (std::size_t t = 0; t < types.size(); ++t) {
+      const Light& light = *types[t].first;
+      const double maintained = lightLumens(light), mf = light.maintenance.factor();
+      const Photometry* p = light.photometry.get();
+      const double watts = p ? p->inputWatts : 0;
+      const std::string product = p ? (p->name.empty() ? "(not named)" : p->name) : light.kind == LightKind::Point ? "point light" : "spot light";
+      char mfText[96];
+      std::snprintf(mfText, sizeof mfText, "%.3f", mf);
+      std::string mfParts = mfText;
+      if (mf != 1)
+        mfParts += " = " + fixed(light.maintenance.lampLumen, 2) + " × " + fixed(light.maintenance.lampSurvival, 2) + " × " +
+                   fixed(light.maintenance.luminaire, 2) + " × " + fixed(light.maintenance.roomSurface, 2);
+      schedule.rows.push_back({typeName(t), std::to_string(types[t].members.size()), product,
+                               p ? std::filesystem::path(p->path).filename().string() : "—", fixed(maintained / mf, 1), mfParts, fixed(maintained, 1),
+                               watts > 0 ? fixed(watts, 1) : "not stated", watts > 0 ? fixed(maintained / mf / watts, 1) : "—"});
     }
-    h += "</table>\n";
-    if (daylight)
-      h += "<p>Daylight factor DF = 100 · E / E<sub>h</sub> under the overcast sky that alone lights the scene, its unobstructed "
-           "horizontal illuminance E<sub>h</sub> = " + fixed(lighting.skyHorizontalLux, 0) + " lx.</p>\n";
-    h += "</section>\n";
-  }
-  for (std::size_t g = 0; g < lighting.grids.size(); ++g) {
-    const MeasuredGrid& m = lighting.grids[g];
-    const FalseColourImage picture = falseColourImage(m.grid, m.lux);
-    Result<std::vector<std::uint8_t>> png = encodePng(picture.width, picture.height, picture.rgb);
-    if (!png) return png.error();
-    h += "<section class=\"grid\"><h2>" + escaped(m.grid.name) + "</h2>\n";
-    h += "<img alt=\"" + escaped(m.grid.name) + " in false colour with isolux lines\" width=\"" + std::to_string(picture.width) +
-         "\" src=\"data:image/png;base64," + base64(*png) + "\">\n";
-    h += "<h3>Distribution of illuminance</h3>\n" + histogramSvg(m, "lx") + "\n";
-    double direct = 0, indirect = 0;
-    for (const PointIrradiance& e : m.irradiance) direct += illuminanceLux(e.direct), indirect += illuminanceLux(e.indirect);
-    const double n = static_cast<double>(std::max<std::size_t>(m.irradiance.size(), 1));
-    h += "<p>Mean direct " + fixed(direct / n) + " lx, mean indirect " + fixed(indirect / n) + " lx (" +
-         fixed(direct + indirect > 0 ? 100 * indirect / (direct + indirect) : 0, 0) + "% indirect).</p></section>\n";
-  }
-  if (input.points && !lighting.points.empty()) {
-    h += "<section id=\"points\"><h2>Points</h2>\n<table><tr>";
-    for (const std::string& column : input.points->header) h += "<th>" + escaped(column) + "</th>";
-    h += "<th>E<sub>direct</sub> (lx)</th><th>E<sub>indirect</sub> (lx)</th><th>E (lx)</th></tr>\n";
-    for (std::size_t i = 0; i < lighting.points.size() && i < input.points->rows.size(); ++i) {
-      h += "<tr>";
-      for (const std::string& field : input.points->rows[i]) h += "<td>" + escaped(field) + "</td>";
-      h += "<td>" + fixed(illuminanceLux(lighting.points[i].direct)) + "</td><td>" + fixed(illuminanceLux(lighting.points[i].indirect)) +
-           "</td><td>" + fixed(illuminanceLux(lighting.points[i].total())) + "</td></tr>\n";
-    }
-    h += "</table></section>\n";
-  }
-  // Lights and emitters in photometric units.
-  h += "<section id=\"lights\"><h2>Light sources</h2>\n";
-  if (!solution.lights().empty()) {
-    h += "<table><tr><th class=\"name\">light</th><th class=\"name\">type</th><th>position (scene units)</th><th>peak intensity (cd)</th>"
-         "<th>luminous flux (lm)</th><th>illuminance (lx)</th></tr>\n";
-    for (const Light& light : solution.lights()) {
-      const bool placed = light.kind != LightKind::Directional && light.kind != LightKind::Sky;
-      std::string candela = "—", flux = "—", lux = "—";
-      if (light.kind == LightKind::Point || light.kind == LightKind::Spot) candela = fixed(kLumensPerWatt * light.intensity.luminance());
-      if (light.kind == LightKind::Point) flux = fixed(4 * kPi * kLumensPerWatt * light.intensity.luminance());
-      if (light.kind == LightKind::Luminaire && light.photometry) {
-        candela = fixed(light.photometry->maxCandela() * light.intensity.luminance());
-        flux = fixed(light.photometry->luminousFlux() * light.intensity.luminance());
+    sources.blocks.push_back(tableBlock(std::move(schedule)));
+    sources.blocks.push_back(paragraph("Flux as new: the photometric file's flux × the light's multiplier (or 4π·I for a point light, the cone's "
+                                       "integral for a spot). Maintained flux: that × MF (MF = lamp lumen × lamp survival × luminaire × "
+                                       "room surface maintenance factor)."));
+    ReportTable mounting{"Mounting (aiming after IES LM-72: orient, tilt, roll, spin; docs/photometry.md)",
+                         {"luminaire", "type", "x (m)", "y (m)", "z (m)", "height above floor (m)", "orient (°)", "tilt (°)", "spin (°)"},
+                         {},
+                         "mounting"};
+    for (std::size_t t = 0; t < types.size(); ++t)
+      for (std::size_t i : types[t].members) {
+        const Light& light = lights[i];
+        // TODO-MERGE: aimingOfDirection (light/lights.h) once the aiming branch lands.
+        struct {
+          double orientDegrees = 0, tiltDegrees = 0, spinDegrees = 0;
+        } aim;
+        if (light.kind != LightKind::Point) {
+          const Vec3 d = normalize(light.direction);
+          aim.tiltDegrees = std::acos(std::clamp(-d.y, -1.0, 1.0)) * 180 / kPi;
+          aim.orientDegrees = std::hypot(d.x, d.z) > 1e-9 ? azimuthFromEast(d) : 0;
+          aim.spinDegrees = light.rotationDegrees;
+        }
+        mounting.rows.push_back({labels[i], typeName(t), fixed(light.position.x * mpu, 2), fixed(light.position.y * mpu, 2),
+                                 fixed(light.position.z * mpu, 2), fixed((light.position.y - bounds.lo.y) * mpu, 2), fixed(aim.orientDegrees, 1),
+                                 fixed(aim.tiltDegrees, 1), fixed(aim.spinDegrees, 1)});
       }
-      if (light.kind == LightKind::Directional) lux = fixed(kLumensPerWatt * light.irradiance.luminance()) + " (normal)";
-      if (light.kind == LightKind::Sky && light.sky) lux = fixed(light.sky->horizontalIlluminance()) + " (horizontal, unobstructed)";
-      h += "<tr><td class=\"name\">" + escaped(light.name) + "</td><td class=\"name\">" + lightKind(light.kind) + "</td><td>" +
-           (placed ? general(light.position.x) + ", " + general(light.position.y) + ", " + general(light.position.z) : std::string("—")) +
-           "</td><td>" + candela + "</td><td>" + flux + "</td><td>" + lux + "</td></tr>\n";
-    }
-    h += "</table>\n";
+    sources.blocks.push_back(tableBlock(std::move(mounting)));
   }
-  bool anyEmitter = false;
+  ReportTable emitters{"Emitting surfaces", {"surface", "luminance (cd/m²)", "area (m²)", "luminous flux (lm)"}, {}, "emitters"};
   for (const Surface& surface : scene.surfaces) {
     const Rgb radiance = meanEmittedRadiance(scene, surface);
     if (!(radiance.maxComponent() > 0)) continue;
-    if (!anyEmitter) {
-      h += "<table><tr><th class=\"name\">emitting surface</th><th>luminance (cd/m²)</th><th>area (m²)</th><th>luminous flux (lm)</th></tr>\n";
-      anyEmitter = true;
-    }
-    const double area = surfaceArea(surface) * scene.metresPerUnit * scene.metresPerUnit;
-    const double luminance = luminanceCandelasPerSquareMetre(radiance);
-    h += "<tr><td class=\"name\">" + escaped(surface.name) + "</td><td>" + fixed(luminance) + "</td><td>" + general(area) + "</td><td>" +
-         fixed(kPi * luminance * area) + "</td></tr>\n";
+    const double area = surfaceArea(surface) * m2, luminance = luminanceCandelasPerSquareMetre(radiance);
+    emitters.rows.push_back({surface.name, fixed(luminance), general(area), fixed(kPi * luminance * area)});
   }
-  if (anyEmitter) h += "</table>\n";
-  if (solution.lights().empty() && !anyEmitter) h += "<p>The scene has no light source.</p>\n";
-  h += "</section>\n";
-  // The solve's figures.
-  h += "<section id=\"solve\"><h2>Solution</h2>\n<table>";
-  for (const Stats::Entry& e : input.figures.entries())
-    h += "<tr><td class=\"name\">" + escaped(e.label) + "</td><td>" + escaped(value(e.value)) + (e.unit.empty() ? "" : " " + escaped(e.unit)) +
-         "</td></tr>\n";
-  h += "</table></section>\n</body></html>\n";
+  if (!emitters.rows.empty()) sources.blocks.push_back(tableBlock(std::move(emitters)));
+  ReportTable skies{"Daylight: skies", {"sky", "model", "zenith luminance (cd/m²)", "unobstructed horizontal illuminance (lx)", "sun azimuth (° from north, east +)", "sun elevation (°)"}, {}, "skies"};
+  ReportTable suns{"Daylight: suns (directional lights)", {"sun", "azimuth (° from north, east +)", "elevation (°)", "normal illuminance (lx)"}, {}, "suns"};
+  for (const Light& light : lights) {
+    if (light.kind == LightKind::Sky && light.sky) {
+      const SkyModel& sky = *light.sky;
+      const bool withSun = !sky.isUniformEnvironment() && !sky.isTraditionalOvercast();
+      skies.rows.push_back({light.name, skyName(sky), sky.isUniformEnvironment() ? "—" : fixed(sky.zenithLuminance(), 0), fixed(sky.horizontalIlluminance(), 0),
+                            withSun ? fixed(sky.sunAzimuthDegrees(), 1) : "—", withSun ? fixed(sky.sunElevationDegrees(), 1) : "—"});
+    }
+    if (light.kind == LightKind::Directional) {
+      const Vec3 toward = normalize(light.direction) * -1.0;  // toward the sun
+      const double elevation = std::asin(std::clamp(toward.y, -1.0, 1.0)) * 180 / kPi;
+      // Azimuth from the scene's north (−z), east (+x) positive, as the sky's.
+      double azimuth = std::atan2(toward.x, -toward.z) * 180 / kPi;
+      if (azimuth < 0) azimuth += 360;
+      suns.rows.push_back({light.name, fixed(azimuth, 1), fixed(elevation, 1), fixed(illuminanceLux(light.irradiance), 0)});
+    }
+  }
+  if (!skies.rows.empty()) sources.blocks.push_back(tableBlock(std::move(skies)));
+  if (!suns.rows.empty()) sources.blocks.push_back(tableBlock(std::move(suns)));
+  if (types.empty() && skies.rows.empty() && suns.rows.empty() && sources.blocks.empty())
+    sources.blocks.push_back(paragraph("The scene has no light source."));
+  report.pages.push_back(std::move(sources));
+
+  // Glare.
+  if (!lighting.glare.empty() || std::any_of(types.begin(), types.end(), [](const LuminaireType& t) { return t.first->photometry != nullptr; })) {
+    ReportPage glare{"Glare (UGR)", "glare", {}};
+    if (!lighting.glare.empty()) {
+      ReportTable observers{"Unified glare rating at the observers (CIE 117)",
+                            {"observer", "eye x, y, z (m)", "line of sight (° from east)", "L_b (cd/m²)", "luminaires counted", "UGR"},
+                            {},
+                            "ugr"};
+      for (const GlareRating& g : lighting.glare) {
+        int counted = 0;
+        for (const GlareSource& s : g.rating.sources) counted += s.status == GlareSourceStatus::Counted;
+        const Vec3& e = g.observer.eye;
+        observers.rows.push_back({g.observer.name, fixed(e.x * mpu, 2) + ", " + fixed(e.y * mpu, 2) + ", " + fixed(e.z * mpu, 2),
+                                  fixed(azimuthFromEast(g.observer.viewDirection), 0), fixed(g.rating.backgroundLuminance, 1), std::to_string(counted),
+                                  std::isfinite(g.rating.ugr) ? (g.rating.ugr < 10 ? "< 10" : fixed(g.rating.ugr, 1)) : "no glare source in view"});
+      }
+      glare.blocks.push_back(tableBlock(std::move(observers)));
+      glare.blocks.push_back(paragraph("UGR = 8 log10(0.25/L_b · Σ L² ω / p²) over the luminaires in the field of view (Guth's position index p), "
+                                       "L_b = the indirect illuminance at the eye facing the line of sight / π. Below 10 glare is not rated; "
+                                       "EN 12464-1 limits: 16 technical drawing, 19 offices, 22 industry."));
+    }
+    for (std::size_t t = 0; t < types.size(); ++t) {
+      const Photometry* p = types[t].first->photometry.get();
+      if (!p) continue;
+      Result<UgrTable> table = ugrTable(*p);
+      if (!table) {
+        glare.blocks.push_back(paragraph("Type " + typeName(t) + ": no standard UGR table: " + table.error().message));
+        continue;
+      }
+      ReportTable ugr{"Type " + typeName(t) + " (" + (p->name.empty() ? std::filesystem::path(p->path).filename().string() : p->name) +
+                          "): standard UGR table (CIE 190, S = 0.25H, lamp flux " + fixed(table->lampLumens, 0) + " lm)",
+                      {"room X × Y (H)"},
+                      {},
+                      "ugr-table-" + typeName(t)};
+      for (const char* view : {"crosswise", "endwise"})
+        for (const UgrReflectances& r : kUgrTableReflectances)
+          ugr.header.push_back(std::string(view) + " " + fixed(r.ceiling, 1) + "/" + fixed(r.walls, 1) + "/" + fixed(r.floor, 1));
+      for (std::size_t room = 0; room < kUgrTableRooms.size(); ++room) {
+        std::vector<std::string> row{fixed(kUgrTableRooms[room].xOverH, 0) + " × " + fixed(kUgrTableRooms[room].yOverH, 0)};
+        for (UgrViewing view : {UgrViewing::Crosswise, UgrViewing::Endwise})
+          for (std::size_t r = 0; r < kUgrTableReflectances.size(); ++r) row.push_back(fixed(table->value(view, room, r, true), 1));
+        ugr.rows.push_back(std::move(row));
+      }
+      glare.blocks.push_back(tableBlock(std::move(ugr)));
+    }
+    report.pages.push_back(std::move(glare));
+  }
+
+  // One page per calculation surface.
+  const FalseColourOptions plan = planOptions(scene, lights);
+  for (std::size_t g = 0; g < lighting.grids.size(); ++g) {
+    const MeasuredGrid& m = lighting.grids[g];
+    ReportPage page{m.grid.name, "surface-" + std::to_string(g + 1), {}};
+    const std::string file = g < input.gridFiles.size() ? input.gridFiles[g] : "";
+    page.blocks.push_back(paragraph(std::to_string(m.grid.points.size()) + " points, " + std::to_string(m.grid.nu) + " × " + std::to_string(m.grid.nv) +
+                                    " cells of " + fixed(m.grid.spacingU * mpu, 2) + " × " + fixed(m.grid.spacingV * mpu, 2) + " m." +
+                                    (file.empty() ? "" : " Its values: " + file + ", one row per point.")));
+    const GridStatistics& s = m.statistics;
+    ReportTable figures{"Maintained illuminance", {"figure", "value", "from"}, {}, "figures-" + std::to_string(g + 1)};
+    figures.rows = {{"Ē (lx)", fixed(s.average), "mean of E"},
+                    {"E min (lx)", fixed(s.minimum), "least of E"},
+                    {"E max (lx)", fixed(s.maximum), "greatest of E"},
+                    {"U₀ = E min/Ē", fixed(s.uniformity, 2), "E"},
+                    {"E min/E max", fixed(s.minOverMax, 2), "E"},
+                    {"direct, mean (lx)", fixed(meanLux(m.irradiance, &PointIrradiance::direct)), "mean of E_direct"},
+                    {"of which sky, mean (lx)", fixed(meanLux(m.irradiance, &PointIrradiance::sky)), "mean of E_sky"},
+                    {"of which sun, mean (lx)", fixed(meanLux(m.irradiance, &PointIrradiance::sun)), "mean of E_sun"},
+                    {"indirect, mean (lx)", fixed(meanLux(m.irradiance, &PointIrradiance::indirect)), "mean of E_indirect"}};
+    if (!m.daylightFactor.empty()) {
+      figures.rows.push_back({"DF mean (%)", fixed(m.daylight.average, 2), "mean of DF"});
+      figures.rows.push_back({"DF min (%)", fixed(m.daylight.minimum, 2), "least of DF"});
+    }
+    page.blocks.push_back(tableBlock(std::move(figures)));
+    const FalseColourImage picture = falseColourImage(m.grid, m.lux, plan);
+    page.blocks.push_back({ReportBlock::Kind::Image, {}, {}, {picture.width, picture.height, picture.rgb, m.grid.name + " in false colour with isolux lines"}, {}});
+    ReportHistogram histogram{std::vector<int>(20, 0), std::max(s.maximum, 1e-12), s.average, "lx", m.grid.name};
+    for (double v : m.lux) histogram.counts[std::clamp(static_cast<int>(v / histogram.top * 20), 0, 19)]++;
+    page.blocks.push_back(heading("Distribution of illuminance"));
+    page.blocks.push_back({ReportBlock::Kind::Histogram, {}, {}, {}, std::move(histogram)});
+    report.pages.push_back(std::move(page));
+  }
+
+  // Points.
+  if (input.points && !lighting.points.empty()) {
+    ReportPage page{"Points", "points", {}};
+    if (!input.pointsFile.empty()) page.blocks.push_back(paragraph("The same values: " + input.pointsFile + "."));
+    ReportTable points{"Illuminance at the points (lx)", input.points->header, {}, "points-table"};
+    points.header.insert(points.header.end(), {"E_direct", "E_sky", "E_sun", "E_indirect", "E"});
+    for (std::size_t i = 0; i < lighting.points.size() && i < input.points->rows.size(); ++i) {
+      std::vector<std::string> row = input.points->rows[i];
+      const PointIrradiance& e = lighting.points[i];
+      row.insert(row.end(), {fixed(illuminanceLux(e.direct)), fixed(illuminanceLux(e.sky)), fixed(illuminanceLux(e.sun)),
+                             fixed(illuminanceLux(e.indirect)), fixed(illuminanceLux(e.total()))});
+      points.rows.push_back(std::move(row));
+    }
+    page.blocks.push_back(tableBlock(std::move(points)));
+    report.pages.push_back(std::move(page));
+  }
+
+  // The solve.
+  ReportPage solve{"Solution", "solve", {}};
+  ReportTable figures{"The radiosity solution", {"figure", "value"}, {}, "solve-figures"};
+  for (const Stats::Entry& e : input.figures.entries()) figures.rows.push_back({e.label, value(e.value) + (e.unit.empty() ? "" : " " + e.unit)});
+  solve.blocks.push_back(tableBlock(std::move(figures)));
+  report.pages.push_back(std::move(solve));
+  return report;
+}
+
+}  // namespace lambert
+
+namespace lambert {
+namespace {
+
+std::string escaped(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+// A histogram as inline SVG: its bars from 0 to the top, the mean marked.
+std::string histogramSvg(const ReportHistogram& histogram) {
+  const int bins = static_cast<int>(histogram.counts.size()), width = 420, height = 160, left = 40, bottom = 24, plotTop = 22;
+  const int most = std::max(1, *std::max_element(histogram.counts.begin(), histogram.counts.end()));
+  std::string svg = "<svg class=\"histogram\" width=\"" + std::to_string(width) + "\" height=\"" + std::to_string(height) +
+                    "\" role=\"img\" aria-label=\"histogram of " + escaped(histogram.name) + "\">";
+  const double barWidth = double(width - left - 10) / bins, plotHeight = height - bottom - plotTop;
+  for (int b = 0; b < bins; ++b) {
+    const double h = plotHeight * histogram.counts[b] / most;
+    svg += "<rect x=\"" + fixed(left + b * barWidth, 1) + "\" y=\"" + fixed(plotTop + plotHeight - h, 1) + "\" width=\"" + fixed(barWidth - 1, 1) +
+           "\" height=\"" + fixed(h, 1) + "\" fill=\"#4a7ab8\"/>";
+  }
+  const double meanX = left + (width - left - 10) * histogram.mean / histogram.top;
+  svg += "<line x1=\"" + fixed(meanX) + "\" x2=\"" + fixed(meanX) + "\" y1=\"" + std::to_string(plotTop - 6) + "\" y2=\"" + fixed(plotTop + plotHeight) +
+         "\" stroke=\"#c0392b\" stroke-width=\"2\"/>";
+  const bool labelLeft = meanX > 0.6 * width;  // right of the line unless it would run off the plot
+  svg += "<text x=\"" + fixed(labelLeft ? meanX - 4 : meanX + 4) + "\" y=\"" + std::to_string(plotTop - 8) + "\" font-size=\"11\" fill=\"#c0392b\"" +
+         (labelLeft ? " text-anchor=\"end\"" : "") + ">Ē " + general(histogram.mean) + " " + escaped(histogram.unit) + "</text>";
+  svg += "<line x1=\"" + std::to_string(left) + "\" x2=\"" + std::to_string(width - 10) + "\" y1=\"" + fixed(plotTop + plotHeight) + "\" y2=\"" +
+         fixed(plotTop + plotHeight) + "\" stroke=\"#333\"/>";
+  svg += "<text x=\"" + std::to_string(left) + "\" y=\"" + std::to_string(height - 6) + "\" font-size=\"11\">0</text>";
+  svg += "<text x=\"" + std::to_string(width - 10) + "\" y=\"" + std::to_string(height - 6) + "\" font-size=\"11\" text-anchor=\"end\">" +
+         general(histogram.top) + " " + escaped(histogram.unit) + "</text>";
+  svg += "<text x=\"4\" y=\"" + std::to_string(plotTop + 10) + "\" font-size=\"11\">" + std::to_string(most) + "</text></svg>";
+  return svg;
+}
+
+}  // namespace
+
+Result<std::string> reportHtml(const LightingReport& report) {
+  std::string h;
+  h += "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>" + escaped(report.title) + "</title>\n";
+  h += "<style>body{font-family:system-ui,sans-serif;margin:2em auto;max-width:1000px;color:#222}"
+       "table{border-collapse:collapse;margin:0.3em 0 1.5em}td,th{border:1px solid #ccc;padding:3px 8px;text-align:right}"
+       "th{background:#f0f0f0}td:first-child,th:first-child{text-align:left}caption{text-align:left;font-weight:600;padding:4px 0}"
+       "img{max-width:100%;border:1px solid #ddd}section{margin-bottom:2.5em;page-break-before:always}"
+       "section:first-of-type{page-break-before:auto}.note{color:#666;font-size:0.9em}</style></head><body>\n";
+  h += "<h1>" + escaped(report.title) + "</h1>\n<p class=\"note\">" + escaped(report.subtitle) + "</p>\n";
+  for (const ReportPage& page : report.pages) {
+    h += "<section id=\"" + escaped(page.id) + "\"><h2>" + escaped(page.title) + "</h2>\n";
+    for (const ReportBlock& block : page.blocks) {
+      switch (block.kind) {
+        case ReportBlock::Kind::Heading: h += "<h3>" + escaped(block.text) + "</h3>\n"; break;
+        case ReportBlock::Kind::Paragraph: h += "<p>" + escaped(block.text) + "</p>\n"; break;
+        case ReportBlock::Kind::Table: {
+          const ReportTable& t = block.table;
+          h += "<table" + (t.id.empty() ? std::string() : " id=\"" + escaped(t.id) + "\"") + "><caption>" + escaped(t.caption) + "</caption><tr>";
+          for (const std::string& c : t.header) h += "<th>" + escaped(c) + "</th>";
+          h += "</tr>\n";
+          for (const auto& row : t.rows) {
+            h += "<tr>";
+            for (const std::string& c : row) h += "<td>" + escaped(c) + "</td>";
+            h += "</tr>\n";
+          }
+          h += "</table>\n";
+          break;
+        }
+        case ReportBlock::Kind::Image: {
+          Result<std::vector<std::uint8_t>> png = encodePng(block.image.width, block.image.height, block.image.rgb);
+          if (!png) return png.error();
+          h += "<img alt=\"" + escaped(block.image.alt) + "\" width=\"" + std::to_string(block.image.width) + "\" src=\"data:image/png;base64," +
+               base64(*png) + "\">\n";
+          break;
+        }
+        case ReportBlock::Kind::Histogram: h += histogramSvg(block.histogram) + "\n"; break;
+      }
+    }
+    h += "</section>\n";
+  }
+  h += "</body></html>\n";
   return h;
 }
 

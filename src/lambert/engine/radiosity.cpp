@@ -16,6 +16,8 @@
 #include "lambert/flat/uniform_method.h"
 #include "lambert/light/emission.h"
 #include "lambert/light/injection.h"
+#include "lambert/light/lights.h"
+#include "lambert/core/photometric.h"
 #include "lambert/light/many_lights.h"
 #include "lambert/solve/energy.h"
 #include "lambert/solve/problem.h"
@@ -384,9 +386,20 @@ Stats Radiosity::Impl::stats() const {
   const EnergyBalance balance = distributedFigures_ ? EnergyBalance{distributedFigures_->emittedWatts, distributedFigures_->absorbedWatts,
                                                                     distributedFigures_->escapedWatts}
                                                   : energyBalance(*problem_, radiosity_, scene_.metresPerUnit);
-  // With lights, E includes their injected first reflection ρ·E_direct, so "emitted" counts it.
-  stats.add("emitted_watts", lights_.empty() ? "emitted power" : "emitted + injected power", balance.emittedWatts, "W");
-  stats.add("absorbed_watts", "absorbed power", balance.absorbedWatts, "W");
+  // The system's E holds the surfaces' emission and the lights' injected first reflection
+  // ρ·E_direct: reported apart, beside what the lights themselves send out. Watts of luminance
+  // (lm/683, solve/energy.h).
+  double injectedWatts = 0;
+  const double squareMetres = scene_.metresPerUnit * scene_.metresPerUnit;
+  for (std::size_t i = 0; i < injected_.size(); ++i) injectedWatts += problem_->area[i] * squareMetres * injected_[i].luminance();
+  stats.add("emitted_watts", "surfaces' emitted power", balance.emittedWatts - injectedWatts, "W");
+  if (!lights_.empty()) {
+    double lightLumensTotal = 0;
+    for (const Light& light : lights_) lightLumensTotal += lightLumens(light);
+    stats.add("light_watts", "lights' power (lm/683; suns and skies not counted)", lightLumensTotal / kLumensPerWatt, "W");
+    stats.add("injected_watts", "lights' first reflection (ρ·E_direct) injected", injectedWatts, "W");
+  }
+  stats.add("absorbed_watts", lights_.empty() ? "absorbed power" : "absorbed power (after the first reflection)", balance.absorbedWatts, "W");
   stats.add("escaped_watts", "escaped power (openings)", balance.escapedWatts, "W");
   // XXH64 of every element's B to the bit: two runs (other thread counts, machines, versions)
   // solved alike exactly when these agree.

@@ -372,6 +372,43 @@ TEST(RadiosityTest, AnEnvironmentLightsAnOpenFloorWithPiTimesItsRadiance) {
   EXPECT_LT(least, 0.9 * rho * kPi * radiance.r) << "the box's shadow on the floor";
 }
 
+// The power figures say what they name. A white point light of I = 2 W/sr (4π·I W) inside a
+// closed cube: every watt it sends reaches a wall, so the first reflection injected is ρ·4π·I
+// (within the injection's sampling), and the light's own power does not depend on the walls. A
+// black cube absorbs it all at once: nothing injected, the light's power the same; the surfaces
+// emit nothing in either. A spot's power (its cone's integral, light/lights.h lightLumens) is what
+// its injection, sampled over the walls it reaches, finds there.
+TEST(RadiosityTest, PowerFiguresNameTheLightsPowerAndItsFirstReflection) {
+  for (double albedo : {0.5, 0.0}) {
+    Scene scene = testing::closedCube(2, {}, Rgb::gray(albedo));
+    Light light;
+    light.kind = LightKind::Point;
+    light.position = {0.7, 1.2, 0.9};
+    light.intensity = Rgb::gray(2);
+    scene.lights.push_back(light);
+    std::unique_ptr<Radiosity> engine = engineFor(scene, uniformOptions(600, SolverKind::Direct, 1e-7));
+    solveCall(*engine);
+    const Stats stats = engine->stats();
+    EXPECT_NEAR(statNumber(stats, "light_watts"), 4 * kPi * 2, 1e-9 * 4 * kPi * 2);
+    EXPECT_NEAR(statNumber(stats, "injected_watts"), albedo * 4 * kPi * 2, 0.01 * 4 * kPi * 2) << "ρ " << albedo;
+    EXPECT_EQ(statNumber(stats, "emitted_watts"), 0) << "ρ " << albedo;
+  }
+  Scene scene = testing::closedCube(2, {}, Rgb::gray(1));
+  Light spot;
+  spot.kind = LightKind::Spot;
+  spot.position = {1, 1.9, 1};
+  spot.direction = normalize(Vec3{0.2, -1, 0.1});
+  spot.coneAngleDegrees = 50;
+  spot.falloffDegrees = 20;
+  spot.intensity = Rgb::gray(3);
+  scene.lights.push_back(spot);
+  std::unique_ptr<Radiosity> engine = engineFor(scene, uniformOptions(2400, SolverKind::Direct, 1e-7));
+  solveCall(*engine);
+  const Stats stats = engine->stats();
+  std::printf("spot: %.5f W by its cone, %.5f W found on the walls\n", statNumber(stats, "light_watts"), statNumber(stats, "injected_watts"));
+  EXPECT_NEAR(statNumber(stats, "injected_watts") / statNumber(stats, "light_watts"), 1, 0.01);
+}
+
 TEST(RadiosityTest, StatsDescribeTheCurrentSolution) {
   Scene scene = cornellBoxWithSpots();
   std::unique_ptr<Radiosity> engine = engineFor(scene, uniformOptions(200, SolverKind::Shooting, 1e-6));
@@ -382,7 +419,7 @@ TEST(RadiosityTest, StatsDescribeTheCurrentSolution) {
   Stats stats = engine->stats();
   EXPECT_EQ(statNumber(stats, "solves"), 3);
   EXPECT_EQ(statNumber(stats, "lights"), 2);
-  EXPECT_GT(statNumber(stats, "emitted_watts"), 0.01);  // the spots' injected power
+  EXPECT_GT(statNumber(stats, "injected_watts"), 0.01);  // the spots' first reflection
   EXPECT_LT(statNumber(stats, "residual"), 1e-4);
   // The power figures are the last frame's: an engine made with the last frame's lights and
   // solved once reports the same (the injection to the bit, the solve to its tolerance), and the
@@ -394,8 +431,8 @@ TEST(RadiosityTest, StatsDescribeTheCurrentSolution) {
     return once->stats();
   };
   const Stats last = powerOf(2 / 10.0), first = powerOf(0);
-  for (const char* key : {"emitted_watts", "absorbed_watts", "escaped_watts"})
-    EXPECT_NEAR(statNumber(stats, key), statNumber(last, key), 1e-4 * statNumber(last, "emitted_watts")) << key;
+  for (const char* key : {"emitted_watts", "injected_watts", "absorbed_watts", "escaped_watts"})
+    EXPECT_NEAR(statNumber(stats, key), statNumber(last, key), 1e-4 * statNumber(last, "absorbed_watts")) << key;
   EXPECT_GT(std::fabs(statNumber(first, "absorbed_watts") - statNumber(last, "absorbed_watts")), 1e-2 * statNumber(last, "absorbed_watts"));
 }
 

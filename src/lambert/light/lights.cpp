@@ -405,4 +405,31 @@ Light lightAtTime(const Light& light, double seconds) {
   return moved;
 }
 
+double lightLumens(const Light& light) {
+  const double intensity = kLumensPerWatt * light.intensity.luminance();  // cd along the axis (a luminaire's multiplier)
+  switch (light.kind) {
+    case LightKind::Point:
+      return 4 * kPi * intensity;
+    case LightKind::Spot: {
+      const double outer = std::fmin(light.coneAngleDegrees, 180.0);
+      const int steps = std::max(1, static_cast<int>(std::ceil(outer / 0.01)));
+      const double dTheta = outer * kDegrees / steps;
+      double solidAngle = 0;  // ∫ falloff dω
+      Light axis = light;
+      axis.direction = {0, 0, 1};
+      for (int k = 0; k < steps; ++k) {
+        const double theta = (k + 0.5) * dTheta;
+        solidAngle += spotFalloff(axis, {std::sin(theta), 0, std::cos(theta)}) * std::sin(theta) * dTheta;
+      }
+      return 2 * kPi * solidAngle * intensity;
+    }
+    case LightKind::Luminaire:
+      return light.photometry ? light.photometry->luminousFlux() * light.intensity.luminance() * tiltFactor(light) : 0;
+    case LightKind::Directional:
+    case LightKind::Sky:
+      return 0;
+  }
+  return 0;
+}
+
 }  // namespace lambert

@@ -109,4 +109,10 @@ Rgb reflectedDirectRadiance(std::span<const Light> lights, const Vec3& x, const 
 // velocity (a rotation by |ω|·t about ω).
 Light lightAtTime(const Light& light, double seconds);
 
+// The luminous flux in lm a light sends out, 683 × the luminance of its radiant power: a point
+// 4π·I, a spot ∫ I·falloff dω over its cone (midpoint rule, 0.01° steps), a luminaire its
+// distribution's flux (Photometry::luminousFlux) × its multiplier and maintenance factor (in
+// `intensity`) × its tilt factor. 0 for a sun or a sky, whose power has no bound.
+double lightLumens(const Light& light);
+
 }  // namespace lambert

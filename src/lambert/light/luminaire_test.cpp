@@ -9,6 +9,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "lambert/core/photometric.h"
 #include "lambert/engine/radiosity.h"
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/load/photometry_file.h"
@@ -252,6 +253,64 @@ TEST(LuminaireTest, SceneFileIesLightsReadWriteAndRefuse) {
   for (const Bad& k : bad) {
     Result<Scene> refused = parse(k.light);
     ASSERT_FALSE(refused.ok()) << k.light;
+    EXPECT_NE(refused.error().message.find(k.message), std::string::npos) << refused.error().message;
+  }
+}
+
+// Maintenance factors (CIE 97): the scene's for every electric light without its own, a light's
+// own as one number, {"factor"} or the four parts; each scales the light's output, so its
+// illuminance and flux are the maintained ones; the light is written as new with its factor and
+// reads back the same; what is out of (0, 1] or on a sun is refused, naming the field.
+TEST(LuminaireTest, MaintenanceFactorsScaleTheLightsAndRoundTrip) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "lambert_luminaire_maintenance";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "lamp.ies") << iesOf(lobed, 5, 0.3);
+  const std::string head = R"({"materials": [{"name": "m", "albedo": [0.5, 0.5, 0.5]}],
+    "surfaces": [{"name": "floor", "material": "m", "vertices": [[-1, 0, 1], [1, 0, 1], [1, 0, -1], [-1, 0, -1]]}])";
+  const std::string lights = R"(, "lights": [{"type": "ies", "file": "lamp.ies", "position": [0, 3, 0]},
+      {"type": "ies", "file": "lamp.ies", "position": [0, 3, 0], "maintenance": 0.8},
+      {"type": "point", "position": [0, 3, 0], "intensity": [2, 2, 2], "maintenance": {"factor": 0.5}},
+      {"type": "spot", "position": [0, 3, 0], "direction": [0, -1, 0], "intensity": [2, 2, 2]}]})";
+  Result<Scene> fresh = parseSceneFile(head + lights, (dir / "a.json").string());
+  Result<Scene> kept = parseSceneFile(head + R"(, "maintenance": {"lampLumen": 0.9, "lampSurvival": 1, "luminaire": 0.9, "roomSurface": 0.95})" + lights,
+                                      (dir / "b.json").string());
+  ASSERT_TRUE(fresh.ok()) << fresh.error().message;
+  ASSERT_TRUE(kept.ok()) << kept.error().message;
+  const double sceneFactor = 0.9 * 0.9 * 0.95;
+  const double factors[] = {sceneFactor, 0.8, 0.5, sceneFactor};  // with the scene's factor
+  const double own[] = {1, 0.8, 0.5, 1};                             // without it
+  const Vec3 x{0.4, 0, 0.3}, up{0, 1, 0};
+  for (std::size_t i = 0; i < 4; ++i) {
+    const Light& a = fresh->lights[i];
+    const Light& b = kept->lights[i];
+    EXPECT_NEAR(a.maintenance.factor(), own[i], 1e-15) << i;
+    EXPECT_NEAR(b.maintenance.factor(), factors[i], 1e-15) << i;
+    EXPECT_NEAR(illuminanceLux(unshadowedIrradiance(b, x, up, 1)) / illuminanceLux(unshadowedIrradiance(a, x, up, 1)), factors[i] / own[i], 1e-12) << i;
+    EXPECT_NEAR(lightLumens(b) / lightLumens(a), factors[i] / own[i], 1e-12) << i;
+  }
+  // The second luminaire, 0.8 of the first: its flux too.
+  EXPECT_NEAR(lightLumens(fresh->lights[1]) / lightLumens(fresh->lights[0]), 0.8, 1e-12);
+  // A point light's flux is 4π·I·683 lm; the maintained one that times MF.
+  EXPECT_NEAR(lightLumens(kept->lights[2]), 0.5 * 4 * kPi * 2 * 683, 1e-9);
+  // Written as new, read back maintained: the same lights.
+  Result<Scene> back = parseSceneFile(sceneFileText(*kept), (dir / "c.json").string());
+  ASSERT_TRUE(back.ok()) << back.error().message;
+  for (std::size_t i = 0; i < 4; ++i) {
+    Light y = back->lights[i];
+    y.photometry = kept->lights[i].photometry;
+    EXPECT_EQ(y.maintenance, kept->lights[i].maintenance) << i;
+    EXPECT_NEAR(y.intensity.g, kept->lights[i].intensity.g, 1e-15) << i;
+  }
+  struct Bad {
+    std::string text, message;
+  } bad[] = {{R"(, "maintenance": 0, "lights": [])", "/maintenance: a maintenance factor lies in (0, 1]"},
+             {R"(, "maintenance": {"luminaire": 1.2}, "lights": [])", "/maintenance/luminaire"},
+             {R"(, "maintenance": {"factor": 0.8, "luminaire": 0.9}, "lights": [])", "/maintenance/luminaire: unknown field"},
+             {R"(, "lights": [{"type": "directional", "direction": [0, -1, 0], "irradiance": [1, 1, 1], "maintenance": 0.8}])",
+              "/lights/0/maintenance: unknown field"}};
+  for (const Bad& k : bad) {
+    Result<Scene> refused = parseSceneFile(head + k.text + "}", (dir / "d.json").string());
+    ASSERT_FALSE(refused.ok()) << k.text;
     EXPECT_NE(refused.error().message.find(k.message), std::string::npos) << refused.error().message;
   }
 }

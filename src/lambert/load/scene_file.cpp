@@ -285,12 +285,41 @@ Light readSunLight(ObjectReader& r, const std::string& pointer, Light light) {
 // Each photometric file read once per scene, however many luminaires share it.
 using PhotometryCache = std::map<std::string, std::shared_ptr<const Photometry>>;
 
-Light readLight(const Json& value, const std::string& pointer, const std::string& scenePath, PhotometryCache& photometries) {
+// "maintenance": the maintenance factor as one number, or {"factor": MF}, or its CIE 97 parts
+// {"lampLumen", "lampSurvival", "luminaire", "roomSurface"} (each in (0, 1], 1 where not given).
+Maintenance readMaintenance(const Json& value, const std::string& pointer) {
+  Maintenance m;
+  if (value.is_number()) {
+    m.lampLumen = value.get<double>();
+    if (!(m.lampLumen > 0 && m.lampLumen <= 1))
+      throw FieldError{pointer, "a maintenance factor lies in (0, 1]; e.g. 0.8 (CIE 97: 0.8 for a clean room, LED, three-year cleaning)"};
+    return m;
+  }
+  ObjectReader r(value, pointer);
+  if (r.has("factor")) {
+    m.lampLumen = r.number("factor", 1, 0, 1, true);
+    r.finish("factor");
+    return m;
+  }
+  m.lampLumen = r.number("lampLumen", 1, 0, 1, true);
+  m.lampSurvival = r.number("lampSurvival", 1, 0, 1, true);
+  m.luminaire = r.number("luminaire", 1, 0, 1, true);
+  m.roomSurface = r.number("roomSurface", 1, 0, 1, true);
+  r.finish("factor, lampLumen, lampSurvival, luminaire, roomSurface");
+  return m;
+}
+
+Light readLight(const Json& value, const std::string& pointer, const std::string& scenePath, PhotometryCache& photometries,
+                const Maintenance& sceneMaintenance) {
   ObjectReader r(value, pointer);
   Light light;
   light.name = r.string("name", "light " + pointer.substr(pointer.rfind('/') + 1));
   const std::string type = r.string("type", "");
   const double maxVector = 1e30;
+  // An electric light's maintenance factor: its own, else the scene's (folded in at the end).
+  auto readOwnMaintenance = [&] {
+    light.maintenance = r.has("maintenance") ? readMaintenance(r.require("maintenance"), r.pointerOf("maintenance")) : sceneMaintenance;
+  };
   auto direction = [&] {
     Vec3 d = ObjectReader::checkedTriple(r.require("direction"), r.pointerOf("direction"), -maxVector, maxVector);
     if (!(length(d) > 0)) throw FieldError{r.pointerOf("direction"), "the direction must not be zero"};
@@ -306,9 +335,11 @@ Light readLight(const Json& value, const std::string& pointer, const std::string
       light.coneAngleDegrees = r.number("coneAngleDegrees", 30, 0, 90, true, false);
       light.falloffDegrees = r.number("falloffDegrees", std::fmin(5, light.coneAngleDegrees), 0, light.coneAngleDegrees);
       light.angularVelocity = r.vector("angularVelocity", {});
-      r.finish("name, type, position, direction, intensity, coneAngleDegrees, falloffDegrees, angularVelocity");
+      readOwnMaintenance();
+      r.finish("name, type, position, direction, intensity, coneAngleDegrees, falloffDegrees, angularVelocity, maintenance");
     } else {
-      r.finish("name, type, position, intensity");
+      readOwnMaintenance();
+      r.finish("name, type, position, intensity, maintenance");
     }
   } else if (type == "directional") {
     light.kind = LightKind::Directional;
@@ -356,11 +387,13 @@ Light readLight(const Json& value, const std::string& pointer, const std::string
     } else if (r.has("openingSamples")) {
       throw FieldError{r.pointerOf("openingSamples"), "applies to \"model\": \"area\" only"};
     }
-    r.finish("name, type, file, position, aim, rotationDegrees, multiplier, color, model, openingSamples");
+    readOwnMaintenance();
+    r.finish("name, type, file, position, aim, rotationDegrees, multiplier, color, model, openingSamples, maintenance");
   } else {
     throw FieldError{r.pointerOf("type"), (type.empty() ? std::string("missing") : "unknown light type \"" + type + "\"") +
                                               " (allowed: point, spot, directional, ies, sky, sun)"};
   }
+  light.intensity = light.intensity * light.maintenance.factor();
   return light;
 }
 
@@ -585,8 +618,10 @@ Scene readScene(const Json& document, const std::string& path) {
   }
   const Json& lights = r.array("lights");
   PhotometryCache photometries;
+  // The maintenance factor of every electric light that gives none of its own.
+  const Maintenance maintenance = r.has("maintenance") ? readMaintenance(r.require("maintenance"), "/maintenance") : Maintenance{};
   for (std::size_t l = 0; l < lights.size(); ++l)
-    scene.lights.push_back(readLight(lights[l], "/lights/" + std::to_string(l), path, photometries));
+    scene.lights.push_back(readLight(lights[l], "/lights/" + std::to_string(l), path, photometries, maintenance));
 
   std::optional<Camera> meshCamera;
   const Json& meshes = r.array("meshes");
@@ -600,7 +635,7 @@ Scene readScene(const Json& document, const std::string& path) {
   scene.cameraGiven = r.has("camera") || meshCamera.has_value();
   if (r.has("exposure")) scene.exposureStops = r.number("exposure", 0, -64, 64);
   if (r.has("defaults")) scene.defaults = readDefaults(r.require("defaults"), "/defaults");
-  r.finish("version, name, unit, metresPerUnit, materials, surfaces, meshes, lights, camera, exposure, defaults");
+  r.finish("version, name, unit, metresPerUnit, materials, surfaces, meshes, lights, maintenance, camera, exposure, defaults");
   return scene;
 }
 
@@ -750,17 +785,19 @@ std::string sceneFileText(const Scene& scene) {
   OrderedJson lights = OrderedJson::array();
   for (const Light& light : scene.lights) {
     OrderedJson l{{"name", light.name}};
+    // The light as new: its maintenance factor is written apart (and folded in again on reading).
+    const Vec3 initial = Vec3{light.intensity.r, light.intensity.g, light.intensity.b} / light.maintenance.factor();
     switch (light.kind) {
       case LightKind::Point:
         l["type"] = "point";
         l["position"] = triple(light.position);
-        l["intensity"] = triple(light.intensity);
+        l["intensity"] = triple(initial);
         break;
       case LightKind::Spot:
         l["type"] = "spot";
         l["position"] = triple(light.position);
         l["direction"] = triple(light.direction);
-        l["intensity"] = triple(light.intensity);
+        l["intensity"] = triple(initial);
         l["coneAngleDegrees"] = light.coneAngleDegrees;
         l["falloffDegrees"] = light.falloffDegrees;
         l["angularVelocity"] = triple(light.angularVelocity);
@@ -797,12 +834,16 @@ std::string sceneFileText(const Scene& scene) {
         l["position"] = triple(light.position);
         l["aim"] = triple(light.direction);
         l["rotationDegrees"] = light.rotationDegrees;
-        l["color"] = triple(Vec3{light.intensity.r, light.intensity.g, light.intensity.b});
+        l["color"] = triple(initial);
         if (light.luminaireModel == LuminaireModel::Opening) {
           l["model"] = "area";
           l["openingSamples"] = light.openingSamplesPerSide;
         }
         break;
+    }
+    if (light.maintenance != Maintenance{}) {
+      const Maintenance& m = light.maintenance;
+      l["maintenance"] = {{"lampLumen", m.lampLumen}, {"lampSurvival", m.lampSurvival}, {"luminaire", m.luminaire}, {"roomSurface", m.roomSurface}};
     }
     lights.push_back(std::move(l));
   }

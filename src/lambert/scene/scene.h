@@ -72,6 +72,21 @@ struct Surface {
   int twin = -1;
 };
 
+// The maintenance factor of an electric light (CIE 97:2005, EN 12464-1 §4.9): the share of its
+// new light a design counts on at the end of its maintenance cycle, MF = LLMF × LSF × LMF × RSMF.
+// Each factor lies in (0, 1]. As lighting programs do, the whole product scales the light's
+// output, the room-surface factor included (CIE 97 would darken the surfaces by it instead; the
+// difference is a second-order term of the reflected light), so that every illuminance computed
+// is the maintained one.
+struct Maintenance {
+  double lampLumen = 1;     // LLMF: the lamps' lumen maintenance
+  double lampSurvival = 1;  // LSF: the lamps' survival (spot replacement: 1)
+  double luminaire = 1;     // LMF: the luminaire's dirt depreciation
+  double roomSurface = 1;   // RSMF: the room surfaces' dirt depreciation
+  double factor() const { return lampLumen * lampSurvival * luminaire * roomSurface; }
+  bool operator==(const Maintenance&) const = default;
+};
+
 // A light without area: its light enters the radiosity solution as the direct
 // irradiance it gives each patch (Keller's instant radiosity injection), and is drawn per pixel.
 enum class LightKind {
@@ -117,6 +132,10 @@ struct Light {
   double rotationDegrees = 0;
   LuminaireModel luminaireModel = LuminaireModel::FarField;
   int openingSamplesPerSide = 4;
+  // Point, spot, luminaire: its maintenance factor, already folded into `intensity` (whose
+  // values, and every illuminance from them, are maintained values); kept for reports and for
+  // writing the scene back.
+  Maintenance maintenance;
 
   bool operator==(const Light&) const = default;
 };

@@ -13,10 +13,10 @@ EnergyBalance energyBalance(const RadiosityProblem& problem, const std::vector<R
   double leaving = 0, arriving = 0;
   for (std::size_t i = 0; i < problem.size(); ++i) {
     const double area = problem.area[i] * squareMetres;
-    balance.emittedWatts += area * problem.emitted[i].sum();
-    balance.absorbedWatts += area * ((Rgb::gray(1) - problem.albedo[i]) * irradiance[i]).sum();
-    leaving += area * radiosity[i].sum();
-    arriving += area * irradiance[i].sum();
+    balance.emittedWatts += area * problem.emitted[i].luminance();
+    balance.absorbedWatts += area * ((Rgb::gray(1) - problem.albedo[i]) * irradiance[i]).luminance();
+    leaving += area * radiosity[i].luminance();
+    arriving += area * irradiance[i].luminance();
   }
   balance.escapedWatts = leaving - arriving;
   return balance;

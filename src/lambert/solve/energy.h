@@ -10,8 +10,10 @@
 
 namespace lambert {
 
+// Each figure in watts of the RGB value's luminance (Rgb::luminance; core/photometric.h), so that a
+// white source of Φ lm counts Φ/683 W, as its photometry says, whatever its colour.
 struct EnergyBalance {
-  double emittedWatts = 0;   // Σ A_i E_i, summed over RGB channels
+  double emittedWatts = 0;   // Σ A_i E_i: the surfaces' emission and the lights' injected first reflection
   double absorbedWatts = 0;  // Σ A_i (1 − ρ_i) H_i, H_i = Σ_j F_ij B_j
   double escapedWatts = 0;   // Σ A_i B_i − Σ A_i H_i: power leaving surfaces minus power arriving
 };
