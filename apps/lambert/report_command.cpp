@@ -1,6 +1,7 @@
 // `lambert report`: solve a scene and write its lighting report (design/report.h) as an HTML page,
 // a PDF or both (by the extension of each --output), with the CSV of every calculation surface
 // (and of --points) beside it: the columns its figures come from.
+#include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
@@ -132,7 +133,10 @@ int runReport(ReportOptions o) {
   Stats stats;
   addLightingStats(stats, *lighting);
   for (std::size_t k = 0; k < lighting->glare.size(); ++k)
-    stats.add("ugr" + std::to_string(k + 1), "UGR, " + lighting->glare[k].observer.name, lighting->glare[k].rating.ugr);
+    if (const double ugr = lighting->glare[k].rating.ugr; std::isfinite(ugr))  // −∞: no luminaire in view, nothing to rate
+      stats.add("ugr" + std::to_string(k + 1), "UGR, " + lighting->glare[k].observer.name, ugr);
+    else
+      stats.add("ugr" + std::to_string(k + 1), "UGR, " + lighting->glare[k].observer.name, std::string("no glare source in view"));
   std::string files;
   for (const std::string& output : o.outputs) files += (files.empty() ? "" : ", ") + output;
   stats.add("report", "report written to", files);

@@ -220,7 +220,8 @@ int runSolve(const SolveCommandOptions& given) {
       lightingFigures.add("points_file", "illuminance at points written to", o.exportPoints);
     }
     if (!o.exportGrids.empty()) {
-      Result<std::vector<std::string>> files = writeGridFiles(o.exportGrids, *lighting, engine->solution().scene().fileFrame);
+      Result<std::vector<std::string>> files = writeGridFiles(o.exportGrids, *lighting, engine->solution().scene().fileFrame,
+                                                              planOptions(engine->solution().scene(), engine->solution().lights()));
       if (!files) {
         std::fprintf(stderr, "lambert solve: %s\n", files.error().message.c_str());
         return 1;

@@ -43,7 +43,7 @@ struct Canvas {
   }
   // Text at (x, y), its top-left corner, each font pixel `scale` pixels (stb_easy_font's quads).
   void text(int x, int y, const std::string& s, int scale, const Colour& c) {
-    std::vector<char> buffer(s.size() * 300 + 64);
+    std::vector<char> buffer((s.size() + 4) * 1024);  // stb_easy_font: up to ~20 quads of 64 bytes a character
     std::string copy = s;
     const int quads = stb_easy_font_print(0, 0, copy.data(), nullptr, buffer.data(), static_cast<int>(buffer.size()));
     for (int q = 0; q < quads; ++q) {

@@ -60,8 +60,8 @@ std::string skyName(const SkyModel& sky) {
 
 // The plan position of a horizontal direction: degrees counter-clockwise from east, [0, 360).
 double azimuthFromEast(const Vec3& d) {
-  double a = std::atan2(-d.z, d.x) * 180 / kPi;
-  return a < 0 ? a + 360 : a;
+  const double a = std::atan2(-d.z, d.x) * 180 / kPi;
+  return a < 0 ? a + 360 : a + 0.0;  // + 0.0: never −0
 }
 
 }  // namespace
@@ -185,23 +185,21 @@ Result<LightingReport> lightingReport(const ReportInput& input) {
                          {"type", "count", "product", "file", "flux as new (lm)", "MF", "maintained flux (lm)", "power (W)", "efficacy (lm/W)"},
                          {},
                          "schedule"};
+    ReportTable maintenance{"Maintenance factors (CIE 97)", {"type", "lamp lumen LLMF", "lamp survival LSF", "luminaire LMF", "room surface RSMF", "MF"}, {}, "maintenance"};
     for (std::size_t t = 0; t < types.size(); ++t) {
       const Light& light = *types[t].first;
       const double maintained = lightLumens(light), mf = light.maintenance.factor();
       const Photometry* p = light.photometry.get();
       const double watts = p ? p->inputWatts : 0;
       const std::string product = p ? (p->name.empty() ? "(not named)" : p->name) : light.kind == LightKind::Point ? "point light" : "spot light";
-      char mfText[96];
-      std::snprintf(mfText, sizeof mfText, "%.3f", mf);
-      std::string mfParts = mfText;
-      if (mf != 1)
-        mfParts += " = " + fixed(light.maintenance.lampLumen, 2) + " × " + fixed(light.maintenance.lampSurvival, 2) + " × " +
-                   fixed(light.maintenance.luminaire, 2) + " × " + fixed(light.maintenance.roomSurface, 2);
       schedule.rows.push_back({typeName(t), std::to_string(types[t].members.size()), product,
-                               p ? std::filesystem::path(p->path).filename().string() : "—", fixed(maintained / mf, 1), mfParts, fixed(maintained, 1),
+                               p ? std::filesystem::path(p->path).filename().string() : "—", fixed(maintained / mf, 1), fixed(mf, 3), fixed(maintained, 1),
                                watts > 0 ? fixed(watts, 1) : "not stated", watts > 0 ? fixed(maintained / mf / watts, 1) : "—"});
+      const Maintenance& m = light.maintenance;
+      maintenance.rows.push_back({typeName(t), fixed(m.lampLumen, 3), fixed(m.lampSurvival, 3), fixed(m.luminaire, 3), fixed(m.roomSurface, 3), fixed(mf, 3)});
     }
     sources.blocks.push_back(tableBlock(std::move(schedule)));
+    sources.blocks.push_back(tableBlock(std::move(maintenance)));
     sources.blocks.push_back(paragraph("Flux as new: the photometric file's flux × the light's multiplier (or 4π·I for a point light, the cone's "
                                        "integral for a spot). Maintained flux: that × MF (MF = lamp lumen × lamp survival × luminaire × "
                                        "room surface maintenance factor)."));
@@ -289,21 +287,26 @@ Result<LightingReport> lightingReport(const ReportInput& input) {
         glare.blocks.push_back(paragraph("Type " + typeName(t) + ": no standard UGR table: " + table.error().message));
         continue;
       }
-      ReportTable ugr{"Type " + typeName(t) + " (" + (p->name.empty() ? std::filesystem::path(p->path).filename().string() : p->name) +
-                          "): standard UGR table (CIE 190, S = 0.25H, lamp flux " + fixed(table->lampLumens, 0) + " lm)",
-                      {"room X × Y (H)"},
-                      {},
-                      "ugr-table-" + typeName(t)};
-      for (const char* view : {"crosswise", "endwise"})
+      const std::string name = p->name.empty() ? std::filesystem::path(p->path).filename().string() : p->name;
+      glare.blocks.push_back(paragraph("Type " + typeName(t) + " (" + name + "): the standard UGR table (CIE 190) of its photometry, for a room of "
+                                       "X × Y in multiples of H, the luminaires' height above the eye, spaced 0.25H, the observer at the middle "
+                                       "of a wall; columns: the reflectances of ceiling/walls/floor cavity; corrected to the file's lamp flux " +
+                                       fixed(table->lampLumens, 0) + " lm."));
+      for (UgrViewing view : {UgrViewing::Crosswise, UgrViewing::Endwise}) {
+        const bool crosswise = view == UgrViewing::Crosswise;
+        ReportTable ugr{"Type " + typeName(t) + ", viewed " + (crosswise ? "crosswise (C0–C180 across the line of sight)" : "endwise (C0–C180 along it)"),
+                        {"X × Y"},
+                        {},
+                        "ugr-table-" + typeName(t) + (crosswise ? "-crosswise" : "-endwise")};
         for (const UgrReflectances& r : kUgrTableReflectances)
-          ugr.header.push_back(std::string(view) + " " + fixed(r.ceiling, 1) + "/" + fixed(r.walls, 1) + "/" + fixed(r.floor, 1));
-      for (std::size_t room = 0; room < kUgrTableRooms.size(); ++room) {
-        std::vector<std::string> row{fixed(kUgrTableRooms[room].xOverH, 0) + " × " + fixed(kUgrTableRooms[room].yOverH, 0)};
-        for (UgrViewing view : {UgrViewing::Crosswise, UgrViewing::Endwise})
+          ugr.header.push_back(fixed(100 * r.ceiling, 0) + "/" + fixed(100 * r.walls, 0) + "/" + fixed(100 * r.floor, 0));
+        for (std::size_t room = 0; room < kUgrTableRooms.size(); ++room) {
+          std::vector<std::string> row{fixed(kUgrTableRooms[room].xOverH, 0) + "H × " + fixed(kUgrTableRooms[room].yOverH, 0) + "H"};
           for (std::size_t r = 0; r < kUgrTableReflectances.size(); ++r) row.push_back(fixed(table->value(view, room, r, true), 1));
-        ugr.rows.push_back(std::move(row));
+          ugr.rows.push_back(std::move(row));
+        }
+        glare.blocks.push_back(tableBlock(std::move(ugr)));
       }
-      glare.blocks.push_back(tableBlock(std::move(ugr)));
     }
     report.pages.push_back(std::move(glare));
   }

@@ -88,9 +88,10 @@ struct Sheet {
     const double maxWidth = kPageWidth - 2 * kMargin, pad = 3;
     // The type size at which the widest cell of each column fits the sheet.
     auto columnWidths = [&](double size) {
-      font(size);
+      font(size, true);  // the header is set in bold
       std::vector<double> widths(t.header.size(), 0);
       for (std::size_t c = 0; c < t.header.size(); ++c) widths[c] = width(t.header[c]) + 2 * pad;
+      font(size);
       for (const auto& row : t.rows)
         for (std::size_t c = 0; c < row.size() && c < widths.size(); ++c) widths[c] = std::max(widths[c], width(row[c]) + 2 * pad);
       return widths;
