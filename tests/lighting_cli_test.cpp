@@ -15,6 +15,7 @@
 
 #include "lambert/core/photometric.h"
 #include "lambert/io/png.h"
+#include "lambert/load/photometry_file.h"
 #include "lambert/scene/builtin.h"
 #include "tests/support/files.h"
 #include "tests/support/process.h"
@@ -112,7 +113,7 @@ TEST(LightingCliTest, RefusesOptionsThatWouldDoNothing) {
                         Case{"solve --scene cornell --grid-spacing 0.5", "--grid-spacing has no effect"},
                         Case{"solve --scene cornell --grid ceiling-of-nothing", "no surface or material of that name"},
                         Case{"solve --scene cornell --work-plane 2", "outside the scene"},
-                        Case{"report --scene cornell -o x.pdf", "HTML page"}}) {
+                        Case{"report --scene cornell -o x.txt", "HTML page or a PDF"}}) {
     const testing::CommandResult r = run(c.arguments);
     EXPECT_EQ(r.exitCode, 2) << c.arguments << "\n" << r.output;
     EXPECT_TRUE(contains(r.output, c.expected)) << c.arguments << "\n" << r.output;
@@ -139,7 +140,7 @@ TEST(LightingCliTest, ReportOpensInChromium) {
   EXPECT_TRUE(contains(dom.output, "data:image/png;base64,"));
   EXPECT_TRUE(contains(dom.output, "<svg class=\"histogram\""));
   const std::string shot = (dir / "report.png").string();
-  const testing::CommandResult screenshot = shell(chromium + "--window-size=1000,1200 --screenshot=" + shot + " file://" + page);
+  const testing::CommandResult screenshot = shell(chromium + "--window-size=1000,3000 --screenshot=" + shot + " file://" + page);
   ASSERT_EQ(screenshot.exitCode, 0) << screenshot.output;
   Result<PngImage> image = readPng(shot);
   ASSERT_TRUE(image.ok());
@@ -150,6 +151,103 @@ TEST(LightingCliTest, ReportOpensInChromium) {
     coloured += std::max({r8, g8, b8}) - std::min({r8, g8, b8}) > 100;
   }
   EXPECT_GT(coloured, 100000u);
+}
+
+// A designer's report of an office (6 m × 4 m × 3 m, one panel near its north-west corner, maintenance
+// factor 0.9 × 0.9), written as an HTML page and a PDF with the surface's CSV beside them:
+//  - the figures come from the CSV's columns: Ē, E_min, E_max are the mean, least and greatest of E,
+//    and E = E_direct + E_indirect in each row (no sky, no sun: their columns 0);
+//  - the schedule's maintained flux is 0.81 × the flux the photometric file integrates to (read here);
+//  - the PDF is a real one: poppler renders its sheets and finds the schedule, the figures and the
+//    maintenance factors in its text, and the plan's brightest colours in its top-left quarter.
+TEST(LightingCliTest, ReportIsAPageAndAPdfWhoseFiguresAreTheCsvsColumns) {
+  if (std::system("command -v pdftoppm > /dev/null 2>&1 && command -v pdftotext > /dev/null 2>&1") != 0)
+    GTEST_SKIP() << "no pdftoppm/pdftotext here (Debian package poppler-utils; scripts/install-deps.sh installs it)";
+  const fs::path dir = testing::scratchDirectory("lighting-cli", "report-pdf");
+  const fs::path panel = fs::path(LAMBERT_SOURCE_DIR) / "tests" / "data" / "photometry" / "office-panel.ldt";
+  std::ofstream(dir / "office.json") << R"({"name": "office", "maintenance": {"lampLumen": 0.9, "luminaire": 0.9},
+    "materials": [{"name": "floor", "albedo": [0.2, 0.2, 0.2]}, {"name": "walls", "albedo": [0.5, 0.5, 0.5]}, {"name": "ceiling", "albedo": [0.7, 0.7, 0.7]}],
+    "surfaces": [{"name": "floor", "material": "floor", "vertices": [[0,0,0],[0,0,4],[6,0,4],[6,0,0]]},
+      {"name": "ceiling", "material": "ceiling", "vertices": [[0,3,0],[6,3,0],[6,3,4],[0,3,4]]},
+      {"name": "north", "material": "walls", "vertices": [[0,0,0],[6,0,0],[6,3,0],[0,3,0]]},
+      {"name": "south", "material": "walls", "vertices": [[0,0,4],[0,3,4],[6,3,4],[6,0,4]]},
+      {"name": "west", "material": "walls", "vertices": [[0,0,0],[0,3,0],[0,3,4],[0,0,4]]},
+      {"name": "east", "material": "walls", "vertices": [[6,0,0],[6,0,4],[6,3,4],[6,3,0]]}],
+    "lights": [{"type": "ies", "file": ")" << panel.string() << R"(", "position": [1.5, 2.95, 1.0]}]})";
+  const testing::CommandResult r = run("report --scene " + (dir / "office.json").string() + " --grid-spacing 0.25 -o " + (dir / "r.html").string() +
+                                       " -o " + (dir / "r.pdf").string() + " --json");
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const nlohmann::json json = nlohmann::json::parse(r.output.substr(r.output.find('{')));
+  // The CSV's columns.
+  const auto rows = csvRows(dir / "r-work-plane-0-80-m.csv");
+  ASSERT_EQ(rows[0], (std::vector<std::string>{"x", "y", "z", "nx", "ny", "nz", "E_direct", "E_sky", "E_sun", "E_indirect", "E"}));
+  double sum = 0, lo = 1e300, hi = 0;
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    const double direct = std::stod(rows[i][6]), indirect = std::stod(rows[i][9]), e = std::stod(rows[i][10]);
+    EXPECT_NEAR(direct + indirect, e, 1e-5 * e) << "row " << i;
+    EXPECT_EQ(std::stod(rows[i][7]), 0);
+    EXPECT_EQ(std::stod(rows[i][8]), 0);
+    sum += e, lo = std::min(lo, e), hi = std::max(hi, e);
+  }
+  const double average = sum / static_cast<double>(rows.size() - 1);
+  char text[64];
+  const std::vector<char> bytes = testing::readBytes(dir / "r.html");
+  const std::string html(bytes.begin(), bytes.end());
+  for (double figure : {average, lo, hi}) {
+    std::snprintf(text, sizeof text, "<td>%.1f</td>", figure);
+    EXPECT_TRUE(contains(html, text)) << text;
+  }
+  EXPECT_NEAR(json["grid1_e_avg"].get<double>(), average, 1e-4 * average);
+  // The schedule: 0.81 × the file's flux, maintained; the file's wattage.
+  Result<Photometry> photometry = readPhotometry(panel.string());
+  ASSERT_TRUE(photometry.ok());
+  std::snprintf(text, sizeof text, "<td>%.1f</td><td>0.810</td><td>%.1f</td>", photometry->luminousFlux(), 0.81 * photometry->luminousFlux());
+  EXPECT_TRUE(contains(html, text)) << text;
+  EXPECT_TRUE(contains(html, "id=\"ugr\"")) << "UGR at the default observers";
+  EXPECT_TRUE(contains(html, "id=\"mounting\""));
+  // The PDF, rendered: its text and its sheets.
+  const testing::CommandResult words = shell("pdftotext -layout " + (dir / "r.pdf").string() + " -");
+  ASSERT_EQ(words.exitCode, 0) << words.output;
+  std::snprintf(text, sizeof text, "%.1f", average);
+  for (const std::string& expected : {std::string("Luminaire schedule"), std::string("Maintenance factors"), std::string(text), std::string("UGR")})
+    EXPECT_TRUE(contains(words.output, expected)) << expected;
+  const testing::CommandResult sheets = shell("pdftoppm -r 50 -png " + (dir / "r.pdf").string() + " " + (dir / "sheet").string());
+  ASSERT_EQ(sheets.exitCode, 0) << sheets.output;
+  // The sheet with the most of Turbo's saturated colours holds the plan; its reddest pixels (the
+  // peak under the panel) lie in the top-left quarter of the coloured area.
+  int planSheet = 0;
+  std::size_t mostColoured = 0;
+  PngImage plan;
+  for (int k = 1; fs::exists(dir / ("sheet-" + std::to_string(k) + ".png")); ++k) {
+    Result<PngImage> image = readPng((dir / ("sheet-" + std::to_string(k) + ".png")).string());
+    ASSERT_TRUE(image.ok());
+    std::size_t coloured = 0;
+    for (std::size_t i = 0; i + 2 < image->rgb8.size(); i += 3)
+      coloured += std::max({image->rgb8[i], image->rgb8[i + 1], image->rgb8[i + 2]}) - std::min({image->rgb8[i], image->rgb8[i + 1], image->rgb8[i + 2]}) > 100;
+    if (coloured > mostColoured) mostColoured = coloured, planSheet = k, plan = *image;
+  }
+  ASSERT_GT(planSheet, 3) << "the surface's sheet follows the summary, the sources and glare";
+  int x0 = plan.width, x1 = 0, y0 = plan.height, y1 = 0;
+  double redX = 0, redY = 0, reds = 0;
+  for (int y = 0; y < plan.height; ++y)
+    for (int x = 0; x < plan.width; ++x) {
+      const std::uint8_t* p = &plan.rgb8[(static_cast<std::size_t>(y) * plan.width + x) * 3];
+      // Turbo's blues to reds; the legend's bar lies right of the plan, so only the plan's width counts.
+      if (std::max({p[0], p[1], p[2]}) - std::min({p[0], p[1], p[2]}) <= 100) continue;
+      x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+    }
+  // The coloured box spans the plan and, at its right, the legend's bar (under a twentieth of the
+  // box): the red of the bar's top is left out.
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x < x0 + 0.9 * (x1 - x0); ++x) {
+      const std::uint8_t* p = &plan.rgb8[(static_cast<std::size_t>(y) * plan.width + x) * 3];
+      if (p[0] > 180 && p[1] < 90 && p[2] < 60) redX += x, redY += y, reds += 1;
+    }
+  ASSERT_GT(reds, 0);
+  const double across = (redX / reds - x0) / (x1 - x0), down = (redY / reds - y0) / (y1 - y0);
+  std::printf("plan sheet %d: the reddest pixels %.2f across, %.2f down the coloured area\n", planSheet, across, down);
+  EXPECT_LT(across, 0.4);
+  EXPECT_LT(down, 0.5);
 }
 
 }  // namespace

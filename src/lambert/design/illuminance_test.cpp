@@ -8,6 +8,7 @@
 #include "lambert/core/sampling.h"
 #include "lambert/engine/radiosity.h"
 #include "lambert/geometry/ray_caster.h"
+#include "lambert/light/sky.h"
 #include "lambert/reference/reference.h"
 #include "lambert/scene/builtin.h"
 #include "tests/support/engines.h"
@@ -161,6 +162,44 @@ TEST(IlluminanceTest, PointLightOverAPlaneFollowsTheCosineCubedLaw) {
     const double r = length(points[i].position) / 1000, cosGamma = h / std::sqrt(h * h + r * r);
     const double lux = 1000 * cosGamma * cosGamma * cosGamma / (h * h);
     EXPECT_NEAR(illuminanceLux((*measured)[i].total()), lux, 1e-9 * lux) << r;
+  }
+}
+
+// The direct light split by source: on an open black floor under a CIE overcast sky, a sun and a
+// point light, E_sky is the sky's unobstructed horizontal illuminance (its closed form,
+// 7π/9·L_z), E_sun the sun's E⊥·sin(elevation), and E_direct their sum with the lamp's I·cos³γ/h².
+TEST(IlluminanceTest, DirectLightIsSplitIntoSkySunAndTheRest) {
+  Scene scene;
+  scene.name = "open floor";
+  scene.materials = {{"black", Rgb::gray(0)}};
+  scene.surfaces.push_back({"floor", {{-50, 0, -50}, {-50, 0, 50}, {50, 0, 50}, {50, 0, -50}}, 0, {}});
+  Light sky;
+  sky.kind = LightKind::Sky;
+  sky.sky = std::make_shared<const SkyModel>(SkyModel::traditionalOvercast(3000));
+  Light sun;
+  sun.kind = LightKind::Directional;
+  const double elevation = 35 * kPi / 180;
+  sun.direction = {-std::cos(elevation), -std::sin(elevation), 0};
+  sun.irradiance = Rgb::gray(50000 / kLumensPerWatt);  // 50 klx normal to the sun
+  Light lamp;
+  lamp.kind = LightKind::Point;
+  lamp.position = {0, 2, 0};
+  lamp.intensity = Rgb::gray(1000 / kLumensPerWatt);
+  scene.lights = {sky, sun, lamp};
+  auto engine = solved(scene);
+  ASSERT_TRUE(engine);
+  const IlluminanceMeter meter(engine->solution());
+  const std::vector<CalculationPoint> points{{{0, 0, 0}, {0, 1, 0}}, {{1.5, 0, 2}, {0, 1, 0}}};
+  Result<std::vector<PointIrradiance>> measured = meter.measure(points);
+  ASSERT_TRUE(measured.ok());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const PointIrradiance& e = (*measured)[i];
+    const double skyLux = 7 * kPi / 9 * 3000, sunLux = 50000 * std::sin(elevation);
+    const double r2 = dot(points[i].position, points[i].position) + 4, lampLux = 1000 * 2 / (r2 * std::sqrt(r2));
+    EXPECT_NEAR(illuminanceLux(e.sky), skyLux, 0.001 * skyLux) << i;
+    EXPECT_NEAR(illuminanceLux(e.sun), sunLux, 1e-9 * sunLux) << i;
+    EXPECT_NEAR(illuminanceLux(e.direct), skyLux + sunLux + lampLux, 0.001 * skyLux) << i;
+    EXPECT_NEAR(illuminanceLux(e.indirect), 0, 1e-9) << i;
   }
 }
 
