@@ -283,9 +283,13 @@ double flood(double c, double g) {
 TEST(LuminaireAimingTest, TiltThroughTheHorizontalIsContinuous) {
   Light l = luminaire(photometryOf(flood, 5), {0, 0, 0});
   const Vec3 point{15, 3, 1}, normal{-1, 0, 0};  // 15 m east, 3 m above the luminaire, 1 m south
-  // The lux the old frame gave: the nadir as now, C0 = +x projected off it, C90 = C0 × nadir.
+  // The lux the old frame gave: the nadir as now, C0 = +x projected off it (−z projected off it
+  // where that is under 1e-6 long), C90 = C0 × nadir.
   const auto oldLux = [&](const Vec3& nadir) {
-    const Vec3 c0 = normalize(Vec3{1, 0, 0} - nadir * nadir.x), c90 = cross(c0, nadir);
+    Vec3 c0 = Vec3{1, 0, 0} - nadir * nadir.x;
+    if (length(c0) < 1e-6) c0 = Vec3{0, 0, -1} + nadir * nadir.z;
+    c0 = normalize(c0);
+    const Vec3 c90 = cross(c0, nadir);
     const Vec3 w = normalize(point);
     double c = std::atan2(dot(w, c90), dot(w, c0)) / kDeg;
     if (c < 0) c += 360;
@@ -299,6 +303,8 @@ TEST(LuminaireAimingTest, TiltThroughTheHorizontalIsContinuous) {
     const double now = lux(unshadowedIrradiance(l, point, normal, 1)), old = oldLux(l.direction);
     ASSERT_GT(now, 0);
     if (k == 200) atHorizon = now;
+    if (k == 140 || k == 200 || k == 260)
+      std::printf("  aim %+.0f deg elevation: %.2f lx (the old frame: %.2f lx)\n", tilt - 90, now, old);
     if (k > 0) {
       worstNew = std::fmax(worstNew, std::fabs(now / previousNew - 1));
       worstOld = std::fmax(worstOld, std::fabs(old / previousOld - 1));
