@@ -210,16 +210,7 @@ Result<LightingReport> lightingReport(const ReportInput& input) {
     for (std::size_t t = 0; t < types.size(); ++t)
       for (std::size_t i : types[t].members) {
         const Light& light = lights[i];
-        // TODO-MERGE: aimingOfDirection (light/lights.h) once the aiming branch lands.
-        struct {
-          double orientDegrees = 0, tiltDegrees = 0, spinDegrees = 0;
-        } aim;
-        if (light.kind != LightKind::Point) {
-          const Vec3 d = normalize(light.direction);
-          aim.tiltDegrees = std::acos(std::clamp(-d.y, -1.0, 1.0)) * 180 / kPi;
-          aim.orientDegrees = std::hypot(d.x, d.z) > 1e-9 ? azimuthFromEast(d) : 0;
-          aim.spinDegrees = light.rotationDegrees;
-        }
+        const LuminaireAiming aim = light.kind == LightKind::Point ? LuminaireAiming{} : aimingOfDirection(light.direction, light.rotationDegrees);
         mounting.rows.push_back({labels[i], typeName(t), fixed(light.position.x * mpu, 2), fixed(light.position.y * mpu, 2),
                                  fixed(light.position.z * mpu, 2), fixed((light.position.y - bounds.lo.y) * mpu, 2), fixed(aim.orientDegrees, 1),
                                  fixed(aim.tiltDegrees, 1), fixed(aim.spinDegrees, 1)});

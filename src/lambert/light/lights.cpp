@@ -100,22 +100,60 @@ double spotFalloff(const Light& spot, const Vec3& towardPoint) {
   return smoothstep(std::cos(outer), std::cos(inner), cosAngle);
 }
 
-LuminaireFrame luminaireFrame(const Light& light) {
+LuminaireFrame luminaireFrame(const LuminaireAiming& aiming) {
+  // The compass in scene axes (lambert is y-up with north −z, so AGi32's X, Y, Z = x, −z, y).
+  const Vec3 east{1, 0, 0}, north{0, 0, -1}, up{0, 1, 0};
+  const double o = aiming.orientDegrees * kDegrees, t = aiming.tiltDegrees * kDegrees;
+  const double r = aiming.rollDegrees * kDegrees, s = aiming.spinDegrees * kDegrees;
+  // Orient then tilt: the nadir leaves straight down toward the oriented C0 (the plan direction
+  // `horizontal`), and C0 rises with it, toward up; C90 stays horizontal, `horizontal` turned 90°
+  // toward the east-to-north sense.
+  const Vec3 horizontal = east * std::cos(o) + north * std::sin(o);
   LuminaireFrame f;
-  f.nadir = normalize(light.direction);
-  // C = 0 along the scene's +x made perpendicular to the aim (−z when the aim lies along x).
-  Vec3 reference{1, 0, 0};
-  Vec3 c0 = reference - f.nadir * dot(f.nadir, reference);
-  if (length(c0) < 1e-6) {
-    reference = {0, 0, -1};
-    c0 = reference - f.nadir * dot(f.nadir, reference);
-  }
-  c0 = normalize(c0);
-  const Vec3 c90 = cross(c0, f.nadir);
-  const double r = light.rotationDegrees * kDegrees;
-  f.c0 = c0 * std::cos(r) + c90 * std::sin(r);
-  f.c90 = cross(f.c0, f.nadir);
+  f.nadir = horizontal * std::sin(t) - up * std::cos(t);
+  f.c0 = horizontal * std::cos(t) + up * std::sin(t);
+  f.c90 = north * std::cos(o) - east * std::sin(o);
+  // Roll about C0: the nadir toward C90 (C90 toward −nadir, the local +Z).
+  const Vec3 nadir = f.nadir * std::cos(r) + f.c90 * std::sin(r);
+  f.c90 = f.c90 * std::cos(r) - f.nadir * std::sin(r);
+  f.nadir = nadir;
+  // Spin about the nadir's axis: C0 toward C90.
+  const Vec3 c0 = f.c0 * std::cos(s) + f.c90 * std::sin(s);
+  f.c90 = f.c90 * std::cos(s) - f.c0 * std::sin(s);
+  f.c0 = c0;
   return f;
+}
+
+LuminaireAiming aimingOfDirection(const Vec3& aim, double spinDegrees) {
+  const Vec3 a = normalize(aim);
+  const double eastward = a.x, northward = -a.z, horizontal = std::hypot(eastward, northward);
+  LuminaireAiming angles;
+  angles.tiltDegrees = std::atan2(horizontal, -a.y) / kDegrees;
+  if (horizontal > 1e-9) {
+    angles.orientDegrees = std::atan2(northward, eastward) / kDegrees;
+    if (angles.orientDegrees < 0) angles.orientDegrees += 360;
+  } else {
+    // Vertical: the plan azimuth is undefined; orient 0 leaves C0 to the spin alone (and the
+    // tilt exactly 0 or 180, so that a downlight's frame is east turned by its spin).
+    angles.tiltDegrees = a.y < 0 ? 0 : 180;
+  }
+  angles.spinDegrees = spinDegrees;
+  return angles;
+}
+
+LuminaireFrame luminaireFrame(const Light& light) {
+  return luminaireFrame(aimingOfDirection(light.direction, light.rotationDegrees));
+}
+
+void setLuminaireFrame(Light& light, const Vec3& nadir, const Vec3& c0) {
+  light.direction = normalize(nadir);
+  const LuminaireFrame unspun = luminaireFrame(aimingOfDirection(light.direction, 0));
+  light.rotationDegrees = std::atan2(dot(c0, unspun.c90), dot(c0, unspun.c0)) / kDegrees;
+}
+
+void aimLuminaire(Light& light, const LuminaireAiming& aiming) {
+  const LuminaireFrame f = luminaireFrame(aiming);
+  setLuminaireFrame(light, f.nadir, f.c0);
 }
 
 void photometricAngles(const LuminaireFrame& frame, const Vec3& direction, double& cDegrees, double& gammaDegrees) {

@@ -27,7 +27,39 @@ double spotFalloff(const Light& spot, const Vec3& towardPoint);
 struct LuminaireFrame {
   Vec3 nadir, c0, c90;
 };
+
+// Luminaire aiming after IES LM-72 as AGi32 and Photometric Toolbox apply it ("counter-clockwise
+// from east"), in degrees. With all four 0 the luminaire points straight down, C0 due east (+x),
+// C90 due north (−z). Applied in this order, each about the luminaire's axes as the turns before
+// left them (frame = R_orient · R_tilt · R_roll · R_spin applied to C0 = east, C90 = north,
+// nadir = down):
+//   orient: about the vertical, east toward north (counter-clockwise seen from above);
+//   tilt:   about the C90 axis, the nadir toward C0 (a positive tilt lifts the aim on the C0 side:
+//           orient 0, tilt 90 aims due east at the horizon; orient 90, tilt 90 due north);
+//   roll:   about the C0 axis, the nadir toward C90;
+//   spin:   about the nadir's axis, C0 toward C90 (counter-clockwise seen from above a downlight).
+struct LuminaireAiming {
+  double orientDegrees = 0, tiltDegrees = 0, rollDegrees = 0, spinDegrees = 0;
+};
+// The one photometric frame function: the axes the four angles give, in lambert's scene axes
+// (x east, y up, north −z). Exact for any angles; continuous in every angle.
+LuminaireFrame luminaireFrame(const LuminaireAiming& aiming);
+// The angles of an aim vector and a spin, as AGi32 aims at a point: orient the plan azimuth of
+// the aim counter-clockwise from east in [0, 360), tilt the angle from straight down to the aim in
+// [0, 180], roll 0, spin as given. An aim within 1e-9 rad of vertical (straight down or up) has no
+// azimuth: orient 0 there. aim: any non-zero length.
+LuminaireAiming aimingOfDirection(const Vec3& aim, double spinDegrees);
+// A luminaire's frame: that of its aim (light.direction, the nadir) and its spin (light.rotationDegrees)
+// through aimingOfDirection. Continuous in the aim except exactly at vertical aims, where the
+// azimuth is undefined; a downlight's C0 is +x turned by the spin toward north (−z).
 LuminaireFrame luminaireFrame(const Light& light);
+// Aims a luminaire so that its frame has the given nadir and (any non-zero, not parallel) C0
+// direction: light.direction = the unit nadir, light.rotationDegrees = the spin in (−180, 180]
+// about it that brings the frame's C0 onto c0 made perpendicular to the nadir.
+void setLuminaireFrame(Light& light, const Vec3& nadir, const Vec3& c0);
+// Aims a luminaire by the four angles: its frame becomes luminaireFrame(aiming) (to rounding),
+// stored as direction + spin (roll folds into them: every frame has aim-point angles with roll 0).
+void aimLuminaire(Light& light, const LuminaireAiming& aiming);
 // The (C, γ) in degrees of a unit direction leaving the luminaire.
 void photometricAngles(const LuminaireFrame& frame, const Vec3& direction, double& cDegrees, double& gammaDegrees);
 // Radiant intensity in W/sr that a luminaire sends along the unit direction `outward`: its

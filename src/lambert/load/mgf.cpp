@@ -371,13 +371,9 @@ class Reader {
       light.photometry = cached->second;
       light.position = xf.point({0, 0, 0});
       const auto direction = [&](const Vec3& v) { return normalize(xf.point(v) - light.position); };
-      light.direction = direction({0, 0, -1});
-      // The turn about the aim that brings lambert's default C = 0 (luminaireFrame) onto the
-      // transformed x axis.
-      light.rotationDegrees = 0;
-      const LuminaireFrame unturned = luminaireFrame(light);
-      const Vec3 c0 = direction({1, 0, 0});
-      light.rotationDegrees = std::atan2(dot(c0, unturned.c90), dot(c0, unturned.c0)) * 180 / kPi;
+      // Aimed down the transformed −z with C = 0 along the transformed x: the spin about that aim
+      // which brings the frame's C0 there (light/lights.h, luminaireFrame).
+      setLuminaireFrame(light, direction({0, 0, -1}), direction({1, 0, 0}));
       if (xf.mirrors())
         warnOnce("ies-mirror", "ies: a mirroring transform would run the luminaire's C planes the other way; it is placed unmirrored");
       light.intensity = Rgb::gray(multiplier);

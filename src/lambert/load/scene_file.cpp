@@ -16,6 +16,7 @@
 #include "lambert/core/text.h"
 #include "lambert/core/transform.h"
 #include "lambert/core/warning.h"
+#include "lambert/light/lights.h"
 #include "lambert/light/sky.h"
 #include "lambert/light/sun.h"
 #include "lambert/scene/builtin.h"
@@ -367,10 +368,30 @@ Light readLight(const Json& value, const std::string& pointer, const std::string
     }
     light.photometry = cached->second;
     light.position = ObjectReader::checkedTriple(r.require("position"), r.pointerOf("position"), -maxVector, maxVector);
-    light.direction = r.vector("aim", {0, -1, 0});
-    if (!(length(light.direction) > 0)) throw FieldError{r.pointerOf("aim"), "the aim must not be zero"};
-    light.direction = normalize(light.direction);
-    light.rotationDegrees = r.number("rotationDegrees", 0, -360, 360);
+    // Aimed either by a vector and a spin about it ("aim", "rotationDegrees") or by the LM-72
+    // angles ("orient", "tilt", "roll", "spin"; docs/photometry.md "Aiming"), never both: a file
+    // with both would leave one of them unread.
+    const char* angleKeys[] = {"orient", "tilt", "roll", "spin"};
+    const char* givenAngle = nullptr;
+    for (const char* key : angleKeys)
+      if (!givenAngle && r.has(key)) givenAngle = key;
+    if (givenAngle && (r.has("aim") || r.has("rotationDegrees")))
+      throw FieldError{r.pointerOf(givenAngle), std::string("aim a luminaire either by \"aim\" (with \"rotationDegrees\") or by the "
+                                                            "angles \"orient\", \"tilt\", \"roll\", \"spin\", not both (this light has \"") +
+                                                    (r.has("aim") ? "aim" : "rotationDegrees") + "\" too)"};
+    if (givenAngle) {
+      LuminaireAiming aiming;
+      aiming.orientDegrees = r.number("orient", 0, -360, 360);
+      aiming.tiltDegrees = r.number("tilt", 0, -360, 360);
+      aiming.rollDegrees = r.number("roll", 0, -360, 360);
+      aiming.spinDegrees = r.number("spin", 0, -360, 360);
+      aimLuminaire(light, aiming);
+    } else {
+      light.direction = r.vector("aim", {0, -1, 0});
+      if (!(length(light.direction) > 0)) throw FieldError{r.pointerOf("aim"), "the aim must not be zero"};
+      light.direction = normalize(light.direction);
+      light.rotationDegrees = r.number("rotationDegrees", 0, -360, 360);
+    }
     const double multiplier = r.number("multiplier", 1, 0, 1e6);
     const Rgb colour = r.colour("color", {1, 1, 1}, 1e6, false);
     // White (1, 1, 1) has luminance 1 (Rec. 709 weights sum to 1): cd/683 W/sr per channel.
@@ -388,7 +409,7 @@ Light readLight(const Json& value, const std::string& pointer, const std::string
       throw FieldError{r.pointerOf("openingSamples"), "applies to \"model\": \"area\" only"};
     }
     readOwnMaintenance();
-    r.finish("name, type, file, position, aim, rotationDegrees, multiplier, color, model, openingSamples, maintenance");
+    r.finish("name, type, file, position, aim, rotationDegrees, orient, tilt, roll, spin, multiplier, color, model, openingSamples, maintenance");
   } else {
     throw FieldError{r.pointerOf("type"), (type.empty() ? std::string("missing") : "unknown light type \"" + type + "\"") +
                                               " (allowed: point, spot, directional, ies, sky, sun)"};
@@ -832,8 +853,15 @@ std::string sceneFileText(const Scene& scene) {
         // Absolute: the written scene file need not lie beside the photometric file.
         l["file"] = std::filesystem::absolute(light.photometry->path).lexically_normal().string();
         l["position"] = triple(light.position);
-        l["aim"] = triple(light.direction);
-        l["rotationDegrees"] = light.rotationDegrees;
+        {
+          // Its aim as the LM-72 angles a luminaire schedule gives (roll 0: the aim-point form);
+          // read back, they give its frame to rounding (about 1e-15).
+          const LuminaireAiming aiming = aimingOfDirection(light.direction, light.rotationDegrees);
+          l["orient"] = aiming.orientDegrees;
+          l["tilt"] = aiming.tiltDegrees;
+          l["roll"] = aiming.rollDegrees;
+          l["spin"] = aiming.spinDegrees;
+        }
         l["color"] = triple(initial);
         if (light.luminaireModel == LuminaireModel::Opening) {
           l["model"] = "area";

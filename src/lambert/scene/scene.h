@@ -124,10 +124,11 @@ struct Light {
   Vec3 angularVelocity;         // rad/s about the world x, y, z axes: turns `direction` over time
   std::shared_ptr<const SkyModel> sky;       // sky: its luminance distribution and scale
   int skyDirections = kDefaultSkyDirections;  // sky: directions per irradiance estimate
-  // Luminaire: the candela distribution (shared by every light of one file), the turn in degrees
-  // of its C = 0 half plane about the aim (counter-clockwise seen from behind the luminaire, as C
-  // runs; at 0 it points along the scene's +x made perpendicular to the aim, or −z for an aim
-  // along x), how its light leaves it, and the grid of its opening per side (Opening model).
+  // Luminaire: the candela distribution (shared by every light of one file), its Spin in degrees,
+  // the turn of its C = 0 half plane about the aim (counter-clockwise seen from behind the
+  // luminaire, as C runs) from where the IES LM-72 aim-point angles of `direction` put it
+  // (light/lights.h luminaireFrame: along +x for a downlight, on the upper side of a tilted aim's
+  // vertical plane), how its light leaves it, and the grid of its opening per side (Opening model).
   std::shared_ptr<const Photometry> photometry = nullptr;
   double rotationDegrees = 0;
   LuminaireModel luminaireModel = LuminaireModel::FarField;
