@@ -182,7 +182,7 @@ Result<LightingReport> lightingReport(const ReportInput& input) {
   ReportPage sources{"Light sources", "lights", {}};
   if (!types.empty()) {
     ReportTable schedule{"Luminaire schedule",
-                         {"type", "count", "product", "file", "flux as new (lm)", "MF", "maintained flux (lm)", "power (W)", "efficacy (lm/W)"},
+                         {"type", "count", "product", "file", "Φ as new (lm)", "MF", "Φ maintained (lm)", "power (W)", "lm/W"},
                          {},
                          "schedule"};
     ReportTable maintenance{"Maintenance factors (CIE 97)", {"type", "lamp lumen LLMF", "lamp survival LSF", "luminaire LMF", "room surface RSMF", "MF"}, {}, "maintenance"};

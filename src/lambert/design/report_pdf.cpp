@@ -238,7 +238,7 @@ Status writeReportPdf(const LightingReport& report, const std::string& path) {
     for (const ReportBlock& block : page.blocks) {
       switch (block.kind) {
         case ReportBlock::Kind::Heading:
-          sheet.need(kHeadingSize * 5);
+          sheet.need(kHeadingSize * 5 + 150);  // kept with what follows it: a table's first rows, a histogram
           sheet.font(kHeadingSize, true);
           sheet.y += kHeadingSize * 1.5;
           sheet.text(kMargin, sheet.y, block.text);

@@ -322,6 +322,9 @@ TEST(LuminaireTest, MaintenanceFactorsScaleTheLightsAndRoundTrip) {
     Result<Scene> refused = parseSceneFile(head + k.text + "}", (dir / "d.json").string());
     ASSERT_FALSE(refused.ok()) << k.text;
     EXPECT_NE(refused.error().message.find(k.message), std::string::npos) << refused.error().message;
+  }
+}
+
 // --- Aiming (IES LM-72, "counter-clockwise from east"; docs/photometry.md "Aiming") ---
 
 // An asymmetric floodlight: a cosine beam leaning toward C = 0 (I(C = 0) / I(C = 180) = 1.6 / 0.4
