@@ -292,6 +292,8 @@ void SkyHemisphere::reset(const SkyLuminanceTable& sky, const Vec3& n, int gridS
   for (std::size_t k = 0; k < first_.size(); ++k) first_[k] = turned(local.first.empty() ? localFirst(m_, k) : local.first[k]);
   edgeAt_.assign(first_.size(), -1);
   edge_.clear();
+  fineAt_.clear();
+  fine_.clear();
   unobstructed_ = -1;
 }
 
@@ -301,8 +303,39 @@ const SkyHemisphere::Sample* SkyHemisphere::edgeSamples(std::size_t k) {
     edgeAt_[k] = static_cast<std::int32_t>(edge_.size());
     const SkyLocalDirections& local = skyLocalDirections(m_);
     for (int q = 0; q < r * r; ++q) edge_.push_back(turned(local.edge.empty() ? localEdge(m_, k, q) : local.edge[k * r * r + q]));
+    fineAt_.resize(edge_.size(), -1);
   }
   return &edge_[static_cast<std::size_t>(edgeAt_[k])];
+}
+
+const SkyHemisphere::Sample* SkyHemisphere::fineSamples(std::size_t k, int q) {
+  // Few sub-cells are ever refined (those a point's edges cross), so their directions are made as
+  // asked, not tabulated. The stratum that holds the sub-cell's own sample keeps it: the
+  // refinement adds samples rather than replacing the one that called for it, which would bias
+  // the estimate (a probe that saw the dark below a sill, replaced, would count less dark than it
+  // is).
+  constexpr int r = kSkyEdgeRefinement, s = kSkyFineRefinement;
+  const Sample own = edgeSamples(k)[q];
+  const std::size_t at = static_cast<std::size_t>(edgeAt_[k]) + q;
+  if (fineAt_[at] < 0) {
+    fineAt_[at] = static_cast<std::int32_t>(fine_.size());
+    const std::size_t cells = static_cast<std::size_t>(m_) * m_;
+    const int i = static_cast<int>(k % m_), j = static_cast<int>(k / m_);
+    double ownU, ownV;
+    skyJitter((k + 1) * (r * r) + q + cells, ownU, ownV);  // localEdge's
+    const int ownStratum = std::min(s - 1, static_cast<int>(ownV * s)) * s + std::min(s - 1, static_cast<int>(ownU * s));
+    for (int p = 0; p < s * s; ++p) {
+      if (p == ownStratum) {
+        fine_.push_back(own);
+        continue;
+      }
+      double du, dv;
+      skyJitter(cells * (r * r + 2) + (k * (r * r) + q) * (s * s) + p, du, dv);
+      const double u = (i + (q % r + (p % s + du) / s) / r) / m_, v = (j + (q / r + (p / s + dv) / s) / r) / m_;
+      fine_.push_back(turned(skySquareToDirection({0, 0, 1}, {1, 0, 0}, {0, 1, 0}, u, v)));
+    }
+  }
+  return &fine_[static_cast<std::size_t>(fineAt_[at])];
 }
 
 double SkyHemisphere::unobstructedIlluminance() {

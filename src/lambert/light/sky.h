@@ -113,7 +113,12 @@ class SkyModel {
 // (L > 0 and visible) differs from one of its four neighbours' holds an edge (a window's frame)
 // and is resampled on a kSkyEdgeRefinement² sub-grid: a sharp edge's error falls from about a cell
 // per edge cell to a sub-cell. A lit cell beside the unknown (the square's rim, the horizon) is
-// probed on its sub-samples along that side first, and resampled only if one is dark. `visible(directions, out)` sets out[i] where the point
+// probed on its sub-samples along that side first, and resampled only if one is dark. Where a
+// resampled cell's sub-samples along a side differ from the cell beyond it, the edge goes on into
+// that cell (its first sample missed it: a window's corner, a sliver a few cells wide) and it is
+// resampled too, until they agree; then each sub-cell whose state differs from a neighbouring
+// sub-cell's is resampled on a kSkyFineRefinement² grid that keeps its own sample (the façade
+// window's work plane at 4096: largest error 1.58% → 0.85% under the overcast sky, for ~35% more rays). `visible(directions, out)` sets out[i] where the point
 // sees the sky along directions[i]; it is asked only where L(ω) > 0 (above the horizon). An opening smaller than about a cell
 // (≈ 2.8° across at 4096 directions) can fall between the first samples and be missed.
 template <class Visible>
@@ -121,6 +126,8 @@ double skyIlluminance(const SkyModel& sky, const Vec3& n, int directions, Visibl
 
 // Sub-grid side of a cell on an edge (above).
 inline constexpr int kSkyEdgeRefinement = 4;
+// Sub-grid side of a sub-cell on an edge.
+inline constexpr int kSkyFineRefinement = 2;
 
 // The grid side m for a requested count (m² ≥ directions, m ≥ 1).
 int skyGridSide(int directions);
@@ -168,6 +175,10 @@ class SkyHemisphere {
   // Sub-sample q ∈ [0, r²) of cell k's kSkyEdgeRefinement² sub-grid.
   const Vec3& edgeDirection(std::size_t k, int q) { return edgeSamples(k)[q].direction; }
   double edgeLuminance(std::size_t k, int q) { return edgeSamples(k)[q].luminance; }
+  // Sub-sub-sample p ∈ [0, s²) of sub-cell q of cell k (s = kSkyFineRefinement): a sub-cell on an
+  // edge, resampled (made the first time a point asks for it).
+  const Vec3& fineDirection(std::size_t k, int q, int p) { return fineSamples(k, q)[p].direction; }
+  double fineLuminance(std::size_t k, int q, int p) { return fineSamples(k, q)[p].luminance; }
   // skyIlluminance with nothing in the way, in lux: computed once.
   double unobstructedIlluminance();
 
@@ -178,6 +189,7 @@ class SkyHemisphere {
   };
   Sample turned(const Vec3& local) const;
   const Sample* edgeSamples(std::size_t k);
+  const Sample* fineSamples(std::size_t k, int q);
 
   const SkyLuminanceTable* sky_ = nullptr;
   Vec3 n_, t_, b_;
@@ -185,6 +197,8 @@ class SkyHemisphere {
   std::vector<Sample> first_;              // one per cell
   std::vector<std::int32_t> edgeAt_;       // per cell: where its sub-samples start in edge_, or −1
   std::vector<Sample> edge_;               // r² per cell asked for
+  std::vector<std::int32_t> fineAt_;       // per sub-sample in edge_: where its sub-sub-samples start in fine_, or −1
+  std::vector<Sample> fine_;               // s² per sub-cell asked for
   double unobstructed_ = -1;               // < 0 until asked
 };
 
@@ -236,7 +250,8 @@ double skyIlluminance(SkyHemisphere& hemisphere, Visible&& visible) {
   auto litAt = [&](int i, int j) { return known(i, j) && luminance[static_cast<std::size_t>(j) * m + i] > 0; };
   constexpr int kSides[4][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}};
   auto onSide = [](int q, int side) { return side == 0 ? q % r == 0 : side == 1 ? q % r == r - 1 : side == 2 ? q / r == 0 : q / r == r - 1; };
-  double sum = 0;
+  thread_local std::vector<double> whole;  // what a cell not resampled counts: its sample, or its probes'
+  whole.assign(luminance.begin(), luminance.end());
   thread_local std::vector<std::size_t> resampled;              // cells resampled whole
   thread_local std::vector<std::pair<std::size_t, int>> probed;  // cells probed, and their sides (bits)
   resampled.clear();
@@ -247,10 +262,7 @@ double skyIlluminance(SkyHemisphere& hemisphere, Visible&& visible) {
       const bool lit = luminance[k] > 0;
       // Most cells agree with their four neighbours (the unknown counted as dark): a lit cell
       // beside lit ones, a dark cell beside dark or unknown ones.
-      if (litAt(i - 1, j) == lit && litAt(i + 1, j) == lit && litAt(i, j - 1) == lit && litAt(i, j + 1) == lit) {
-        sum += luminance[k];
-        continue;
-      }
+      if (litAt(i - 1, j) == lit && litAt(i + 1, j) == lit && litAt(i, j - 1) == lit && litAt(i, j + 1) == lit) continue;
       bool edge = false;
       int unknownSides = 0;
       for (int side = 0; side < 4; ++side) {
@@ -266,8 +278,6 @@ double skyIlluminance(SkyHemisphere& hemisphere, Visible&& visible) {
         resampled.push_back(k);
       } else if (lit && unknownSides) {
         probed.push_back({k, unknownSides});
-      } else {
-        sum += luminance[k];
       }
     }
   asked.clear();
@@ -293,19 +303,96 @@ double skyIlluminance(SkyHemisphere& hemisphere, Visible&& visible) {
     }
     double cell = 0;
     for (int q = 0; q < r * r; ++q) cell += hemisphere.edgeLuminance(probed[c].first, q);
-    sum += cell / (r * r);
+    whole[probed[c].first] = cell / (r * r);
   }
+  // The resampled cells' sub-samples, in rounds: where a sub-sample on a cell's side differs from
+  // the neighbouring cell's state (its first sample, or its probes), the edge goes on into that
+  // cell, which its first sample missed (a window's corner, a sliver thinner than a cell): it is
+  // resampled too, until the sub-samples agree across every resampled cell's sides.
+  thread_local std::vector<unsigned char> subLit;  // r² per resampled cell: lit (L > 0 and visible)
+  thread_local std::vector<std::int32_t> slot;     // per cell: its place in `resampled`, or −1
+  slot.assign(cells, -1);
+  subLit.clear();
+  const int mr = m * r;
+  // The state at sub-grid position (I, J) ∈ [0, m·r)²: a resampled cell's sub-sample, else its
+  // cell's; beyond the square, dark (as the cells' test counts it).
+  auto subLitAt = [&](int I, int J) {
+    if (I < 0 || J < 0 || I >= mr || J >= mr) return false;
+    const std::size_t k = static_cast<std::size_t>(J / r) * m + I / r;
+    return slot[k] >= 0 ? subLit[static_cast<std::size_t>(slot[k]) * (r * r) + (J % r) * r + I % r] != 0 : whole[k] > 0;
+  };
+  for (std::size_t done = 0; done < resampled.size();) {
+    const std::size_t end = resampled.size();
+    for (std::size_t c = done; c < end; ++c) slot[resampled[c]] = static_cast<std::int32_t>(c);
+    subLit.resize(end * r * r, 0);
+    asked.clear();
+    askedIndex.clear();
+    for (std::size_t c = done; c < end; ++c)
+      for (int q = 0; q < r * r; ++q)
+        if (hemisphere.edgeLuminance(resampled[c], q) > 0) {
+          asked.push_back(hemisphere.edgeDirection(resampled[c], q));
+          askedIndex.push_back(c * (r * r) + q);
+        }
+    ask();
+    for (std::size_t a = 0; a < asked.size(); ++a) subLit[askedIndex[a]] = seen[a] ? 1 : 0;
+    for (std::size_t c = done; c < end; ++c) {
+      const std::size_t k = resampled[c];
+      const int i = static_cast<int>(k % m), j = static_cast<int>(k / m);
+      for (int side = 0; side < 4; ++side) {
+        const int ii = i + kSides[side][0], jj = j + kSides[side][1];
+        if (ii < 0 || ii >= m || jj < 0 || jj >= m) continue;
+        const std::size_t kk = static_cast<std::size_t>(jj) * m + ii;
+        if (slot[kk] >= 0) continue;
+        const bool neighbourLit = whole[kk] > 0;
+        for (int t = 0; t < r; ++t) {
+          const int q = side == 0 ? t * r : side == 1 ? t * r + r - 1 : side == 2 ? t : (r - 1) * r + t;
+          if ((subLit[c * (r * r) + q] != 0) != neighbourLit) {
+            slot[kk] = static_cast<std::int32_t>(resampled.size());  // claimed; set again above
+            resampled.push_back(kk);
+            break;
+          }
+        }
+      }
+    }
+    done = end;
+  }
+  double sum = 0;
+  for (std::size_t k = 0; k < cells; ++k)
+    if (slot[k] < 0) sum += whole[k];
+  // A sub-cell whose state differs from a neighbouring sub-cell's holds the edge: it is resampled
+  // on a kSkyFineRefinement² grid, the others count their sub-sample.
+  constexpr int s = kSkyFineRefinement;
+  thread_local std::vector<std::size_t> fineIndex;  // c·r² + q of each sub-cell refined
+  fineIndex.clear();
   asked.clear();
   askedIndex.clear();
-  for (std::size_t k : resampled)
-    for (int q = 0; q < r * r; ++q)
-      if (hemisphere.edgeLuminance(k, q) > 0) {
-        asked.push_back(hemisphere.edgeDirection(k, q));
-        askedIndex.push_back(k * (r * r) + q);
+  for (std::size_t c = 0; c < resampled.size(); ++c) {
+    const std::size_t k = resampled[c];
+    const int i = static_cast<int>(k % m), j = static_cast<int>(k / m);
+    for (int q = 0; q < r * r; ++q) {
+      const bool lit = subLit[c * (r * r) + q] != 0;
+      const int I = i * r + q % r, J = j * r + q / r;
+      const bool edge = s > 1 && (subLitAt(I - 1, J) != lit || subLitAt(I + 1, J) != lit || subLitAt(I, J - 1) != lit ||
+                                  subLitAt(I, J + 1) != lit);
+      if (!edge) {
+        if (lit) sum += hemisphere.edgeLuminance(k, q) / (r * r);
+        continue;
       }
+      fineIndex.push_back(c * (r * r) + q);
+      for (int p = 0; p < s * s; ++p)
+        if (hemisphere.fineLuminance(k, q, p) > 0) {
+          asked.push_back(hemisphere.fineDirection(k, q, p));
+          askedIndex.push_back((fineIndex.size() - 1) * (s * s) + p);
+        }
+    }
+  }
   ask();
   for (std::size_t a = 0; a < asked.size(); ++a)
-    if (seen[a]) sum += hemisphere.edgeLuminance(askedIndex[a] / (r * r), static_cast<int>(askedIndex[a] % (r * r))) / (r * r);
+    if (seen[a]) {
+      const std::size_t f = fineIndex[askedIndex[a] / (s * s)];
+      sum += hemisphere.fineLuminance(resampled[f / (r * r)], static_cast<int>(f % (r * r)), static_cast<int>(askedIndex[a] % (s * s))) /
+             (r * r * s * s);
+    }
   return sum * kPi / static_cast<double>(cells);
 }
 

@@ -339,8 +339,11 @@ TEST(SkyComponentTest, FacadeOpening) {
 
 // The default direction count against a typical window: the façade room's opening seen from a
 // 0.5 m grid of points on the work plane (0.85 m), under the overcast sky (the error depends on
-// the window's solid angle, not the sky). Reports the RMS and largest errors for three counts; the
-// default must keep the RMS under 1% (docs/photometry.md, "Daylight", has the figures).
+// the window's solid angle, not the sky). Reports the RMS and largest errors for four counts; the
+// default must keep every point under 1% (docs/photometry.md, "Daylight", has the figures). The
+// worst place before the edge grew from cell to cell and sub-cells on an edge were refined was
+// (3.75, 0.25), beside the façade off the window's axis, where the window is a sliver a few cells
+// wide (1.58% low); now the back row, where the sill lies within a sub-cell of the rim.
 TEST(SkyComponentTest, DefaultDirectionCountKeepsAWindowUnderOnePercent) {
   const Rect hole{1, 3, 1, 2.5};
   const Scene scene = blackRoom(nullptr, &hole);
@@ -371,7 +374,8 @@ TEST(SkyComponentTest, DefaultDirectionCountKeepsAWindowUnderOnePercent) {
     std::printf("window from %zu work-plane points, %d directions: RMS error %.3f%%, largest %.3f%%\n", points.size(), directions,
                 100 * rms, 100 * worst);
     if (directions == kDefaultSkyDirections) {
-      EXPECT_LT(rms, 0.01);
+      EXPECT_LT(rms, 0.005);
+      EXPECT_LT(worst, 0.01);
     }
   }
 }
