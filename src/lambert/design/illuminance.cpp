@@ -377,7 +377,7 @@ Result<std::vector<PointIrradiance>> IlluminanceMeter::measure(std::span<const C
     const Vec3 origin = x + n * s.epsilon;
     PointIrradiance& e = out[i];
     if (!s.electric.empty()) e.direct += s.lighting->irradiance(x, n, shadows, s.epsilon);
-    for (const Light& light : s.daylight) (light.kind == LightKind::Sky ? e.sky : e.sun) += irradiance(light, x, n, shadows, s.epsilon, metresPerUnit);
+    for (const Light& light : s.daylight) (light.kind == LightKind::Sky ? e.sky : e.sun) += irradiance(light, x, n, shadows, s.epsilon, metresPerUnit, SkyEdges::Traced);
     e.direct += e.sky + e.sun;
     std::uint64_t rays = 0;
     thread_local std::vector<char> explicitEmitter, explicitBright;

@@ -257,7 +257,7 @@ Rgb unshadowedIrradiance(const Light& light, const Vec3& x, const Vec3& n, doubl
 }
 
 Rgb irradiance(const Light& light, const Vec3& x, const Vec3& n, const RayCaster& caster, double epsilon,
-               double metresPerUnit) {
+               double metresPerUnit, SkyEdges skyEdges) {
   if (light.kind == LightKind::Sky) {
     // ∫ L(ω) V(x, ω) max(0, n·ω) dω: a ray to infinity per direction above the horizon (every
     // direction of a uniform environment).
@@ -269,7 +269,7 @@ Rgb irradiance(const Light& light, const Vec3& x, const Vec3& n, const RayCaster
       for (const Vec3& w : directions) rays.push_back(Ray{origin, w, 0, INFINITY});
       caster.occluded(rays, seen);
       for (bool& s : seen) s = !s;
-    });
+    }, skyEdges);
     return light.sky->colour() * (lux / kLumensPerWatt);
   }
   if (light.kind == LightKind::Luminaire && light.luminaireModel == LuminaireModel::Opening) {

@@ -10,6 +10,7 @@
 #include "lambert/core/rgb.h"
 #include "lambert/core/vec3.h"
 #include "lambert/geometry/ray_caster.h"
+#include "lambert/light/sky.h"
 #include "lambert/mesh/mesh.h"
 #include "lambert/scene/scene.h"
 
@@ -76,9 +77,11 @@ std::vector<Vec3> luminaireSources(const Light& light, double metresPerUnit);
 // metresPerUnit converts scene distances so that the inverse-square law is in metres.
 Rgb unshadowedIrradiance(const Light& light, const Vec3& x, const Vec3& n, double metresPerUnit);
 
-// The same, with a shadow ray from x (lifted by epsilon along n) toward the light.
+// The same, with a shadow ray from x (lifted by epsilon along n) toward the light. A sky's
+// estimate follows its edges as `skyEdges` says (light/sky.h): Traced at calculation points,
+// Cells for the solve's patches.
 Rgb irradiance(const Light& light, const Vec3& x, const Vec3& n, const RayCaster& caster, double epsilon,
-               double metresPerUnit);
+               double metresPerUnit, SkyEdges skyEdges = SkyEdges::Cells);
 
 struct DirectLightOptions {
   int samplesPerPatch = 16;  // points per patch the irradiance is averaged over

@@ -339,7 +339,8 @@ const SkyHemisphere::Sample* SkyHemisphere::fineSamples(std::size_t k, int q) {
 }
 
 double SkyHemisphere::unobstructedIlluminance() {
-  if (unobstructed_ < 0) unobstructed_ = skyIlluminance(*this, [](std::span<const Vec3>, std::span<bool> out) { std::fill(out.begin(), out.end(), true); });
+  if (unobstructed_ < 0)
+    unobstructed_ = skyIlluminance(*this, [](std::span<const Vec3>, std::span<bool> out) { std::fill(out.begin(), out.end(), true); }, SkyEdges::Cells);
   return unobstructed_;
 }
 

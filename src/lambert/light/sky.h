@@ -121,8 +121,15 @@ class SkyModel {
 // window's work plane at 4096: largest error 1.58% → 0.85% under the overcast sky, for ~35% more rays). `visible(directions, out)` sets out[i] where the point
 // sees the sky along directions[i]; it is asked only where L(ω) > 0 (above the horizon). An opening smaller than about a cell
 // (≈ 2.8° across at 4096 directions) can fall between the first samples and be missed.
+//
+// How far edges are followed: SkyEdges::Traced (a calculation point's sky: the edges followed into
+// the cells beyond and their sub-cells refined, as above) or SkyEdges::Cells (a patch's sky in the
+// solve: the cells on an edge resampled once, no further; 35% fewer rays there, and a daylit
+// office's solve 60% faster, where a patch's reflected light forgives the 1.6% that the façade
+// window's worst work-plane point shows at 4096 directions).
+enum class SkyEdges { Cells, Traced };
 template <class Visible>
-double skyIlluminance(const SkyModel& sky, const Vec3& n, int directions, Visible&& visible);
+double skyIlluminance(const SkyModel& sky, const Vec3& n, int directions, Visible&& visible, SkyEdges edges);
 
 // Sub-grid side of a cell on an edge (above).
 inline constexpr int kSkyEdgeRefinement = 4;
@@ -212,7 +219,7 @@ SkyHemisphere& skyHemisphere(const SkyModel& sky, const Vec3& n, int gridSide);
 // probes a second and the edge cells' sub-samples a third, so that a ray tracer can trace them as
 // streams.
 template <class Visible>
-double skyIlluminance(SkyHemisphere& hemisphere, Visible&& visible) {
+double skyIlluminance(SkyHemisphere& hemisphere, Visible&& visible, SkyEdges edges) {
   const int m = hemisphere.gridSide();
   const std::size_t cells = static_cast<std::size_t>(m) * m;
   constexpr int r = kSkyEdgeRefinement;
@@ -335,7 +342,7 @@ double skyIlluminance(SkyHemisphere& hemisphere, Visible&& visible) {
         }
     ask();
     for (std::size_t a = 0; a < asked.size(); ++a) subLit[askedIndex[a]] = seen[a] ? 1 : 0;
-    for (std::size_t c = done; c < end; ++c) {
+    for (std::size_t c = done; c < end && edges == SkyEdges::Traced; ++c) {
       const std::size_t k = resampled[c];
       const int i = static_cast<int>(k % m), j = static_cast<int>(k / m);
       for (int side = 0; side < 4; ++side) {
@@ -372,7 +379,7 @@ double skyIlluminance(SkyHemisphere& hemisphere, Visible&& visible) {
     for (int q = 0; q < r * r; ++q) {
       const bool lit = subLit[c * (r * r) + q] != 0;
       const int I = i * r + q % r, J = j * r + q / r;
-      const bool edge = s > 1 && (subLitAt(I - 1, J) != lit || subLitAt(I + 1, J) != lit || subLitAt(I, J - 1) != lit ||
+      const bool edge = edges == SkyEdges::Traced && s > 1 && (subLitAt(I - 1, J) != lit || subLitAt(I + 1, J) != lit || subLitAt(I, J - 1) != lit ||
                                   subLitAt(I, J + 1) != lit);
       if (!edge) {
         if (lit) sum += hemisphere.edgeLuminance(k, q) / (r * r);
@@ -397,8 +404,8 @@ double skyIlluminance(SkyHemisphere& hemisphere, Visible&& visible) {
 }
 
 template <class Visible>
-double skyIlluminance(const SkyModel& sky, const Vec3& n, int directions, Visible&& visible) {
-  return skyIlluminance(skyHemisphere(sky, n, skyGridSide(directions)), visible);
+double skyIlluminance(const SkyModel& sky, const Vec3& n, int directions, Visible&& visible, SkyEdges edges) {
+  return skyIlluminance(skyHemisphere(sky, n, skyGridSide(directions)), visible, edges);
 }
 
 // skyIlluminance with nothing in the way (an upper bound of every shadowed estimate at n).

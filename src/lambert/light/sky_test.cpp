@@ -293,7 +293,7 @@ double checkSkyComponent(const Scene& scene, Vec3 c, Vec3 u, Vec3 v, const std::
     light.sky = sky.sky;
     for (auto [x, n] : points) {
       const double expected = skyComponentByQuadrature(*sky.sky, x, n, c, u, v);
-      const double got = irradiance(light, x, n, *caster, epsilon, 1).g * kLumensPerWatt;
+      const double got = irradiance(light, x, n, *caster, epsilon, 1, SkyEdges::Traced).g * kLumensPerWatt;
       const bool openingAbove = std::min({(c - x).y, (c + u - x).y, (c + v - x).y, (c + u + v - x).y}) > 0;
       if (sky.name == "CIE type 5 sun at 135°" && openingAbove) {  // the uniform sky: the closed form too
         const double closed = uniformSkyComponentClosedForm(sky.sky->zenithLuminance(), x, n, {c, c + u, c + u + v, c + v});
@@ -364,7 +364,7 @@ TEST(SkyComponentTest, DefaultDirectionCountKeepsAWindowUnderOnePercent) {
     light.skyDirections = directions;
     double sumSquares = 0, worst = 0;
     for (std::size_t k = 0; k < points.size(); ++k) {
-      const double got = irradiance(light, points[k], {0, 1, 0}, *caster, rayEpsilon(mesh), 1).g * kLumensPerWatt;
+      const double got = irradiance(light, points[k], {0, 1, 0}, *caster, rayEpsilon(mesh), 1, SkyEdges::Traced).g * kLumensPerWatt;
       const double error = got / expected[k] - 1;
       sumSquares += error * error;
       worst = std::fmax(worst, std::fabs(error));
@@ -392,7 +392,7 @@ TEST(SkyComponentTest, DaylightFactorUnderTheOvercastSky) {
   light.kind = LightKind::Sky;
   light.sky = std::make_shared<const SkyModel>(SkyModel::traditionalOvercast(3000));
   const Vec3 x{2, 0, 2};
-  const double lux = irradiance(light, x, {0, 1, 0}, *caster, rayEpsilon(mesh), 1).g * kLumensPerWatt;
+  const double lux = irradiance(light, x, {0, 1, 0}, *caster, rayEpsilon(mesh), 1, SkyEdges::Traced).g * kLumensPerWatt;
   const SkyModel unit = SkyModel::traditionalOvercast(1);
   const double expected =
       100 * skyComponentByQuadrature(unit, x, {0, 1, 0}, {1.25, kHeight, 1.25}, {1.5, 0, 0}, {0, 0, 1.5}) / (7 * kPi / 9);
