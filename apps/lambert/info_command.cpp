@@ -36,7 +36,7 @@ int runInfo(const InfoCommandOptions& o) {
     area += a;
     // Through the emission texture: a surface where it is black emits nothing.
     const Rgb radiance = meanEmittedRadiance(*scene, s);
-    emittedWatts += a * m2 * kPi * radiance.sum();
+    emittedWatts += a * m2 * kPi * radiance.luminance();
     emitters += radiance.maxComponent() > 0;
   }
   const auto [lo, hi] = sceneBounds(*scene);
@@ -63,7 +63,7 @@ int runInfo(const InfoCommandOptions& o) {
   std::snprintf(bounds, sizeof bounds, "%g,%g,%g", up.x, up.y, up.z);
   stats.add("up_file", "up axis (file coordinates)", std::string(bounds));
   stats.add("area_m2", "surface area", area * m2, "m2");
-  stats.add("emitted_watts", "power emitted by surfaces (RGB summed)", emittedWatts, "W");
+  stats.add("emitted_watts", "power emitted by surfaces (watts of luminance, lm/683)", emittedWatts, "W");
 
   const Mesh mesh = uniformMesh(*scene, uniformMeshOptions(*scene, o.mesh));
   const double n = static_cast<double>(mesh.numPatches());

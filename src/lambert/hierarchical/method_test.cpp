@@ -233,7 +233,7 @@ TEST(HierarchicalTest, ClosedCornellBoxAbsorbsWhatItEmits) {
   const SolutionView& view = engine->solution();
   EnergyBalance balance = energyBalance(radiosityProblem(view), view.radiosity(), view.scene().metresPerUnit);
   // 130 mm × 105 mm emitting π·(17 + 12 + 4) W/m² (the scene's lamp).
-  EXPECT_NEAR(balance.emittedWatts, 0.130 * 0.105 * kPi * 33, 1e-9);
+  EXPECT_NEAR(balance.emittedWatts, 0.130 * 0.105 * kPi * (0.2126 * 17 + 0.7152 * 12 + 0.0722 * 4), 1e-9);  // in watts of luminance
   std::printf("absorbed %.4f, escaped %.4f of the emitted power\n", balance.absorbedWatts / balance.emittedWatts,
               balance.escapedWatts / balance.emittedWatts);
   EXPECT_LT(relativeError(balance.absorbedWatts, balance.emittedWatts), 0.01);

@@ -10,7 +10,6 @@
 #include "lambert/core/rgb.h"
 #include "lambert/core/vec3.h"
 #include "lambert/geometry/ray_caster.h"
-#include "lambert/light/sky.h"
 #include "lambert/mesh/mesh.h"
 #include "lambert/scene/scene.h"
 

@@ -121,13 +121,7 @@ class SkyModel {
 // window's work plane at 4096: largest error 1.58% → 0.85% under the overcast sky, for ~35% more rays). `visible(directions, out)` sets out[i] where the point
 // sees the sky along directions[i]; it is asked only where L(ω) > 0 (above the horizon). An opening smaller than about a cell
 // (≈ 2.8° across at 4096 directions) can fall between the first samples and be missed.
-//
-// How far edges are followed: SkyEdges::Traced (a calculation point's sky: the edges followed into
-// the cells beyond and their sub-cells refined, as above) or SkyEdges::Cells (a patch's sky in the
-// solve: the cells on an edge resampled once, no further; 35% fewer rays there, and a daylit
-// office's solve 60% faster, where a patch's reflected light forgives the 1.6% that the façade
-// window's worst work-plane point shows at 4096 directions).
-enum class SkyEdges { Cells, Traced };
+// How far edges are followed: SkyEdges (scene/scene.h).
 template <class Visible>
 double skyIlluminance(const SkyModel& sky, const Vec3& n, int directions, Visible&& visible, SkyEdges edges);
 

@@ -249,7 +249,7 @@ TEST(SceneFileTest, BadFilesAreRefusedNamingThePathAndTheRule) {
   const std::pair<std::string, std::string> cases[] = {
       {"{" + base + ", \"colour\": 1}", "bad.json: /colour: unknown field (allowed here: version, name, unit"},
       {"{" + base + R"(, "lights": [{"type": "point", "position": [0,1,0], "intensity": [1,1,1], "direction": [0,1,0]}]})",
-       "bad.json: /lights/0/direction: unknown field (allowed here: name, type, position, intensity)"},
+       "bad.json: /lights/0/direction: unknown field (allowed here: name, type, position, intensity, maintenance)"},
       {"{" + base + R"(, "lights": [{"type": "spot", "position": [0,1,0], "direction": [0,-1,0], "intensity": [1,1,1], "coneAngleDegrees": 120}]})",
        "bad.json: /lights/0/coneAngleDegrees: 120 is out of range: allowed (0, 90]"},
       {"{" + base + R"(, "lights": [{"type": "spot", "position": [0,1,0], "direction": [0,-1,0], "intensity": [1,1,1], "coneAngleDegrees": 20, "falloffDegrees": 30}]})",

@@ -107,6 +107,12 @@ enum class LuminaireModel {
 // The default direction count of a sky light's irradiance estimate (light/sky.h skyIlluminance):
 // chosen so that a window seen from inside a room gives under 1% error (docs/photometry.md, "Daylight").
 inline constexpr int kDefaultSkyDirections = 4096;
+// How far a sky's estimate follows an opening's edges (light/sky.h skyIlluminance): Traced (a
+// calculation point's sky: the edges followed into the cells beyond and their sub-cells refined)
+// or Cells (a patch's sky in the solve: the cells on an edge resampled once, no further; 35% fewer
+// rays there, and a daylit office's solve 60% faster, where a patch's reflected light forgives the
+// 1.6% that the façade window's worst work-plane point shows at 4096 directions).
+enum class SkyEdges { Cells, Traced };
 
 struct Light {
   std::string name;

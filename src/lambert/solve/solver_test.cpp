@@ -122,8 +122,8 @@ TEST(SolverTest, EnergyBalanceOnTheClosedCornellBox) {
   Solved s = setUp(scene, edgeLengthForPatchCount(scene, 784));
   std::vector<Rgb> radiosity = solveWith(SolverKind::Direct, s.problem);
   EnergyBalance balance = energyBalance(s.problem, radiosity, scene.metresPerUnit);
-  // 130 mm × 105 mm emitting π·(17+12+4) W/m².
-  EXPECT_NEAR(balance.emittedWatts, 0.130 * 0.105 * kPi * 33, 1e-9);
+  // 130 mm × 105 mm emitting π·(17, 12, 4) W/m², in watts of luminance.
+  EXPECT_NEAR(balance.emittedWatts, 0.130 * 0.105 * kPi * (0.2126 * 17 + 0.7152 * 12 + 0.0722 * 4), 1e-9);
   EXPECT_LT(testing::relativeError(balance.absorbedWatts, balance.emittedWatts), 0.01)
       << "absorbed " << balance.absorbedWatts << " W of " << balance.emittedWatts << " W";
 }

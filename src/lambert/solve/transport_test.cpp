@@ -123,13 +123,14 @@ TEST(TransportTest, EnergyBalanceOfTwoPatches) {
   const std::vector<Rgb> radiosity{{32, 64, 0}, {4, 8, 0}};
   ASSERT_LT(relativeResidual(problem, radiosity), 1e-15);  // it is the solution
   EnergyBalance balance = energyBalance(problem, radiosity, 0.5);
-  // H_0 = ½ B_1 = (2, 4, 0), H_1 = ¼ B_0 = (8, 16, 0).
-  EXPECT_DOUBLE_EQ(balance.emittedWatts, 0.25 * (31 + 62));                            // 23.25
-  EXPECT_DOUBLE_EQ(balance.absorbedWatts, 0.25 * 0.5 * (2 + 4) + 0.5 * 0.5 * (8 + 16));  // 6.75
-  // Leaving Σ A B = 0.25·96 + 0.5·12 = 30, arriving Σ A H = 0.25·6 + 0.5·24 = 13.5; the same as
-  // Σ A_i B_i (1 − Σ_j F_ij) = 0.25·96·½ + 0.5·12·¾ since F is reciprocal.
-  EXPECT_DOUBLE_EQ(balance.escapedWatts, 30 - 13.5);  // 16.5
-  EXPECT_DOUBLE_EQ(balance.absorbedWatts + balance.escapedWatts, balance.emittedWatts);
+  // H_0 = ½ B_1 = (2, 4, 0), H_1 = ¼ B_0 = (8, 16, 0); every figure in watts of luminance.
+  auto Y = [](double r, double g, double b) { return Rgb{r, g, b}.luminance(); };
+  EXPECT_NEAR(balance.emittedWatts, 0.25 * Y(31, 62, 0), 1e-12);
+  EXPECT_NEAR(balance.absorbedWatts, 0.25 * 0.5 * Y(2, 4, 0) + 0.5 * 0.5 * Y(8, 16, 0), 1e-12);
+  // Leaving Σ A B = 0.25·B_0 + 0.5·B_1, arriving Σ A H = 0.25·H_0 + 0.5·H_1; the same as
+  // Σ A_i B_i (1 − Σ_j F_ij) = 0.25·B_0·½ + 0.5·B_1·¾ since F is reciprocal.
+  EXPECT_NEAR(balance.escapedWatts, 0.25 * Y(32, 64, 0) * 0.5 + 0.5 * Y(4, 8, 0) * 0.75, 1e-12);
+  EXPECT_NEAR(balance.absorbedWatts + balance.escapedWatts, balance.emittedWatts, 1e-12);
 }
 
 // Rows normalised to one break reciprocity (A_0 F_01 = 1 ≠ A_1 F_10 = 2): the large patch
@@ -138,10 +139,10 @@ TEST(TransportTest, EnergyBalanceShowsPowerANonReciprocalMatrixMakes) {
   RadiosityProblem problem = twoPatches(1.0f, 1.0f);
   const std::vector<Rgb> radiosity{Rgb::gray(2), Rgb::gray(1)};  // any B, not a solution
   EnergyBalance balance = energyBalance(problem, radiosity, 0.5);
-  // H_0 = B_1 = 1, H_1 = B_0 = 2 (each channel). Leaving 0.25·6 + 0.5·3 = 3, arriving
-  // 0.25·3 + 0.5·6 = 3.75.
-  EXPECT_DOUBLE_EQ(balance.escapedWatts, 3 - 3.75);
-  EXPECT_DOUBLE_EQ(balance.absorbedWatts, 0.25 * 0.5 * 3 + 0.5 * 0.5 * 6);
+  // H_0 = B_1 = 1, H_1 = B_0 = 2 (grey: its luminance). Leaving 0.25·2 + 0.5·1 = 1, arriving
+  // 0.25·1 + 0.5·2 = 1.25.
+  EXPECT_NEAR(balance.escapedWatts, 1 - 1.25, 1e-12);
+  EXPECT_NEAR(balance.absorbedWatts, 0.25 * 0.5 * 1 + 0.5 * 0.5 * 2, 1e-12);
 }
 
 }  // namespace
