@@ -75,7 +75,7 @@ bench: build
 # The whole suite under AddressSanitizer (leaks included) and UndefinedBehaviorSanitizer, in
 # build-sanitize/; the CLI runs the tests start are instrumented too. Any report fails its test.
 SANITIZE_ENV = ASAN_OPTIONS=detect_leaks=1:check_initialization_order=1:strict_init_order=1 \
-  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp
 # -O1 -g1 (line tables, all a report's stack needs) compiles in half the time of -O2 -g
 # (hierarchical/method.cpp: 23 s against 44 s), which keeps CI under its 45 minutes.
 sanitize: deps
