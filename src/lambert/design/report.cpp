@@ -58,12 +58,6 @@ std::string skyName(const SkyModel& sky) {
   return "CIE standard general sky, type " + std::to_string(sky.cieType());
 }
 
-// The plan position of a horizontal direction: degrees counter-clockwise from east, [0, 360).
-double azimuthFromEast(const Vec3& d) {
-  const double a = std::atan2(-d.z, d.x) * 180 / kPi;
-  return a < 0 ? a + 360 : a + 0.0;  // + 0.0: never −0
-}
-
 }  // namespace
 
 std::string base64(const std::vector<std::uint8_t>& bytes) {
@@ -262,7 +256,7 @@ Result<LightingReport> lightingReport(const ReportInput& input) {
         for (const GlareSource& s : g.rating.sources) counted += s.status == GlareSourceStatus::Counted;
         const Vec3& e = g.observer.eye;
         observers.rows.push_back({g.observer.name, fixed(e.x * mpu, 2) + ", " + fixed(e.y * mpu, 2) + ", " + fixed(e.z * mpu, 2),
-                                  fixed(azimuthFromEast(g.observer.viewDirection), 0), fixed(g.rating.backgroundLuminance, 1), std::to_string(counted),
+                                  fixed(aimingOfDirection(g.observer.viewDirection, 0).orientDegrees, 0), fixed(g.rating.backgroundLuminance, 1), std::to_string(counted),
                                   std::isfinite(g.rating.ugr) ? (g.rating.ugr < 10 ? "< 10" : fixed(g.rating.ugr, 1)) : "no glare source in view"});
       }
       glare.blocks.push_back(tableBlock(std::move(observers)));

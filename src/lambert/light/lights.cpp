@@ -132,6 +132,7 @@ LuminaireAiming aimingOfDirection(const Vec3& aim, double spinDegrees) {
   if (horizontal > 1e-9) {
     angles.orientDegrees = std::atan2(northward, eastward) / kDegrees;
     if (angles.orientDegrees < 0) angles.orientDegrees += 360;
+    angles.orientDegrees += 0.0;  // atan2(−0, x) is −0: never print "−0"
   } else {
     // Vertical: the plan azimuth is undefined; orient 0 leaves C0 to the spin alone (and the
     // tilt exactly 0 or 180, so that a downlight's frame is east turned by its spin).
