@@ -209,11 +209,14 @@ class SkyHemisphere {
 // in their last bits, and a pure rounding keeps the result the same whichever thread asks first.
 SkyHemisphere& skyHemisphere(const SkyModel& sky, const Vec3& n, int gridSide);
 
-// skyIlluminance over a hemisphere's directions. The first samples go to `visible` as one batch, the
-// probes a second and the edge cells' sub-samples a third, so that a ray tracer can trace them as
-// streams.
-template <class Visible>
-double skyIlluminance(SkyHemisphere& hemisphere, Visible&& visible, SkyEdges edges) {
+// skyIlluminance's integration over a hemisphere's directions, handing each sample that counts to
+// `add(direction, luminance, share)`: a visible sample above the horizon, `share` the part of a
+// cell it stands for (1 for a cell's first sample, 1/r² for a sub-sample, 1/(r² s²) for a fine one),
+// so that ∫ L V cos dω = (π / cells) Σ luminance · share. The first samples go to `visible` as one
+// batch, the probes a second and the edge cells' sub-samples a third, so that a ray tracer can
+// trace them as streams.
+template <class Visible, class Add>
+void skyIntegrate(SkyHemisphere& hemisphere, Visible&& visible, SkyEdges edges, Add&& add) {
   const int m = hemisphere.gridSide();
   const std::size_t cells = static_cast<std::size_t>(m) * m;
   constexpr int r = kSkyEdgeRefinement;
@@ -253,6 +256,8 @@ double skyIlluminance(SkyHemisphere& hemisphere, Visible&& visible, SkyEdges edg
   auto onSide = [](int q, int side) { return side == 0 ? q % r == 0 : side == 1 ? q % r == r - 1 : side == 2 ? q / r == 0 : q / r == r - 1; };
   thread_local std::vector<double> whole;  // what a cell not resampled counts: its sample, or its probes'
   whole.assign(luminance.begin(), luminance.end());
+  thread_local std::vector<unsigned char> countsSubSamples;  // per cell: it counts its probes' sub-samples
+  countsSubSamples.assign(cells, 0);
   thread_local std::vector<std::size_t> resampled;              // cells resampled whole
   thread_local std::vector<std::pair<std::size_t, int>> probed;  // cells probed, and their sides (bits)
   resampled.clear();
@@ -305,6 +310,7 @@ double skyIlluminance(SkyHemisphere& hemisphere, Visible&& visible, SkyEdges edg
     double cell = 0;
     for (int q = 0; q < r * r; ++q) cell += hemisphere.edgeLuminance(probed[c].first, q);
     whole[probed[c].first] = cell / (r * r);
+    countsSubSamples[probed[c].first] = 1;
   }
   // The resampled cells' sub-samples, in rounds: where a sub-sample on a cell's side differs from
   // the neighbouring cell's state (its first sample, or its probes), the edge goes on into that
@@ -357,9 +363,15 @@ double skyIlluminance(SkyHemisphere& hemisphere, Visible&& visible, SkyEdges edg
     }
     done = end;
   }
-  double sum = 0;
-  for (std::size_t k = 0; k < cells; ++k)
-    if (slot[k] < 0) sum += whole[k];
+  for (std::size_t k = 0; k < cells; ++k) {
+    if (slot[k] >= 0) continue;
+    if (countsSubSamples[k]) {
+      for (int q = 0; q < r * r; ++q)
+        if (hemisphere.edgeLuminance(k, q) > 0) add(hemisphere.edgeDirection(k, q), hemisphere.edgeLuminance(k, q), 1.0 / (r * r));
+    } else if (luminance[k] > 0) {
+      add(hemisphere.direction(k), luminance[k], 1.0);
+    }
+  }
   // A sub-cell whose state differs from a neighbouring sub-cell's holds the edge: it is resampled
   // on a kSkyFineRefinement² grid, the others count their sub-sample.
   constexpr int s = kSkyFineRefinement;
@@ -376,7 +388,7 @@ double skyIlluminance(SkyHemisphere& hemisphere, Visible&& visible, SkyEdges edg
       const bool edge = edges == SkyEdges::Traced && s > 1 && (subLitAt(I - 1, J) != lit || subLitAt(I + 1, J) != lit || subLitAt(I, J - 1) != lit ||
                                   subLitAt(I, J + 1) != lit);
       if (!edge) {
-        if (lit) sum += hemisphere.edgeLuminance(k, q) / (r * r);
+        if (lit) add(hemisphere.edgeDirection(k, q), hemisphere.edgeLuminance(k, q), 1.0 / (r * r));
         continue;
       }
       fineIndex.push_back(c * (r * r) + q);
@@ -391,10 +403,19 @@ double skyIlluminance(SkyHemisphere& hemisphere, Visible&& visible, SkyEdges edg
   for (std::size_t a = 0; a < asked.size(); ++a)
     if (seen[a]) {
       const std::size_t f = fineIndex[askedIndex[a] / (s * s)];
-      sum += hemisphere.fineLuminance(resampled[f / (r * r)], static_cast<int>(f % (r * r)), static_cast<int>(askedIndex[a] % (s * s))) /
-             (r * r * s * s);
+      const std::size_t k = resampled[f / (r * r)];
+      const int q = static_cast<int>(f % (r * r)), p = static_cast<int>(askedIndex[a] % (s * s));
+      add(hemisphere.fineDirection(k, q, p), hemisphere.fineLuminance(k, q, p), 1.0 / (r * r * s * s));
     }
-  return sum * kPi / static_cast<double>(cells);
+}
+
+// ∫ L V cos dω over a hemisphere's directions, in lux (skyIntegrate).
+template <class Visible>
+double skyIlluminance(SkyHemisphere& hemisphere, Visible&& visible, SkyEdges edges) {
+  double sum = 0;
+  skyIntegrate(hemisphere, visible, edges, [&](const Vec3&, double luminance, double share) { sum += luminance * share; });
+  const double m = hemisphere.gridSide();
+  return sum * kPi / (m * m);
 }
 
 template <class Visible>
