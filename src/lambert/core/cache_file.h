@@ -27,6 +27,7 @@
 #include <span>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "lambert/core/error.h"
 #include "lambert/core/vec3.h"
@@ -128,6 +129,14 @@ class KeyHasher {
   void text(const std::string& s) {
     u64(s.size());
     hash_.update(s.data(), s.size());
+  }
+  // An array's bytes as one value: its length and the XXH64 of its memory (exact bits).
+  template <typename T>
+  void array(const std::vector<T>& values) {
+    Xxh64 digest;
+    if (!values.empty()) digest.update(values.data(), values.size() * sizeof(T));
+    u64(values.size());
+    u64(digest.digest());
   }
   std::uint64_t digest() const { return hash_.digest(); }
 

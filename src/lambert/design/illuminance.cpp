@@ -173,9 +173,8 @@ struct ClippedTriangle {
   double area = 0;
 };
 
-// The same directions at every point, each in the point's own frame: a scrambled (0,2)-sequence
-// mapped to the cosine-weighted hemisphere (Malley's method: the unit disc lifted onto it),
-// z along the normal.
+}  // namespace
+
 std::vector<Vec3> cosineDirections(int rays, std::uint64_t seed) {
   const int count = static_cast<int>(std::bit_ceil(static_cast<unsigned>(std::max(rays, 1))));
   Pcg32 rng(seed, 0x1ec7);
@@ -188,8 +187,6 @@ std::vector<Vec3> cosineDirections(int rays, std::uint64_t seed) {
   }
   return out;
 }
-
-}  // namespace
 
 // What a point receives from a set of source surfaces, those that may matter there integrated
 // explicitly (their flags in `explicitly` set, so that the hemisphere rays leave them out):

@@ -78,6 +78,12 @@ struct IlluminanceOptions {
   bool showProgress = false;  // a progress line on a terminal
 };
 
+// The hemisphere directions every point's indirect light is gathered along, each in the point's own
+// frame (z along its normal): a scrambled (0,2)-sequence of `rays` rounded up to a power of two,
+// mapped to the cosine-weighted hemisphere (Malley's method: the unit disc lifted onto it), so that
+// E = (π/N)·Σ L along them.
+std::vector<Vec3> cosineDirections(int rays, std::uint64_t seed);
+
 // Measures the irradiance at points of a solved scene. Made once per solution (it takes the
 // solution's vertex irradiance and builds a ray caster over its vertex mesh), then asked for as
 // many points as wanted. The solution must outlive it and stay unchanged while it is used.

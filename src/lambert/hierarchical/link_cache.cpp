@@ -36,6 +36,7 @@
 #include "lambert/method/solve_call.h"
 #include "lambert/light/sky.h"
 #include "lambert/core/cache_file.h"
+#include "lambert/scene/scene_hash.h"
 #include "lambert/link_sources_digest.h"
 #include "lambert/version.h"
 
@@ -49,53 +50,6 @@ constexpr std::size_t kPreambleBytes = 64;
 
 static_assert(sizeof(Vec3) == 3 * sizeof(double) && sizeof(Rgb) == 3 * sizeof(double) && sizeof(Uv) == 2 * sizeof(double),
               "hashed and stored as their doubles");
-
-// An array's bytes as one value of the key: its length and the XXH64 of its memory (exact bits).
-template <typename T>
-void hashArray(KeyHasher& h, const std::vector<T>& values) {
-  cachefile::Xxh64 digest;
-  if (!values.empty()) digest.update(values.data(), values.size() * sizeof(T));
-  h.u64(values.size());
-  h.u64(digest.digest());
-}
-
-void hashRgb(KeyHasher& h, const Rgb& c) {
-  h.f64(c.r);
-  h.f64(c.g);
-  h.f64(c.b);
-}
-
-void hashTexture(KeyHasher& h, const std::shared_ptr<const Texture>& texture) {
-  h.u32(texture ? 1 : 0);
-  if (!texture) return;
-  h.i64(texture->width);
-  h.i64(texture->height);
-  hashArray(h, texture->pixels);
-}
-
-// Everything of the scene that meshing, emission, albedo or the lights' direct light read; not
-// names, the camera, exposure or solve defaults (the options carry what those choose).
-void hashScene(KeyHasher& h, const Scene& scene) {
-  h.f64(scene.metresPerUnit);
-  h.u64(scene.materials.size());
-  for (const Material& m : scene.materials) {
-    hashRgb(h, m.albedo);
-    h.u32(m.twoSided ? 1 : 0);
-    hashTexture(h, m.texture);
-    hashTexture(h, m.emissionTexture);
-  }
-  h.u64(scene.surfaces.size());
-  for (const Surface& s : scene.surfaces) {
-    hashArray(h, s.vertices);
-    h.i64(s.material);
-    hashRgb(h, s.emittedRadiance);
-    h.i64(s.twin);
-    h.u64(s.faces.size());
-    for (const std::vector<std::uint32_t>& face : s.faces) hashArray(h, face);
-    h.u64(s.faceUvs.size());
-    for (const std::vector<Uv>& uvs : s.faceUvs) hashArray(h, uvs);
-  }
-}
 
 // What irradiance() reads of a light (not its name, nor its angular velocity: the lights are
 // taken as they are at the first solve).
@@ -430,10 +384,10 @@ std::uint64_t gatherVisibilityDigest(const GatherVisibility* visibility) {
   h.text("lambert gather visibility");
   h.u32(visibility ? 1 : 0);
   if (visibility) {
-    hashArray(h, visibility->start);
-    hashArray(h, visibility->link);
-    hashArray(h, visibility->source);
-    hashArray(h, visibility->seen);
+    h.array(visibility->start);
+    h.array(visibility->link);
+    h.array(visibility->source);
+    h.array(visibility->seen);
   }
   return h.digest();
 }
@@ -442,9 +396,9 @@ std::uint64_t gatherInputDigest(const std::vector<Rgb>& nodeMeanRadiosity, std::
                                 std::initializer_list<const std::vector<Rgb>*> perVertex) {
   KeyHasher h;
   h.text("lambert gather input");
-  hashArray(h, nodeMeanRadiosity);
+  h.array(nodeMeanRadiosity);
   h.u64(visibilityDigest);
-  for (const std::vector<Rgb>* values : perVertex) hashArray(h, *values);
+  for (const std::vector<Rgb>* values : perVertex) h.array(*values);
   return h.digest();
 }
 

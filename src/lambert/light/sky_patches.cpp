@@ -18,19 +18,19 @@ Result<SkyPatches> SkyPatches::reinhart(int subdivisions, const Vec3& north) {
   if (subdivisions < 1 || subdivisions > 32) return Error{"the sky's subdivision (Reinhart's MF) must be 1 to 32, not " + std::to_string(subdivisions)};
   if (!(std::fabs(north.x) + std::fabs(north.z) > 0) || !std::isfinite(north.x) || !std::isfinite(north.z))
     return Error{"north must be a finite horizontal direction (not along y)"};
-  SkyPatches p;
-  p.subdivisions_ = subdivisions;
-  p.ringHeightDegrees_ = 90.0 / (7 * subdivisions + 0.5);
-  p.north_ = normalize(Vec3{north.x, 0, north.z});
-  p.east_ = cross(p.north_, Vec3{0, 1, 0});
+  return SkyPatches(subdivisions, north);
+}
+
+SkyPatches::SkyPatches(int subdivisions, const Vec3& north)
+    : subdivisions_(subdivisions), ringHeightDegrees_(90.0 / (7 * subdivisions + 0.5)), north_(normalize(Vec3{north.x, 0, north.z})) {
+  east_ = cross(north_, Vec3{0, 1, 0});
   std::uint32_t start = 0;
   for (int ring = 0; ring < 7 * subdivisions; ++ring) {
-    p.ringPatches_.push_back(kTregenzaRing[ring / subdivisions] * subdivisions);
-    p.patchStart_.push_back(start);
-    start += static_cast<std::uint32_t>(p.ringPatches_.back());
+    ringPatches_.push_back(kTregenzaRing[ring / subdivisions] * subdivisions);
+    patchStart_.push_back(start);
+    start += static_cast<std::uint32_t>(ringPatches_.back());
   }
-  p.patchStart_.push_back(start);
-  return p;
+  patchStart_.push_back(start);
 }
 
 int SkyPatches::patchOf(const Vec3& d) const {

@@ -29,6 +29,7 @@ class SkyPatches {
  public:
   // MF:subdivisions (1 is Tregenza's), north a horizontal scene direction (east = north × up).
   static Result<SkyPatches> reinhart(int subdivisions, const Vec3& north = {0, 0, -1});
+  SkyPatches() : SkyPatches(1, {0, 0, -1}) {}  // Tregenza's, north −z
 
   int subdivisions() const { return subdivisions_; }
   int count() const { return static_cast<int>(patchStart_.back()) + 1; }  // the cap is the last
@@ -52,7 +53,7 @@ class SkyPatches {
   double meanLuminance(const SkyModel& sky, int patch) const;
 
  private:
-  SkyPatches() = default;
+  SkyPatches(int subdivisions, const Vec3& north);
   int subdivisions_ = 1;
   double ringHeightDegrees_ = 12;
   Vec3 north_{0, 0, -1}, east_{1, 0, 0};
