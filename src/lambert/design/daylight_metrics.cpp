@@ -260,7 +260,7 @@ std::string metricSymbol(DaylightMetric metric) {
     case DaylightMetric::UdiFellShort:
     case DaylightMetric::UdiUseful:
     case DaylightMetric::UdiExceeded: return "UDI";
-    case DaylightMetric::SunlitHours: return "h";
+    case DaylightMetric::SunlitHours: return "sun hours ";
   }
   return {};
 }
