@@ -204,9 +204,11 @@ FalseColourImage falseColourImage(const CalculationGrid& grid, std::span<const d
   const GridStatistics stats = gridStatistics(values);
   const std::string title = options.title.empty() ? grid.name : options.title;
   const std::string unit = std::string(" ").append(options.unit);
-  const std::string figures = "Eavg " + formatValue(stats.average) + unit + "   Emin " + formatValue(stats.minimum) + unit + "   Emax " +
-                              formatValue(stats.maximum) + unit + "   U0 " + formatValue(stats.uniformity) + "   Emin/Emax " +
-                              formatValue(stats.minOverMax) + "   " + std::to_string(stats.points) + " points";
+  const std::string& symbol = options.figureSymbol;
+  const std::string figures = symbol + "avg " + formatValue(stats.average) + unit + "   " + symbol + "min " + formatValue(stats.minimum) + unit +
+                              "   " + symbol + "max " + formatValue(stats.maximum) + unit +
+                              (options.uniformityFigures ? "   U0 " + formatValue(stats.uniformity) + "   Emin/Emax " + formatValue(stats.minOverMax) : "") +
+                              "   " + std::to_string(stats.points) + " points";
   const int textWidth = std::max(Canvas::textWidth(title, scale), Canvas::textWidth(figures, scale)) + 2 * margin;
   const int arrowHeight = page.plan ? 90 : 0;
   Canvas canvas(std::max(planeLeft + pw + margin + legendWidth, textWidth),

@@ -43,6 +43,10 @@ struct FalseColourOptions {
   std::vector<double> isoluxLevels;  // lux; empty: round levels over the scale (about six)
   std::string title;         // first line of the title (the grid's name when empty)
   std::string unit = "lx";   // the values' unit, as the legend labels it (e.g. "%" for daylight factors)
+  // The title's figures: <symbol>avg, <symbol>min, <symbol>max of the values, then (an
+  // illuminance's) U0 and Emin/Emax unless uniformityFigures is false (a percentage of hours has none).
+  std::string figureSymbol = "E";
+  bool uniformityFigures = true;
   double metresPerUnit = 1;  // the scene's unit, for the axes
   Vec3 north{0, 0, -1};      // the scene's north (horizontal), for the arrow
   std::vector<PlanLuminaire> luminaires;  // drawn on a horizontal plane only

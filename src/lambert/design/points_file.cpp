@@ -125,28 +125,40 @@ Result<PointsTable> readPointsCsv(const std::string& path, const FileFrame& fram
   return table;
 }
 
-Status writePointsCsv(const std::string& path, const PointsTable& table, std::span<const PointIrradiance> irradiance,
-                      std::span<const double> daylightFactorPercent) {
-  if (irradiance.size() != table.rows.size()) return Error{"writePointsCsv: one irradiance per row needed"};
-  const bool daylight = !daylightFactorPercent.empty();
+Status writePointsCsvColumns(const std::string& path, const PointsTable& table, std::span<const std::string> columns,
+                             std::span<const double> values) {
+  if (values.size() != table.rows.size() * columns.size()) return Error{"writePointsCsvColumns: one value per row and column needed"};
   std::string out;
-  const std::size_t columns = table.header.size();
-  for (std::size_t c = 0; c < columns; ++c) out += csvField(table.header[c]) + ",";
-  out += daylight ? "E_direct,E_sky,E_sun,E_indirect,E,DF\n" : "E_direct,E_sky,E_sun,E_indirect,E\n";
-  char number[160];
+  const std::size_t given = table.header.size();
+  // Appended piece by piece (GCC 12 warns, wrongly, of overlap in csvField(...) + ",").
+  for (std::size_t c = 0; c < given; ++c) out.append(csvField(table.header[c])).push_back(',');
+  for (std::size_t c = 0; c < columns.size(); ++c) out.append(csvField(columns[c])).push_back(c + 1 < columns.size() ? ',' : '\n');
+  char number[64];
   for (std::size_t i = 0; i < table.rows.size(); ++i) {
-    for (std::size_t c = 0; c < columns; ++c) out += (c < table.rows[i].size() ? csvField(table.rows[i][c]) : std::string()) + ",";
-    const PointIrradiance& e = irradiance[i];
-    std::snprintf(number, sizeof number, "%.6g,%.6g,%.6g,%.6g,%.6g", illuminanceLux(e.direct), illuminanceLux(e.sky), illuminanceLux(e.sun),
-                  illuminanceLux(e.indirect), illuminanceLux(e.total()));
-    out += number;
-    if (daylight) {
-      std::snprintf(number, sizeof number, ",%.6g", daylightFactorPercent[i]);
+    for (std::size_t c = 0; c < given; ++c) out.append(c < table.rows[i].size() ? csvField(table.rows[i][c]) : std::string()).push_back(',');
+    for (std::size_t c = 0; c < columns.size(); ++c) {
+      std::snprintf(number, sizeof number, c + 1 < columns.size() ? "%.6g," : "%.6g", values[i * columns.size() + c]);
       out += number;
     }
     out += "\n";
   }
   return writeFileAtomically(path, std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(out.data()), out.size()));
+}
+
+Status writePointsCsv(const std::string& path, const PointsTable& table, std::span<const PointIrradiance> irradiance,
+                      std::span<const double> daylightFactorPercent) {
+  if (irradiance.size() != table.rows.size()) return Error{"writePointsCsv: one irradiance per row needed"};
+  const bool daylight = !daylightFactorPercent.empty();
+  std::vector<std::string> columns{"E_direct", "E_sky", "E_sun", "E_indirect", "E"};
+  if (daylight) columns.push_back("DF");
+  std::vector<double> values;
+  values.reserve(table.rows.size() * columns.size());
+  for (std::size_t i = 0; i < table.rows.size(); ++i) {
+    const PointIrradiance& e = irradiance[i];
+    values.insert(values.end(), {illuminanceLux(e.direct), illuminanceLux(e.sky), illuminanceLux(e.sun), illuminanceLux(e.indirect), illuminanceLux(e.total())});
+    if (daylight) values.push_back(daylightFactorPercent[i]);
+  }
+  return writePointsCsvColumns(path, table, columns, values);
 }
 
 }  // namespace lambert

@@ -34,4 +34,10 @@ Result<PointsTable> readPointsCsv(const std::string& path, const FileFrame& fram
 Status writePointsCsv(const std::string& path, const PointsTable& table, std::span<const PointIrradiance> irradiance,
                       std::span<const double> daylightFactorPercent = {});
 
+// The table's columns and rows, then the named columns (their names should carry their unit, e.g.
+// "DA_300lx_pct"), `values` row-major (rows × columns.size()), each written as %.6g; atomically.
+// writePointsCsv and the daylight metrics' file (design/daylight_metrics.h) are both this.
+Status writePointsCsvColumns(const std::string& path, const PointsTable& table, std::span<const std::string> columns,
+                             std::span<const double> values);
+
 }  // namespace lambert

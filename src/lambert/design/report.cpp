@@ -17,17 +17,9 @@
 namespace lambert {
 namespace {
 
-std::string fixed(double v, int digits = 1) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.*f", digits, v);
-  return buffer;
-}
-
-std::string general(double v) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.4g", v);
-  return buffer;
-}
+// The shared helpers (report.h) by their short names here.
+std::string fixed(double v, int digits = 1) { return reportFixed(v, digits); }
+std::string general(double v) { return reportGeneral(v); }
 
 std::string value(const Stats::Value& v) {
   if (const auto* i = std::get_if<std::int64_t>(&v)) return std::to_string(*i);
@@ -35,9 +27,9 @@ std::string value(const Stats::Value& v) {
   return std::get<std::string>(v);
 }
 
-ReportBlock heading(std::string text) { return {ReportBlock::Kind::Heading, std::move(text), {}, {}, {}}; }
-ReportBlock paragraph(std::string text) { return {ReportBlock::Kind::Paragraph, std::move(text), {}, {}, {}}; }
-ReportBlock tableBlock(ReportTable table) { return {ReportBlock::Kind::Table, {}, std::move(table), {}, {}}; }
+ReportBlock heading(std::string text) { return reportHeading(std::move(text)); }
+ReportBlock paragraph(std::string text) { return reportParagraph(std::move(text)); }
+ReportBlock tableBlock(ReportTable table) { return reportTableBlock(std::move(table)); }
 
 // The mean of a column (lux) over the grid's points.
 double meanLux(const std::vector<PointIrradiance>& irradiance, Rgb PointIrradiance::*part) {
@@ -59,6 +51,25 @@ std::string skyName(const SkyModel& sky) {
 }
 
 }  // namespace
+
+ReportBlock reportHeading(std::string text) { return {ReportBlock::Kind::Heading, std::move(text), {}, {}, {}}; }
+ReportBlock reportParagraph(std::string text) { return {ReportBlock::Kind::Paragraph, std::move(text), {}, {}, {}}; }
+ReportBlock reportTableBlock(ReportTable table) { return {ReportBlock::Kind::Table, {}, std::move(table), {}, {}}; }
+ReportBlock reportImageBlock(const FalseColourImage& picture, std::string alt) {
+  return {ReportBlock::Kind::Image, {}, {}, {picture.width, picture.height, picture.rgb, std::move(alt)}, {}};
+}
+
+std::string reportFixed(double v, int digits) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.*f", digits, v);
+  return buffer;
+}
+
+std::string reportGeneral(double v) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.4g", v);
+  return buffer;
+}
 
 std::string base64(const std::vector<std::uint8_t>& bytes) {
   static const char* alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
@@ -322,7 +333,7 @@ Result<LightingReport> lightingReport(const ReportInput& input) {
     }
     page.blocks.push_back(tableBlock(std::move(figures)));
     const FalseColourImage picture = falseColourImage(m.grid, m.lux, plan);
-    page.blocks.push_back({ReportBlock::Kind::Image, {}, {}, {picture.width, picture.height, picture.rgb, m.grid.name + " in false colour with isolux lines"}, {}});
+    page.blocks.push_back(reportImageBlock(picture, m.grid.name + " in false colour with isolux lines"));
     ReportHistogram histogram{std::vector<int>(20, 0), std::max(s.maximum, 1e-12), s.average, "lx", m.grid.name};
     for (double v : m.lux) histogram.counts[std::clamp(static_cast<int>(v / histogram.top * 20), 0, 19)]++;
     page.blocks.push_back(heading("Distribution of illuminance"));

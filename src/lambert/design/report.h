@@ -55,6 +55,15 @@ struct ReportPage {
   std::string title, id;
   std::vector<ReportBlock> blocks;
 };
+// Blocks and number formats for building pages, shared by the report's own pages and others
+// (design/daylight_metrics.h).
+ReportBlock reportHeading(std::string text);
+ReportBlock reportParagraph(std::string text);
+ReportBlock reportTableBlock(ReportTable table);
+ReportBlock reportImageBlock(const FalseColourImage& picture, std::string alt);
+std::string reportFixed(double v, int digits = 1);  // printf's %.*f
+std::string reportGeneral(double v);                // printf's %.4g
+
 struct LightingReport {
   std::string title, subtitle;
   std::vector<ReportPage> pages;
