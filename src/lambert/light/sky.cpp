@@ -167,7 +167,7 @@ void SkyModel::finish() {
   // E_h = ∫₀^{2π} ∫₀^{π/2} L(Z, α) cos Z sin Z dZ dα: Simpson's rule in Z (the integrand is smooth
   // up to the horizon, where exp(b / cos Z) and all its derivatives vanish) and the midpoint rule
   // in α (periodic: it converges geometrically); 256 × 512 cells, accurate to about 1e-9 (a Perez
-  // sky's clamped factors have kinks, where the rules are first order: SkyTest's Perez quadrature
+  // sky's clamped factors have kinks, where the rules are first order: PerezSkyTest's quadrature
   // checks it to 1e-5).
   constexpr int kZenithSteps = 256, kAzimuthSteps = 512;
   const double dz = (kPi / 2) / kZenithSteps, da = 2 * kPi / kAzimuthSteps;
