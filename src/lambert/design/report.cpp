@@ -47,6 +47,12 @@ struct LuminaireType {
 std::string skyName(const SkyModel& sky) {
   if (sky.isUniformEnvironment()) return "uniform environment";
   if (sky.isTraditionalOvercast()) return "CIE traditional overcast (Moon and Spencer)";
+  if (sky.isPerez()) {
+    char text[96];
+    std::snprintf(text, sizeof text, "Perez all-weather sky (clearness %.2f, brightness %.3f)", sky.perezCoefficients().clearness,
+                  sky.perezCoefficients().brightness);
+    return text;
+  }
   return "CIE standard general sky, type " + std::to_string(sky.cieType());
 }
 

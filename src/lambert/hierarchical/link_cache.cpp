@@ -69,6 +69,10 @@ void hashLight(KeyHasher& h, const Light& light) {
     h.f64(light.sky->zenithLuminance());
     hashRgb(h, light.sky->colour());
     h.i64(light.skyDirections);
+    if (light.sky->isPerez()) {  // its shape is its coefficients (other skies' keys stay as they were)
+      const PerezCoefficients& p = light.sky->perezCoefficients();
+      for (double x : {p.a, p.b, p.c, p.d, p.e}) h.f64(x);
+    }
   }
 }
 

@@ -49,6 +49,28 @@ double indicatrix(const CieSkyParameters& p, double cosSunAngle) {
   return 1 + p.c * (std::exp(p.d * chi) - std::exp(p.d * kPi / 2)) + p.e * cosSunAngle * cosSunAngle;
 }
 
+// Perez et al. 1993, eq. 1: the same gradation (b ≤ 0 here; b = 0 gives 1 + a up to the horizon),
+// and the indicatrix 1 + c·exp(d·γ) + e·cos²γ, without the standard's shift that makes f(90°) = 1.
+// Each is clamped at 0 (SkyModel::perez says why).
+double perezGradation(const CieSkyParameters& p, double cosZenith) {
+  if (cosZenith <= 0) return std::fmax(0.0, p.b < 0 ? 1 : 1 + p.a);
+  return std::fmax(0.0, 1 + p.a * std::exp(p.b / cosZenith));
+}
+
+double perezIndicatrix(const CieSkyParameters& p, double cosSunAngle) {
+  const double gamma = std::acos(std::clamp(cosSunAngle, -1.0, 1.0));
+  return std::fmax(0.0, 1 + p.c * std::exp(p.d * gamma) + p.e * cosSunAngle * cosSunAngle);
+}
+
+// The largest values of the two factors: the gradation is monotonic in cos Z (its ends); the
+// indicatrix, a monotonic exponential plus e·cos²γ, can peak inside (e < 0): sampled every 0.18°.
+double perezGradationMost(const CieSkyParameters& p) { return std::fmax(perezGradation(p, 1), perezGradation(p, 0)); }
+double perezIndicatrixMost(const CieSkyParameters& p) {
+  double most = 0;
+  for (int i = 0; i <= 1024; ++i) most = std::fmax(most, perezIndicatrix(p, std::cos(i * kPi / 1024)));
+  return most;
+}
+
 }  // namespace
 
 CieSkyParameters cieStandardSkyParameters(int type) {
@@ -91,6 +113,28 @@ SkyModel SkyModel::traditionalOvercast(double zenithLuminance, const Vec3& north
   return sky;
 }
 
+Result<SkyModel> SkyModel::perez(const PerezCoefficients& coefficients, double sunAzimuthDegrees, double sunElevationDegrees,
+                                 double zenithLuminance, const Vec3& north) {
+  for (double x : {coefficients.a, coefficients.b, coefficients.c, coefficients.d, coefficients.e})
+    if (!std::isfinite(x)) return Error{"the Perez coefficients a–e must be finite numbers"};
+  if (!(sunElevationDegrees >= -90 && sunElevationDegrees <= 90)) return Error{"the sun's elevation must be within −90° to 90°"};
+  if (!std::isfinite(sunAzimuthDegrees)) return Error{"the sun's azimuth must be a finite number of degrees"};
+  if (!(zenithLuminance >= 0 && std::isfinite(zenithLuminance))) return Error{"the zenith luminance must be finite and not negative"};
+  if (!(std::fabs(north.x) + std::fabs(north.z) > 0)) return Error{"north must be a horizontal direction (not along y)"};
+  SkyModel sky;
+  sky.type_ = kPerez;
+  sky.perez_ = coefficients;
+  sky.perez_.b = std::fmin(coefficients.b, 0.0);
+  sky.p_ = {sky.perez_.a, sky.perez_.b, sky.perez_.c, sky.perez_.d, sky.perez_.e};
+  sky.sunAzimuthDegrees_ = sunAzimuthDegrees;
+  sky.sunElevationDegrees_ = sunElevationDegrees;
+  sky.north_ = normalize(Vec3{north.x, 0, north.z});
+  sky.zenithLuminance_ = zenithLuminance;
+  if (!(perezGradationMost(sky.p_) > 0) || !(perezIndicatrixMost(sky.p_) > 0)) sky.p_ = {};  // all dark: uniform, as gendaymtx
+  sky.finish();
+  return sky;
+}
+
 Result<SkyModel> SkyModel::uniformEnvironment(const Rgb& radiance) {
   for (int c = 0; c < 3; ++c)
     if (!(radiance[c] >= 0 && std::isfinite(radiance[c])))
@@ -107,15 +151,24 @@ Result<SkyModel> SkyModel::uniformEnvironment(const Rgb& radiance) {
 void SkyModel::finish() {
   sun_ = skyDirection(sunAzimuthDegrees_, sunElevationDegrees_, north_);
   if (type_ == kUniformEnvironment) {
-    normaliser_ = 1;
+    gradationAtZenith_ = indicatrixAtZenith_ = 1;
     horizontalIlluminance_ = kPi * zenithLuminance_;
     return;
   }
   const double cosSunZenith = std::sin(sunElevationDegrees_ * kRadians);
-  normaliser_ = type_ == 0 ? 1 : 1 / (indicatrix(p_, cosSunZenith) * gradation(p_, 1));
+  gradationAtZenith_ = type_ == 0 ? 1 : type_ == kPerez ? perezGradation(p_, 1) : gradation(p_, 1);
+  indicatrixAtZenith_ = type_ == 0 ? 1 : type_ == kPerez ? perezIndicatrix(p_, cosSunZenith) : indicatrix(p_, cosSunZenith);
+  if (type_ == kPerez) {
+    // A factor the formula darkens at the zenith is taken relative to its largest value instead
+    // (SkyModel::perez: the sky's scale is then no zenith luminance).
+    if (!(gradationAtZenith_ > 1e-9)) gradationAtZenith_ = perezGradationMost(p_);
+    if (!(indicatrixAtZenith_ > 1e-9)) indicatrixAtZenith_ = perezIndicatrixMost(p_);
+  }
   // E_h = ∫₀^{2π} ∫₀^{π/2} L(Z, α) cos Z sin Z dZ dα: Simpson's rule in Z (the integrand is smooth
   // up to the horizon, where exp(b / cos Z) and all its derivatives vanish) and the midpoint rule
-  // in α (periodic: it converges geometrically); 256 × 512 cells, accurate to about 1e-9.
+  // in α (periodic: it converges geometrically); 256 × 512 cells, accurate to about 1e-9 (a Perez
+  // sky's clamped factors have kinks, where the rules are first order: PerezSkyTest's quadrature
+  // checks it to 1e-5).
   constexpr int kZenithSteps = 256, kAzimuthSteps = 512;
   const double dz = (kPi / 2) / kZenithSteps, da = 2 * kPi / kAzimuthSteps;
   double sum = 0;
@@ -144,10 +197,15 @@ SkyModel SkyModel::withHorizontalIlluminance(double lux) const {
   return scaled;
 }
 
-double SkyModel::relativeFromCosines(double cosZenith, double cosSunAngle) const {
+double SkyModel::relativeGradation(double cosZenith) const {
   if (type_ == kUniformEnvironment) return 1;
   if (type_ == 0) return (1 + 2 * cosZenith) / 3;  // Moon and Spencer: (1 + 2 sin elevation) / 3
-  return indicatrix(p_, cosSunAngle) * gradation(p_, cosZenith) * normaliser_;
+  return (type_ == kPerez ? perezGradation(p_, cosZenith) : gradation(p_, cosZenith)) / gradationAtZenith_;
+}
+
+double SkyModel::relativeIndicatrix(double cosSunAngle) const {
+  if (type_ == kUniformEnvironment || type_ == 0) return 1;
+  return (type_ == kPerez ? perezIndicatrix(p_, cosSunAngle) : indicatrix(p_, cosSunAngle)) / indicatrixAtZenith_;
 }
 
 double SkyModel::relativeLuminance(double zenithAngle, double azimuth) const {
@@ -196,15 +254,15 @@ Vec3 skySquareToDirection(const Vec3& n, const Vec3& tangent, const Vec3& bitang
 
 SkyLuminanceTable::SkyLuminanceTable(const SkyModel& sky) : sky_(sky) {
   constexpr int n = kSkyTableIntervals;
-  const double top = sky_.relativeFromCosines(1, 1), half = std::sqrt(0.5);
+  const double half = std::sqrt(0.5);
   zenithward_.resize(n + 2);
   sunward_.resize(n + 2);
   awayward_.resize(n + 2);
   for (int i = 0; i <= n + 1; ++i) {  // one past the end: the interpolation reads i + 1 at x = 1
     const double x = std::min(1.0, static_cast<double>(i) / n), h = half * x;
-    zenithward_[i] = sky_.zenithLuminance() * sky_.relativeFromCosines(x, 1) / top;
-    sunward_[i] = sky_.relativeFromCosines(1, 1 - 2 * h * h);   // sin(χ/2) = h
-    awayward_[i] = sky_.relativeFromCosines(1, 2 * h * h - 1);  // cos(χ/2) = h
+    zenithward_[i] = sky_.zenithLuminance() * sky_.relativeGradation(x);
+    sunward_[i] = sky_.relativeIndicatrix(1 - 2 * h * h);   // sin(χ/2) = h
+    awayward_[i] = sky_.relativeIndicatrix(2 * h * h - 1);  // cos(χ/2) = h
   }
 }
 

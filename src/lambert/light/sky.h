@@ -5,7 +5,9 @@
 // sky is a dome at infinity above the horizon; below it, it gives nothing (the ground is whatever
 // geometry the scene has). And one that is not daylight: a uniform environment, radiance L (RGB)
 // from every direction at infinity, below the horizon too, as Blender's and Cycles' world colour
-// lights a scene (and a glTF viewer's uniform environment). Its light reaches a point through a light of LightKind::Sky
+// lights a scene (and a glTF viewer's uniform environment). And the Perez all-weather sky (Perez,
+// Seals and Michalsky 1993, light/perez_sky.h), whose five coefficients come from an hour's weather.
+// Its light reaches a point through a light of LightKind::Sky
 // (light/lights.h), which estimates ∫ L(ω) V(x, ω) max(0, n·ω) dω over stratified directions.
 //
 // Frame: lambert is y-up, so the zenith is +y. North is a horizontal scene direction (default −z,
@@ -41,6 +43,20 @@ CieSkyParameters cieStandardSkyParameters(int type);
 // gradation towards zenith, azimuthal uniformity", ...).
 std::string cieStandardSkyDescription(int type);
 
+// The Perez all-weather sky's state for one hour (Perez, Seals and Michalsky, "All-weather model for
+// sky luminance distribution — preliminary configuration and validation", Solar Energy 50(3),
+// 1993, pp. 235–245): its sky clearness ε and brightness Δ, the ε bin (1–8) and the five
+// coefficients of the relative luminance lv = (1 + a·exp(b / cos Z))·(1 + c·exp(d·γ) + e·cos²γ).
+// light/perez_sky.h computes it from irradiances; SkyModel::perez reads a–e alone.
+struct PerezCoefficients {
+  double clearness = 1;         // ε, as used: limited to [1, 11.9] as Radiance's gendaymtx
+  double brightness = 0;        // Δ, as used: at least 0.01 (and 0.2 in bins 2–4 for a–e: the paper's note)
+  int bin = 1;                  // 1 (overcast, ε < 1.065) to 8 (clear, ε ≥ 6.2)
+  double sunZenithRadians = 0;  // the sun's zenith angle the coefficients were made for (3° to 90°)
+  double a = 0, b = 0, c = 0, d = 0, e = 0;
+  bool operator==(const PerezCoefficients&) const = default;
+};
+
 class SkyModel {
  public:
   // CIE standard general sky `type` (1–15) with the sun at this azimuth and elevation (degrees,
@@ -50,6 +66,22 @@ class SkyModel {
                                       double zenithLuminance, const Vec3& north = {0, 0, -1});
   // The traditional CIE overcast sky, L(Z) = Lz (1 + 2 cos Z) / 3: no sun dependence.
   static SkyModel traditionalOvercast(double zenithLuminance, const Vec3& north = {0, 0, -1});
+  // The Perez all-weather sky with these coefficients (a–e are read; the rest is for the record),
+  // the sun at this azimuth and elevation (degrees) and the given zenith luminance Lz in cd/m². The
+  // formula's two factors are each clamped at 0 where they would go negative (a few bins' c < 0
+  // darken the circumsolar region below zero, a < −1 the zenith): the sky stays a product of a
+  // gradation and an indicatrix (SkyLuminanceTable). Radiance's gendaymtx clamps their product
+  // instead; the two differ only where both factors are negative, where gendaymtx's sky turns
+  // bright again. b > 0 (a few bins at large Δ) would make the horizon infinitely bright
+  // (exp(b / cos Z) → ∞, not integrable): b is taken as 0 there, a gradation of 1 + a. Where the
+  // formula darkens the whole sky (either factor ≤ 0 everywhere: twilight's large Δ in bin 1, a
+  // low sun's b > 0 with a < −1), the sky is uniform, as gendaymtx makes it. Where it darkens the
+  // zenith alone, `zenithLuminance` (and zenithLuminance()) is no longer the zenith's luminance but
+  // a scale: the factor that vanishes there is taken relative to its largest value instead
+  // (relativeGradation, relativeIndicatrix). perezSkyForHour scales by the horizontal illuminance,
+  // which either way is what it should be.
+  static Result<SkyModel> perez(const PerezCoefficients& coefficients, double sunAzimuthDegrees, double sunElevationDegrees,
+                                double zenithLuminance, const Vec3& north = {0, 0, -1});
   // A uniform environment of radiance L in W/(m²·sr) per channel from every direction, the
   // whole sphere: finite, not negative, not black.
   static Result<SkyModel> uniformEnvironment(const Rgb& radiance);
@@ -59,7 +91,11 @@ class SkyModel {
 
   bool isTraditionalOvercast() const { return type_ == 0; }
   bool isUniformEnvironment() const { return type_ == kUniformEnvironment; }
-  int cieType() const { return type_; }  // 1–15; 0 for the traditional overcast sky, −1 for a uniform environment
+  bool isPerez() const { return type_ == kPerez; }
+  // 1–15; 0 for the traditional overcast sky, −1 for a uniform environment, −2 for a Perez sky
+  int cieType() const { return type_; }
+  // A Perez sky's coefficients (a–e as used: b ≤ 0); for the others, a default.
+  const PerezCoefficients& perezCoefficients() const { return perez_; }
   // What a candela per square metre of it is in radiance, W/(m²·sr) per channel, × 683: (1, 1, 1)
   // for the white daylight skies, the environment's colour (its Rec. 709 luminance 1) otherwise.
   const Rgb& colour() const { return colour_; }
@@ -83,24 +119,32 @@ class SkyModel {
   // (π L for a uniform environment).
   double horizontalIlluminance() const { return horizontalIlluminance_; }
 
-  // L / Lz from cos Z and the cosine of the angle χ to the sun (the formula of relativeLuminance).
-  double relativeFromCosines(double cosZenith, double cosSunAngle) const;
+  // L / Lz from cos Z and the cosine of the angle χ to the sun (the formula of relativeLuminance):
+  // relativeGradation(cos Z) × relativeIndicatrix(cos χ), the gradation relative to its zenith value
+  // and the indicatrix relative to its value at the zenith (χ = the sun's zenith angle), each ≥ 0.
+  double relativeFromCosines(double cosZenith, double cosSunAngle) const {
+    return relativeGradation(cosZenith) * relativeIndicatrix(cosSunAngle);
+  }
+  double relativeGradation(double cosZenith) const;
+  double relativeIndicatrix(double cosSunAngle) const;
 
   bool operator==(const SkyModel&) const = default;
 
  private:
   static constexpr int kUniformEnvironment = -1;
+  static constexpr int kPerez = -2;
   SkyModel() = default;
-  void finish();  // sun_, normaliser_, horizontalIlluminance_ from the rest
+  void finish();  // sun_, the zenith values, horizontalIlluminance_ from the rest
 
   int type_ = 0;
   Rgb colour_{1, 1, 1};
-  CieSkyParameters p_;
+  CieSkyParameters p_;      // the CIE parameters, or a Perez sky's a–e
+  PerezCoefficients perez_;  // a Perez sky's, as given (b ≤ 0)
   double sunAzimuthDegrees_ = 0, sunElevationDegrees_ = 90;
   Vec3 north_{0, 0, -1};
   Vec3 sun_{0, 1, 0};
   double zenithLuminance_ = 0;
-  double normaliser_ = 1;  // 1 / (f(Zs) φ(0))
+  double gradationAtZenith_ = 1, indicatrixAtZenith_ = 1;  // φ(0) and f(Zs): relative* divide by them
   double horizontalIlluminance_ = 0;
 };
 
@@ -138,7 +182,7 @@ Vec3 skySquareToDirection(const Vec3& n, const Vec3& tangent, const Vec3& bitang
 void skyJitter(std::uint64_t index, double& du, double& dv);
 
 // The sky's luminance from two tables, for the many directions an estimate asks for: the
-// standard's formula is a product of the gradation, a function of cos Z, and the indicatrix, a
+// standard's formula (and the Perez sky's) is a product of the gradation, a function of cos Z, and the indicatrix, a
 // function of the angle χ to the sun, each tabulated at kSkyTableIntervals intervals and
 // interpolated linearly (the indicatrix over sin(χ/2) toward the sun and cos(χ/2) away from it, in
 // which it is smooth at both ends): within 10⁻⁶ of SkyModel::luminance
@@ -152,9 +196,9 @@ class SkyLuminanceTable {
 
  private:
   SkyModel sky_;
-  std::vector<double> zenithward_;  // Lz · relative(cos Z, 1) / relative(1, 1) at cos Z = i / N
-  std::vector<double> sunward_;     // relative(1, cos χ) at sin(χ/2) = √½ · i / N (χ ≤ 90°)
-  std::vector<double> awayward_;    // relative(1, cos χ) at cos(χ/2) = √½ · i / N (χ ≥ 90°)
+  std::vector<double> zenithward_;  // Lz · relativeGradation(cos Z) at cos Z = i / N
+  std::vector<double> sunward_;     // relativeIndicatrix(cos χ) at sin(χ/2) = √½ · i / N (χ ≤ 90°)
+  std::vector<double> awayward_;    // relativeIndicatrix(cos χ) at cos(χ/2) = √½ · i / N (χ ≥ 90°)
 };
 inline constexpr int kSkyTableIntervals = 4096;
 

@@ -11,6 +11,7 @@
 #include "lambert/core/warning.h"
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/light/lights.h"
+#include "lambert/light/perez_sky.h"
 #include "lambert/light/sky.h"
 #include "lambert/light/sun.h"
 #include "lambert/mesh/mesh.h"
@@ -136,6 +137,28 @@ TEST(SkyTest, TheLuminanceTableFollowsTheFormula) {
     }
   const SkyModel overcast = SkyModel::traditionalOvercast(5000);
   EXPECT_NEAR(SkyLuminanceTable(overcast).luminance(normalize(Vec3{1, 1, 0})), overcast.luminance({1, 1, 0}), 1e-9 * 5000);
+  // Perez skies (light/perez_sky.h) from clear to overcast, a low sun and twilight. Their factors are
+  // clamped at 0, where linear interpolation across the kink errs by up to a table step's share of
+  // the slope: measured against the sky's brightest luminance there.
+  struct Hour {
+    double dh, in, elevation;
+  };
+  for (const Hour& h : {Hour{80, 850, 70}, Hour{100, 600, 40}, Hour{200, 0, 30}, Hour{30, 12, 60}, Hour{150, 300, 10}, Hour{40, 20, -3}}) {
+    const PerezCoefficients p = perezSkyCondition(h.dh, h.in, h.elevation, 120);
+    Result<SkyModel> sky = SkyModel::perez(p, 150, 90 - p.sunZenithRadians * 180 / kPi, 7000);
+    ASSERT_TRUE(sky);
+    const SkyLuminanceTable table(*sky);
+    std::vector<Vec3> directions{sky->sunDirection(), {0, 1, 0}};
+    constexpr int kDirections = 20000;
+    for (int i = 0; i < kDirections; ++i) {
+      const double y = (i + 0.5) / kDirections, r = std::sqrt(1 - y * y), phi = i * kPi * (3 - std::sqrt(5.0));
+      directions.push_back({r * std::cos(phi), y, r * std::sin(phi)});
+    }
+    double brightest = 0, worst = 0;
+    for (const Vec3& w : directions) brightest = std::fmax(brightest, sky->luminance(w));
+    for (const Vec3& w : directions) worst = std::fmax(worst, std::fabs(table.luminance(w) - sky->luminance(w)) / brightest);
+    EXPECT_LT(worst, 1e-5) << "Perez bin " << p.bin << ", sun at " << h.elevation << "°";
+  }
 }
 
 // A large direction count (2²², a quarter of the most a scene file may ask) costs memory in
