@@ -19,6 +19,7 @@ std::function<int()> addInfoCommand(CLI::App& app);
 std::function<int()> addGenerateCommand(CLI::App& app);
 std::function<int()> addViewCommand(CLI::App& app);
 std::function<int()> addReportCommand(CLI::App& app);
+std::function<int()> addDaylightCommand(CLI::App& app);
 
 // Path-tracer options shared by `reference` and `compare`.
 void addReferenceOptions(CLI::App& command, ReferenceOptions& options);

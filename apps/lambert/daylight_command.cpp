@@ -2,6 +2,8 @@
 // daylight coefficients), and the climate-based metrics a LEED or LM-83 calculation asks for
 // (design/daylight_metrics.h): sDA300/50%, ASE1000,250h, UDI, DA, cDA, each sensor's mean and
 // percentiles; written as a CSV per sensor, a plan per metric, and a report page (HTML or PDF).
+#include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -37,6 +39,18 @@ struct DaylightCommandOptions {
   std::vector<std::string> reports;
   std::string hourly;  // CSV of every hour at every sensor
 };
+
+std::string lowercase(std::string text) {
+  for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return text;
+}
+
+// A threshold as it is written: 300, 0.5, 2.5 (at most 6 significant digits).
+std::string number(double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.6g", v);
+  return buffer;
+}
 
 struct MetricChoice {
   const char* name;
@@ -185,15 +199,15 @@ int runDaylight(DaylightCommandOptions o) {
   stats.add("occupied_hours", "occupied hours", static_cast<std::int64_t>(metrics->occupiedHours));
   for (const std::string& name : o.metrics) {
     const std::string m = lowercase(name);
-    if (m == "sda") stats.add("sda_percent", "sDA" + formatNumber(o.thresholds.sdaLux) + "/" + formatNumber(100 * o.thresholds.sdaTimeFraction) + "%", metrics->spatialDaylightAutonomy, "%");
-    if (m == "ase") stats.add("ase_percent", "ASE" + formatNumber(o.thresholds.aseLux) + "," + formatNumber(o.thresholds.aseHours) + "h", metrics->annualSunlightExposure, "%");
+    if (m == "sda") stats.add("sda_percent", "sDA" + number(o.thresholds.sdaLux) + "/" + number(100 * o.thresholds.sdaTimeFraction) + "%", metrics->spatialDaylightAutonomy, "%");
+    if (m == "ase") stats.add("ase_percent", "ASE" + number(o.thresholds.aseLux) + "," + number(o.thresholds.aseHours) + "h", metrics->annualSunlightExposure, "%");
     if (m == "udi") {
       stats.add("udi_fell_short_percent", "UDI fell short (mean)", metrics->meanUdiFellShort, "%");
       stats.add("udi_useful_percent", "UDI useful (mean)", metrics->meanUdiUseful, "%");
       stats.add("udi_exceeded_percent", "UDI exceeded (mean)", metrics->meanUdiExceeded, "%");
     }
-    if (m == "da") stats.add("da_percent", "DA" + formatNumber(o.thresholds.daLux) + " (mean)", metrics->meanDaylightAutonomy, "%");
-    if (m == "cda") stats.add("cda_percent", "cDA" + formatNumber(o.thresholds.daLux) + " (mean)", metrics->meanContinuousDaylightAutonomy, "%");
+    if (m == "da") stats.add("da_percent", "DA" + number(o.thresholds.daLux) + " (mean)", metrics->meanDaylightAutonomy, "%");
+    if (m == "cda") stats.add("cda_percent", "cDA" + number(o.thresholds.daLux) + " (mean)", metrics->meanContinuousDaylightAutonomy, "%");
   }
   if (o.thresholds.blinds) stats.add("blinds_closed_hours", "hours with the blinds closed", static_cast<std::int64_t>(metrics->blindsClosedHours));
   stats.add("sky_patches", "sky patches (interreflected, sky component)", std::to_string(year->skyPatches) + ", " + std::to_string(year->directSkyPatches));

@@ -28,7 +28,7 @@ int main(int argc, char** argv) {
   for (AddCommand add : {lambert::cli::addRenderCommand, lambert::cli::addSolveCommand, lambert::cli::addAnimateCommand,
                          lambert::cli::addReferenceCommand, lambert::cli::addCompareCommand, lambert::cli::addScenesCommand,
                          lambert::cli::addInfoCommand, lambert::cli::addGenerateCommand,
-                         lambert::cli::addViewCommand, lambert::cli::addReportCommand}) {
+                         lambert::cli::addViewCommand, lambert::cli::addReportCommand, lambert::cli::addDaylightCommand}) {
     std::function<int()> run = add(app);
     commands.emplace_back(app.get_subcommands({}).back(), std::move(run));
   }

@@ -131,10 +131,16 @@ Result<AnnualDaylight> annualDaylight(const Scene& scene, std::span<const Calcul
   std::vector<PerezHourSky> skies(hours);
   std::vector<int> sunOfHour(hours, -1);
   std::vector<Vec3> suns;
-  for (std::size_t h = 0; h < hours; ++h) {
+  std::vector<std::string> failed(hours);
+  parallelFor(0, hours, [&](std::size_t h) {
     Result<PerezHourSky> sky = perezSkyForHour(weather, weather.hours[h], dco.north);
-    if (!sky) return Error{weather.path + ":" + std::to_string(weather.hours[h].line) + ": " + sky.error().message};
-    skies[h] = std::move(*sky);
+    if (sky)
+      skies[h] = std::move(*sky);
+    else
+      failed[h] = weather.path + ":" + std::to_string(weather.hours[h].line) + ": " + sky.error().message;
+  }, 64);
+  for (std::size_t h = 0; h < hours; ++h) {
+    if (!failed[h].empty()) return Error{failed[h]};
     if (skies[h].sunInSky && skies[h].sunIlluminanceLux > 0) {
       const Vec3 toSun = skyDirection(skies[h].sun.azimuthDegrees, std::fmax(skies[h].sun.elevationDegrees(), 0.0), dco.north);
       if (toSun.y > 0) {
