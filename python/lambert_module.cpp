@@ -29,6 +29,9 @@
 #include "lambert/bake/lightmaps.h"
 #include "lambert/core/photometric.h"
 #include "lambert/design/illuminance.h"
+#include "lambert/design/annual_daylight.h"
+#include "lambert/design/calculation_grid.h"
+#include "lambert/load/epw.h"
 #include "lambert/bake/probes.h"
 #include "lambert/io/exr.h"
 #include "lambert/io/gltf_export.h"
@@ -606,6 +609,64 @@ PYBIND11_MODULE(lambert, m) {
       py::arg("mgf_divisions") = 16,
       "A built-in scene by name ('cornell', …) or a scene file (.json, .gltf/.glb, .obj, .ply, .mgf), as `lambert solve --scene` "
       "loads it. units: metres per unit of an OBJ/PLY file (0: metres).");
+  m.def(
+      "annual_daylight",
+      [](const Scene& scene, const std::string& weatherPath, double workPlane, double spacing, int skySubdivisions,
+         int directSkySubdivisions, int sunSubdivisions, const std::string& cacheDir) {
+        WeatherData weather = orRaise(readEpw(weatherPath));
+        WorkPlaneSpec plane;
+        plane.heightMetres = workPlane;
+        plane.spacingMetres = spacing;
+        const CalculationGrid grid = orRaise(workPlaneGrid(scene, plane));
+        AnnualDaylightOptions options;
+        for (const Light& light : scene.lights)
+          if (light.kind == LightKind::Sky && light.sky) options.coefficients.north = light.sky->north();
+        options.coefficients.skySubdivisions = skySubdivisions;
+        options.coefficients.directSkySubdivisions = directSkySubdivisions;
+        options.coefficients.sunSubdivisions = sunSubdivisions;
+        options.cacheDirectory = cacheDir;
+        AnnualDaylight year;
+        {
+          py::gil_scoped_release release;
+          year = orRaise(annualDaylight(scene, grid.points, weather, options, RadiosityOptions{}));
+        }
+        const DaylightMetrics metrics = orRaise(daylightMetrics(year.illuminance));
+        flushWarnings();
+        const std::size_t n = grid.points.size(), hours = year.illuminance.hours.size();
+        // sensors × hours, from the hour-major rows.
+        auto bySensor = [&](const std::vector<float>& hourMajor) {
+          std::vector<float> out(n * hours);
+          for (std::size_t h = 0; h < hours; ++h)
+            for (std::size_t s = 0; s < n; ++s) out[s * hours + h] = hourMajor[h * n + s];
+          return owned(std::move(out), {static_cast<py::ssize_t>(n), static_cast<py::ssize_t>(hours)});
+        };
+        std::vector<Vec3> positions;
+        for (const CalculationPoint& p : grid.points) positions.push_back(p.position);
+        std::vector<std::int32_t> when;
+        for (const DaylightHourInfo& h : year.illuminance.hours) when.insert(when.end(), {h.month, h.day, h.hour});
+        std::vector<double> da, udi, sunlit;
+        for (const SensorDaylight& s : metrics.sensors) da.push_back(s.daylightAutonomy), udi.push_back(s.udiUseful), sunlit.push_back(s.sunlitHours);
+        py::dict out;
+        out["points"] = rows3(positions);
+        out["hours"] = owned(std::move(when), {static_cast<py::ssize_t>(hours), py::ssize_t{3}});
+        out["lux"] = bySensor(year.illuminance.totalLux);
+        out["direct_sun_lux"] = bySensor(year.illuminance.directSunLux);
+        out["sda_percent"] = metrics.spatialDaylightAutonomy;
+        out["ase_percent"] = metrics.annualSunlightExposure;
+        out["occupied_hours"] = metrics.occupiedHours;
+        out["daylight_autonomy"] = owned(std::move(da), {static_cast<py::ssize_t>(n)});
+        out["udi_useful"] = owned(std::move(udi), {static_cast<py::ssize_t>(n)});
+        out["sunlit_hours"] = owned(std::move(sunlit), {static_cast<py::ssize_t>(n)});
+        out["coefficient_seconds"] = year.coefficientSeconds;
+        out["coefficients_from_cache"] = year.coefficientsFromCache;
+        return out;
+      },
+      py::arg("scene"), py::arg("weather"), py::arg("work_plane") = 0.8, py::arg("spacing") = 0.6, py::arg("sky_subdivisions") = 1,
+      py::arg("direct_sky_subdivisions") = 4, py::arg("sun_subdivisions") = 4, py::arg("cache_dir") = "",
+      "A year of daylight from an EPW weather file, as `lambert daylight`: a dict of 'points' (n, 3), 'hours' (h, 3: month, day, "
+      "hour ending), 'lux' and 'direct_sun_lux' (n, h) float32 (sensors × hours), 'sda_percent', 'ase_percent', "
+      "'occupied_hours', per sensor 'daylight_autonomy', 'udi_useful' (% of occupied hours) and 'sunlit_hours', and "
+      "'coefficient_seconds'. The scene's lights are left out; its sky's north is used.");
   m.def("setting_names", [] {
     std::vector<std::string> names;
     for (std::string n : solveSettingNames()) {

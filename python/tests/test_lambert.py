@@ -497,3 +497,28 @@ def test_the_librarys_warnings_reach_pythons_warnings_module(tmp_path):
         warnings.simplefilter("error", lambert.Warning)
         with pytest.raises(lambert.Warning):
             lambert.load_scene(str(tmp_path / "square.obj"))
+
+
+def test_annual_daylight_is_sensors_by_hours_and_its_metrics_are_the_arrays(tmp_path):
+    # The daylit office under the test week: every hour at every sensor, night hours dark, the
+    # sun's direct part never more than the whole, and the metrics the C++ library reports are
+    # what numpy computes from the arrays by LM-83's definitions (occupied: hours ending 9–18).
+    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    scene = lambert.load_scene(os.path.join(root, "scenes", "daylight", "office-overcast.json"))
+    weather = os.path.join(root, "tests", "weather", "boulder-week.epw")
+    year = lambert.annual_daylight(scene, weather, work_plane=0.8, spacing=0.6)
+    lux, sun, hours = year["lux"], year["direct_sun_lux"], year["hours"]
+    assert lux.shape == (len(year["points"]), 168) and lux.dtype == np.float32 and hours.shape == (168, 3)
+    night = hours[:, 2] <= 3
+    assert np.all(lux[:, night] == 0) and np.all(lux[:, ~night].max(axis=0) >= 0)
+    assert np.all(sun <= lux + 1e-3)
+    occupied = (hours[:, 2] >= 9) & (hours[:, 2] <= 18)
+    assert year["occupied_hours"] == occupied.sum() == 70
+    da = 100 * (lux[:, occupied] >= 300).mean(axis=1)
+    np.testing.assert_allclose(year["daylight_autonomy"], da, atol=1e-9)
+    np.testing.assert_allclose(year["sda_percent"], 100 * (da >= 50).mean(), atol=1e-9)
+    useful = 100 * ((lux[:, occupied] >= 100) & (lux[:, occupied] <= 2000)).mean(axis=1)
+    np.testing.assert_allclose(year["udi_useful"], useful, atol=1e-9)
+    sunlit = (sun[:, occupied] >= 1000).sum(axis=1)
+    np.testing.assert_allclose(year["sunlit_hours"], sunlit)
+    np.testing.assert_allclose(year["ase_percent"], 100 * (sunlit > 250).mean(), atol=1e-9)

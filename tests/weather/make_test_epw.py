@@ -8,8 +8,13 @@ illuminances are the irradiances × fixed efficacies (diffuse 120 lm/W, direct 9
 data rather than a model lambert uses.
 
     python3 tests/weather/make_test_epw.py > tests/weather/boulder-week.epw
+    python3 tests/weather/make_test_epw.py --year > year.epw   # 8,760 hours, the seven kinds in turn
+
+The year (for `make bench`'s annual daylight, never committed) repeats the week's seven kinds of
+day through a non-leap year, with each day's own sun.
 """
 import math
+import sys
 
 LAT, LON, TZ, ELEV = 40.02, -105.25, -7.0, 1650.0
 # Per day: (direct normal at air mass 1 in W/m², its attenuation per air mass, diffuse scale in W/m²
@@ -30,7 +35,11 @@ def sun_cos_zenith(day_of_year, hour_middle):
     return math.sin(lat) * math.sin(decl) + math.cos(lat) * math.cos(decl) * math.cos(hour_angle)
 
 
+MONTH_DAYS = [31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31]
+
+
 def main():
+    year = "--year" in sys.argv[1:]
     print(f"LOCATION,Boulder Test,CO,USA,lambert synthetic,724699,{LAT:.2f},{LON:.2f},{TZ:.1f},{ELEV:.1f}")
     print("DESIGN CONDITIONS,0")
     print("TYPICAL/EXTREME PERIODS,0")
@@ -38,10 +47,12 @@ def main():
     print("HOLIDAYS/DAYLIGHT SAVINGS,No,0,0,0")
     print("COMMENTS 1,\"Made up by tests/weather/make_test_epw.py for lambert's tests; not a climate\"")
     print("COMMENTS 2,one kind of sky a day")
-    print("DATA PERIODS,1,1,Data,Wednesday, 6/19, 6/25")
-    for d, (dni0, tau, dif0, flicker) in enumerate(DAYS):
-        day = 19 + d
-        doy = 151 + day
+    print("DATA PERIODS,1,1,Data,Saturday, 1/1,12/31" if year else "DATA PERIODS,1,1,Data,Wednesday, 6/19, 6/25")
+    dates = [(m + 1, day) for m in range(12) for day in range(1, MONTH_DAYS[m] + 1)] if year else [(6, 19 + d) for d in range(7)]
+    for date_index, (month, day) in enumerate(dates):
+        d = date_index % 7
+        dni0, tau, dif0, flicker = DAYS[d]
+        doy = sum(MONTH_DAYS[:month - 1]) + day
         for hour in range(1, 25):
             mu = sun_cos_zenith(doy, hour - 0.5)
             if mu > 0.01:
@@ -58,7 +69,7 @@ def main():
             ill = (round(ghi and (dhi * 120 + dni * max(mu, 0) * 95)), round(dni * 95), round(dhi * 120))
             dry = 18 + 9 * math.sin((hour - 9) / 24 * 2 * math.pi) - 3 * (dif0 > 250)
             dew = 6 + 4 * (dif0 > 250) + 0.5 * d
-            fields = [2005, 6, day, hour, 0, "?9?9?9?9E0?9?9?9?9?9?9?9?9?9?9?9?9?9*9*9?9?9", f"{dry:.1f}", f"{dew:.1f}", 50,
+            fields = [2005, month, day, hour, 0, "?9?9?9?9E0?9?9?9?9?9?9?9?9?9?9?9?9?9*9*9?9?9", f"{dry:.1f}", f"{dew:.1f}", 50,
                       83500, 0, 0, 350, ghi, dni, dhi, ill[0], ill[1], ill[2], 0, 180, 2.1, 5, 3, 30.0, 77777, 9,
                       999999999, 15, 0.08, 0, 88, 0.2, 0.0, 0.0]
             print(",".join(str(x) for x in fields))
