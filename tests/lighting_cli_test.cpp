@@ -252,3 +252,55 @@ TEST(LightingCliTest, ReportIsAPageAndAPdfWhoseFiguresAreTheCsvsColumns) {
 
 }  // namespace
 }  // namespace lambert
+
+namespace lambert {
+namespace {
+
+// `lambert daylight` as a user runs it on the test week: its sDA is the share of the CSV's sensors
+// that pass, and each sensor's DA in the CSV is what the hourly CSV's columns give by LM-83's
+// definition (occupied: hours ending 9 to 18; E ≥ 300 lx), recomputed here; the plans and the page are
+// written; a missing weather file and an unknown metric are refused, naming them.
+TEST(DaylightCliTest, MetricsAreTheHourlyColumnsAndBadInputIsRefused) {
+  const fs::path dir = testing::scratchDirectory("daylight-cli", "office");
+  const std::string scene = std::string(LAMBERT_SOURCE_DIR) + "/scenes/daylight/office-overcast.json";
+  const std::string weather = std::string(LAMBERT_SOURCE_DIR) + "/tests/weather/boulder-week.epw";
+  const testing::CommandResult r = run("daylight --scene " + scene + " --weather " + weather + " -o " + (dir / "office").string() +
+                                       " --hourly " + (dir / "hourly.csv").string() + " --report " + (dir / "office.html").string() + " --json");
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const nlohmann::json json = nlohmann::json::parse(r.output.substr(r.output.find('{')));
+  const auto sensors = csvRows(dir / "office.csv");
+  const auto hourly = csvRows(dir / "hourly.csv");
+  ASSERT_EQ(hourly.size(), 169u);
+  ASSERT_EQ(sensors.size(), 1u + json["sensors"].get<std::size_t>());
+  const auto column = [&](const std::string& name) {
+    return static_cast<std::size_t>(std::find(sensors[0].begin(), sensors[0].end(), name) - sensors[0].begin());
+  };
+  const std::size_t daColumn = column("DA_300lx_pct"), passColumn = column("sDA_300lx_50pct_pass");
+  ASSERT_LT(passColumn, sensors[0].size());
+  int passing = 0;
+  for (std::size_t s = 1; s < sensors.size(); ++s) {
+    int occupied = 0, above = 0;
+    for (std::size_t h = 1; h < hourly.size(); ++h) {
+      const int hour = std::stoi(hourly[h][2]);
+      if (hour < 9 || hour > 18) continue;
+      ++occupied;
+      above += std::stod(hourly[h][2 + s]) >= 300;
+    }
+    EXPECT_NEAR(std::stod(sensors[s][daColumn]), 100.0 * above / occupied, 0.01) << "sensor " << s;
+    passing += std::stoi(sensors[s][passColumn]);
+  }
+  EXPECT_NEAR(json["sda_percent"].get<double>(), 100.0 * passing / (sensors.size() - 1), 1e-6);
+  for (const char* plan : {"office-da.png", "office-sunlit-hours.png", "office-udi-useful.png"}) EXPECT_TRUE(fs::exists(dir / plan)) << plan;
+  const std::vector<char> page = testing::readBytes(dir / "office.html");
+  EXPECT_TRUE(contains(std::string(page.begin(), page.end()), "sDA"));
+
+  const testing::CommandResult missing = run("daylight --scene " + scene + " --weather " + (dir / "nowhere.epw").string());
+  EXPECT_EQ(missing.exitCode, 2) << missing.output;
+  EXPECT_TRUE(contains(missing.output, "nowhere.epw")) << missing.output;
+  const testing::CommandResult metric = run("daylight --scene " + scene + " --weather " + weather + " --metrics sDA,GLARE");
+  EXPECT_EQ(metric.exitCode, 2) << metric.output;
+  EXPECT_TRUE(contains(metric.output, "GLARE")) << metric.output;
+}
+
+}  // namespace
+}  // namespace lambert
