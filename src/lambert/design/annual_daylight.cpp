@@ -22,8 +22,9 @@ namespace {
 // (sensors, sky component patches, sky patches, basis suns, suns, and the two arrays of ints'
 // lengths are implied by them) followed by the arrays as they are in memory:
 //   float skyDirect[sensors × fine], skyIndirect[sensors × coarse], sunIndirect[sensors × basis],
-//   sunDirect[suns × sensors], sunReflected[suns × sensors]; int32 basisSunPatch[basis], basisSunOf[suns].
-constexpr cachefile::Format kFormat{{'L', 'M', 'B', 'R', 'T', 'D', 'C', '\0'}, 1, "daylight coefficient file"};
+//   sunDirect[suns × sensors], sunReflected[suns × sensors], basisSunWeight[4 × suns];
+//   int32 basisSunPatch[basis], basisSunOf[4 × suns].
+constexpr cachefile::Format kFormat{{'L', 'M', 'B', 'R', 'T', 'D', 'C', '\0'}, 2, "daylight coefficient file"};
 
 std::uint64_t coefficientKey(const Scene& scene, std::span<const CalculationPoint> sensors, std::span<const Vec3> suns,
                              const DaylightCoefficientOptions& options, const RadiosityOptions& engine) {
@@ -59,12 +60,13 @@ struct Block {
 
 std::vector<Block> blocks(DaylightCoefficients& c) {
   auto of = [](auto& v) { return Block{v.data(), v.size() * sizeof(v[0])}; };
-  return {of(c.skyDirect), of(c.skyIndirect), of(c.sunIndirect), of(c.sunDirect), of(c.sunReflected), of(c.basisSunPatch), of(c.basisSunOf)};
+  return {of(c.skyDirect),    of(c.skyIndirect),    of(c.sunIndirect), of(c.sunDirect),
+          of(c.sunReflected), of(c.basisSunWeight), of(c.basisSunPatch), of(c.basisSunOf)};
 }
 
 Status writeCoefficients(const std::string& path, std::uint64_t key, DaylightCoefficients& c) {
   const std::uint64_t counts[5] = {c.sensors, static_cast<std::uint64_t>(c.directSky.count()), static_cast<std::uint64_t>(c.sky.count()),
-                                   c.basisSunPatch.size(), c.basisSunOf.size()};
+                                   c.basisSunPatch.size(), c.basisSunOf.size() / 4};
   std::vector<unsigned char> payload(sizeof counts);
   std::memcpy(payload.data(), counts, sizeof counts);
   for (const Block& b : blocks(c)) {
@@ -99,14 +101,15 @@ Result<DaylightCoefficients> readCoefficients(const std::string& path, std::uint
   if (counts[0] != sensors || counts[1] != fine || counts[2] != coarse || counts[4] != suns)
     return Error{path + ": its counts do not match the sensors, patches and suns asked for"};
   const std::size_t basis = static_cast<std::size_t>(counts[3]);
-  if (basis > suns) return Error{path + ": more basis suns than suns"};
+  if (basis > 4 * suns) return Error{path + ": more basis suns than the suns' interpolations use"};
   c.skyDirect.resize(sensors * fine);
   c.skyIndirect.resize(sensors * coarse);
   c.sunIndirect.resize(sensors * basis);
   c.sunDirect.resize(suns * sensors);
   c.sunReflected.resize(suns * sensors);
+  c.basisSunWeight.resize(4 * suns);
   c.basisSunPatch.resize(basis);
-  c.basisSunOf.resize(suns);
+  c.basisSunOf.resize(4 * suns);
   std::size_t at = head;
   for (const Block& b : blocks(c)) {
     if (payload.size() - at < b.bytes) return Error{path + ": shorter than its counts say"};
@@ -208,13 +211,10 @@ Result<AnnualDaylight> annualDaylight(const Scene& scene, std::span<const Calcul
     if (!skies[h].sky) ++out.daylightHours;
     ++out.sunHours;
     const double lux = skies[h].sunIlluminanceLux;
-    const int b = dc->basisSunOf[static_cast<std::size_t>(k)];
     for (std::size_t s = 0; s < n; ++s) {
-      const std::size_t at = static_cast<std::size_t>(k) * n + s;
-      const double sunDirect = lux * dc->sunDirect[at];
-      const double reflected = lux * (dc->sunReflected[at] + (b >= 0 ? dc->sunIndirect[s * basis + static_cast<std::size_t>(b)] : 0.0f));
+      const double sunDirect = lux * dc->sunDirect[static_cast<std::size_t>(k) * n + s];
       a.directSunLux[h * n + s] = static_cast<float>(sunDirect);
-      a.totalLux[h * n + s] += static_cast<float>(sunDirect + reflected);
+      a.totalLux[h * n + s] += static_cast<float>(sunDirect + lux * dc->sunInterreflected(static_cast<std::size_t>(k), s));
     }
   }
   out.hourlySeconds = hourlyTimer.seconds();

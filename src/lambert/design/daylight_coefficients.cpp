@@ -15,7 +15,6 @@
 #include "lambert/geometry/ray_caster.h"
 #include "lambert/light/lights.h"
 #include "lambert/mesh/vertex_radiosity.h"
-#include "lambert/solve/solver.h"
 
 namespace lambert {
 namespace {
@@ -142,24 +141,17 @@ Result<DaylightCoefficients> computeDaylightCoefficients(const Scene& scene, std
   const double rayCount = static_cast<double>(directions.size());
 
   // 2–3. Per basis: B from its injected light, then the sensors' interreflected lux.
-  RadiosityProblem problem = radiosityProblem(view);
   const std::vector<Rgb>& albedo = view.albedo();
-  SolverOptions solverOptions;
-  solverOptions.tolerance = engineOptions.tolerance;
-  solverOptions.maxIterations = engineOptions.maxIterations;
-  solverOptions.measureResidual = false;
-  const std::unique_ptr<Solver> solver = makeSolver(SolverKind::GaussSeidel, solverOptions);
-  std::vector<Rgb> radiosity;
   std::vector<double> indirectLux(n);
   // The interreflected lux at every sensor when the elements receive `irradiance` (W/m²); without
   // its first reflection (the light the sensor sees reflected straight from where it lands) where
   // that is traced apart.
   auto interreflected = [&](const std::vector<Rgb>& irradiance, bool withFirstReflection) {
-    for (std::size_t i = 0; i < elements; ++i) problem.emitted[i] = albedo[i] * irradiance[i];
-    radiosity.clear();
-    solver->solve(problem, radiosity);
+    std::vector<Rgb> injected(elements);
+    for (std::size_t i = 0; i < elements; ++i) injected[i] = albedo[i] * irradiance[i];
+    std::vector<Rgb> radiosity = radiosityFromInjected(view, injected);
     if (!withFirstReflection)
-      for (std::size_t i = 0; i < elements; ++i) radiosity[i] -= problem.emitted[i];
+      for (std::size_t i = 0; i < elements; ++i) radiosity[i] -= injected[i];
     const PatchInterpolation reflected(vertexMesh, view.vertexValues(radiosity));
     parallelFor(0, n, [&](std::size_t s) {
       Rgb sum;
@@ -168,15 +160,20 @@ Result<DaylightCoefficients> computeDaylightCoefficients(const Scene& scene, std
     });
   };
 
-  // The basis suns: the sun patches that hold one of the suns asked for.
+  // The basis suns: the centres of the sun patches that interpolate one of the suns asked for.
   std::map<int, int> basisOfPatch;
-  out.basisSunOf.assign(sunDirections.size(), -1);
+  out.basisSunOf.assign(4 * sunDirections.size(), -1);
+  out.basisSunWeight.assign(4 * sunDirections.size(), 0.0f);
   for (std::size_t h = 0; h < sunDirections.size(); ++h) {
-    const int p = sunPatches->patchOf(sunDirections[h]);
-    if (p < 0) continue;
-    auto [at, inserted] = basisOfPatch.try_emplace(p, static_cast<int>(out.basisSunPatch.size()));
-    if (inserted) out.basisSunPatch.push_back(p);
-    out.basisSunOf[h] = at->second;
+    const SkyPatches::Interpolation stencil = sunPatches->interpolation(sunDirections[h]);
+    for (int k = 0; k < 4; ++k) {
+      const int p = stencil.patch[k];
+      if (p < 0) continue;
+      auto [at, inserted] = basisOfPatch.try_emplace(p, static_cast<int>(out.basisSunPatch.size()));
+      if (inserted) out.basisSunPatch.push_back(p);
+      out.basisSunOf[4 * h + k] = at->second;
+      out.basisSunWeight[4 * h + k] = static_cast<float>(stencil.weight[k]);
+    }
   }
   const std::size_t suns = out.basisSunPatch.size();
 
@@ -211,7 +208,7 @@ Result<DaylightCoefficients> computeDaylightCoefficients(const Scene& scene, std
     Progress progress("sun", sunDirections.size(), options.showProgress);
     parallelFor(0, sunDirections.size(), [&](std::size_t h) {
       progress.advance();
-      if (out.basisSunOf[h] < 0) return;
+      if (!out.sunInSky(h)) return;
       const Vec3 toSun = normalize(sunDirections[h]);
       thread_local std::vector<Ray> rays;
       thread_local std::vector<double> weights;

@@ -21,11 +21,13 @@ namespace {
 // plane, under a dozen hours of the test week (tests/weather/boulder-week.epw: Perez skies from
 // overcast to clear, with and without sun): the coefficients' illuminance against a direct solve of
 // that hour's sky and sun (the engine solved with both lights, refined for them, measured by the
-// illuminance meter) at every sensor. Without direct sun (overcast hours) they agree within 2% at
-// every sensor (1.1% measured); with it, the sun's reflections beyond the first come from its basis
-// sun on elements meshed for the sky, and single sensors differ more (up to 31% where a sun patch
-// lies beside them; docs/photometry.md gives every hour's figures): there the test holds each
-// hour's bias and RMS over the sensors (measured: bias −2.7 to +5.3%, RMS up to 5.8%).
+// illuminance meter) at every sensor: without direct sun (overcast hours) within 2% (1.1% measured);
+// with the sun in the room but on surfaces the sensors do not see (the floor under an up-facing work
+// plane), within 4% (3.7%). Where the sensors see a sunlit wall, single sensors beside it differ by
+// up to 31%: there the coefficients trace the sun patch's first reflection exactly (16,384 rays
+// give 397 lx at the worst sensor, 256 give 436) where the meter reads the solve's vertex
+// irradiance, interpolated across the sun patch's edge (157 lx in all: docs/photometry.md), and
+// the test holds each such hour's bias and RMS over the sensors (measured +0.6 to +1.6%, ≤ 5%).
 TEST(DaylightCoefficientsTest, EachHourIsADirectSolveOfItsSkyAndSun) {
   Result<Scene> scene = loadScene(std::string(LAMBERT_SOURCE_DIR) + "/scenes/daylight/office-overcast.json");
   ASSERT_TRUE(scene) << scene.error().message;
@@ -49,7 +51,7 @@ TEST(DaylightCoefficientsTest, EachHourIsADirectSolveOfItsSkyAndSun) {
   options.north = north;
   Result<DaylightCoefficients> dc = computeDaylightCoefficients(*scene, grid->points, suns, options, RadiosityOptions{});
   ASSERT_TRUE(dc) << dc.error().message;
-  const std::size_t n = grid->points.size(), patches = static_cast<std::size_t>(dc->sky.count()), basis = dc->basisSunPatch.size();
+  const std::size_t n = grid->points.size(), patches = static_cast<std::size_t>(dc->sky.count());
   int sunnyHours = 0;
   for (std::size_t h = 0; h < skies.size(); ++h) {
     const PerezHourSky& hour = skies[h];
@@ -83,7 +85,7 @@ TEST(DaylightCoefficientsTest, EachHourIsADirectSolveOfItsSkyAndSun) {
       for (std::size_t p = 0; p < patches; ++p) e += dc->skyIndirect[s * patches + p] * luminance[p];
       for (std::size_t q = 0; q < fine.size(); ++q) e += dc->skyDirect[s * fine.size() + q] * fine[q];
       if (sun) {
-        e += hour.sunIlluminanceLux * (dc->sunDirect[h * n + s] + dc->sunReflected[h * n + s] + dc->sunIndirect[s * basis + dc->basisSunOf[h]]);
+        e += hour.sunIlluminanceLux * (dc->sunDirect[h * n + s] + dc->sunInterreflected(h, s));
         sunInRoom |= dc->sunReflected[h * n + s] > 0;
       }
       const double error = e / illuminanceLux(measured[s].total()) - 1;
@@ -98,13 +100,16 @@ TEST(DaylightCoefficientsTest, EachHourIsADirectSolveOfItsSkyAndSun) {
                 weather->hours[static_cast<std::size_t>(sampled[h].first * 24 + sampled[h].second - 1)].day, sampled[h].second,
                 hour.coefficients.clearness, hour.sun.elevationDegrees(), sun ? hour.sunIlluminanceLux : 0.0, sunInRoom ? ", in the room" : "",
                 100 * bias, 100 * rms, 100 * worst);
-    if (!sun) {
-      EXPECT_LT(worst, 0.02) << "hour " << h;
+    if (!sunInRoom) {
+      EXPECT_LT(worst, 0.04) << "hour " << h;
+      if (!sun) {
+        EXPECT_LT(worst, 0.02) << "hour " << h;
+      }
     } else {
-      ++sunnyHours;
-      EXPECT_LT(std::fabs(bias), 0.06) << "hour " << h;
-      EXPECT_LT(rms, 0.065) << "hour " << h;
+      EXPECT_LT(std::fabs(bias), 0.025) << "hour " << h;
+      EXPECT_LT(rms, 0.06) << "hour " << h;
     }
+    sunnyHours += sun;
   }
   EXPECT_GE(sunnyHours, 8);
 }

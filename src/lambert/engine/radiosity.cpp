@@ -464,6 +464,21 @@ std::vector<Rgb> SolutionView::vertexRadiance() const {
 
 const RadiosityProblem& radiosityProblem(const SolutionView& view) { return *SolutionInternals::of(view).problem_; }
 
+std::vector<Rgb> radiosityFromInjected(const SolutionView& view, std::vector<Rgb> injected) {
+  const auto& e = SolutionInternals::of(view);
+  LAMBERT_CHECK(injected.size() == e.problem_->size());
+  const RadiosityProblem problem{e.problem_->transport, std::move(injected), e.problem_->albedo, e.problem_->area};
+  SolverOptions options;
+  options.tolerance = e.options_.tolerance;
+  options.maxIterations = e.options_.maxIterations;
+  options.measureResidual = false;
+  // The engine's gathering solver; the dense-matrix ones are the flat method's, and gather as well.
+  const SolverKind kind = e.options_.solver == SolverKind::Jacobi ? SolverKind::Jacobi : SolverKind::GaussSeidel;
+  std::vector<Rgb> radiosity;
+  makeSolver(kind, options)->solve(problem, radiosity);
+  return radiosity;
+}
+
 Result<PointGather> pointGather(const SolutionView& view, std::span<const SurfacePoint> points, PointGatherRequest part) {
   const auto& e = SolutionInternals::of(view);
   return e.meshing_->pointGather(e.elementSolution(), points, part);

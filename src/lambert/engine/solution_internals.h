@@ -22,6 +22,12 @@ struct RadiosityProblem;  // solve/solver.h
 // programs that solve it another way.
 const RadiosityProblem& radiosityProblem(const SolutionView& view);
 
+// The element radiosity B = E + ρFB (W/m²) that `injected` (E per element of view.mesh(): a light's
+// ρ·E_direct) alone gives, solved over the engine's transport by its gathering solver to its
+// tolerance, from B = E; the engine's own solution is untouched. A daylight coefficient's response
+// to one sky patch or one sun (design/daylight_coefficients.h).
+std::vector<Rgb> radiosityFromInjected(const SolutionView& view, std::vector<Rgb> injected);
+
 // SolutionView::pointIrradiance's two parts apart: where each point is gathered (the site shadow
 // rays to the lights start from), the light from the surfaces there, and the weights that give
 // that light again from a later solution, as `part` asks (method/point_gather.h). Hierarchical

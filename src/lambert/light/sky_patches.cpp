@@ -48,6 +48,46 @@ int SkyPatches::patchOf(const Vec3& d) const {
   return static_cast<int>(patchStart_[ring]) + i;
 }
 
+SkyPatches::Interpolation SkyPatches::interpolation(const Vec3& d) const {
+  Interpolation out;
+  const double len = length(d);
+  if (!(len > 0) || !(d.y > 0)) return out;
+  const double altitude = std::asin(std::min(1.0, d.y / len)) / kDegree;
+  double azimuth = std::atan2(dot(d, east_), dot(d, north_)) / kDegree;
+  if (azimuth < 0) azimuth += 360;
+  const int rings = static_cast<int>(ringPatches_.size());
+  // Ring r's centres lie at altitude (r + ½)·H; the cap's at 90°.
+  const double u = altitude / ringHeightDegrees_ - 0.5;
+  int lower = static_cast<int>(std::floor(u));
+  double t = u - lower;  // toward the ring above
+  if (lower < 0) lower = 0, t = 0;
+  int slot = 0;
+  auto ring = [&](int r, double share) {
+    if (share <= 0) return;
+    if (r >= rings) {
+      out.patch[slot] = count() - 1, out.weight[slot++] = share;
+      return;
+    }
+    const int n = ringPatches_[r];
+    const double v = azimuth / (360.0 / n);
+    const int i0 = static_cast<int>(std::floor(v)) % n;
+    const double s = v - std::floor(v);
+    out.patch[slot] = static_cast<int>(patchStart_[r]) + i0, out.weight[slot++] = share * (1 - s);
+    out.patch[slot] = static_cast<int>(patchStart_[r]) + (i0 + 1) % n, out.weight[slot++] = share * s;
+  };
+  if (lower >= rings - 1) {
+    // Between the top ring's centres and the zenith: altitude from (R − ½)·H up to 90°.
+    const double top = (rings - 0.5) * ringHeightDegrees_;
+    const double toCap = std::clamp((altitude - top) / (90 - top), 0.0, 1.0);
+    ring(rings - 1, 1 - toCap);
+    ring(rings, toCap);
+    return out;
+  }
+  ring(lower, 1 - t);
+  ring(lower + 1, t);
+  return out;
+}
+
 SkyPatches::Bounds SkyPatches::bounds(int patch) const {
   const int rings = static_cast<int>(ringPatches_.size());
   if (patch == count() - 1) return {rings * ringHeightDegrees_, 90, 0, 360};

@@ -15,6 +15,7 @@
 //
 // Cost: patchOf is an asin and an atan2; a patch's mean luminance n² evaluations of the sky model.
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -48,6 +49,16 @@ class SkyPatches {
   // The direction through the middle of a patch (its mid altitude and azimuth; the zenith for the
   // cap), unit, scene frame.
   Vec3 centre(int patch) const;
+  // Weights on up to four patches' centres that interpolate a quantity smooth over the sky at a
+  // direction above the horizon: linear in azimuth between the two nearest centres of each of the
+  // two rings whose centre altitudes enclose it, then linear in altitude between the rings (the cap's
+  // one centre at the zenith; below the lowest ring's centres, that ring alone). Unused entries
+  // are {−1, 0}; the weights add up to 1. All {−1, 0} at or below the horizon.
+  struct Interpolation {
+    std::array<int, 4> patch{-1, -1, -1, -1};
+    std::array<double, 4> weight{0, 0, 0, 0};
+  };
+  Interpolation interpolation(const Vec3& direction) const;
   // The mean luminance (cd/m²) of a sky over a patch, by the midpoint rule on an m × m grid of cells
   // of equal solid angle (equal steps of sin altitude and of azimuth; the cap in rings), m = ⌈4/n⌉.
   double meanLuminance(const SkyModel& sky, int patch) const;

@@ -108,3 +108,27 @@ TEST(SkyPatchesTest, MeanLuminancesReproduceTheHorizontalIlluminance) {
 
 }  // namespace
 }  // namespace lambert
+
+namespace lambert {
+namespace {
+
+// The interpolation reproduces a function linear in altitude and in azimuth (within a ring's
+// span) exactly from its values at the patch centres, and every direction's weights add up to 1.
+TEST(SkyPatchesTest, InterpolationIsLinearBetweenCentres) {
+  const SkyPatches sky = *SkyPatches::reinhart(4);
+  auto altitudeOf = [&](int p) { return sky.patchOf(sky.centre(p)) == p ? std::asin(sky.centre(p).y) * 180 / kPi : -1; };
+  for (double altitude : {1.0, 5.5, 20.3, 45.0, 71.7, 86.0, 89.5})
+    for (double azimuth : {0.0, 33.3, 181.2, 359.0}) {
+      const SkyPatches::Interpolation w = sky.interpolation(skyDirection(azimuth, altitude, {0, 0, -1}));
+      double sum = 0, value = 0;
+      for (int k = 0; k < 4; ++k)
+        if (w.patch[k] >= 0) sum += w.weight[k], value += w.weight[k] * altitudeOf(w.patch[k]);
+      EXPECT_NEAR(sum, 1, 1e-12) << altitude << " " << azimuth;
+      // Altitude itself is linear: reproduced wherever the direction lies between ring centres.
+      if (altitude > 90 / 28.5 / 2) EXPECT_NEAR(value, altitude, 1e-9) << altitude << " " << azimuth;
+    }
+  EXPECT_EQ(sky.interpolation({0, -1, 0}).patch[0], -1);
+}
+
+}  // namespace
+}  // namespace lambert
