@@ -4,6 +4,7 @@
 // percentiles; written as a CSV per sensor, a plan per metric, and a report page (HTML or PDF).
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -38,6 +39,7 @@ struct DaylightCommandOptions {
   std::string output;  // PREFIX: PREFIX.csv, PREFIX-<metric>.png
   std::vector<std::string> reports;
   std::string hourly;  // CSV of every hour at every sensor
+  std::vector<double> north;  // --north X,Y,Z in the scene file's frame
 };
 
 std::string lowercase(std::string text) {
@@ -138,6 +140,12 @@ int runDaylight(DaylightCommandOptions o) {
   FalseColourOptions planFrame = planOptions(*scene, {});
   for (const Light& light : scene->lights)
     if (light.kind == LightKind::Sky && light.sky) planFrame.north = light.sky->north();
+  if (!o.north.empty()) {
+    const Vec3 north = o.north.size() == 3 ? scene->fileFrame.sceneDirection({o.north[0], o.north[1], o.north[2]}) : Vec3{};
+    if (!(std::fabs(north.x) + std::fabs(north.z) > 1e-9))
+      return fail(command, "--north: give X,Y,Z, a direction with a horizontal part, in the scene file's frame");
+    planFrame.north = normalize(Vec3{north.x, 0, north.z});
+  }
 
   AnnualDaylightOptions options;
   options.coefficients.north = planFrame.north;
@@ -244,6 +252,8 @@ std::function<int()> addDaylightCommand(CLI::App& app) {
   cmd->add_flag("--blinds", o->thresholds.blinds, "LM-83's blinds: closed in an hour where more than 2% of the sensors get over --ase-lux of direct sun");
   cmd->add_option("--blinds-transmittance", o->thresholds.blindsTransmittance, "What closed blinds let through of the sky's light (direct sun blocked)")
       ->capture_default_str()->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--north", o->north, "North: X,Y,Z in the scene file's frame (its horizontal part; default: the scene's sky's, else -z)")
+      ->delimiter(',');
   cmd->add_option("--sky-subdivisions", o->skySubdivisions, "Reinhart MF of the sky patches for interreflected light (1: Tregenza's 145)")->capture_default_str()->check(CLI::Range(1, 8));
   cmd->add_option("--direct-sky-subdivisions", o->directSkySubdivisions, "Reinhart MF of the sky patches for the sky component")->capture_default_str()->check(CLI::Range(1, 16));
   cmd->add_option("--sun-subdivisions", o->sunSubdivisions, "Reinhart MF of the patches whose centres are the basis suns")->capture_default_str()->check(CLI::Range(1, 16));
