@@ -29,7 +29,7 @@ test: build
 	@cd $(BUILD_DIR) && ctest --output-on-failure -j$(JOBS)
 
 # Benchmarks: one JSON document on stdout, {"pipeline": …, "dynamic": …, "load": …, "hierarchical": …, "default_method": …,
-# "viewer": …, "atlas": …, "lightmap": …, "lightmap_room": …, "lightmap_update": …, "illuminance": …, "distributed": …, "corpus": …, "office": …, "accuracy": …}, each part also in out/bench/; the micro-benchmarks' table goes to stderr and their JSON to
+# "viewer": …, "atlas": …, "lightmap": …, "lightmap_room": …, "lightmap_update": …, "illuminance": …, "distributed": …, "corpus": …, "office": …, "daylight": …, "accuracy": …}, each part also in out/bench/; the micro-benchmarks' table goes to stderr and their JSON to
 # out/bench/micro.json. default_method times whole `lambert` processes (Cornell box against a cached path-traced
 # reference, RenderPark beside it where ../rpk/src/build/rpk or RENDERPARK is built, buildings to 10^6 faces, the link
 # cache); BENCH_FLAGS passes it options, e.g. BENCH_FLAGS=--no-million.
@@ -59,6 +59,7 @@ bench: build
 	@if command -v mpirun > /dev/null; then python3 bench/distributed_bench.py --lambert $(LAMBERT) > out/bench/distributed.json; \
 	  else echo null > out/bench/distributed.json; fi
 	@$(BUILD_DIR)/bin/office_bench > out/bench/office.json
+	@python3 bench/daylight_bench.py --lambert $(LAMBERT) > out/bench/daylight.json
 	@python3 bench/accuracy_bench.py --lambert $(LAMBERT) --vertex-reference $(BUILD_DIR)/bin/vertex_reference \
 	  --lightmap-texels $(BUILD_DIR)/bin/lightmap_texels \
 	  --corpus real-scenes --markdown out/bench/accuracy.md > out/bench/accuracy.json
@@ -70,6 +71,7 @@ bench: build
 	  printf ', "lightmap_update": ' && cat out/bench/lightmap_update.json && \
 	  printf ', "illuminance": ' && cat out/bench/illuminance.json && printf ', "distributed": ' && cat out/bench/distributed.json && \
 	  printf ', "corpus": ' && cat out/bench/corpus.json && printf ', "office": ' && cat out/bench/office.json && \
+	  printf ', "daylight": ' && cat out/bench/daylight.json && \
 	  printf ', "accuracy": ' && cat out/bench/accuracy.json && printf '}\n'
 
 # The whole suite under AddressSanitizer (leaks included) and UndefinedBehaviorSanitizer, in
