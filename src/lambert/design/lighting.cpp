@@ -98,7 +98,10 @@ std::vector<std::string> lightLabels(std::span<const Light> lights) {
   int k = 0;
   for (const Light& light : lights) {
     const bool placed = light.kind == LightKind::Luminaire || light.kind == LightKind::Point || light.kind == LightKind::Spot;
-    labels.push_back(placed ? "L" + std::to_string(++k) : light.name);
+    // Appended, not "L" + to_string(…): GCC 12's -Wrestrict misfires on that operator+.
+    std::string label = placed ? std::string("L") : light.name;
+    if (placed) label += std::to_string(++k);
+    labels.push_back(std::move(label));
   }
   return labels;
 }

@@ -575,6 +575,35 @@ TEST(SkySceneFileTest, ReadsSkiesAndRoundTrips) {
   }
 }
 
+// {"type": "sky", "perez": {a, b, c, d, e}, the sun, a scale}: one hour's Perez sky, as
+// light/perez_sky.h makes it from a weather file; written back as it was read (its luminance the
+// same in every direction to rounding), and refused without the sun or with a coefficient missing.
+TEST(SkySceneFileTest, ReadsAPerezSkyAndRoundTrips) {
+  Result<Scene> scene = withLights(R"({"type": "sky", "perez": {"a": -1.0, "b": -0.32, "c": 10.0, "d": -3.0, "e": 0.45},
+      "sunAzimuth": 160, "sunElevation": 40, "horizontalIlluminance": 18000})");
+  ASSERT_TRUE(scene) << scene.error().message;
+  const SkyModel& sky = *scene->lights.at(0).sky;
+  ASSERT_TRUE(sky.isPerez());
+  EXPECT_NEAR(sky.horizontalIlluminance(), 18000, 1e-6);
+  // Perez et al. 1993: L ∝ (1 + a e^{b/cos Z}) (1 + c e^{dγ} + e cos²γ), here by hand at two points.
+  auto lv = [](double z, double gamma) { return (1 - std::exp(-0.32 / std::cos(z))) * (1 + 10 * std::exp(-3 * gamma) + 0.45 * std::cos(gamma) * std::cos(gamma)); };
+  const Vec3 toward = skyDirection(100, 25, {0, 0, -1}), sun = skyDirection(160, 40, {0, 0, -1});
+  EXPECT_NEAR(sky.luminance(toward) / sky.luminance({0, 1, 0}), lv(65 * kPi / 180, std::acos(dot(toward, sun))) / lv(0, 50 * kPi / 180), 1e-9);
+  Result<Scene> again = parseSceneFile(sceneFileText(*scene), "again.json");
+  ASSERT_TRUE(again) << again.error().message;
+  const SkyModel& read = *again->lights.at(0).sky;
+  EXPECT_TRUE(read.isPerez());
+  for (const Vec3& w : {Vec3{0, 1, 0}, toward, sun, Vec3{1, 0.05, 0.3}}) EXPECT_NEAR(read.luminance(w), sky.luminance(w), 1e-9 * sky.luminance(w));
+  for (auto [lights, message] : std::vector<std::pair<std::string, std::string>>{
+           {R"({"type": "sky", "perez": {"a": 1, "b": -1, "c": 0, "d": -1, "e": 0}, "zenithLuminance": 1000})", "depends on the sun"},
+           {R"({"type": "sky", "perez": {"a": 1, "b": -1, "c": 0, "d": -1}, "sunAzimuth": 0, "sunElevation": 30, "zenithLuminance": 1})", "/lights/0/perez/e"},
+           {R"({"type": "sky", "perez": {"a": 1, "b": -1, "c": 0, "d": -1, "e": 0}, "cie": 3, "sunAzimuth": 0, "sunElevation": 30, "zenithLuminance": 1})", "one of cie and perez"}}) {
+    Result<Scene> bad = withLights(lights);
+    ASSERT_FALSE(bad) << lights;
+    EXPECT_TRUE(testing::contains(bad.error().message, message)) << bad.error().message;
+  }
+}
+
 // {"type": "sky", "radiance": [r, g, b]}: a uniform environment, written back as it was read; the
 // daylight skies' fields are refused with it.
 TEST(SkySceneFileTest, ReadsAnEnvironmentAndRoundTrips) {

@@ -210,7 +210,7 @@ std::optional<SunPosition> readSkySun(ObjectReader& r) {
   return position;
 }
 
-// {"type": "sky", "cie": 1..15 | "overcast", "zenithLuminance": cd/m² | "horizontalIlluminance":
+// {"type": "sky", "cie": 1..15 | "overcast" (or "perez": {a, b, c, d, e}), "zenithLuminance": cd/m² | "horizontalIlluminance":
 // lux, the sun, "north", "directions"}, or {"type": "sky", "radiance": [r, g, b] W/(m²·sr),
 // "directions"}, a uniform environment (docs/scene-format.md).
 Light readSkyLight(ObjectReader& r, Light light) {
@@ -227,7 +227,8 @@ Light readSkyLight(ObjectReader& r, Light light) {
     r.finish("name, type, radiance, directions");
     return light;
   }
-  const Json& cie = r.require("cie");
+  if (r.has("perez") && r.has("cie")) throw FieldError{r.pointerOf("cie"), "give one of cie and perez, not both"};
+  const Json& cie = r.has("perez") ? r.require("perez") : r.require("cie");
   const Vec3 north = readNorth(r);
   const std::optional<SunPosition> sun = readSkySun(r);
   const bool byZenith = r.has("zenithLuminance"), byHorizontal = r.has("horizontalIlluminance");
@@ -236,7 +237,28 @@ Light readSkyLight(ObjectReader& r, Light light) {
                      "give exactly one of zenithLuminance (cd/m²) and horizontalIlluminance (lux)"};
   const double scale = byZenith ? r.number("zenithLuminance", 0, 0, 1e12) : r.number("horizontalIlluminance", 0, 0, 1e12, true);
   SkyModel sky = SkyModel::traditionalOvercast(1, north);
-  if (cie.is_string() && cie.get<std::string>() == "overcast") {
+  if (r.has("perez")) {
+    // {"a", "b", "c", "d", "e"}: Perez et al. 1993's coefficients of one hour (light/perez_sky.h
+    // makes them from a weather file), optionally the clearness, brightness and bin they came from.
+    if (!cie.is_object()) throw FieldError{r.pointerOf("perez"), "expected an object of the coefficients a, b, c, d and e"};
+    PerezCoefficients p;
+    double* fields[] = {&p.a, &p.b, &p.c, &p.d, &p.e};
+    const char* names[] = {"a", "b", "c", "d", "e"};
+    for (int k = 0; k < 5; ++k) {
+      if (!cie.contains(names[k]) || !cie[names[k]].is_number() || !std::isfinite(cie[names[k]].get<double>()))
+        throw FieldError{r.pointerOf("perez") + "/" + names[k], "expected a finite number"};
+      *fields[k] = cie[names[k]].get<double>();
+    }
+    if (cie.contains("clearness") && cie["clearness"].is_number()) p.clearness = cie["clearness"].get<double>();
+    if (cie.contains("brightness") && cie["brightness"].is_number()) p.brightness = cie["brightness"].get<double>();
+    if (cie.contains("bin") && cie["bin"].is_number_integer()) p.bin = cie["bin"].get<int>();
+    if (!sun) throw FieldError{r.pointerOf("perez"), "a Perez sky depends on the sun: give \"sun\" or sunAzimuth and sunElevation"};
+    p.sunZenithRadians = (90 - sun->elevationDegrees()) * kPi / 180;
+    if (cie.contains("sunZenithRadians") && cie["sunZenithRadians"].is_number()) p.sunZenithRadians = cie["sunZenithRadians"].get<double>();
+    Result<SkyModel> made = SkyModel::perez(p, sun->azimuthDegrees, sun->elevationDegrees(), byZenith ? scale : 1, north);
+    if (!made) throw FieldError{r.pointerOf("perez"), made.error().message};
+    sky = *made;
+  } else if (cie.is_string() && cie.get<std::string>() == "overcast") {
     if (sun) throw FieldError{r.pointerOf("cie"), "the traditional overcast sky does not depend on the sun: remove the sun, or use a CIE type 1–15"};
     sky = SkyModel::traditionalOvercast(byZenith ? scale : 1, north);
   } else {
@@ -255,7 +277,7 @@ Light readSkyLight(ObjectReader& r, Light light) {
   if (byHorizontal) sky = sky.withHorizontalIlluminance(scale);
   light.sky = std::make_shared<const SkyModel>(sky);
   light.skyDirections = static_cast<int>(r.number("directions", kDefaultSkyDirections, 1, 1 << 24));
-  r.finish("name, type, cie, zenithLuminance, horizontalIlluminance, sun, sunAzimuth, sunElevation, north, directions");
+  r.finish("name, type, cie, perez, zenithLuminance, horizontalIlluminance, sun, sunAzimuth, sunElevation, north, directions");
   return light;
 }
 
@@ -838,6 +860,12 @@ std::string sceneFileText(const Scene& scene) {
         }
         if (light.sky->isTraditionalOvercast()) {
           l["cie"] = "overcast";
+        } else if (light.sky->isPerez()) {
+          const PerezCoefficients& p = light.sky->perezCoefficients();
+          l["perez"] = {{"a", p.a}, {"b", p.b}, {"c", p.c}, {"d", p.d}, {"e", p.e}, {"clearness", p.clearness},
+                        {"brightness", p.brightness}, {"bin", p.bin}, {"sunZenithRadians", p.sunZenithRadians}};
+          l["sunAzimuth"] = light.sky->sunAzimuthDegrees();
+          l["sunElevation"] = light.sky->sunElevationDegrees();
         } else {
           l["cie"] = light.sky->cieType();
           l["sunAzimuth"] = light.sky->sunAzimuthDegrees();
