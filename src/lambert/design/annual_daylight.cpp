@@ -43,6 +43,7 @@ std::uint64_t coefficientKey(const Scene& scene, std::span<const CalculationPoin
   h.i64(options.sunSubdivisions);
   h.i64(options.skyDirections);
   h.i64(options.indirectRays);
+  h.i64(options.sunReflectionRays);
   h.u64(options.seed);
   h.i64(static_cast<std::int64_t>(engine.meshing));
   h.f64(engine.tolerance);

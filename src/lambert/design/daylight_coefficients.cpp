@@ -47,7 +47,8 @@ Result<DaylightCoefficients> computeDaylightCoefficients(const Scene& scene, std
   const Timer timer;
   if (options.skySubdivisions < 1 || options.skySubdivisions > 8) return Error{"the sky's subdivision (MF) must be 1 to 8"};
   if (options.sunSubdivisions < 1 || options.sunSubdivisions > 16) return Error{"the basis suns' subdivision (MF) must be 1 to 16"};
-  if (options.skyDirections < 1 || options.indirectRays < 1) return Error{"the sky directions and indirect rays must be at least 1"};
+  if (options.skyDirections < 1 || options.indirectRays < 1 || options.sunReflectionRays < 1)
+    return Error{"the sky directions, indirect rays and sun reflection rays must be at least 1"};
   for (std::size_t s = 0; s < sensors.size(); ++s)
     if (!(length(sensors[s].normal) > 0) || !std::isfinite(sensors[s].position.x + sensors[s].position.y + sensors[s].position.z))
       return Error{"sensor " + std::to_string(s) + ": its position is not finite or its normal is zero"};
@@ -115,30 +116,36 @@ Result<DaylightCoefficients> computeDaylightCoefficients(const Scene& scene, std
     progress.finish();
   }
 
-  // The sensors' hemisphere rays through the vertex mesh, once: the meter's directions.
+  // The sensors' hemisphere rays through the vertex mesh, once: the meter's directions, and more
+  // of them for the sun's first reflection (a small bright sun patch: 256 rays left sensors beside
+  // one off by a factor of three against the path tracer).
   const Mesh& vertexMesh = view.vertexMesh();
   const std::unique_ptr<RayCaster> vertexCaster = makeEmbreeRayCaster(vertexMesh);
-  const std::vector<Vec3> directions = cosineDirections(options.indirectRays, options.seed);
   const double vertexEpsilon = rayEpsilon(vertexMesh);
-  std::vector<std::vector<SensorHit>> hitsOf(n);
-  parallelFor(0, n, [&](std::size_t s) {
-    const Vec3 normal = normalize(sensors[s].normal);
-    const Vec3 origin = sensors[s].position + normal * vertexEpsilon;
-    Vec3 tangent, bitangent;
-    orthonormalBasis(normal, tangent, bitangent);
-    std::vector<Ray> rays(directions.size());
-    std::vector<std::optional<RayHit>> hits(directions.size());
-    for (std::size_t k = 0; k < directions.size(); ++k)
-      rays[k] = Ray{origin, tangent * directions[k].x + bitangent * directions[k].y + normal * directions[k].z, 0, INFINITY};
-    vertexCaster->intersect(rays, hits);
-    for (std::size_t k = 0; k < directions.size(); ++k)
-      if (hits[k] && hits[k]->frontFace) {
-        const std::uint32_t patch = hits[k]->patch;
-        hitsOf[s].push_back({patch, origin + rays[k].direction * hits[k]->t, vertexMesh.patches[patch].normal,
-                             view.vertexMeshAlbedo()[patch].luminance()});
-      }
-  });
-  const double rayCount = static_cast<double>(directions.size());
+  auto hemisphereHits = [&](int rays) {
+    const std::vector<Vec3> directions = cosineDirections(rays, options.seed);
+    std::vector<std::vector<SensorHit>> hitsOf(n);
+    parallelFor(0, n, [&](std::size_t s) {
+      const Vec3 normal = normalize(sensors[s].normal);
+      const Vec3 origin = sensors[s].position + normal * vertexEpsilon;
+      Vec3 tangent, bitangent;
+      orthonormalBasis(normal, tangent, bitangent);
+      std::vector<Ray> ray(directions.size());
+      std::vector<std::optional<RayHit>> hits(directions.size());
+      for (std::size_t k = 0; k < directions.size(); ++k)
+        ray[k] = Ray{origin, tangent * directions[k].x + bitangent * directions[k].y + normal * directions[k].z, 0, INFINITY};
+      vertexCaster->intersect(ray, hits);
+      for (std::size_t k = 0; k < directions.size(); ++k)
+        if (hits[k] && hits[k]->frontFace) {
+          const std::uint32_t patch = hits[k]->patch;
+          hitsOf[s].push_back({patch, origin + ray[k].direction * hits[k]->t, vertexMesh.patches[patch].normal,
+                               view.vertexMeshAlbedo()[patch].luminance()});
+        }
+    });
+    return std::make_pair(std::move(hitsOf), static_cast<double>(directions.size()));
+  };
+  const auto [hitsOf, rayCount] = hemisphereHits(options.indirectRays);
+  const auto [sunHitsOf, sunRayCount] = hemisphereHits(options.sunReflectionRays);
 
   // 2–3. Per basis: B from its injected light, then the sensors' interreflected lux.
   const std::vector<Rgb>& albedo = view.albedo();
@@ -221,7 +228,7 @@ Result<DaylightCoefficients> computeDaylightCoefficients(const Scene& scene, std
           out.sunDirect[h * n + s] = static_cast<float>(cosine);
         rays.clear();
         weights.clear();
-        for (const SensorHit& hit : hitsOf[s]) {
+        for (const SensorHit& hit : sunHitsOf[s]) {
           const double c = dot(hit.normal, toSun);
           if (c <= 0 || hit.albedoLuminance <= 0) continue;
           rays.push_back(Ray{hit.point + hit.normal * epsilon, toSun, 0, INFINITY});
@@ -233,7 +240,7 @@ Result<DaylightCoefficients> computeDaylightCoefficients(const Scene& scene, std
         double sum = 0;
         for (std::size_t k = 0; k < rays.size(); ++k)
           if (!occluded[k]) sum += weights[k];
-        out.sunReflected[h * n + s] = static_cast<float>(sum / rayCount);
+        out.sunReflected[h * n + s] = static_cast<float>(sum / sunRayCount);
       }
     }, 16);
     progress.finish();

@@ -47,6 +47,7 @@ struct DaylightCoefficientOptions {
   int sunSubdivisions = 4;   // MF of the patches whose centres are the basis suns
   int skyDirections = kDefaultSkyDirections;  // directions per sky estimate, at elements and sensors
   int indirectRays = 256;    // hemisphere directions per sensor (the meter's indirectRays)
+  int sunReflectionRays = 2048;  // hemisphere directions per sensor for each sun's first reflection (a shadow ray per sunward hit, per hour)
   std::uint64_t seed = 1;
   bool showProgress = false;
 };
