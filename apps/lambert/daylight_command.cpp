@@ -184,15 +184,7 @@ int runDaylight(DaylightCommandOptions o) {
                       "), lambert " + version();
     report.pages.push_back(daylightReportPage(*metrics, *grid, o.thresholds, planFrame, csv.empty() ? std::string() : std::filesystem::path(csv).filename().string()));
     for (const std::string& path : o.reports) {
-      Status ok = Ok{};
-      if (lowercaseExtension(path) == ".pdf") {
-        ok = writeReportPdf(report, path);
-      } else {
-        Result<std::string> html = reportHtml(report);
-        if (!html) return fail(command, html.error().message);
-        ok = writeFileAtomically(path, std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(html->data()), html->size()));
-      }
-      if (!ok) return fail(command, ok.error().message);
+      if (Status ok = writeReportFile(report, path); !ok) return fail(command, ok.error().message);
       written.push_back(path);
     }
   }

@@ -116,20 +116,11 @@ int runReport(ReportOptions o) {
   input.sceneFile = o.solve.scene;
   Result<LightingReport> report = lightingReport(input);
   if (!report) return fail("report", report.error().message);
-  for (const std::string& output : o.outputs) {
-    Status ok = Ok{};
-    if (lowercaseExtension(output) == ".pdf") {
-      ok = writeReportPdf(*report, output);
-    } else {
-      Result<std::string> html = reportHtml(*report);
-      if (!html) return fail("report", html.error().message);
-      ok = writeFileAtomically(output, std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(html->data()), html->size()));
-    }
-    if (!ok) {
+  for (const std::string& output : o.outputs)
+    if (Status ok = writeReportFile(*report, output); !ok) {
       std::fprintf(stderr, "lambert report: %s\n", ok.error().message.c_str());
       return 1;
     }
-  }
   Stats stats;
   addLightingStats(stats, *lighting);
   for (std::size_t k = 0; k < lighting->glare.size(); ++k)

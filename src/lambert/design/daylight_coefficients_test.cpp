@@ -19,6 +19,23 @@
 namespace lambert {
 namespace {
 
+// The daylit office of scenes/daylight/ turned so that its window faces south (north +z), the
+// test week's weather and a 0.6 m work plane at 0.8 m (49 sensors).
+constexpr Vec3 kNorth{0, 0, 1};
+struct SouthOffice {
+  Scene scene;
+  WeatherData weather;
+  CalculationGrid grid;
+};
+SouthOffice southOffice() {
+  SouthOffice office{loadScene(std::string(LAMBERT_SOURCE_DIR) + "/scenes/daylight/office-overcast.json").value(),
+                     readEpw(std::string(LAMBERT_SOURCE_DIR) + "/tests/weather/boulder-week.epw").value(), {}};
+  WorkPlaneSpec plane;
+  plane.spacingMetres = 0.6;
+  office.grid = workPlaneGrid(office.scene, plane).value();
+  return office;
+}
+
 // The daylit office (scenes/daylight/) with its window facing south (north +z), on a 0.6 m work
 // plane, under a dozen hours of the test week (tests/weather/boulder-week.epw: Perez skies from
 // overcast to clear, with and without sun): the coefficients' illuminance against a direct solve of
@@ -30,15 +47,11 @@ namespace {
 // below), and the test holds each such hour's bias and RMS over the sensors (measured +0.6 to
 // +1.0%, RMS at most 4.1%).
 TEST(DaylightCoefficientsTest, EachHourIsADirectSolveOfItsSkyAndSun) {
-  Result<Scene> scene = loadScene(std::string(LAMBERT_SOURCE_DIR) + "/scenes/daylight/office-overcast.json");
-  ASSERT_TRUE(scene) << scene.error().message;
-  Result<WeatherData> weather = readEpw(std::string(LAMBERT_SOURCE_DIR) + "/tests/weather/boulder-week.epw");
-  ASSERT_TRUE(weather) << weather.error().message;
-  const Vec3 north{0, 0, 1};
-  WorkPlaneSpec plane;
-  plane.spacingMetres = 0.6;
-  Result<CalculationGrid> grid = workPlaneGrid(*scene, plane);
-  ASSERT_TRUE(grid);
+  const SouthOffice office = southOffice();
+  const Scene* scene = &office.scene;
+  const WeatherData* weather = &office.weather;
+  const CalculationGrid* grid = &office.grid;
+  const Vec3 north = kNorth;
   // (day 0–6, hour ending): mornings, noons and afternoons of each kind of day.
   const std::pair<int, int> sampled[] = {{0, 9}, {0, 13}, {1, 11}, {1, 15}, {2, 10}, {2, 14}, {3, 12}, {3, 17}, {4, 9}, {5, 12}, {5, 16}, {6, 13}};
   std::vector<PerezHourSky> skies;
@@ -122,14 +135,11 @@ TEST(DaylightCoefficientsTest, EachHourIsADirectSolveOfItsSkyAndSun) {
 // sun's first reflection (2,048 rays a sensor) and interpolate the rest; the meter reads the direct
 // solve's vertex irradiance, interpolated across the sun patch's edge on the wall.
 TEST(DaylightCoefficientsTest, TheSunsReflectionsAgreeWithThePathTracer) {
-  Result<Scene> scene = loadScene(std::string(LAMBERT_SOURCE_DIR) + "/scenes/daylight/office-overcast.json");
-  ASSERT_TRUE(scene) << scene.error().message;
-  Result<WeatherData> weather = readEpw(std::string(LAMBERT_SOURCE_DIR) + "/tests/weather/boulder-week.epw");
-  ASSERT_TRUE(weather) << weather.error().message;
-  const Vec3 north{0, 0, 1};
-  WorkPlaneSpec plane;
-  plane.spacingMetres = 0.6;
-  const CalculationGrid grid = workPlaneGrid(*scene, plane).value();
+  const SouthOffice office = southOffice();
+  const Scene* scene = &office.scene;
+  const WeatherData* weather = &office.weather;
+  const CalculationGrid& grid = office.grid;
+  const Vec3 north = kNorth;
   const PerezHourSky hour = perezSkyForHour(*weather, weather->hours[8], north).value();
   ASSERT_GT(hour.sunIlluminanceLux, 80000);
   const Vec3 toSun = skyDirection(hour.sun.azimuthDegrees, hour.sun.elevationDegrees(), north);

@@ -6,7 +6,9 @@
 #include <filesystem>
 #include <map>
 
+#include "lambert/core/atomic_file.h"
 #include "lambert/core/photometric.h"
+#include "lambert/core/text.h"
 #include "lambert/io/png.h"
 #include "lambert/light/emission.h"
 #include "lambert/light/lights.h"
@@ -463,6 +465,15 @@ Result<std::string> reportHtml(const LightingReport& report) {
   }
   h += "</body></html>\n";
   return h;
+}
+
+Status writeReportFile(const LightingReport& report, const std::string& path) {
+  const std::string extension = lowercaseExtension(path);
+  if (extension == ".pdf") return writeReportPdf(report, path);
+  if (extension != ".html" && extension != ".htm") return Error{path + ": a report is an HTML page or a PDF; give a path ending in .html or .pdf"};
+  Result<std::string> html = reportHtml(report);
+  if (!html) return html.error();
+  return writeFileAtomically(path, std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(html->data()), html->size()));
 }
 
 }  // namespace lambert

@@ -88,6 +88,10 @@ Result<std::string> reportHtml(const LightingReport& report);
 // where it is long; written atomically.
 Status writeReportPdf(const LightingReport& report, const std::string& path);
 
+// The report written to `path` as its extension says: .pdf (writeReportPdf) or .html/.htm (reportHtml,
+// atomically); an Error for another extension, naming it.
+Status writeReportFile(const LightingReport& report, const std::string& path);
+
 // Standard base64 (RFC 4648 §4, with padding), for data URIs.
 std::string base64(const std::vector<std::uint8_t>& bytes);
 
