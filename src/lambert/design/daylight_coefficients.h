@@ -5,10 +5,12 @@
 // luminance, C_p what the patch alone gives at 1 cd/m², direct and interreflected. Computed once,
 // the coefficients give every hour of a year by one product (design/annual_daylight.h). The sun is
 // split as Radiance's five-phase method splits it (McNeil 2013, "The Five-Phase Method for
-// Simulating Complex Fenestration with Radiance"): its direct light at each sensor is traced
-// exactly for each hour's sun (a shadow ray: a sharp sun patch where it falls), and only its
-// interreflected light goes through coefficients, of "basis suns" at the centres of the finer
-// patches (MF:sunSubdivisions) that the year's suns pass through, each hour taking its patch's.
+// Simulating Complex Fenestration with Radiance"): its direct light at each sensor is traced exactly
+// for each hour's sun (a shadow ray: a sharp sun patch where it falls), and so is its first
+// reflection (each sensor's fixed hemisphere rays, a shadow ray from each sunward hit toward that
+// hour's sun: a sun patch on a wall beside a desk is sharp too); only its further reflections go
+// through coefficients, of "basis suns" at the centres of the finer patches (MF:sunSubdivisions),
+// each hour interpolated between the four centres around its sun.
 //
 // How, in one radiosity engine (engine/radiosity.h) meshed and linked once under a uniform sky:
 //  1. each element's and each sensor's sky coefficients in one pass over the hemisphere's
@@ -23,11 +25,13 @@
 //     basis's B interpolated at the hit (the meter's ρE); fixed per sensor, so each basis costs an
 //     interpolation, not rays.
 // Cost: one sky's injection (the element pass) and a meter's rays per sensor, then per basis a
-// solve and an interpolation: the 145 patches of a 3,600-element office in about a second.
+// solve and an interpolation (the 145 patches and 750 basis suns of a 3,600-element office in about
+// three seconds), and per sun a shadow ray per sensor and per sunward hit of its sunReflectionRays.
 // Failure modes: the patches' luminance is taken as uniform over each (the sky's gradation within
-// a 12° patch; finer subdivisions for sharper skies); the basis sun's interreflection stands in for
-// every sun in its patch; what the engine's mesh cannot resolve (it is refined for a uniform sky,
-// not for each sun's patch) is averaged over its elements.
+// a 12° patch; finer subdivisions for sharper skies); the sun's further reflections are
+// interpolated between basis suns; its first reflection is a quadrature of a sharp patch by fixed
+// directions (±20–30% where the patch fills 1% of a sensor's view); what the engine's mesh cannot
+// resolve (it is refined for a uniform sky, not for each sun's patch) is averaged over its elements.
 #include <cstdint>
 #include <span>
 #include <vector>
