@@ -192,6 +192,11 @@ int runDaylight(DaylightCommandOptions o) {
   Stats stats;
   stats.add("scene", "scene", scene->name);
   stats.add("weather", "weather", weather->location.city + ", " + weather->location.country);
+  // Daylight alone: the scene's own lights and skies (the weather file gives each hour's) and
+  // emitting surfaces are left out, and the figures say so.
+  std::int64_t leftOut = static_cast<std::int64_t>(scene->lights.size());
+  for (const Surface& surface : scene->surfaces) leftOut += surface.emittedRadiance.maxComponent() > 0;
+  if (leftOut > 0) stats.add("lights_left_out", "scene lights and emitting surfaces left out (daylight only)", leftOut);
   stats.add("sensors", "sensors", static_cast<std::int64_t>(grid->points.size()));
   stats.add("hours", "hours in the file", static_cast<std::int64_t>(weather->hours.size()));
   stats.add("daylight_hours", "hours with daylight", static_cast<std::int64_t>(year->daylightHours));
