@@ -248,7 +248,7 @@ std::string metricTitle(DaylightMetric metric, const DaylightMetricsOptions& o) 
     case DaylightMetric::UdiFellShort: return "UDI fell short, E < " + number(o.udiLowerLux) + " lx (% of occupied hours)";
     case DaylightMetric::UdiUseful: return "UDI useful, " + number(o.udiLowerLux) + "-" + number(o.udiUpperLux) + " lx (% of occupied hours)";
     case DaylightMetric::UdiExceeded: return "UDI exceeded, E > " + number(o.udiUpperLux) + " lx (% of occupied hours)";
-    case DaylightMetric::SunlitHours: return "Direct sun >= " + number(o.aseLux) + " lx, blinds open (occupied hours a year)";
+    case DaylightMetric::SunlitHours: return "Direct sun >= " + number(o.aseLux) + " lx, blinds open (occupied hours)";
   }
   return {};
 }

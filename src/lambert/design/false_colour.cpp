@@ -210,7 +210,7 @@ FalseColourImage falseColourImage(const CalculationGrid& grid, std::span<const d
                               (options.uniformityFigures ? "   U0 " + formatValue(stats.uniformity) + "   Emin/Emax " + formatValue(stats.minOverMax) : "") +
                               "   " + std::to_string(stats.points) + " points";
   const int textWidth = std::max(Canvas::textWidth(title, scale), Canvas::textWidth(figures, scale)) + 2 * margin;
-  const int arrowHeight = page.plan ? 90 : 0;
+  const int arrowHeight = page.plan ? 110 : 0;  // the arrow and its N, whichever way north points, clear of the legend
   Canvas canvas(std::max(planeLeft + pw + margin + legendWidth, textWidth),
                 planeTop + std::max(ph, 120 + arrowHeight) + bottomHeight);
   out.planeLeft = planeLeft, out.planeTop = planeTop, out.planeWidth = pw, out.planeHeight = ph;
@@ -339,7 +339,7 @@ FalseColourImage falseColourImage(const CalculationGrid& grid, std::span<const d
   if (page.plan) {
     const Vec3 north = normalize(Vec3{options.north.x, 0, options.north.z});
     const double nx = dot(north, page.right), ny = -dot(north, page.up);
-    const double cx = legendX + 40, cy = planeTop + 45, r = 30;
+    const double cx = legendX + 40, cy = planeTop + 50, r = 30;
     canvas.ring(cx, cy, r, 1, kBlack);
     canvas.line(cx - nx * r * 0.8, cy - ny * r * 0.8, cx + nx * r, cy + ny * r, 3, kBlack);
     const double hx = -ny, hy = nx;  // across the arrow
