@@ -13,6 +13,7 @@
 #include "lambert/light/perez_sky.h"
 #include "lambert/light/sun.h"
 #include "lambert/scene/scene_hash.h"
+#include "lambert/link_sources_digest.h"
 #include "lambert/version.h"
 
 namespace lambert {
@@ -32,6 +33,7 @@ std::uint64_t coefficientKey(const Scene& scene, std::span<const CalculationPoin
   h.text("lambert daylight coefficients");
   h.u32(kFormat.version);
   h.text(LAMBERT_VERSION_STRING);
+  h.text(LAMBERT_LINK_SOURCES_DIGEST);  // the sources that compute them (CMakeLists.txt)
   hashScene(h, scene);
   h.u64(sensors.size());
   for (const CalculationPoint& p : sensors) h.vec3(p.position), h.vec3(p.normal);

@@ -10,7 +10,8 @@
 // Eigen's), the sun's terms added per hour.
 //
 // The coefficients are kept on disk (cacheDirectory, file "daylight-<key>.ldc"): the key hashes the
-// scene's geometry and materials, the sensors, the year's suns and every option they depend on,
+// scene's geometry and materials, the sensors, the year's suns, every option they depend on and the
+// sources that compute them (lambert's version and the digest of CMakeLists.txt's link sources),
 // so another weather file at the same place reuses them only where its suns are the same.
 // Cost: the coefficients (once), then about (patches + fine patches) × sensors × hours
 // multiply-adds: 49 sensors × 8,760 h × 2,450 patches in a fraction of a second.

@@ -15,16 +15,14 @@
 namespace lambert {
 namespace {
 
-// A black shoebox (4 × 4 × 3 m, every surface ρ = 0) lit through a 1 × 1 m opening in the middle of
-// its roof: nothing is reflected, so each sensor's illuminance is the sky it sees through the opening
-// plus the sun where the sun's ray passes through it, both integrable by hand. Each hour of the test
-// week (tests/weather/boulder-week.epw, all seven kinds of sky) is integrated here over the opening,
-// E = ∫ L(ω) cos θ dω = Σ L(x − p) h² / r⁴ ΔA on a 200 × 200 grid of the opening's plane (h its height
-// above the sensor, r the distance), with the hour's Perez sky, and the sun added where its ray from
-// the sensor crosses the opening. The year's computation (coefficients, patch luminances, products)
-// must give the same hours within 3% (1 lx), and the same metrics.
-TEST(AnnualDaylightTest, ABlackShoeboxUnderARoofOpeningIsItsSkyByQuadrature) {
-  const double roof = 3, lo = 1.5, hi = 2.5;  // the opening: x, z in [1.5, 2.5] at y = 3
+// The black shoebox: 4 × 4 × 3 m, ρ = 0 everywhere, a 1 × 1 m opening in the middle of its roof
+// (x, z in [1.5, 2.5] at y = 3), and the test week's weather.
+constexpr double kRoof = 3, kOpeningLo = 1.5, kOpeningHi = 2.5;
+struct Shoebox {
+  Scene scene;
+  WeatherData weather;
+};
+Shoebox shoebox() {
   std::ostringstream json;
   json << R"({"version": 1, "name": "shoebox", "unit": "m", "materials": [{"name": "black", "albedo": [0, 0, 0]}], "surfaces": [)"
        << R"({"name": "floor", "material": "black", "vertices": [[0,0,0],[0,0,4],[4,0,4],[4,0,0]]},)"
@@ -39,10 +37,22 @@ TEST(AnnualDaylightTest, ABlackShoeboxUnderARoofOpeningIsItsSkyByQuadrature) {
   const std::filesystem::path dir = testing::scratchDirectory("annual_daylight", "shoebox");
   const std::string path = (dir / "shoebox.json").string();
   std::ofstream(path) << json.str();
-  Result<Scene> scene = loadScene(path);
-  ASSERT_TRUE(scene) << scene.error().message;
-  Result<WeatherData> weather = readEpw(std::string(LAMBERT_SOURCE_DIR) + "/tests/weather/boulder-week.epw");
-  ASSERT_TRUE(weather) << weather.error().message;
+  return {loadScene(path).value(), readEpw(std::string(LAMBERT_SOURCE_DIR) + "/tests/weather/boulder-week.epw").value()};
+}
+
+// A black shoebox (4 × 4 × 3 m, every surface ρ = 0) lit through a 1 × 1 m opening in the middle of
+// its roof: nothing is reflected, so each sensor's illuminance is the sky it sees through the opening
+// plus the sun where the sun's ray passes through it, both integrable by hand. Each hour of the test
+// week (tests/weather/boulder-week.epw, all seven kinds of sky) is integrated here over the opening,
+// E = ∫ L(ω) cos θ dω = Σ L(x − p) h² / r⁴ ΔA on a 200 × 200 grid of the opening's plane (h its height
+// above the sensor, r the distance), with the hour's Perez sky, and the sun added where its ray from
+// the sensor crosses the opening. The year's computation (coefficients, patch luminances, products)
+// must give the same hours within 3% (1 lx), and the same metrics.
+TEST(AnnualDaylightTest, ABlackShoeboxUnderARoofOpeningIsItsSkyByQuadrature) {
+  const double roof = kRoof, lo = kOpeningLo, hi = kOpeningHi;
+  const Shoebox box = shoebox();
+  const Scene* scene = &box.scene;
+  const WeatherData* weather = &box.weather;
   const std::vector<CalculationPoint> sensors = {{{2, 0.8, 2}, {0, 1, 0}}, {{2.6, 0.8, 1.7}, {0, 1, 0}}, {{1, 0.8, 3}, {0, 1, 0}}, {{2, 0.8, 1.35}, {0, 1, 0}}};
 
   const Vec3 north{0, 0, -1};
@@ -107,6 +117,35 @@ TEST(AnnualDaylightTest, ABlackShoeboxUnderARoofOpeningIsItsSkyByQuadrature) {
     EXPECT_NEAR(computed.sensors[s].meanLux, byHand.sensors[s].meanLux, 0.02 * byHand.sensors[s].meanLux) << s;
     EXPECT_EQ(computed.sensors[s].sunlitHours, byHand.sensors[s].sunlitHours) << s;
   }
+}
+
+// The coefficients kept on disk give the same year bit for bit; a damaged file is a warning and
+// computed again; another set of sensors does not read them.
+TEST(AnnualDaylightTest, CachedCoefficientsGiveTheSameYearAndADamagedFileIsRecomputed) {
+  const Shoebox box = shoebox();
+  const std::vector<CalculationPoint> sensors = {{{2, 0.8, 2}, {0, 1, 0}}, {{2, 0.8, 1.35}, {0, 1, 0}}};
+  const std::filesystem::path dir = testing::scratchDirectory("annual_daylight", "cache");
+  std::filesystem::remove_all(dir);
+  AnnualDaylightOptions options;
+  options.cacheDirectory = dir.string();
+  const AnnualDaylight first = annualDaylight(box.scene, sensors, box.weather, options, RadiosityOptions{}).value();
+  EXPECT_FALSE(first.coefficientsFromCache);
+  const AnnualDaylight second = annualDaylight(box.scene, sensors, box.weather, options, RadiosityOptions{}).value();
+  EXPECT_TRUE(second.coefficientsFromCache);
+  EXPECT_EQ(second.illuminance.totalLux, first.illuminance.totalLux);
+  EXPECT_EQ(second.illuminance.directSunLux, first.illuminance.directSunLux);
+  std::vector<std::filesystem::path> files;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) files.push_back(entry.path());
+  ASSERT_EQ(files.size(), 1u);
+  EXPECT_EQ(files[0].extension(), ".ldc");
+  std::vector<char> bytes = testing::readBytes(files[0]);
+  bytes[bytes.size() / 2] ^= 0x5a;
+  testing::writeBytes(files[0], bytes);
+  const AnnualDaylight third = annualDaylight(box.scene, sensors, box.weather, options, RadiosityOptions{}).value();
+  EXPECT_FALSE(third.coefficientsFromCache);
+  EXPECT_EQ(third.illuminance.totalLux, first.illuminance.totalLux);
+  const std::vector<CalculationPoint> moved = {{{2, 0.8, 2.1}, {0, 1, 0}}, {{2, 0.8, 1.35}, {0, 1, 0}}};
+  EXPECT_FALSE(annualDaylight(box.scene, moved, box.weather, options, RadiosityOptions{}).value().coefficientsFromCache);
 }
 
 }  // namespace
