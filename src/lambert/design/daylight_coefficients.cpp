@@ -144,8 +144,12 @@ Result<DaylightCoefficients> computeDaylightCoefficients(const Scene& scene, std
     });
     return std::make_pair(std::move(hitsOf), static_cast<double>(directions.size()));
   };
-  const auto [hitsOf, rayCount] = hemisphereHits(options.indirectRays);
-  const auto [sunHitsOf, sunRayCount] = hemisphereHits(options.sunReflectionRays);
+  // (Named variables, not structured bindings: the lambdas below capture them, which clang 14 refuses.)
+  const auto hemisphere = hemisphereHits(options.indirectRays);
+  const auto sunHemisphere = hemisphereHits(options.sunReflectionRays);
+  const std::vector<std::vector<SensorHit>>& hitsOf = hemisphere.first;
+  const std::vector<std::vector<SensorHit>>& sunHitsOf = sunHemisphere.first;
+  const double rayCount = hemisphere.second, sunRayCount = sunHemisphere.second;
 
   // 2–3. Per basis: B from its injected light, then the sensors' interreflected lux.
   const std::vector<Rgb>& albedo = view.albedo();
